@@ -1,0 +1,119 @@
+// Building the whole tree on the CPU: abstraction, the root, then breadth
+// first, level by level, subdivision and pruning (paper §4.2).
+#include <algorithm>
+#include <chrono>
+
+#include "core/cpu/cpu_stages.h"
+#include "core/subdivision.h"
+
+namespace mpvg {
+
+namespace {
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+uint32_t cell_weight(const TreeLevel& level, const Cell& c) {
+  uint32_t w = 0;
+  for (uint32_t i = c.begin; i < c.end; i++) w += entry_weight(level.entries[i]);
+  return w;
+}
+
+}  // namespace
+
+ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, const TreeParams& params,
+                            BuildTimes* times) {
+  BuildTimes local;
+  BuildTimes& t = times ? *times : local;
+  ShortcutTree tree;
+  tree.root_size = tree_root_size(width, height);
+  tree.paths = scene.paths;
+  tree.paints = scene.paints;
+
+  auto t0 = std::chrono::steady_clock::now();
+  tree.segments = abstract_cpu(scene.segments);
+  t.abstract_ms += ms_since(t0);
+
+  t0 = std::chrono::steady_clock::now();
+  TreeLevel virt;
+  virt.entries = initial_stream(scene, tree.segments);
+  virt.cells.push_back(Cell{0, static_cast<uint32_t>(virt.entries.size()), 0, 0, 0, 0});
+  TreeLevel level = subdivide_cpu(virt, tree.segments, tree.root_size, true);
+  t.subdivide_ms += ms_since(t0);
+  if (params.prune) {
+    t0 = std::chrono::steady_clock::now();
+    prune_cpu(level, tree.paths);
+    t.prune_ms += ms_since(t0);
+  }
+
+  const int max_level = tree_max_level(tree.root_size, params);
+  size_t total_entries = level.entries.size();
+  tree.nodes.push_back(Node{-1, 0});
+  uint32_t node_base = 0;  // node index of the current level's first cell
+  for (int lv = 0;; lv++) {
+    tree.depth = lv;
+    tree.peak_level_entries = std::max(tree.peak_level_entries, level.entries.size());
+    if (params.keep_levels) tree.levels.push_back(level);
+    std::vector<char> sub(level.cells.size(), 0);
+    size_t nsub = 0;
+    if (lv < max_level) {
+      for (size_t k = 0; k < level.cells.size(); k++) {
+        sub[k] = cell_weight(level, level.cells[k]) > params.min_segments;
+        nsub += sub[k] ? 1 : 0;
+      }
+    }
+    TreeLevel parent, child;
+    if (nsub > 0) {
+      t0 = std::chrono::steady_clock::now();
+      for (size_t k = 0; k < level.cells.size(); k++) {
+        if (!sub[k]) continue;
+        Cell c = level.cells[k];
+        const uint32_t b = static_cast<uint32_t>(parent.entries.size());
+        parent.entries.insert(parent.entries.end(), level.entries.begin() + c.begin, level.entries.begin() + c.end);
+        c.begin = b;
+        c.end = static_cast<uint32_t>(parent.entries.size());
+        parent.cells.push_back(c);
+      }
+      child = subdivide_cpu(parent, tree.segments, tree.root_size, false);
+      t.subdivide_ms += ms_since(t0);
+      if (total_entries + child.entries.size() > params.max_entries) {
+        // Memory cap (criterion 1 of §4.1): this level is the last.
+        nsub = 0;
+        sub.assign(level.cells.size(), 0);
+      }
+    }
+    // Nodes of this level's cells, leaves for those not subdivided.
+    const uint32_t child_base = node_base + static_cast<uint32_t>(level.cells.size());
+    tree.nodes.resize(child_base + 4 * nsub, Node{-1, 0});
+    uint32_t m = 0;
+    for (size_t k = 0; k < level.cells.size(); k++) {
+      Node& node = tree.nodes[node_base + k];
+      if (sub[k]) {
+        node.child = static_cast<int32_t>(child_base + 4 * m++);
+        continue;
+      }
+      Cell c = level.cells[k];
+      node.child = -1;
+      node.leaf = static_cast<uint32_t>(tree.leaves.size());
+      const uint32_t b = static_cast<uint32_t>(tree.leaf_entries.size());
+      tree.leaf_entries.insert(tree.leaf_entries.end(), level.entries.begin() + c.begin,
+                               level.entries.begin() + c.end);
+      c.begin = b;
+      c.end = static_cast<uint32_t>(tree.leaf_entries.size());
+      tree.leaves.push_back(c);
+    }
+    if (nsub == 0) break;
+    if (params.prune) {
+      t0 = std::chrono::steady_clock::now();
+      prune_cpu(child, tree.paths);
+      t.prune_ms += ms_since(t0);
+    }
+    total_entries += child.entries.size();
+    node_base = child_base;
+    level = std::move(child);
+  }
+  return tree;
+}
+
+}  // namespace mpvg

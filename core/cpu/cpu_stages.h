@@ -1,0 +1,55 @@
+// The CPU executor: each stage runs the per-element functions of core/ in
+// loops (threaded where it pays), with std algorithms for the scans. The
+// CUDA executor (gpu/) runs the same functions with the same stage names.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "core/encoding.h"
+#include "core/integration.h"
+#include "core/tree.h"
+
+namespace mpvg {
+
+// abstract: one input segment at a time, order preserved.
+std::vector<AbstractSegment> abstract_cpu(const std::vector<InputSegment>& input);
+
+// The stream before the root exists: delimiters, and each path's abstract
+// segments as SEGMENT entries (expanding the encoding's placeholders).
+std::vector<Entry> initial_stream(const EncodedScene& scene, const std::vector<AbstractSegment>& segments);
+
+// subdivide: the four passes of §4.2 over every cell of parent (all of them
+// are subdivided). With root set, parent is the single virtual cell holding
+// the initial stream and the only child is the root cell.
+TreeLevel subdivide_cpu(const TreeLevel& parent, const std::vector<AbstractSegment>& segments,
+                        uint32_t root_size, bool root);
+
+// prune: mark-and-sweep rounds until nothing changes (§4.4). Returns the
+// number of rounds that eliminated something.
+int prune_cpu(TreeLevel& level, const std::vector<PathRecord>& paths);
+
+struct BuildTimes {
+  double abstract_ms = 0, subdivide_ms = 0, prune_ms = 0;
+};
+
+// The whole tree: abstraction, root, then level by level subdivision and
+// pruning until the stopping criteria hold everywhere.
+ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, const TreeParams& params,
+                            BuildTimes* times = nullptr);
+
+struct ImageF {
+  int width = 0, height = 0;
+  std::vector<float> rgba;  // premultiplied, integration colour space, row-major
+};
+
+struct RenderTimes {
+  double schedule_ms = 0, sample_ms = 0;
+};
+
+// schedule + sample + integrate: every pixel's unit area is sampled with
+// pattern (offsets in [0,1)^2) in the leaf that holds it, box-filtered, and
+// composited over background (premultiplied). threads = 0: all cores.
+ImageF render_tree_cpu(const ShortcutTree& tree, int width, int height, const std::vector<SampleOffset>& pattern,
+                       const PaintRecord& background, int threads, RenderTimes* times = nullptr);
+
+}  // namespace mpvg

@@ -1,0 +1,15 @@
+// Host/device annotation shared by every per-element function of the pipeline.
+//
+// The paper's per-element decisions (implicit tests, split rules, pruning
+// rules, the flat-clipping machine, filter weights) are written once in core/
+// headers. nvcc compiles them into kernels (gpu/); g++ compiles the very same
+// source for the CPU executor (core/), where MPVG_HD expands to nothing.
+#pragma once
+
+#if defined(__CUDACC__)
+#define MPVG_HD __host__ __device__
+#define MPVG_HD_INLINE __host__ __device__ __forceinline__
+#else
+#define MPVG_HD
+#define MPVG_HD_INLINE inline
+#endif

@@ -1,0 +1,142 @@
+// Pruning (paper §4.3-4.4): stream rewriting rules applied by parallel
+// mark-and-sweep, as per-entry functions both executors run.
+//
+// Terminals in a cell: F0/C0, a fill/clip path that fails every sample of
+// the cell, and F1/C1, one that passes every sample (F1 also with an opaque
+// paint). The tree is tight, so these are the paths reduced to a single
+// winding entry: the fill rule of that winding decides (rule 12/13 paths
+// with no entry at all never reach a cell). Rules, with A, B, C well-formed
+// streams:
+//   (12) F0 -> e            (13) C0 -> e
+//   (14) (A | B F1 C) -> (A | B F1)        also at the top level: F1 C -> F1
+//   (15) ( | A ) -> e       (16) (A | ) -> e
+//   (17) (A C1 B | C) -> C
+//   (18) (A | B C1 C) -> (A | C1)
+// Rule 18 is applied by the first C1 of the content section only: two C1s
+// each erasing the other would leave (A | ), which is wrong (the paper's
+// rule 19 fails for the same kind of reason). The first C1 is found by a
+// minimum over the section (atomicMin on the GPU).
+//
+// Marking: +1 at the first element of a range to eliminate and -1 just past
+// it, into an elimination array; an inclusive scan then gives every element
+// to drop a positive count.
+//
+// Cross-links: depth by an inclusive scan (+1 at '(', -1 just after ')'), so
+// '(' and ')' share the depth of their group; then for each depth n, a
+// segmented scan of 1s restarting at every '(' of depth n gives each element
+// of depth n its distance to its '(' (open link), and the '|' and ')' of
+// depth n register with their '(' (bar and close links).
+#pragma once
+#include <cstdint>
+
+#include "core/hd.h"
+#include "core/shortcut_tree.h"
+
+namespace mpvg {
+
+// Terminal classes of a path run (prune_classify).
+enum : uint32_t {
+  TERM_NONE = 0,  // undecided path, or a delimiter
+  TERM_F0 = 1,
+  TERM_F1 = 2,
+  TERM_C0 = 3,
+  TERM_C1 = 4,
+};
+
+// Depth scan input for element i.
+MPVG_HD_INLINE int32_t prune_depth_delta(const Entry* entries, uint32_t i) {
+  int32_t d = entry_kind(entries[i]) == ENTRY_PUSH ? 1 : 0;
+  if (i > 0 && entry_kind(entries[i - 1]) == ENTRY_POP) d -= 1;
+  return d;
+}
+
+// Segmented scan value of the per-depth link scans.
+struct LinkSeg {
+  uint32_t dist;
+  uint32_t head;
+};
+struct LinkSegAdd {
+  MPVG_HD_INLINE LinkSeg operator()(LinkSeg a, LinkSeg b) const {
+    return LinkSeg{b.head ? b.dist : a.dist + b.dist, a.head | b.head};
+  }
+};
+
+// Classifies element i of a cell [begin, end): is it a whole path reduced to
+// one winding entry, and what does its fill rule say?
+MPVG_HD_INLINE uint32_t prune_classify(const Entry* entries, uint32_t i, uint32_t begin, uint32_t end,
+                                       const PathRecord* paths) {
+  const Entry e = entries[i];
+  if (entry_kind(e) != ENTRY_WINDING) return TERM_NONE;
+  if (i > begin && entry_same_path(entries[i - 1], e)) return TERM_NONE;
+  if (i + 1 < end && entry_same_path(e, entries[i + 1])) return TERM_NONE;
+  const PathRecord rec = paths[entry_path(e)];
+  const bool inside = path_inside(rec.flags, static_cast<int32_t>(e.data));
+  if (rec.flags & PATH_CLIP) return inside ? TERM_C1 : TERM_C0;
+  if (!inside) return TERM_F0;
+  return (rec.flags & PATH_OPAQUE) ? TERM_F1 : TERM_NONE;
+}
+
+// Links of one element, filled by the link scans. For elements at depth 0
+// open is ~0u. bar and close are meaningful at '(' elements.
+struct PruneLinks {
+  const int32_t* depth;
+  const uint32_t* open;
+  const uint32_t* bar;
+  const uint32_t* close;
+  const uint32_t* first_c1;  // per '(' element: index of the first C1 after its '|', or ~0u
+};
+
+// Does a C1 at i lie in the content section of its group (after the '|')?
+MPVG_HD_INLINE bool prune_c1_in_content(const PruneLinks& l, uint32_t i) {
+  const uint32_t o = l.open[i];
+  return i > l.bar[o];
+}
+
+// The marks of element i. add(index, delta) accumulates into the
+// elimination array (atomically on the GPU). cell_end is the end of i's cell.
+template <class Add>
+MPVG_HD_INLINE void prune_mark(const Entry* entries, const uint32_t* term, const PruneLinks& l, uint32_t i,
+                               uint32_t cell_end, Add&& add) {
+  const uint32_t t = term[i];
+  const uint32_t kind = entry_kind(entries[i]);
+  if (t == TERM_F0 || t == TERM_C0) {  // rules 12, 13
+    add(i, 1);
+    add(i + 1, -1);
+    return;
+  }
+  if (t == TERM_F1) {  // rule 14: everything after F1 in its fill list
+    const uint32_t stop = l.depth[i] > 0 ? l.close[l.open[i]] : cell_end;
+    if (i + 1 < stop) {
+      add(i + 1, 1);
+      add(stop, -1);
+    }
+    return;
+  }
+  if (t == TERM_C1) {
+    const uint32_t o = l.open[i];
+    const uint32_t bar = l.bar[o], close = l.close[o];
+    if (i < bar) {  // rule 17: drop "( A C1 B |" and ")"
+      add(o, 1);
+      add(bar + 1, -1);
+      add(close, 1);
+      add(close + 1, -1);
+    } else if (l.first_c1[o] == i) {  // rule 18: keep only this C1
+      add(bar + 1, 1);
+      add(i, -1);
+      add(i + 1, 1);
+      add(close, -1);
+    }
+    return;
+  }
+  if (kind == ENTRY_PUSH && entry_kind(entries[i + 1]) == ENTRY_ACTIVATE) {  // rule 15
+    add(i, 1);
+    add(l.close[i] + 1, -1);
+    return;
+  }
+  if (kind == ENTRY_ACTIVATE && entry_kind(entries[i + 1]) == ENTRY_POP) {  // rule 16
+    add(l.open[i], 1);
+    add(i + 2, -1);
+  }
+}
+
+}  // namespace mpvg

@@ -1,0 +1,128 @@
+// Sampling (paper §5.2): the colour of one sample from the stream of the
+// leaf cell that contains it. Front to back: each path's winding number is
+// the sum of its entries (subdivision.h states the invariant), its fill rule
+// decides inside/outside, and the flat-clipping machine decides what the
+// result means. Paints are premultiplied; blending is "under":
+//   acc += (1 - acc.a) * paint.
+#pragma once
+#include <cstdint>
+
+#include "core/abstract_segment.h"
+#include "core/flat_clipping.h"
+#include "core/hd.h"
+#include "core/shortcut_tree.h"
+
+namespace mpvg {
+
+struct Rgba4 {
+  float r, g, b, a;
+};
+
+// Everything a sampler reads, as flat arrays.
+struct SampleInputs {
+  const Entry* entries;
+  const AbstractSegment* segments;
+  const PathRecord* paths;
+  const PaintRecord* paints;
+};
+
+// Winding contribution of one geometry or winding entry to sample (px, py).
+MPVG_HD_INLINE int entry_winding(Entry e, const AbstractSegment* segments, float px, float py) {
+  switch (entry_kind(e)) {
+    case ENTRY_SEGMENT: return abstract_ray_winding(segments[e.data], px, py);
+    case ENTRY_SHORTCUT_UP: return py >= entry_float(e) ? 1 : 0;
+    case ENTRY_SHORTCUT_DOWN: return py >= entry_float(e) ? -1 : 0;
+    default: return static_cast<int32_t>(e.data);  // ENTRY_WINDING
+  }
+}
+
+// Paint of a fill at the sample. Only solid paints exist so far; position
+// dependent paints will be evaluated here, per sample.
+MPVG_HD_INLINE Rgba4 paint_at(const PaintRecord& p, float /*px*/, float /*py*/) { return Rgba4{p.r, p.g, p.b, p.a}; }
+
+// Running state of one sample over a stream: the machine, the path whose
+// entries are being summed, and the colour so far. Kept explicit so that a
+// GPU block can advance many samples chunk by chunk over one cell.
+struct SampleState {
+  FlatClip clip;
+  int32_t path;  // path being summed, or -1
+  int32_t winding;
+  Rgba4 color;
+  bool done;  // opaque: nothing behind can show
+};
+
+MPVG_HD_INLINE SampleState sample_start() {
+  SampleState st;
+  st.clip = flat_clip_start();
+  st.path = -1;
+  st.winding = 0;
+  st.color = Rgba4{0.0f, 0.0f, 0.0f, 0.0f};
+  st.done = false;
+  return st;
+}
+
+// Colour of a sample counts as opaque from here on.
+constexpr float kOpaqueAlpha = 1.0f - 1.0f / 65536.0f;
+
+// Closes the path being summed: inside-outside test, then blend (fill) or
+// a clip-machine transition (clip test).
+MPVG_HD_INLINE void sample_finish_path(SampleState& st, const SampleInputs& in, float px, float py) {
+  if (st.path < 0) return;
+  const PathRecord rec = in.paths[st.path];
+  st.path = -1;
+  if (!path_inside(rec.flags, st.winding)) return;
+  if (rec.flags & PATH_CLIP) {
+    flat_clip_pass(st.clip);
+    return;
+  }
+  const Rgba4 p = paint_at(in.paints[rec.paint], px, py);
+  const float t = 1.0f - st.color.a;
+  st.color.r += t * p.r;
+  st.color.g += t * p.g;
+  st.color.b += t * p.b;
+  st.color.a += t * p.a;
+  if (st.color.a >= kOpaqueAlpha) st.done = true;
+}
+
+// Advances one sample over one entry.
+MPVG_HD_INLINE void sample_step(SampleState& st, const SampleInputs& in, Entry e, float px, float py) {
+  if (st.done) return;
+  if (entry_is_delimiter(e)) {
+    sample_finish_path(st, in, px, py);
+    if (st.done) return;
+    flat_clip_delimiter(st.clip, entry_kind(e));
+    return;
+  }
+  const int32_t path = static_cast<int32_t>(entry_path(e));
+  if (path != st.path) {
+    sample_finish_path(st, in, px, py);
+    if (st.done) return;
+    if (st.clip.state != FLAT_P) return;  // skipped by the clip machine
+    st.path = path;
+    st.winding = 0;
+  }
+  st.winding += entry_winding(e, in.segments, px, py);
+}
+
+// Colour of sample (px, py) from the entries [begin, end) of its leaf cell.
+MPVG_HD_INLINE Rgba4 sample_cell(const SampleInputs& in, uint32_t begin, uint32_t end, float px, float py) {
+  SampleState st = sample_start();
+  for (uint32_t i = begin; i < end && !st.done; i++) sample_step(st, in, in.entries[i], px, py);
+  sample_finish_path(st, in, px, py);
+  return st.color;
+}
+
+// Leaf containing pixel (ix, iy): descend from the root by the bits of the
+// pixel coordinates (cells are aligned to the pixel grid, §5.3).
+MPVG_HD_INLINE uint32_t tree_find_leaf(const Node* nodes, uint32_t root_size, uint32_t ix, uint32_t iy) {
+  uint32_t node = 0;
+  uint32_t half = root_size >> 1;
+  while (nodes[node].child >= 0) {
+    const uint32_t q = ((iy & half) ? 2u : 0u) | ((ix & half) ? 1u : 0u);
+    node = static_cast<uint32_t>(nodes[node].child) + q;
+    half >>= 1;
+  }
+  return nodes[node].leaf;
+}
+
+}  // namespace mpvg

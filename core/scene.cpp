@@ -1,0 +1,321 @@
+#include "core/scene.h"
+
+#include <cinttypes>
+#include <cstdarg>
+#include <cstdio>
+#include <memory>
+
+#include "core/error.h"
+
+namespace mpvg {
+
+// ---------------------------------------------------------------- Path
+
+void Path::ensure_contour() {
+  if (points_.empty()) throw Error("path segment without a current point");
+  if (!open_contour_) {
+    // A segment after close() starts a new contour at the current point.
+    Contour c;
+    c.first_segment = static_cast<uint32_t>(segments_.size());
+    c.start_point = static_cast<uint32_t>(points_.size() - 1);
+    contours_.push_back(c);
+    open_contour_ = true;
+  }
+}
+
+void Path::move_to(Vec2 p) {
+  points_.push_back(p);
+  Contour c;
+  c.first_segment = static_cast<uint32_t>(segments_.size());
+  c.start_point = static_cast<uint32_t>(points_.size() - 1);
+  contours_.push_back(c);
+  open_contour_ = true;
+}
+
+void Path::add_segment(SegmentType t, uint32_t first_weight) {
+  const uint32_t deg = static_cast<uint32_t>(segment_degree(t));
+  Segment s{t, static_cast<uint32_t>(points_.size() - 1 - deg), first_weight};
+  segments_.push_back(s);
+  contours_.back().segment_count++;
+}
+
+void Path::line_to(Vec2 p) {
+  ensure_contour();
+  points_.push_back(p);
+  add_segment(SegmentType::Line, 0);
+}
+
+void Path::quad_to(Vec2 p1, Vec2 p2) {
+  ensure_contour();
+  points_.push_back(p1);
+  points_.push_back(p2);
+  add_segment(SegmentType::Quad, 0);
+}
+
+void Path::rquad_to(Vec2 p1, Vec2 p2, double w) {
+  ensure_contour();
+  points_.push_back(p1);
+  points_.push_back(p2);
+  weights_.push_back(w);
+  add_segment(SegmentType::RQuad, static_cast<uint32_t>(weights_.size() - 1));
+}
+
+void Path::cubic_to(Vec2 p1, Vec2 p2, Vec2 p3) {
+  ensure_contour();
+  points_.push_back(p1);
+  points_.push_back(p2);
+  points_.push_back(p3);
+  add_segment(SegmentType::Cubic, 0);
+}
+
+void Path::rcubic_to(Vec2 p1, Vec2 p2, Vec2 p3, double w0, double w1, double w2, double w3) {
+  ensure_contour();
+  points_.push_back(p1);
+  points_.push_back(p2);
+  points_.push_back(p3);
+  const uint32_t first = static_cast<uint32_t>(weights_.size());
+  weights_.insert(weights_.end(), {w0, w1, w2, w3});
+  add_segment(SegmentType::RCubic, first);
+}
+
+void Path::close() {
+  if (!open_contour_ || contours_.empty()) return;
+  Contour& c = contours_.back();
+  const Vec2 start = points_[c.start_point];
+  if (c.segment_count > 0 && points_.back() != start) line_to(start);
+  c.closed = true;
+  open_contour_ = false;
+}
+
+size_t Scene::segment_count() const {
+  size_t n = 0;
+  for (const ScenePath& sp : paths) {
+    const Path& g = geometries[sp.geometry];
+    n += g.segments().size();
+    for (const Path::Contour& c : g.contours()) {
+      if (c.segment_count == 0) continue;
+      const Path::Segment& last = g.segments()[c.first_segment + c.segment_count - 1];
+      const Vec2 end = g.points()[last.first_point + segment_degree(last.type)];
+      if (end != g.points()[c.start_point]) n++;
+    }
+  }
+  return n;
+}
+
+// ---------------------------------------------------------------- builder
+
+struct SceneBuilder::Node {
+  enum Kind { Fill, Clip, Group } kind;
+  ScenePath path;                   // Fill and Clip leaves
+  std::vector<Node*> clip_items;    // Group: before '|'
+  std::vector<Node*> content;       // Group: after '|'
+};
+
+struct SceneBuilder::Frame {
+  Node* group;
+  bool clip_context;  // the group is a clip-path (its content holds clip-paths)
+  bool activated;
+};
+
+SceneBuilder::SceneBuilder(double width, double height) {
+  scene_.width = width;
+  scene_.height = height;
+  root_ = new Node{Node::Group, {}, {}, {}};
+  pool_.push_back(root_);
+  frames_.push_back({root_, false, true});
+}
+
+SceneBuilder::~SceneBuilder() {
+  for (Node* n : pool_) delete n;
+}
+
+SceneBuilder::Frame& SceneBuilder::frame() { return frames_.back(); }
+
+uint32_t SceneBuilder::add_geometry(Path p) {
+  scene_.geometries.push_back(std::move(p));
+  return static_cast<uint32_t>(scene_.geometries.size() - 1);
+}
+
+size_t SceneBuilder::depth() const { return frames_.size() - 1; }
+
+void SceneBuilder::fill(uint32_t geometry, const Affine& xf, FillRule rule, const Paint& paint) {
+  Frame& f = frame();
+  if (f.clip_context || !f.activated) throw Error("scene grammar: fill inside a clip-path");
+  if (geometry >= scene_.geometries.size()) throw Error("scene: unknown geometry");
+  Node* n = new Node{Node::Fill, {}, {}, {}};
+  pool_.push_back(n);
+  n->path.geometry = geometry;
+  n->path.xf = xf;
+  n->path.rule = rule;
+  n->path.is_clip = false;
+  scene_.paints.push_back(paint);
+  n->path.paint = static_cast<uint32_t>(scene_.paints.size() - 1);
+  f.group->content.push_back(n);
+}
+
+void SceneBuilder::clip(uint32_t geometry, const Affine& xf, FillRule rule) {
+  Frame& f = frame();
+  const bool in_clip_section = !f.activated;
+  if (!in_clip_section && !f.clip_context) throw Error("scene grammar: clip test outside a clip-path");
+  if (geometry >= scene_.geometries.size()) throw Error("scene: unknown geometry");
+  Node* n = new Node{Node::Clip, {}, {}, {}};
+  pool_.push_back(n);
+  n->path.geometry = geometry;
+  n->path.xf = xf;
+  n->path.rule = rule;
+  n->path.is_clip = true;
+  (in_clip_section ? f.group->clip_items : f.group->content).push_back(n);
+}
+
+void SceneBuilder::push() {
+  Frame& f = frame();
+  const bool in_clip_section = !f.activated;
+  Node* n = new Node{Node::Group, {}, {}, {}};
+  pool_.push_back(n);
+  const bool clip_context = in_clip_section || f.clip_context;
+  (in_clip_section ? f.group->clip_items : f.group->content).push_back(n);
+  frames_.push_back({n, clip_context, false});
+}
+
+void SceneBuilder::activate() {
+  Frame& f = frame();
+  if (frames_.size() == 1 || f.activated) throw Error("scene grammar: activate without a matching push");
+  f.activated = true;
+}
+
+void SceneBuilder::pop() {
+  if (frames_.size() == 1) throw Error("scene grammar: pop without a matching push");
+  if (!frame().activated) throw Error("scene grammar: pop before activate");
+  frames_.pop_back();
+}
+
+namespace {
+
+struct Emitter {
+  Scene& scene;
+
+  void path(const ScenePath& p, ElementKind kind) {
+    scene.paths.push_back(p);
+    scene.stream.push_back({kind, static_cast<uint32_t>(scene.paths.size() - 1)});
+  }
+  void mark(ElementKind kind) { scene.stream.push_back({kind, 0}); }
+
+  template <class Node>
+  void clip_list(const std::vector<Node*>& items) {
+    // A union: order does not change the result; keep the input order.
+    for (const Node* n : items) {
+      if (n->kind == Node::Clip) {
+        path(n->path, ElementKind::Clip);
+      } else {
+        mark(ElementKind::Push);
+        clip_list(n->clip_items);
+        mark(ElementKind::Activate);
+        clip_list(n->content);
+        mark(ElementKind::Pop);
+      }
+    }
+  }
+
+  template <class Node>
+  void fill_list(const std::vector<Node*>& items) {
+    // Painter's order in, top-most first out.
+    for (auto it = items.rbegin(); it != items.rend(); ++it) {
+      const Node* n = *it;
+      if (n->kind == Node::Fill) {
+        path(n->path, ElementKind::Fill);
+      } else {
+        mark(ElementKind::Push);
+        clip_list(n->clip_items);
+        mark(ElementKind::Activate);
+        fill_list(n->content);
+        mark(ElementKind::Pop);
+      }
+    }
+  }
+};
+
+}  // namespace
+
+Scene SceneBuilder::finish() {
+  if (frames_.size() != 1) throw Error("scene grammar: unbalanced push/pop at the end of the scene");
+  Scene out;
+  out.width = scene_.width;
+  out.height = scene_.height;
+  out.geometries = std::move(scene_.geometries);
+  out.paints = std::move(scene_.paints);
+  Emitter e{out};
+  e.fill_list(root_->content);
+  scene_ = Scene{};
+  return out;
+}
+
+// ---------------------------------------------------------------- dump
+
+namespace {
+
+void appendf(std::string& s, const char* fmt, ...) __attribute__((format(printf, 2, 3)));
+void appendf(std::string& s, const char* fmt, ...) {
+  char buf[512];
+  va_list ap;
+  va_start(ap, fmt);
+  const int n = vsnprintf(buf, sizeof buf, fmt, ap);
+  va_end(ap);
+  if (n > 0) s.append(buf, static_cast<size_t>(n) < sizeof buf ? static_cast<size_t>(n) : sizeof buf - 1);
+}
+
+}  // namespace
+
+std::string dump(const Scene& scene) {
+  std::string s;
+  appendf(s, "scene %g %g\n", scene.width, scene.height);
+  for (size_t i = 0; i < scene.paths.size(); i++) {
+    const ScenePath& sp = scene.paths[i];
+    appendf(s, "path %zu %s %s", i, sp.is_clip ? "clip" : "fill",
+            sp.rule == FillRule::NonZero ? "nonzero" : "evenodd");
+    if (!sp.is_clip) {
+      const Paint& p = scene.paints[sp.paint];
+      appendf(s, " rgba(%g,%g,%g,%g) opacity %g", p.color.r, p.color.g, p.color.b, p.color.a, p.opacity);
+    }
+    if (!sp.xf.is_identity())
+      appendf(s, " matrix(%g %g %g %g %g %g)", sp.xf.a, sp.xf.b, sp.xf.c, sp.xf.d, sp.xf.e, sp.xf.f);
+    s += "\n";
+    const Path& g = scene.geometries[sp.geometry];
+    for (const Path::Contour& c : g.contours()) {
+      const Vec2 p0 = g.points()[c.start_point];
+      appendf(s, "  M %g %g", p0.x, p0.y);
+      for (uint32_t k = 0; k < c.segment_count; k++) {
+        const Path::Segment& seg = g.segments()[c.first_segment + k];
+        const Vec2* p = &g.points()[seg.first_point];
+        switch (seg.type) {
+          case SegmentType::Line: appendf(s, " L %g %g", p[1].x, p[1].y); break;
+          case SegmentType::Quad: appendf(s, " Q %g %g %g %g", p[1].x, p[1].y, p[2].x, p[2].y); break;
+          case SegmentType::RQuad:
+            appendf(s, " R %g %g %g %g w %g", p[1].x, p[1].y, p[2].x, p[2].y, g.weights()[seg.first_weight]);
+            break;
+          case SegmentType::Cubic:
+            appendf(s, " C %g %g %g %g %g %g", p[1].x, p[1].y, p[2].x, p[2].y, p[3].x, p[3].y);
+            break;
+          case SegmentType::RCubic:
+            appendf(s, " RC %g %g %g %g %g %g", p[1].x, p[1].y, p[2].x, p[2].y, p[3].x, p[3].y);
+            break;
+        }
+      }
+      if (c.closed) s += " Z";
+      s += "\n";
+    }
+  }
+  s += "stream";
+  for (const Element& e : scene.stream) {
+    switch (e.kind) {
+      case ElementKind::Push: s += " ("; break;
+      case ElementKind::Activate: s += " |"; break;
+      case ElementKind::Pop: s += " )"; break;
+      case ElementKind::Fill: appendf(s, " F%u", e.path); break;
+      case ElementKind::Clip: appendf(s, " C%u", e.path); break;
+    }
+  }
+  s += "\n";
+  return s;
+}
+
+}  // namespace mpvg

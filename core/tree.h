@@ -1,0 +1,63 @@
+// The built shortcut tree as host arrays: what the CPU builder produces, what
+// the GPU builder's results are compared against, and what samplers read.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "core/abstract_segment.h"
+#include "core/shortcut_tree.h"
+
+namespace mpvg {
+
+// Stopping criteria (paper §4.1).
+struct TreeParams {
+  uint32_t min_segments = 16;   // subdivide cells with more geometry entries than this
+  int max_depth = -1;           // deepest level; -1: down to 1-pixel cells
+  size_t max_entries = size_t(1) << 27;  // cap on all levels' entries together (memory)
+  bool prune = true;
+  bool keep_levels = false;     // keep every level after pruning (tests, backend comparison)
+};
+
+// One level of the tree during construction: its cells and their streams.
+struct TreeLevel {
+  std::vector<Cell> cells;
+  std::vector<Entry> entries;
+};
+
+struct ShortcutTree {
+  uint32_t root_size = 1;  // power of two, >= image width and height
+  int depth = 0;           // deepest level that has cells
+  std::vector<AbstractSegment> segments;
+  std::vector<PathRecord> paths;
+  std::vector<PaintRecord> paints;
+  std::vector<Node> nodes;          // node 0 is the root
+  std::vector<Cell> leaves;         // begin/end index leaf_entries
+  std::vector<Entry> leaf_entries;
+  std::vector<TreeLevel> levels;    // TreeParams::keep_levels only
+  size_t peak_level_entries = 0;    // largest level, for memory reports
+
+  // Bytes of what sampling needs: segments, nodes, leaves and their entries.
+  size_t memory_bytes() const {
+    return segments.size() * sizeof(AbstractSegment) + nodes.size() * sizeof(Node) +
+           leaves.size() * sizeof(Cell) + leaf_entries.size() * sizeof(Entry) +
+           paths.size() * sizeof(PathRecord) + paints.size() * sizeof(PaintRecord);
+  }
+};
+
+// Smallest power of two that is at least max(width, height), and at least 1.
+inline uint32_t tree_root_size(int width, int height) {
+  const uint32_t m = static_cast<uint32_t>(width > height ? width : height);
+  uint32_t s = 1;
+  while (s < m) s <<= 1;
+  return s;
+}
+
+// Deepest level allowed: cells of one pixel, or params.max_depth if smaller.
+inline int tree_max_level(uint32_t root_size, const TreeParams& p) {
+  int lv = 0;
+  while ((root_size >> lv) > 1) lv++;
+  return (p.max_depth >= 0 && p.max_depth < lv) ? p.max_depth : lv;
+}
+
+}  // namespace mpvg

@@ -1,0 +1,257 @@
+#include "parsers/svg/svg_dom.h"
+
+#include <tinyxml2.h>
+
+#include <algorithm>
+#include <cstring>
+
+#include "core/error.h"
+#include "parsers/svg/svg_values.h"
+
+namespace mpvg::svg::detail {
+
+namespace {
+
+constexpr std::string_view kSvgNs = "http://www.w3.org/2000/svg";
+constexpr std::string_view kXlinkNs = "http://www.w3.org/1999/xlink";
+
+char lower(char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }
+
+// In-scope namespace declarations (Namespaces in XML 1.0 §6): a stack of
+// (prefix, uri); "" is the default namespace. Later entries shadow earlier.
+class NamespaceScope {
+ public:
+  // The namespace of `prefix`, or nullptr when undeclared.
+  const std::string* lookup(std::string_view prefix) const {
+    for (auto it = decls_.rbegin(); it != decls_.rend(); ++it)
+      if (it->first == prefix) return &it->second;
+    return nullptr;
+  }
+  size_t mark() const { return decls_.size(); }
+  void release(size_t mark) { decls_.resize(mark); }
+  void declare(std::string prefix, std::string uri) { decls_.emplace_back(std::move(prefix), std::move(uri)); }
+
+ private:
+  std::vector<std::pair<std::string, std::string>> decls_;
+};
+
+std::pair<std::string_view, std::string_view> split_qname(std::string_view q) {
+  const size_t colon = q.find(':');
+  if (colon == std::string_view::npos) return {{}, q};
+  return {q.substr(0, colon), q.substr(colon + 1)};
+}
+
+// Whether an element name is in the SVG namespace. Unprefixed names with no
+// default namespace declared are taken as SVG too: hand-written files often
+// omit xmlns, and nothing else could be meant.
+bool in_svg_namespace(std::string_view prefix, const NamespaceScope& ns) {
+  const std::string* uri = ns.lookup(prefix);
+  if (!uri) return prefix.empty();
+  return *uri == kSvgNs;
+}
+
+class TreeBuilder {
+ public:
+  explicit TreeBuilder(Document& doc) : doc_(doc) {}
+
+  // Converts x and its subtree; nullptr when x is not an SVG element (its
+  // subtree is then dropped too: SVG content inside foreign elements is not
+  // rendered).
+  std::unique_ptr<Element> build(const tinyxml2::XMLElement* x, const Element* parent) {
+    const size_t mark = ns_.mark();
+    for (const tinyxml2::XMLAttribute* a = x->FirstAttribute(); a; a = a->Next()) {
+      const std::string_view name = a->Name();
+      if (name == "xmlns") ns_.declare("", a->Value());
+      else if (name.substr(0, 6) == "xmlns:") ns_.declare(std::string(name.substr(6)), a->Value());
+    }
+    const auto [prefix, local] = split_qname(x->Name());
+    std::unique_ptr<Element> e;
+    if (in_svg_namespace(prefix, ns_)) {
+      e = std::make_unique<Element>();
+      e->name = std::string(local);
+      e->parent = parent;
+      copy_attributes(x, *e);
+      for (const tinyxml2::XMLElement* c = x->FirstChildElement(); c; c = c->NextSiblingElement()) {
+        if (auto child = build(c, e.get())) e->children.push_back(std::move(child));
+      }
+    }
+    ns_.release(mark);
+    return e;
+  }
+
+ private:
+  void copy_attributes(const tinyxml2::XMLElement* x, Element& e) {
+    for (const tinyxml2::XMLAttribute* a = x->FirstAttribute(); a; a = a->Next()) {
+      const std::string_view qname = a->Name();
+      if (qname == "xmlns" || qname.substr(0, 6) == "xmlns:") continue;
+      const auto [prefix, local] = split_qname(qname);
+      std::string name;
+      if (prefix.empty()) {
+        name = std::string(local);
+      } else {
+        const std::string* uri = ns_.lookup(prefix);
+        // An undeclared "xlink" prefix is a common slip; honour it.
+        if ((uri && *uri == kXlinkNs) || (!uri && prefix == "xlink")) name = "xlink:" + std::string(local);
+        else if (uri && *uri == kSvgNs) name = std::string(local);
+        else continue;
+      }
+      if (name == "style") {
+        e.declarations = parse_style_attribute(a->Value());
+        continue;
+      }
+      if (name == "id" && a->Value()[0] != '\0') doc_.ids.emplace(a->Value(), &e);
+      e.attributes.emplace_back(std::move(name), a->Value());
+    }
+  }
+
+  Document& doc_;
+  NamespaceScope ns_;
+};
+
+}  // namespace
+
+const std::string* Element::attribute(std::string_view n) const {
+  for (const auto& [k, v] : attributes)
+    if (k == n) return &v;
+  return nullptr;
+}
+
+std::vector<std::pair<std::string, std::string>> parse_style_attribute(std::string_view style) {
+  // Comments first (CSS Syntax 3 §4.3.2), then split at top-level ';'.
+  std::string text;
+  for (size_t i = 0; i < style.size(); i++) {
+    if (style[i] == '/' && i + 1 < style.size() && style[i + 1] == '*') {
+      const size_t end = style.find("*/", i + 2);
+      if (end == std::string_view::npos) break;
+      i = end + 1;
+      continue;
+    }
+    text += style[i];
+  }
+  std::vector<std::pair<std::string, std::string>> out;
+  auto declaration = [&](std::string_view d) {
+    const size_t colon = d.find(':');
+    if (colon == std::string_view::npos) return;
+    std::string name(trim(d.substr(0, colon)));
+    std::transform(name.begin(), name.end(), name.begin(), lower);
+    std::string_view value = trim(d.substr(colon + 1));
+    // "!important" only changes precedence between style sheets, which we
+    // do not have; within one declaration block it is noise.
+    const size_t bang = value.rfind('!');
+    if (bang != std::string_view::npos && iequals(trim(value.substr(bang + 1)), "important"))
+      value = trim(value.substr(0, bang));
+    if (!name.empty() && !value.empty()) out.emplace_back(std::move(name), std::string(value));
+  };
+  size_t start = 0;
+  int depth = 0;
+  char quote = 0;
+  for (size_t i = 0; i < text.size(); i++) {
+    const char c = text[i];
+    if (quote) {
+      if (c == quote) quote = 0;
+    } else if (c == '"' || c == '\'') {
+      quote = c;
+    } else if (c == '(') {
+      depth++;
+    } else if (c == ')') {
+      depth = std::max(0, depth - 1);
+    } else if (c == ';' && depth == 0) {
+      declaration(std::string_view(text).substr(start, i - start));
+      start = i + 1;
+    }
+  }
+  declaration(std::string_view(text).substr(start));
+  return out;
+}
+
+std::string expand_internal_entities(std::string_view text) {
+  const size_t doctype = text.find("<!DOCTYPE");
+  if (doctype == std::string_view::npos) return std::string(text);
+  const size_t open = text.find('[', doctype);
+  const size_t first_gt = text.find('>', doctype);
+  if (open == std::string_view::npos || open > first_gt) return std::string(text);
+  const size_t close = text.find("]", open);
+  if (close == std::string_view::npos) return std::string(text);
+  const size_t end = text.find('>', close);
+  if (end == std::string_view::npos) return std::string(text);
+
+  // <!ENTITY name "value"> and <!ENTITY name 'value'>; parameter entities
+  // ('%') and external entities (SYSTEM/PUBLIC) are not expanded.
+  std::vector<std::pair<std::string, std::string>> entities;
+  const std::string_view subset = text.substr(open + 1, close - open - 1);
+  for (size_t p = subset.find("<!ENTITY"); p != std::string_view::npos; p = subset.find("<!ENTITY", p + 1)) {
+    Scanner s(subset.substr(p + 8));
+    s.skip_ws();
+    if (s.peek() == '%') continue;
+    std::string name;
+    while (!s.at_end() && !is_ws(s.peek()) && s.peek() != '"' && s.peek() != '\'') {
+      name += s.peek();
+      s.consume(s.peek());
+    }
+    s.skip_ws();
+    const char q = s.peek();
+    if (name.empty() || (q != '"' && q != '\'')) continue;
+    s.consume(q);
+    const std::string_view rest = s.rest();
+    const size_t qend = rest.find(q);
+    if (qend == std::string_view::npos) continue;
+    entities.emplace_back(std::move(name), std::string(rest.substr(0, qend)));
+  }
+  if (entities.empty()) return std::string(text);
+
+  const size_t limit = std::max<size_t>(text.size() * 4, size_t(1) << 20);
+  std::string out(text.substr(0, end + 1));
+  size_t i = end + 1;
+  while (i < text.size()) {
+    const char c = text[i];
+    if (c == '&' && out.size() < limit) {
+      const size_t semi = text.find(';', i + 1);
+      if (semi != std::string_view::npos && semi - i <= 64) {
+        const std::string_view name = text.substr(i + 1, semi - i - 1);
+        const auto it = std::find_if(entities.begin(), entities.end(), [&](const auto& e) { return e.first == name; });
+        if (it != entities.end()) {
+          out += it->second;
+          i = semi + 1;
+          continue;
+        }
+      }
+    }
+    out += c;
+    i++;
+  }
+  return out;
+}
+
+Document parse_document(std::string_view raw) {
+  const std::string text = expand_internal_entities(raw);
+  tinyxml2::XMLDocument xml;
+  const tinyxml2::XMLError err = xml.Parse(text.data(), text.size());
+  if (err != tinyxml2::XML_SUCCESS) {
+    // ErrorStr() reads "Error=NAME ErrorID=N (0xN) Line number=N[: detail]";
+    // keep the detail, which names the element or attribute at fault.
+    std::string msg = "XML parse error at line " + std::to_string(std::max(1, xml.ErrorLineNum())) + ": " +
+                      xml.ErrorName();
+    const char* full = xml.ErrorStr();
+    const char* detail = full ? std::strstr(full, "Line number=") : nullptr;
+    if (detail) detail = std::strchr(detail, ':');
+    if (detail) {
+      std::string d = std::string(trim(detail + 1));
+      std::replace(d.begin(), d.end(), '\n', ' ');
+      if (!d.empty()) msg += " (" + d + ")";
+    }
+    throw Error(msg);
+  }
+  const tinyxml2::XMLElement* root = xml.RootElement();
+  if (!root) throw Error("not an SVG document: no root element");
+
+  Document doc;
+  TreeBuilder builder(doc);
+  doc.root = builder.build(root, nullptr);
+  if (!doc.root || doc.root->name != "svg") {
+    throw Error(std::string("not an SVG document: the root element is <") + root->Name() +
+                ">, expected <svg> in the SVG namespace");
+  }
+  return doc;
+}
+
+}  // namespace mpvg::svg::detail

@@ -1,0 +1,50 @@
+// The SVG element tree: XML parsed by tinyxml2, reduced to the elements of
+// the SVG namespace, with namespaced attribute names resolved and the style
+// attribute split into declarations.
+//
+// Internal to the SVG frontend.
+#pragma once
+#include <memory>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+namespace mpvg::svg::detail {
+
+struct Element {
+  std::string name;  // local name; the element is in the SVG namespace
+  // Attributes without a namespace (or in the SVG namespace) under their
+  // local name; XLink attributes as "xlink:NAME"; others are dropped.
+  std::vector<std::pair<std::string, std::string>> attributes;
+  // Declarations of the style attribute in document order: lower-case
+  // property names, trimmed values, "!important" removed.
+  std::vector<std::pair<std::string, std::string>> declarations;
+  const Element* parent = nullptr;
+  std::vector<std::unique_ptr<Element>> children;
+
+  const std::string* attribute(std::string_view name) const;
+};
+
+struct Document {
+  std::unique_ptr<Element> root;
+  // The first element carrying each id.
+  std::unordered_map<std::string, const Element*> ids;
+};
+
+// Parses XML text. Throws mpvg::Error on malformed XML ("XML parse error at
+// line N: ...") and when the root element is not an SVG <svg>.
+Document parse_document(std::string_view text);
+
+// The declarations of a style attribute (CSS Syntax: "name: value; ...",
+// comments allowed, "!important" ignored).
+std::vector<std::pair<std::string, std::string>> parse_style_attribute(std::string_view style);
+
+// Expands the general entities declared in the document's internal DTD
+// subset (<!DOCTYPE svg [ <!ENTITY name "value"> ]>), which tinyxml2 does not
+// do; drawing tools write the SVG namespace itself through one. Expansion is
+// one level deep and the output size is bounded.
+std::string expand_internal_entities(std::string_view text);
+
+}  // namespace mpvg::svg::detail

@@ -1,0 +1,75 @@
+// SVG geometry to scene paths: path data, elliptical arcs as rational
+// quadratics, the basic shapes, and tight bounding boxes.
+//
+// Internal to the SVG frontend. Curves stay curves: quadratic and cubic
+// commands become Quad and Cubic segments, arcs become RQuad conics.
+#pragma once
+#include <limits>
+#include <string_view>
+#include <vector>
+
+#include "core/geometry.h"
+#include "core/scene.h"
+
+namespace mpvg::svg::detail {
+
+// Builds a Path from SVG-style commands. A moveto is only materialised when a
+// drawing command follows it, so lone movetos ("M 1 1 M 2 2 ...", "M 1 1 Z")
+// leave no empty contours behind.
+class PathBuilder {
+ public:
+  void move_to(Vec2 p);
+  void line_to(Vec2 p);
+  void quad_to(Vec2 p1, Vec2 p2);
+  void rquad_to(Vec2 p1, Vec2 p2, double w);
+  void cubic_to(Vec2 p1, Vec2 p2, Vec2 p3);
+  // Elliptical arc from the current point (SVG 1.1 F.6.5 endpoint to center
+  // conversion, F.6.6 out-of-range radii), emitted as conics of at most 90°.
+  void arc_to(double rx, double ry, double x_axis_rotation_deg, bool large_arc, bool sweep, Vec2 p);
+  void close();
+
+  Vec2 current_point() const { return current_; }
+  Path take() { return std::move(path_); }
+
+ private:
+  void begin_segment();
+
+  Path path_;
+  Vec2 current_;
+  Vec2 start_;
+  bool pending_move_ = false;
+};
+
+// Path data (SVG 2 §9.3.9 grammar). On a syntax error the path holds every
+// segment before the erroneous one (SVG 2 §9.5.4 "error handling in path
+// data") and the function returns false.
+bool parse_path_data(std::string_view d, Path& out);
+
+// A points attribute (polyline, polygon): coordinate pairs; an odd trailing
+// coordinate is dropped and parsing stops at the first error (SVG 1.1 §9.7).
+std::vector<Vec2> parse_points(std::string_view s);
+
+// The basic shapes as paths (SVG 2 §10.2-10.6 "equivalent path"). Callers
+// have validated the sizes (w, h, rx, ry > 0 where required).
+Path rect_path(double x, double y, double w, double h, double rx, double ry);
+Path ellipse_path(double cx, double cy, double rx, double ry);
+Path line_path(Vec2 p0, Vec2 p1);
+Path poly_path(const std::vector<Vec2>& points, bool close);
+
+// An axis-aligned box; empty until something is added.
+struct Bounds {
+  double x0 = std::numeric_limits<double>::infinity(), y0 = std::numeric_limits<double>::infinity();
+  double x1 = -std::numeric_limits<double>::infinity(), y1 = -std::numeric_limits<double>::infinity();
+
+  bool empty() const { return !(x0 <= x1 && y0 <= y1); }
+  double width() const { return x1 - x0; }
+  double height() const { return y1 - y0; }
+  void add(Vec2 p);
+  void add(const Bounds& b);
+};
+
+// Adds the tight bounds of `path` mapped by `m` to `b`: the curves' extrema
+// are solved for, not approximated by their control polygons.
+void add_path_bounds(const Path& path, const Affine& m, Bounds& b);
+
+}  // namespace mpvg::svg::detail

@@ -1,0 +1,485 @@
+#include "parsers/svg/svg_values.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <string>
+
+namespace mpvg::svg::detail {
+
+namespace {
+
+bool is_digit(char c) { return c >= '0' && c <= '9'; }
+bool is_alpha(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
+char lower(char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }
+
+int hex_value(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  c = lower(c);
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  return -1;
+}
+
+float clamp01(double v) { return static_cast<float>(std::clamp(v, 0.0, 1.0)); }
+
+}  // namespace
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && is_ws(s.front())) s.remove_prefix(1);
+  while (!s.empty() && is_ws(s.back())) s.remove_suffix(1);
+  return s;
+}
+
+bool iequals(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); i++)
+    if (lower(a[i]) != lower(b[i])) return false;
+  return true;
+}
+
+// ---------------------------------------------------------------- Scanner
+
+void Scanner::skip_ws() {
+  while (!at_end() && is_ws(s_[pos_])) pos_++;
+}
+
+bool Scanner::skip_comma_ws() {
+  skip_ws();
+  const bool comma = consume(',');
+  skip_ws();
+  return comma;
+}
+
+bool Scanner::consume(char c) {
+  if (at_end() || s_[pos_] != c) return false;
+  pos_++;
+  return true;
+}
+
+bool Scanner::consume_word(std::string_view w) {
+  if (s_.size() - pos_ < w.size() || !iequals(s_.substr(pos_, w.size()), w)) return false;
+  pos_ += w.size();
+  return true;
+}
+
+std::optional<double> Scanner::number() {
+  size_t i = pos_;
+  const size_t n = s_.size();
+  if (i < n && (s_[i] == '+' || s_[i] == '-')) i++;
+  const size_t mantissa = i;
+  size_t int_digits = 0, frac_digits = 0;
+  while (i < n && is_digit(s_[i])) i++, int_digits++;
+  if (i < n && s_[i] == '.') {
+    size_t j = i + 1;
+    while (j < n && is_digit(s_[j])) j++, frac_digits++;
+    // "1." is a number in SVG 2 path data; a lone "." is not.
+    if (int_digits > 0 || frac_digits > 0) i = j;
+  }
+  if (int_digits == 0 && frac_digits == 0) return std::nullopt;
+  if (i < n && (s_[i] == 'e' || s_[i] == 'E')) {
+    size_t j = i + 1;
+    if (j < n && (s_[j] == '+' || s_[j] == '-')) j++;
+    if (j < n && is_digit(s_[j])) {
+      while (j < n && is_digit(s_[j])) j++;
+      i = j;
+    }
+  }
+  // from_chars takes no leading '+'; parse the sign ourselves.
+  double v = 0;
+  const char* first = s_.data() + mantissa;
+  const char* last = s_.data() + i;
+  const auto r = std::from_chars(first, last, v, std::chars_format::general);
+  if (r.ec != std::errc() || r.ptr != last || !std::isfinite(v)) return std::nullopt;
+  if (mantissa > pos_ && s_[pos_] == '-') v = -v;
+  if (std::fabs(v) > kMaxNumber) return std::nullopt;
+  pos_ = i;
+  return v;
+}
+
+std::optional<bool> Scanner::flag() {
+  if (consume('0')) return false;
+  if (consume('1')) return true;
+  return std::nullopt;
+}
+
+std::string_view Scanner::word() {
+  const size_t start = pos_;
+  while (!at_end() && (is_alpha(s_[pos_]) || is_digit(s_[pos_]) || s_[pos_] == '-')) pos_++;
+  return s_.substr(start, pos_ - start);
+}
+
+std::optional<double> parse_number(std::string_view text) {
+  Scanner s(trim(text));
+  const auto v = s.number();
+  if (!v || !s.at_end()) return std::nullopt;
+  return v;
+}
+
+// ---------------------------------------------------------------- lengths
+
+std::optional<Length> parse_length(std::string_view text) {
+  Scanner s(trim(text));
+  const auto v = s.number();
+  if (!v) return std::nullopt;
+  Length l{*v, Unit::None};
+  if (s.consume('%')) {
+    l.unit = Unit::Percent;
+  } else if (!s.at_end()) {
+    static const struct {
+      const char* name;
+      Unit unit;
+    } units[] = {{"px", Unit::Px}, {"pt", Unit::Pt}, {"pc", Unit::Pc}, {"mm", Unit::Mm}, {"cm", Unit::Cm},
+                 {"in", Unit::In}, {"em", Unit::Em}, {"ex", Unit::Ex}};
+    const std::string_view u = s.rest();
+    bool found = false;
+    for (const auto& e : units) {
+      if (iequals(u, e.name)) {
+        l.unit = e.unit;
+        found = true;
+        break;
+      }
+    }
+    if (!found) return std::nullopt;
+    return l;
+  }
+  if (!s.at_end()) return std::nullopt;
+  return l;
+}
+
+double length_to_px(const Length& l, double percent_base) {
+  // CSS Values 3 §6.2 absolute lengths: 1in = 96px = 2.54cm = 72pt = 6pc.
+  switch (l.unit) {
+    case Unit::None:
+    case Unit::Px: return l.value;
+    case Unit::Pt: return l.value * (96.0 / 72.0);
+    case Unit::Pc: return l.value * 16.0;
+    case Unit::Mm: return l.value * (96.0 / 25.4);
+    case Unit::Cm: return l.value * (96.0 / 2.54);
+    case Unit::In: return l.value * 96.0;
+    case Unit::Em: return l.value * 16.0;
+    case Unit::Ex: return l.value * 8.0;
+    case Unit::Percent: return l.value * percent_base / 100.0;
+  }
+  return l.value;
+}
+
+// ---------------------------------------------------------------- transforms
+
+void sincos_snapped(double radians, double& s, double& c) {
+  s = std::sin(radians);
+  c = std::cos(radians);
+  constexpr double eps = 1e-15;
+  if (std::fabs(s) < eps) {
+    s = 0;
+    c = c < 0 ? -1 : 1;
+  } else if (std::fabs(c) < eps) {
+    c = 0;
+    s = s < 0 ? -1 : 1;
+  }
+}
+
+std::optional<Affine> parse_transform(std::string_view text) {
+  Scanner s(text);
+  Affine result;
+  s.skip_ws();
+  while (!s.at_end()) {
+    const std::string_view name = s.word();
+    s.skip_ws();
+    if (!s.consume('(')) return std::nullopt;
+    s.skip_ws();
+    double a[6];
+    int n = 0;
+    while (n < 6) {
+      const auto v = s.number();
+      if (!v) break;
+      a[n++] = *v;
+      s.skip_comma_ws();
+    }
+    if (!s.consume(')')) return std::nullopt;
+
+    Affine t;
+    if (name == "matrix" && n == 6) {
+      t = {a[0], a[1], a[2], a[3], a[4], a[5]};
+    } else if (name == "translate" && (n == 1 || n == 2)) {
+      t = Affine::translate(a[0], n == 2 ? a[1] : 0);
+    } else if (name == "scale" && (n == 1 || n == 2)) {
+      t = Affine::scale(a[0], n == 2 ? a[1] : a[0]);
+    } else if (name == "rotate" && (n == 1 || n == 3)) {
+      double sn, cs;
+      sincos_snapped(std::fmod(a[0], 360.0) * (M_PI / 180.0), sn, cs);
+      t = {cs, sn, -sn, cs, 0, 0};
+      // rotate(a cx cy) = translate(cx cy) rotate(a) translate(-cx -cy).
+      if (n == 3) t = Affine::translate(a[1], a[2]) * t * Affine::translate(-a[1], -a[2]);
+    } else if (name == "skewX" && n == 1) {
+      t = Affine::skew_x_degrees(a[0]);
+    } else if (name == "skewY" && n == 1) {
+      t = Affine::skew_y_degrees(a[0]);
+    } else {
+      return std::nullopt;
+    }
+    // The list applies right to left: "A B" maps p to A(B(p)).
+    result = result * t;
+    s.skip_comma_ws();
+  }
+  const double m[6] = {result.a, result.b, result.c, result.d, result.e, result.f};
+  for (double v : m)
+    if (!std::isfinite(v)) return std::nullopt;
+  return result;
+}
+
+// ---------------------------------------------------------------- colours
+
+namespace {
+
+// Hue in degrees, saturation and lightness in [0, 1] (CSS Color 3 §4.2.4).
+RGBA hsl_to_rgb(double h, double sat, double light) {
+  h = std::fmod(h, 360.0);
+  if (h < 0) h += 360.0;
+  h /= 360.0;
+  const double m2 = light <= 0.5 ? light * (sat + 1) : light + sat - light * sat;
+  const double m1 = light * 2 - m2;
+  auto hue = [&](double t) {
+    if (t < 0) t += 1;
+    if (t > 1) t -= 1;
+    if (t * 6 < 1) return m1 + (m2 - m1) * t * 6;
+    if (t * 2 < 1) return m2;
+    if (t * 3 < 2) return m1 + (m2 - m1) * (2.0 / 3.0 - t) * 6;
+    return m1;
+  };
+  return {clamp01(hue(h + 1.0 / 3.0)), clamp01(hue(h)), clamp01(hue(h - 1.0 / 3.0)), 1};
+}
+
+// rgb()/rgba()/hsl()/hsla() after the name: "(" args ")". Accepts the comma
+// syntax of CSS Color 3 and the space syntax with "/ alpha" of CSS Color 4.
+std::optional<RGBA> parse_color_function(Scanner& s, bool hsl) {
+  if (!s.consume('(')) return std::nullopt;
+  s.skip_ws();
+  double v[3];
+  bool pct[3];
+  for (int i = 0; i < 3; i++) {
+    if (i > 0) s.skip_comma_ws();
+    const auto n = s.number();
+    if (!n) return std::nullopt;
+    v[i] = *n;
+    pct[i] = s.consume('%');
+    if (hsl && i == 0 && !pct[0]) s.consume_word("deg");
+  }
+  double alpha = 1;
+  s.skip_ws();
+  if (s.consume(',') || s.consume('/')) {
+    s.skip_ws();
+    const auto a = s.number();
+    if (!a) return std::nullopt;
+    alpha = s.consume('%') ? *a / 100.0 : *a;
+    s.skip_ws();
+  }
+  if (!s.consume(')')) return std::nullopt;
+  RGBA c;
+  if (hsl) {
+    // Saturation and lightness are percentages; bare numbers are read as
+    // percentages too (CSS Color 4 modern syntax).
+    c = hsl_to_rgb(v[0], std::clamp(v[1] / 100.0, 0.0, 1.0), std::clamp(v[2] / 100.0, 0.0, 1.0));
+  } else {
+    c.r = clamp01(pct[0] ? v[0] / 100.0 : v[0] / 255.0);
+    c.g = clamp01(pct[1] ? v[1] / 100.0 : v[1] / 255.0);
+    c.b = clamp01(pct[2] ? v[2] / 100.0 : v[2] / 255.0);
+  }
+  c.a = clamp01(alpha);
+  return c;
+}
+
+}  // namespace
+
+std::optional<RGBA> parse_color(Scanner& s) {
+  if (s.consume('#')) {
+    int d[8];
+    int n = 0;
+    while (!s.at_end() && hex_value(s.peek()) >= 0) {
+      if (n == 8) return std::nullopt;  // more than 8 digits
+      d[n++] = hex_value(s.peek());
+      s.consume(s.peek());
+    }
+    RGBA c;
+    if (n == 3 || n == 4) {
+      c = {d[0] * 17 / 255.0f, d[1] * 17 / 255.0f, d[2] * 17 / 255.0f, n == 4 ? d[3] * 17 / 255.0f : 1.0f};
+    } else if (n == 6 || n == 8) {
+      c = {(d[0] * 16 + d[1]) / 255.0f, (d[2] * 16 + d[3]) / 255.0f, (d[4] * 16 + d[5]) / 255.0f,
+           n == 8 ? (d[6] * 16 + d[7]) / 255.0f : 1.0f};
+    } else {
+      return std::nullopt;
+    }
+    return c;
+  }
+  const std::string_view name = s.word();
+  if (name.empty()) return std::nullopt;
+  s.skip_ws();
+  if (s.peek() == '(') {
+    if (iequals(name, "rgb") || iequals(name, "rgba")) return parse_color_function(s, false);
+    if (iequals(name, "hsl") || iequals(name, "hsla")) return parse_color_function(s, true);
+    return std::nullopt;
+  }
+  return named_color(name);
+}
+
+std::optional<RGBA> parse_color(std::string_view text) {
+  Scanner s(trim(text));
+  auto c = parse_color(s);
+  if (!c) return std::nullopt;
+  s.skip_ws();
+  // SVG 1.1 §11.2: "<color> [<icccolor>]"; ICC colours are not managed.
+  if (s.consume_word("icc-color(")) return c;
+  if (!s.at_end()) return std::nullopt;
+  return c;
+}
+
+// ---------------------------------------------------------------- paint and IRIs
+
+std::optional<std::string> parse_func_iri(Scanner& s, bool* external) {
+  if (!s.consume_word("url(")) return std::nullopt;
+  s.skip_ws();
+  char quote = 0;
+  if (s.peek() == '\'' || s.peek() == '"') {
+    quote = s.peek();
+    s.consume(quote);
+  }
+  std::string iri;
+  while (!s.at_end()) {
+    const char c = s.peek();
+    if (quote ? c == quote : (c == ')' || is_ws(c))) break;
+    iri += c;
+    s.consume(c);
+  }
+  if (quote && !s.consume(quote)) return std::nullopt;
+  s.skip_ws();
+  if (!s.consume(')')) return std::nullopt;
+  const size_t hash = iri.find('#');
+  if (external) *external = hash != 0;
+  if (hash == std::string::npos) return std::string();
+  return iri.substr(hash + 1);
+}
+
+std::optional<std::string> parse_iri_fragment(std::string_view text) {
+  text = trim(text);
+  if (text.size() < 2 || text[0] != '#') return std::nullopt;
+  return std::string(text.substr(1));
+}
+
+std::optional<PaintValue> parse_paint(std::string_view text) {
+  Scanner s(trim(text));
+  PaintValue p;
+  if (s.peek() == 'u' || s.peek() == 'U') {
+    bool external = false;
+    const auto id = parse_func_iri(s, &external);
+    if (!id) return std::nullopt;
+    p.kind = PaintValue::Kind::Url;
+    p.url = *id;
+    p.url_external = external;
+    const std::string_view fallback = trim(s.rest());
+    if (fallback.empty()) return p;
+    if (iequals(fallback, "none")) {
+      p.fallback = PaintValue::Fallback::None;
+    } else if (iequals(fallback, "currentColor")) {
+      p.fallback = PaintValue::Fallback::CurrentColor;
+    } else {
+      const auto color = parse_color(fallback);
+      if (!color) return std::nullopt;
+      p.fallback = PaintValue::Fallback::Color;
+      p.fallback_color = *color;
+    }
+    return p;
+  }
+  const std::string_view all = trim(text);
+  if (iequals(all, "none")) return p;
+  if (iequals(all, "currentColor")) {
+    p.kind = PaintValue::Kind::CurrentColor;
+    return p;
+  }
+  if (iequals(all, "context-fill") || iequals(all, "context-stroke")) {
+    p.kind = PaintValue::Kind::Context;
+    return p;
+  }
+  const auto color = parse_color(all);
+  if (!color) return std::nullopt;
+  p.kind = PaintValue::Kind::Color;
+  p.color = *color;
+  return p;
+}
+
+std::optional<double> parse_alpha(std::string_view text) {
+  Scanner s(trim(text));
+  const auto v = s.number();
+  if (!v) return std::nullopt;
+  double a = *v;
+  if (s.consume('%')) a /= 100.0;
+  if (!s.at_end()) return std::nullopt;
+  return std::clamp(a, 0.0, 1.0);
+}
+
+// ---------------------------------------------------------------- viewports
+
+std::optional<ViewBox> parse_view_box(std::string_view text) {
+  Scanner s(text);
+  s.skip_ws();
+  double v[4];
+  for (int i = 0; i < 4; i++) {
+    if (i > 0) s.skip_comma_ws();
+    const auto n = s.number();
+    if (!n) return std::nullopt;
+    v[i] = *n;
+  }
+  s.skip_ws();
+  if (!s.at_end() || v[2] < 0 || v[3] < 0) return std::nullopt;
+  return ViewBox{v[0], v[1], v[2], v[3]};
+}
+
+std::optional<AspectRatio> parse_aspect_ratio(std::string_view text) {
+  Scanner s(text);
+  s.skip_ws();
+  std::string_view w = s.word();
+  if (w == "defer") {
+    s.skip_ws();
+    w = s.word();
+  }
+  AspectRatio ar;
+  if (w == "none") {
+    ar.x = ar.y = AspectRatio::Align::None;
+  } else {
+    if (w.size() != 8 || w[0] != 'x' || w[4] != 'Y') return std::nullopt;
+    auto align = [](std::string_view a) -> std::optional<AspectRatio::Align> {
+      if (a == "Min") return AspectRatio::Align::Min;
+      if (a == "Mid") return AspectRatio::Align::Mid;
+      if (a == "Max") return AspectRatio::Align::Max;
+      return std::nullopt;
+    };
+    const auto ax = align(w.substr(1, 3)), ay = align(w.substr(5, 3));
+    if (!ax || !ay) return std::nullopt;
+    ar.x = *ax;
+    ar.y = *ay;
+  }
+  s.skip_ws();
+  const std::string_view mode = s.word();
+  if (mode == "slice") {
+    ar.slice = true;
+  } else if (!mode.empty() && mode != "meet") {
+    return std::nullopt;
+  }
+  s.skip_ws();
+  if (!s.at_end()) return std::nullopt;
+  return ar;
+}
+
+Affine view_box_transform(const ViewBox& vb, const AspectRatio& ar, double width, double height) {
+  double sx = width / vb.w, sy = height / vb.h;
+  if (ar.x != AspectRatio::Align::None) {
+    sx = sy = ar.slice ? std::max(sx, sy) : std::min(sx, sy);
+  }
+  double tx = -vb.x * sx, ty = -vb.y * sy;
+  const double free_x = width - vb.w * sx, free_y = height - vb.h * sy;
+  if (ar.x == AspectRatio::Align::Mid) tx += free_x / 2;
+  if (ar.x == AspectRatio::Align::Max) tx += free_x;
+  if (ar.y == AspectRatio::Align::Mid) ty += free_y / 2;
+  if (ar.y == AspectRatio::Align::Max) ty += free_y;
+  return {sx, 0, 0, sy, tx, ty};
+}
+
+}  // namespace mpvg::svg::detail

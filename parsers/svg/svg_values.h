@@ -1,0 +1,139 @@
+// Lexical parsers for SVG attribute and property values: numbers, lengths,
+// transform lists, colours, paints, viewBox and preserveAspectRatio.
+//
+// Internal to the SVG frontend. Every parser is total: it returns nullopt (or
+// reports how far it got) on malformed text, never throws, and rejects NaN,
+// infinities and magnitudes above kMaxNumber.
+#pragma once
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "core/geometry.h"
+#include "core/scene.h"
+
+namespace mpvg::svg::detail {
+
+// Numbers beyond this magnitude are treated as syntax errors: no drawing has
+// coordinates this large, and keeping them finite after transforms matters
+// more than accepting them.
+constexpr double kMaxNumber = 1e9;
+
+// XML whitespace (XML 1.0 §2.3 S), which is also SVG's wsp.
+inline bool is_ws(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f'; }
+
+std::string_view trim(std::string_view s);
+bool iequals(std::string_view a, std::string_view b);
+
+// A cursor over value text following the SVG 2 / CSS lexical rules.
+class Scanner {
+ public:
+  explicit Scanner(std::string_view s) : s_(s) {}
+
+  bool at_end() const { return pos_ >= s_.size(); }
+  char peek() const { return at_end() ? '\0' : s_[pos_]; }
+  size_t pos() const { return pos_; }
+  std::string_view rest() const { return s_.substr(pos_); }
+
+  void skip_ws();
+  // wsp* [',' wsp*]; returns whether a comma was consumed.
+  bool skip_comma_ws();
+  bool consume(char c);
+  // Consumes `word` if it comes next, ASCII case-insensitively.
+  bool consume_word(std::string_view word);
+  // An SVG number: [+-]? (digits ['.' digits?] | '.' digits) ([eE] [+-]? digits)?.
+  // An exponent is only taken when digits follow, so "1em" is 1 then "em".
+  // On failure the cursor does not move.
+  std::optional<double> number();
+  // An arc flag: exactly one '0' or '1' (SVG 2 path grammar).
+  std::optional<bool> flag();
+  // An identifier-like run of letters, digits and '-' (for keywords).
+  std::string_view word();
+
+ private:
+  std::string_view s_;
+  size_t pos_ = 0;
+};
+
+// Whole-value number (trimmed); nullopt unless the text is exactly one number.
+std::optional<double> parse_number(std::string_view s);
+
+enum class Unit { None, Px, Pt, Pc, Mm, Cm, In, Em, Ex, Percent };
+
+struct Length {
+  double value = 0;
+  Unit unit = Unit::None;
+};
+
+// <length> | <percentage> (SVG 2 §4.6 / CSS Values), trimmed, units
+// case-insensitive. nullopt on anything else.
+std::optional<Length> parse_length(std::string_view s);
+
+// The font-relative units are resolved with a fixed font: 1em = 16px and
+// 1ex = 8px (fonts are not modelled). `percent_base` is the reference length
+// that 100% stands for.
+double length_to_px(const Length& l, double percent_base);
+
+// A transform list (SVG 1.1 §7.6 grammar, SVG 2 §8.5). nullopt on any syntax
+// error (the caller ignores the whole attribute, as CSS does); an empty or
+// blank list is the identity.
+std::optional<Affine> parse_transform(std::string_view s);
+
+// cos and sin of an angle in radians, snapped to exact 0 and ±1 when within
+// 1e-15 of them, so that rotate(90) and arcs through the axes stay exact.
+void sincos_snapped(double radians, double& s, double& c);
+
+// A CSS colour (CSS Color 3/4 subset: named, #rgb[a], #rrggbb[aa],
+// rgb[a](), hsl[a]()) at the cursor. Components are clamped to [0, 1].
+// Does not accept currentColor (the caller resolves it).
+std::optional<RGBA> parse_color(Scanner& s);
+// A whole colour value; a trailing SVG 1.1 icc-color(...) is ignored.
+std::optional<RGBA> parse_color(std::string_view s);
+std::optional<RGBA> named_color(std::string_view name);
+
+// A <paint> value (SVG 1.1 §11.2, SVG 2 §13.2): none | currentColor |
+// <color> [<icccolor>] | <url> [none | currentColor | <color>] |
+// context-fill | context-stroke.
+struct PaintValue {
+  enum class Kind { None, Color, CurrentColor, Url, Context };
+  enum class Fallback { Absent, None, Color, CurrentColor };
+  Kind kind = Kind::None;
+  RGBA color;
+  std::string url;  // fragment id for Kind::Url ("" when not a local reference)
+  bool url_external = false;
+  Fallback fallback = Fallback::Absent;
+  RGBA fallback_color;
+};
+std::optional<PaintValue> parse_paint(std::string_view s);
+
+// A FuncIRI "url(#id)", quotes and inner whitespace allowed. Returns the
+// fragment id; `external` is set when the IRI points into another document.
+std::optional<std::string> parse_func_iri(Scanner& s, bool* external);
+// An IRI as used by href: "#id". nullopt when not a same-document reference.
+std::optional<std::string> parse_iri_fragment(std::string_view s);
+
+// opacity, fill-opacity: <number> | <percentage>, clamped to [0, 1]
+// (CSS Color 4 §4.3 <alpha-value>).
+std::optional<double> parse_alpha(std::string_view s);
+
+struct ViewBox {
+  double x = 0, y = 0, w = 0, h = 0;
+};
+// Four numbers separated by comma-wsp. A negative width or height is an
+// error (SVG 1.1 §7.7): nullopt. Zero sizes are returned (they disable
+// rendering).
+std::optional<ViewBox> parse_view_box(std::string_view s);
+
+struct AspectRatio {
+  enum class Align { None, Min, Mid, Max };
+  Align x = Align::Mid, y = Align::Mid;
+  bool slice = false;
+};
+// preserveAspectRatio (SVG 1.1 §7.8): [defer] <align> [meet | slice].
+std::optional<AspectRatio> parse_aspect_ratio(std::string_view s);
+
+// The viewBox-to-viewport transform (SVG 2 §8.2 "equivalent transform of an
+// SVG viewport"). vb must have positive width and height.
+Affine view_box_transform(const ViewBox& vb, const AspectRatio& ar, double width, double height);
+
+}  // namespace mpvg::svg::detail

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages mpvg needs to build and test.
+# Idempotent: when every package is already installed it does nothing
+# (no apt-get update, no network), so warm rebuilds stay fast.
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake pkg-config
+  libtinyxml2-dev
+  libfreetype-dev
+  libopenimageio-dev
+  libmupdf-dev libmujs-dev libgumbo-dev libjbig2dec0-dev libopenjp2-7-dev
+  libjpeg-dev libharfbuzz-dev zlib1g-dev
+  catch2
+  libpng-dev
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed'; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+echo "mpvg setup: installing ${missing[*]}" >&2
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

@@ -1,0 +1,9 @@
+// Catch2 v2 (Debian 12: a single header) and v3 (newer distributions: a
+// library with its own main) behind one include.
+#pragma once
+#if __has_include(<catch2/catch_all.hpp>)
+#include <catch2/catch_all.hpp>
+#define MPVG_CATCH3 1
+#else
+#include <catch2/catch.hpp>
+#endif
