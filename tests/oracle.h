@@ -65,8 +65,8 @@ inline std::vector<double> monotone_breaks(const InputSegment& s, int axis) {
 // Signed crossings of the horizontal ray from (px, py) towards +x with the
 // segment, or nullopt when the point is within `band` of the curve or of a
 // horizontal tangency/endpoint height (where the count is ambiguous).
-inline std::optional<int> ray_crossings(const InputSegment& s, double px, double py, double band) {
-  const std::vector<double> ts = monotone_breaks(s, 1);
+inline std::optional<int> ray_crossings(const InputSegment& s, const std::vector<double>& ts, double px, double py,
+                                        double band) {
   int w = 0;
   for (size_t i = 0; i + 1 < ts.size(); i++) {
     const Pt a = eval(s, ts[i]), b = eval(s, ts[i + 1]);
@@ -93,17 +93,28 @@ inline std::optional<int> ray_crossings(const InputSegment& s, double px, double
   return w;
 }
 
-// Winding number of every path of an encoded scene about (px, py).
-inline std::optional<std::vector<int>> windings(const std::vector<InputSegment>& segs, size_t npaths, double px,
-                                                double py, double band) {
-  std::vector<int> w(npaths, 0);
-  for (const InputSegment& s : segs) {
-    const std::optional<int> c = ray_crossings(s, px, py, band);
-    if (!c) return std::nullopt;
-    w[s.path] += *c;
+// Winding numbers of every path of an encoded scene.
+class Windings {
+ public:
+  Windings(const std::vector<InputSegment>& segs, size_t npaths) : segs_(segs), npaths_(npaths) {
+    for (const InputSegment& s : segs_) breaks_.push_back(monotone_breaks(s, 1));
   }
-  return w;
-}
+  // About (px, py); nullopt when the point is within band of a curve.
+  std::optional<std::vector<int>> at(double px, double py, double band) const {
+    std::vector<int> w(npaths_, 0);
+    for (size_t i = 0; i < segs_.size(); i++) {
+      const std::optional<int> c = ray_crossings(segs_[i], breaks_[i], px, py, band);
+      if (!c) return std::nullopt;
+      w[segs_[i].path] += *c;
+    }
+    return w;
+  }
+
+ private:
+  std::vector<InputSegment> segs_;
+  size_t npaths_;
+  std::vector<std::vector<double>> breaks_;
+};
 
 // A random closed path mixing every segment type. Some control points fall
 // outside [lo, hi]; a share of vertices snap to the integer grid, the way
