@@ -14,8 +14,9 @@
 //   +1  p is strictly left of the piece   (X(p.y) > p.x)
 //    0  p is on the piece
 //   -1  p is strictly right of the piece  (X(p.y) < p.x)
-// exactly for bounding-box decisions, endpoints and vertical lines, and up to
-// float rounding near the curve otherwise (Fig. 3):
+// exactly at the endpoints' heights, for bounding-box decisions and for
+// vertical lines, and up to float rounding near the curve otherwise (Fig. 3):
+//   0. at the height of an endpoint, compare with that endpoint's x;
 //   1. left of the bounding box: left; right of it: right;
 //   2. otherwise compare with the diagonal (chord) from start to end. A
 //      curved piece bulges to one side of its chord (it is convex: cubics
@@ -132,28 +133,23 @@ MPVG_HD_INLINE float abstract_implicit(const AbstractSegment& s, float px, float
 MPVG_HD_INLINE int abstract_side(const AbstractSegment& s, float px, float py) {
   const float xmin = abstract_xmin(s), xmax = abstract_xmax(s);
   if (xmin == xmax) return px < xmin ? 1 : (px > xmin ? -1 : 0);  // vertical
-  if (px <= xmin) {
-    // X(y) >= xmin, with equality only at the endpoint where x == xmin.
-    if (px < xmin) return 1;
-    const float y_at = (s.x0 == xmin) ? s.y0 : s.y1;
-    return py == y_at ? 0 : 1;
-  }
-  if (px >= xmax) {
-    if (px > xmax) return -1;
-    const float y_at = (s.x0 == xmax) ? s.y0 : s.y1;
-    return py == y_at ? 0 : -1;
-  }
+  // At an endpoint's height X is that endpoint's x: decide exactly. These are
+  // the heights at which subdivision tests a piece whose end lies in a cell,
+  // often beside a horizontal tangent (pieces end at y-extrema), where an
+  // implicit test could not tell the sides apart.
+  if (py == s.y0) return px < s.x0 ? 1 : (px > s.x0 ? -1 : 0);
+  if (py == s.y1) return px < s.x1 ? 1 : (px > s.x1 ? -1 : 0);
+  // Elsewhere X(y) lies strictly inside (xmin, xmax).
+  if (px <= xmin) return 1;
+  if (px >= xmax) return -1;
   const float d = abstract_chord(s, px, py);
   const uint32_t type = abstract_type(s);
   if (type == ABSTRACT_LINE) return d > 0.0f ? 1 : (d < 0.0f ? -1 : 0);
   const bool bulge_left = (s.flags & ABSTRACT_BULGE_LEFT) != 0;
   const bool on_bulge_side = bulge_left ? d > 0.0f : d < 0.0f;
-  if (!on_bulge_side) {
-    // On the chord only the endpoints touch the curve; inside the bbox an
-    // endpoint has py equal to y0 or y1.
-    if (d == 0.0f && (py == s.y0 || py == s.y1)) return 0;
-    return bulge_left ? -1 : 1;
-  }
+  // On the chord, or beyond it from the bulge, a point is on the far side of
+  // the curve (only the endpoints, handled above, touch both).
+  if (!on_bulge_side) return bulge_left ? -1 : 1;
   // Inside triangle P0 C P1 the implicit decides; beyond its tangent edges
   // the point is beyond the curve, on its bulge side.
   const float b0 = abstract_tri_b0(s, px, py), b1 = abstract_tri_b1(s, px, py);

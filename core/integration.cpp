@@ -1,6 +1,7 @@
 #include "core/integration.h"
 
 #include <cmath>
+#include <utility>
 
 namespace mpvg {
 
@@ -23,17 +24,35 @@ std::vector<SampleOffset> stratified_pattern(int n, uint32_t seed) {
   int ny = static_cast<int>(std::floor(std::sqrt(static_cast<double>(n))));
   while (n % ny != 0) ny--;
   const int nx = n / ny;
-  std::vector<SampleOffset> out;
-  out.reserve(n);
-  for (int j = 0; j < ny; j++) {
+  // Multi-jittered sampling (Chiu, Shirley and Wang 1994): the canonical
+  // arrangement puts one sample in each of the nx x ny cells and, at the same
+  // time, one in each of the n columns and n rows of width 1/n (n-rooks);
+  // shuffling x within grid columns and y within grid rows keeps both.
+  std::vector<SampleOffset> p(static_cast<size_t>(n));
+  uint64_t state = mix64(seed);
+  auto next = [&state]() {
+    state = mix64(state);
+    return state;
+  };
+  for (int j = 0; j < ny; j++)
     for (int i = 0; i < nx; i++) {
-      const uint64_t h = mix64((static_cast<uint64_t>(seed) << 32) ^ static_cast<uint64_t>(j * nx + i));
-      const float jx = unit_float(h), jy = unit_float(mix64(h));
-      out.push_back({(static_cast<float>(i) + jx) / static_cast<float>(nx),
-                     (static_cast<float>(j) + jy) / static_cast<float>(ny)});
+      const float jx = unit_float(next()), jy = unit_float(next());
+      p[size_t(j * nx + i)] = {(static_cast<float>(i) + (static_cast<float>(j) + jx) / static_cast<float>(ny)) /
+                                   static_cast<float>(nx),
+                               (static_cast<float>(j) + (static_cast<float>(i) + jy) / static_cast<float>(nx)) /
+                                   static_cast<float>(ny)};
     }
-  }
-  return out;
+  for (int i = 0; i < nx; i++)
+    for (int j = 0; j < ny - 1; j++) {
+      const int k = j + static_cast<int>(next() % static_cast<uint64_t>(ny - j));
+      std::swap(p[size_t(j * nx + i)].x, p[size_t(k * nx + i)].x);
+    }
+  for (int j = 0; j < ny; j++)
+    for (int i = 0; i < nx - 1; i++) {
+      const int k = i + static_cast<int>(next() % static_cast<uint64_t>(nx - i));
+      std::swap(p[size_t(j * nx + i)].y, p[size_t(j * nx + k)].y);
+    }
+  return p;
 }
 
 }  // namespace mpvg

@@ -14,9 +14,10 @@ struct SampleOffset {
   float x, y;  // in [0, 1)^2, relative to the unit area's corner
 };
 
-// Stratified (jittered) pattern of n samples over the unit square, the same
-// for every unit area: the strata form a grid as square as n allows, each
-// jittered by a hash of (seed, stratum). Deterministic for a given seed.
+// Stratified pattern of n samples over the unit square, the same for every
+// unit area: multi-jittered, so that the samples are stratified both over a
+// grid as square as n allows and over n rows and n columns (a horizontal or
+// vertical edge is resolved to 1/n). Deterministic for a given seed.
 std::vector<SampleOffset> stratified_pattern(int n, uint32_t seed);
 
 // Box filter weight of a sample of the pixel's own unit area: 1/n each.

@@ -134,3 +134,45 @@ TEST_CASE("tree windings match brute force for geometry far outside the image", 
   }
   CHECK(c.points > 4000);
 }
+
+TEST_CASE("tree windings are exact for extrema just beside cell edges", "[tree]") {
+  // Monotonization ends pieces at x- and y-extrema, where the curve is
+  // tangent to the cell's corner tests. Put such endpoints within a hair of
+  // cell edges (multiples of 4 px), where float implicit tests cannot tell
+  // the sides apart: only exact endpoint decisions keep the cells right.
+  Check c;
+  const double deltas[] = {-0.05, -1e-3, -1e-5, 0.0, 1e-5, 1e-3, 0.05};
+  uint32_t seed = 0;
+  for (double dx : deltas) {
+    for (double dy : deltas) {
+      std::mt19937 rng(++seed);
+      std::uniform_int_distribution<int> cell(1, 7);
+      std::uniform_real_distribution<double> off(2.0, 9.0);
+      SceneBuilder b(32, 32);
+      for (int i = 0; i < 4; i++) {
+        // Closed shapes of two cubic arms meeting at an extremum (a bottom
+        // or top with a horizontal tangent, or a side with a vertical one)
+        // that sits at (4m + dx, 4n + dy).
+        const double ex = 4 * cell(rng) + dx, ey = 4 * cell(rng) + dy;
+        const double w = off(rng), h = (i % 2 ? -1.0 : 1.0) * off(rng);
+        const double k = 0.2 + 0.2 * (i % 3);
+        Path p;
+        p.move_to({ex - w, ey + h});
+        p.cubic_to({ex - w, ey + k * h}, {ex - 0.5 * w, ey}, {ex, ey});
+        p.cubic_to({ex + 0.4 * w, ey}, {ex + w, ey + k * h}, {ex + w, ey + h});
+        p.close();
+        Path q;
+        q.move_to({ex + h, ey - w});
+        q.cubic_to({ex + k * h, ey - w}, {ex, ey - 0.5 * w}, {ex, ey});
+        q.cubic_to({ex, ey + 0.4 * w}, {ex + k * h, ey + w}, {ex + h, ey + w});
+        q.close();
+        Paint paint;
+        b.fill(b.add_geometry(p), Affine{}, FillRule::NonZero, paint);
+        b.fill(b.add_geometry(q), Affine{}, FillRule::EvenOdd, paint);
+      }
+      check_tree_windings(b.finish(), 32, seed, 1200, c);
+    }
+  }
+  INFO("points " << c.points << " comparisons " << c.comparisons);
+  CHECK(c.points > 30000);
+}

@@ -1,0 +1,204 @@
+#include "apps/cli.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "core/error.h"
+#include "parsers/svg/svg_values.h"
+
+namespace mpvg::cli {
+
+namespace {
+
+void usage(const char* program, const char* kind) {
+  std::printf(
+      "Usage: %s [OPTIONS] INPUT.%s OUTPUT.png\n"
+      "Renders INPUT to a PNG with the mpvg rasterizer. '-' reads standard input or\n"
+      "writes standard output.\n\n"
+      "Size:\n"
+      "  -w, --width N             output width in pixels (height keeps the aspect ratio)\n"
+      "  -h, --height N            output height in pixels (width keeps the aspect ratio)\n"
+      "  -z, --zoom F              scale the document's own size by F (default 1)\n"
+      "  -a, --keep-aspect-ratio   with both -w and -h: fit inside, keep the aspect ratio\n"
+      "Output:\n"
+      "  -o, --output FILE         output file (instead of the second argument)\n"
+      "  -b, --background COLOR    background colour, e.g. white or #ffffff (default\n"
+      "                            transparent)\n"
+      "      --bits 8|16           bits per channel of the PNG (default 8)\n"
+      "Antialiasing:\n"
+      "      --aa MODE             1x8 or 1x32: box filter with 8 or 32 samples per\n"
+      "                            pixel (default 1x32)\n"
+      "      --samples N           samples per pixel (overrides --aa)\n"
+      "      --seed N              sample pattern seed (default 0)\n"
+      "      --gamma srgb          integrate in gamma space (sRGB values)\n"
+      "Execution:\n"
+      "      --backend B           auto, cpu or cuda (default auto: cuda when a device\n"
+      "                            exists, else cpu)\n"
+      "      --stats               print per-stage timings to standard error\n"
+      "  -q, --quiet               no warnings\n"
+      "      --help, --version\n",
+      program, kind);
+}
+
+double number(const std::string& opt, const std::string& v) {
+  double d = 0;
+  const auto r = std::from_chars(v.data(), v.data() + v.size(), d);
+  if (r.ec != std::errc() || r.ptr != v.data() + v.size() || !std::isfinite(d))
+    throw UsageError{"option " + opt + " expects a number, got '" + v + "'"};
+  return d;
+}
+
+long integer(const std::string& opt, const std::string& v, long lo, long hi) {
+  long n = 0;
+  const auto r = std::from_chars(v.data(), v.data() + v.size(), n);
+  if (r.ec != std::errc() || r.ptr != v.data() + v.size() || n < lo || n > hi)
+    throw UsageError{"option " + opt + " expects an integer from " + std::to_string(lo) + " to " +
+                     std::to_string(hi) + ", got '" + v + "'"};
+  return n;
+}
+
+}  // namespace
+
+bool parse(int argc, char** argv, const char* program, const char* kind, Options& o) {
+  for (int i = 1; i < argc; i++) {
+    std::string a = argv[i];
+    std::string val;
+    bool has_inline = false;
+    if (a.rfind("--", 0) == 0) {
+      const size_t eq = a.find('=');
+      if (eq != std::string::npos) {
+        val = a.substr(eq + 1);
+        a = a.substr(0, eq);
+        has_inline = true;
+      }
+    }
+    auto value = [&]() -> std::string {
+      if (has_inline) return val;
+      if (i + 1 >= argc) throw UsageError{"option " + a + " needs a value"};
+      return argv[++i];
+    };
+    if (a == "--help" || a == "-?") {
+      usage(program, kind);
+      return false;
+    } else if (a == "--version") {
+      std::printf("%s (mpvg) 0.1\n", program);
+      return false;
+    } else if (a == "-w" || a == "--width") {
+      o.width = number(a, value());
+      if (!(*o.width > 0)) throw UsageError{"the width must be positive"};
+    } else if (a == "-h" || a == "--height") {
+      o.height = number(a, value());
+      if (!(*o.height > 0)) throw UsageError{"the height must be positive"};
+    } else if (a == "-z" || a == "--zoom") {
+      o.zoom = number(a, value());
+      if (!(o.zoom > 0)) throw UsageError{"the zoom must be positive"};
+    } else if (a == "-a" || a == "--keep-aspect-ratio") {
+      o.keep_aspect = true;
+    } else if (a == "-b" || a == "--background") {
+      const std::string c = value();
+      const auto col = svg::detail::parse_color(c);
+      if (!col) throw UsageError{"cannot parse the background colour '" + c + "'"};
+      o.background = *col;
+    } else if (a == "-o" || a == "--output") {
+      o.output = value();
+    } else if (a == "--bits") {
+      const long b = integer(a, value(), 8, 16);
+      if (b != 8 && b != 16) throw UsageError{"--bits takes 8 or 16"};
+      o.bits = static_cast<int>(b);
+    } else if (a == "--aa") {
+      const std::string m = value();
+      if (m == "1x8") o.samples = 8;
+      else if (m == "1x32") o.samples = 32;
+      else throw UsageError{"unknown antialiasing mode '" + m + "' (known: 1x8, 1x32)"};
+    } else if (a == "--samples") {
+      o.samples = static_cast<int>(integer(a, value(), 1, 1024));
+    } else if (a == "--seed") {
+      o.seed = static_cast<uint32_t>(integer(a, value(), 0, 4294967295L));
+    } else if (a == "--gamma") {
+      const std::string g = value();
+      if (g != "srgb") throw UsageError{"unknown --gamma '" + g + "' (this build integrates in sRGB only)"};
+      o.gamma = Gamma::Srgb;
+    } else if (a == "--backend") {
+      const std::string b = value();
+      if (b == "auto") o.backend = Backend::Auto;
+      else if (b == "cpu") o.backend = Backend::Cpu;
+      else if (b == "cuda") o.backend = Backend::Cuda;
+      else throw UsageError{"unknown backend '" + b + "' (auto, cpu or cuda)"};
+    } else if (a == "--stats") {
+      o.stats = true;
+    } else if (a == "-q" || a == "--quiet") {
+      o.quiet = true;
+    } else if (a.size() > 1 && a[0] == '-') {
+      throw UsageError{"unknown option '" + a + "' (see --help)"};
+    } else {
+      o.positional.push_back(a);
+    }
+  }
+  if (o.output.empty() && o.positional.size() == 2) {
+    o.output = o.positional[1];
+    o.positional.pop_back();
+  }
+  if (o.positional.size() != 1 || o.output.empty())
+    throw UsageError{std::string("expected an input and an output file (usage: ") + program + " [OPTIONS] INPUT." +
+                     kind + " OUTPUT.png)"};
+  return true;
+}
+
+void output_geometry(const Options& o, double dw, double dh, int* width, int* height, Affine* view) {
+  if (!(dw > 0 && dh > 0)) throw Error("the document has no size to render");
+  // A single requested dimension (or the zoom) keeps the aspect ratio; the
+  // other dimension is rounded, and the document then fills the whole
+  // image (a stretch of under half a pixel), as resvg does. Both -w and -h
+  // stretch to exactly that size, unless --keep-aspect-ratio fits inside.
+  double w = dw * o.zoom, h = dh * o.zoom;
+  if (o.width && o.height) {
+    w = *o.width;
+    h = *o.height;
+    if (o.keep_aspect) {
+      const double s = std::min(w / dw, h / dh);
+      w = dw * s;
+      h = dh * s;
+    }
+  } else if (o.width) {
+    w = *o.width;
+    h = dh * (w / dw);
+  } else if (o.height) {
+    h = *o.height;
+    w = dw * (h / dh);
+  }
+  if (!(w < 32768.5 && h < 32768.5)) throw Error("the output would be larger than 32768 pixels");
+  *width = static_cast<int>(std::max(1L, std::lround(w)));
+  *height = static_cast<int>(std::max(1L, std::lround(h)));
+  *view = Affine::scale(*width / dw, *height / dh);
+}
+
+RenderOptions render_options(const Options& o, int width, int height, const Affine& view) {
+  RenderOptions r;
+  r.width = width;
+  r.height = height;
+  r.view = view;
+  r.background = o.background;
+  r.samples = o.samples;
+  r.seed = o.seed;
+  r.gamma = o.gamma;
+  r.backend = o.backend;
+  return r;
+}
+
+std::string format_stats(const RenderStats& s) {
+  char buf[1024];
+  std::snprintf(buf, sizeof buf,
+                "backend %s%s%s\n"
+                "encode %.3f ms\nabstract %.3f ms\nsubdivide %.3f ms\nprune %.3f ms\nschedule %.3f ms\n"
+                "sample+integrate %.3f ms\ntotal %.3f ms\n"
+                "input segments %zu, abstract segments %zu, depth %d, leaves %zu, leaf entries %zu, "
+                "tree %.2f MiB\n",
+                s.backend.c_str(), s.note.empty() ? "" : ": ", s.note.c_str(), s.encode_ms, s.abstract_ms,
+                s.subdivide_ms, s.prune_ms, s.schedule_ms, s.sample_ms, s.total_ms, s.input_segments,
+                s.abstract_segments, s.depth, s.leaves, s.leaf_entries, s.tree_bytes / 1048576.0);
+  return buf;
+}
+
+}  // namespace mpvg::cli

@@ -1,0 +1,44 @@
+// Command-line options shared by the converters (svg2png now, pdf2png
+// later), modelled on rsvg-convert.
+#pragma once
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/renderer.h"
+
+namespace mpvg::cli {
+
+struct Options {
+  std::optional<double> width, height;  // requested output size in pixels
+  double zoom = 1.0;
+  bool keep_aspect = false;
+  RGBA background{0, 0, 0, 0};
+  int samples = 32;
+  uint32_t seed = 0;
+  Gamma gamma = Gamma::Srgb;
+  Backend backend = Backend::Auto;
+  int bits = 8;
+  bool stats = false;
+  bool quiet = false;
+  std::vector<std::string> positional;
+  std::string output;  // -o; else the second positional argument
+};
+
+// Parses argv. Returns false after printing help or version (exit 0);
+// throws UsageError on bad options.
+struct UsageError {
+  std::string message;
+};
+bool parse(int argc, char** argv, const char* program, const char* input_kind, Options& out);
+
+// Output pixel size and scene-to-pixel transform for a document of the
+// given intrinsic size. Throws mpvg::Error when no size can be derived.
+void output_geometry(const Options& o, double doc_width, double doc_height, int* width, int* height, Affine* view);
+
+RenderOptions render_options(const Options& o, int width, int height, const Affine& view);
+
+// One line per stage, for --stats.
+std::string format_stats(const RenderStats& st);
+
+}  // namespace mpvg::cli

@@ -1,0 +1,93 @@
+#include "core/renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "core/error.h"
+#include "core/integration.h"
+
+namespace mpvg {
+
+namespace {
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Unpremultiplies a pixel and encodes it to sRGB in [0, 1].
+void to_straight_srgb(const float* p, Gamma gamma, float out[4]) {
+  const float a = std::min(1.0f, std::max(0.0f, p[3]));
+  for (int c = 0; c < 3; c++) {
+    float v = a > 0.0f ? p[c] / a : 0.0f;
+    v = std::min(1.0f, std::max(0.0f, v));
+    out[c] = gamma == Gamma::Linear ? linear_to_srgb(v) : v;
+  }
+  out[3] = a;
+}
+
+}  // namespace
+
+PaintRecord background_paint(const RGBA& c, Gamma gamma) {
+  const float a = std::min(1.0f, std::max(0.0f, c.a));
+  float r = c.r, g = c.g, b = c.b;
+  if (gamma == Gamma::Linear) {
+    r = srgb_to_linear(r);
+    g = srgb_to_linear(g);
+    b = srgb_to_linear(b);
+  }
+  return PaintRecord{r * a, g * a, b * a, a};
+}
+
+ImageF render_cpu(const Scene& scene, const RenderOptions& o, RenderStats* stats) {
+  if (o.width <= 0 || o.height <= 0) throw Error("output size must be positive");
+  if (o.width > 32768 || o.height > 32768) throw Error("output size is larger than 32768 pixels");
+  if (o.samples < 1 || o.samples > 1024) throw Error("samples per pixel must be between 1 and 1024");
+  RenderStats local;
+  RenderStats& st = stats ? *stats : local;
+  st.backend = "cpu";
+  const auto t_all = std::chrono::steady_clock::now();
+  auto t0 = std::chrono::steady_clock::now();
+  const EncodedScene enc = encode(scene, o.view, o.gamma);
+  st.encode_ms += ms_since(t0);
+  BuildTimes bt;
+  const ShortcutTree tree = build_tree_cpu(enc, o.width, o.height, o.tree, &bt);
+  st.abstract_ms += bt.abstract_ms;
+  st.subdivide_ms += bt.subdivide_ms;
+  st.prune_ms += bt.prune_ms;
+  RenderTimes rt;
+  ImageF img = render_tree_cpu(tree, o.width, o.height, stratified_pattern(o.samples, o.seed),
+                               background_paint(o.background, o.gamma), o.threads, &rt);
+  st.schedule_ms += rt.schedule_ms;
+  st.sample_ms += rt.sample_ms;
+  st.total_ms += ms_since(t_all);
+  st.input_segments = enc.input_segment_count;
+  st.abstract_segments = tree.segments.size();
+  st.leaves = tree.leaves.size();
+  st.leaf_entries = tree.leaf_entries.size();
+  st.tree_bytes = tree.memory_bytes();
+  st.depth = tree.depth;
+  return img;
+}
+
+std::vector<uint8_t> to_rgba8(const ImageF& image, Gamma gamma) {
+  std::vector<uint8_t> out(image.rgba.size());
+  for (size_t i = 0; i < image.rgba.size(); i += 4) {
+    float v[4];
+    to_straight_srgb(&image.rgba[i], gamma, v);
+    for (int c = 0; c < 4; c++) out[i + c] = static_cast<uint8_t>(std::lround(v[c] * 255.0f));
+  }
+  return out;
+}
+
+std::vector<uint16_t> to_rgba16(const ImageF& image, Gamma gamma) {
+  std::vector<uint16_t> out(image.rgba.size());
+  for (size_t i = 0; i < image.rgba.size(); i += 4) {
+    float v[4];
+    to_straight_srgb(&image.rgba[i], gamma, v);
+    for (int c = 0; c < 4; c++) out[i + c] = static_cast<uint16_t>(std::lround(v[c] * 65535.0f));
+  }
+  return out;
+}
+
+}  // namespace mpvg

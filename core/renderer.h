@@ -1,0 +1,52 @@
+// The renderer's public entry points: a Scene in, an image out, with the
+// stage names of the paper for timings. The CPU backend lives here; backend
+// choice (auto / cpu / cuda) is gpu/backend.h, which falls back to this.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/cpu/cpu_stages.h"
+#include "core/encoding.h"
+#include "core/scene.h"
+#include "core/tree.h"
+
+namespace mpvg {
+
+enum class Backend { Auto, Cpu, Cuda };
+
+struct RenderOptions {
+  int width = 0, height = 0;  // output pixels
+  Affine view;                // scene units to pixels
+  RGBA background{0, 0, 0, 0};
+  int samples = 32;           // per pixel (box filter)
+  uint32_t seed = 0;          // sample pattern
+  Gamma gamma = Gamma::Srgb;  // colour space of integration
+  Backend backend = Backend::Auto;
+  TreeParams tree;
+  int threads = 0;  // CPU threads, 0 = all cores
+};
+
+// Per-stage wall times in milliseconds, and what was built.
+struct RenderStats {
+  std::string backend;  // "cpu" or "cuda"
+  std::string note;     // e.g. why auto fell back to the CPU
+  double encode_ms = 0, abstract_ms = 0, subdivide_ms = 0, prune_ms = 0, schedule_ms = 0, sample_ms = 0;
+  double total_ms = 0;
+  size_t input_segments = 0, abstract_segments = 0, leaves = 0, leaf_entries = 0;
+  size_t tree_bytes = 0;
+  int depth = 0;
+};
+
+// Renders on the CPU. Throws mpvg::Error for scenes it cannot render.
+ImageF render_cpu(const Scene& scene, const RenderOptions& options, RenderStats* stats = nullptr);
+
+// The background as a premultiplied paint in the integration colour space.
+PaintRecord background_paint(const RGBA& c, Gamma gamma);
+
+// Final image: unpremultiplied, sRGB-encoded, rounded to 8 or 16 bits,
+// RGBA interleaved, row-major.
+std::vector<uint8_t> to_rgba8(const ImageF& image, Gamma gamma);
+std::vector<uint16_t> to_rgba16(const ImageF& image, Gamma gamma);
+
+}  // namespace mpvg

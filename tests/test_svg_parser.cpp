@@ -1,0 +1,897 @@
+// SVG frontend tests: text round trips. Each case parses a small document and
+// compares mpvg::dump() of the scene with the exact expected text. Remember
+// that the dump lists paths in stream order, which is top-most first: fills
+// appear in reverse document order, clip tests in document order.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "core/error.h"
+#include "parsers/svg/svg_geometry.h"
+#include "parsers/svg/svg_parser.h"
+#include "tests/catch.h"
+
+namespace {
+
+const char* const kDefaultRoot = "viewBox=\"0 0 100 100\"";
+
+// Parses `body` inside <svg ...root attributes...> with the SVG and XLink
+// namespaces declared.
+mpvg::svg::ParseResult parse(const std::string& body, const std::string& root = kDefaultRoot) {
+  return mpvg::svg::parse_svg_string(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" xmlns:xlink=\"http://www.w3.org/1999/xlink\" " + root + ">" +
+      body + "</svg>");
+}
+
+std::string dump_of(const std::string& body, const std::string& root = kDefaultRoot) {
+  return mpvg::dump(parse(body, root).scene);
+}
+
+// The dump without the geometry lines (those starting with two spaces).
+std::string headers_of(const std::string& body, const std::string& root = kDefaultRoot) {
+  const std::string full = dump_of(body, root);
+  std::string out;
+  size_t pos = 0;
+  while (pos < full.size()) {
+    const size_t end = full.find('\n', pos);
+    const std::string line = full.substr(pos, end - pos + 1);
+    if (line.rfind("  ", 0) != 0) out += line;
+    pos = end + 1;
+  }
+  return out;
+}
+
+// The message of the mpvg::Error that parsing `text` throws.
+std::string error_of(const std::string& text) {
+  try {
+    mpvg::svg::parse_svg_string(text);
+  } catch (const mpvg::Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+bool has_warning(const mpvg::svg::ParseResult& r, const std::string& w) {
+  for (const std::string& s : r.warnings)
+    if (s == w) return true;
+  return false;
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------ path data
+
+TEST_CASE("svg path: every absolute command", "[svg][path]") {
+  CHECK(
+      dump_of(
+          R"~(<path d="M 10 20 L 30 40 H 50 V 60 C 1 2 3 4 5 6 S 7 8 9 10 Q 11 12 13 14 T 15 16 A 5 5 0 0 1 25 16 Z"/>)~") ==
+      R"~(scene 100 100
+path 0 fill nonzero rgba(0,0,0,1) opacity 1
+  M 10 20 L 30 40 L 50 40 L 50 60 C 1 2 3 4 5 6 C 7 8 7 8 9 10 Q 11 12 13 14 Q 15 16 15 16 R 15 11 20 11 w 0.707107 R 25 11 25 16 w 0.707107 L 10 20 Z
+stream F0
+)~");
+}
+
+TEST_CASE("svg path: every relative command, and m after z", "[svg][path]") {
+  // After z the current point is the subpath start (10 20), so "m 5 5" goes
+  // to (15 25).
+  CHECK(
+      dump_of(
+          R"~(<path d="m 10 20 l 10 10 h 5 v 5 c 1 2 3 4 5 6 s 1 1 2 2 q 1 1 2 2 t 2 0 a 5 5 0 0 0 10 0 z m 5 5 l 1 1"/>)~") ==
+      R"~(scene 100 100
+path 0 fill nonzero rgba(0,0,0,1) opacity 1
+  M 10 20 L 20 30 L 25 30 L 25 35 C 26 37 28 39 30 41 C 32 43 31 42 32 43 Q 33 44 34 45 Q 35 46 36 45 R 36 50 41 50 w 0.707107 R 46 50 46 45 w 0.707107 L 10 20 Z
+  M 15 25 L 16 26
+stream F0
+)~");
+}
+
+TEST_CASE("svg path: implicit repeats, compact numbers, smooth reflection per family", "[svg][path]") {
+  CHECK(dump_of(R"~(<path d="M0 0 10 0 10 10z"/>)~"
+                R"~(<path d="M1.5.5-1-2.5e1 1e-3"/>)~"
+                R"~(<path d="M 0 0 a1 1 0 00 1 1"/>)~"
+                R"~(<path d="M 0 0 Q 10 0 10 10 S 20 20 30 30"/>)~"
+                R"~(<path d="M 0 0 C 0 10 10 10 10 0 T 20 0"/>)~") ==
+        R"~(scene 100 100
+path 0 fill nonzero rgba(0,0,0,1) opacity 1
+  M 0 0 C 0 10 10 10 10 0 Q 10 0 20 0
+path 1 fill nonzero rgba(0,0,0,1) opacity 1
+  M 0 0 Q 10 0 10 10 C 10 10 20 20 30 30
+path 2 fill nonzero rgba(0,0,0,1) opacity 1
+  M 0 0 R 0 1 1 1 w 0.707107
+path 3 fill nonzero rgba(0,0,0,1) opacity 1
+  M 1.5 0.5 L -1 -25
+path 4 fill nonzero rgba(0,0,0,1) opacity 1
+  M 0 0 L 10 0 L 10 10 L 0 0 Z
+stream F0 F1 F2 F3 F4
+)~");
+}
+
+TEST_CASE("svg path: errors keep what came before, closepath starts a new subpath", "[svg][path]") {
+  // 1: stops at '#'. 2: no initial moveto, nothing. 3: arc flag '2'.
+  // 4: a segment after Z starts at the subpath start. 5: lone movetos leave
+  // no contours. 6: a number after Z is an error, everything before stays.
+  CHECK(dump_of(R"~(<path d="M 10 10 L 20 20 L 30 # 40"/>)~"
+                R"~(<path d="L 10 10 L 20 20"/>)~"
+                R"~(<path d="M 0 0 L 10 0 A 5 5 0 2 1 20 0"/>)~"
+                R"~(<path d="M 0 0 L 10 0 L 10 10 Z L 0 20 Z"/>)~"
+                R"~(<path d="M 5 5 M 0 0 L 1 0 L 1 1 M 7 7"/>)~"
+                R"~(<path d="M 0 0 L 10 0 10 10 Z 5 5"/>)~") ==
+        R"~(scene 100 100
+path 0 fill nonzero rgba(0,0,0,1) opacity 1
+  M 0 0 L 10 0 L 10 10 L 0 0 Z
+path 1 fill nonzero rgba(0,0,0,1) opacity 1
+  M 0 0 L 1 0 L 1 1
+path 2 fill nonzero rgba(0,0,0,1) opacity 1
+  M 0 0 L 10 0 L 10 10 L 0 0 Z
+  M 0 0 L 0 20 L 0 0 Z
+path 3 fill nonzero rgba(0,0,0,1) opacity 1
+  M 0 0 L 10 0
+path 4 fill nonzero rgba(0,0,0,1) opacity 1
+  M 10 10 L 20 20
+stream F0 F1 F2 F3 F4
+)~");
+  CHECK(dump_of(R"~(<path d="M 10 10 L nan 3"/><path d="M 1e999 0 L 1 1"/><path d=""/><path/>)~") ==
+        "scene 100 100\nstream\n");
+}
+
+TEST_CASE("svg path: arcs as rational quadratics", "[svg][path][arc]") {
+  // 1: radii too small are scaled up: a semicircle of radius 10 through
+  // (10 -10). 2: 270 degrees = three quarter pieces. 3: zero radius is a line,
+  // identical endpoints omit the arc.
+  CHECK(dump_of(R"~(<path d="M 0 0 A 1 1 0 0 1 20 0"/>)~"
+                R"~(<path d="M 75 50 A 25 25 0 1 1 50 25"/>)~"
+                R"~(<path d="M 0 0 A 0 5 0 0 1 10 10 A 5 5 0 0 1 10 10"/>)~") ==
+        R"~(scene 100 100
+path 0 fill nonzero rgba(0,0,0,1) opacity 1
+  M 0 0 L 10 10
+path 1 fill nonzero rgba(0,0,0,1) opacity 1
+  M 75 50 R 75 75 50 75 w 0.707107 R 25 75 25 50 w 0.707107 R 25 25 50 25 w 0.707107
+path 2 fill nonzero rgba(0,0,0,1) opacity 1
+  M 0 0 R 0 -10 10 -10 w 0.707107 R 20 -10 20 0 w 0.707107
+stream F0 F1 F2
+)~");
+}
+
+TEST_CASE("svg path: a rotated elliptical arc is exact", "[svg][path][arc]") {
+  // Large arc on the ellipse rx=20 ry=10 rotated by 30 degrees. Mapped back by
+  // the inverse of rotate(30) scale(20 10), every piece must be an arc of one
+  // unit circle: endpoints at distance 1 from a common center, the control
+  // point at the tangents' intersection (the center is P1 + (M - P1) /
+  // (1 - w^2), M the chord midpoint), and w = cos(half the piece angle).
+  const auto r = parse(R"~(<path d="M 0 0 A 20 10 30 1 1 30 10"/>)~");
+  REQUIRE(r.scene.geometries.size() == 1);
+  const mpvg::Path& p = r.scene.geometries[0];
+  REQUIRE(p.segments().size() >= 3);
+  const double c30 = std::cos(M_PI / 6), s30 = std::sin(M_PI / 6);
+  auto unit = [&](mpvg::Vec2 q) {  // inverse of rotate(30) then scale(20, 10)
+    return mpvg::Vec2{(c30 * q.x + s30 * q.y) / 20, (-s30 * q.x + c30 * q.y) / 10};
+  };
+  mpvg::Vec2 center{};
+  double total = 0;
+  for (size_t i = 0; i < p.segments().size(); i++) {
+    const auto& seg = p.segments()[i];
+    REQUIRE(seg.type == mpvg::SegmentType::RQuad);
+    const double w = p.weights()[seg.first_weight];
+    const mpvg::Vec2 a = unit(p.points()[seg.first_point]), c = unit(p.points()[seg.first_point + 1]),
+                     b = unit(p.points()[seg.first_point + 2]);
+    const mpvg::Vec2 m = 0.5 * (a + b);
+    const mpvg::Vec2 o = c + (1 / (1 - w * w)) * (m - c);
+    if (i == 0) center = o;
+    CHECK(o.x == Approx(center.x).margin(1e-9));
+    CHECK(o.y == Approx(center.y).margin(1e-9));
+    CHECK(std::hypot(a.x - o.x, a.y - o.y) == Approx(1).epsilon(1e-9));
+    CHECK(std::hypot(b.x - o.x, b.y - o.y) == Approx(1).epsilon(1e-9));
+    const double half = std::acos(std::clamp(dot(a - o, b - o), -1.0, 1.0)) / 2;
+    CHECK(w == Approx(std::cos(half)).epsilon(1e-9));
+    CHECK(half <= M_PI / 4 + 1e-12);
+    total += 2 * half;
+  }
+  CHECK(total > M_PI);  // the large arc
+  CHECK(p.points().back().x == 30);
+  CHECK(p.points().back().y == 10);
+}
+
+// ------------------------------------------------------------------ shapes
+
+TEST_CASE("svg rect: sizes and corner radius rules", "[svg][shapes]") {
+  // In document order: plain; rx only (ry = rx); ry=50 clamped to w/2 and h/2
+  // (zero-length edges dropped); negative rx is auto (= ry); rx=0 means
+  // square; zero width, missing height, negative width: not rendered;
+  // auto/auto: square.
+  CHECK(dump_of(R"~(<rect x="10" y="20" width="30" height="40"/>)~"
+                R"~(<rect x="10" y="20" width="30" height="40" rx="5"/>)~"
+                R"~(<rect width="30" height="40" ry="50"/>)~"
+                R"~(<rect width="30" height="40" rx="-5" ry="4"/>)~"
+                R"~(<rect width="30" height="40" rx="0" ry="10"/>)~"
+                R"~(<rect width="0" height="10"/><rect width="10"/><rect width="-10" height="10"/>)~"
+                R"~(<rect width="20" height="10" rx="auto" ry="auto"/>)~") ==
+        R"~(scene 100 100
+path 0 fill nonzero rgba(0,0,0,1) opacity 1
+  M 0 0 L 20 0 L 20 10 L 0 10 L 0 0 Z
+path 1 fill nonzero rgba(0,0,0,1) opacity 1
+  M 0 0 L 30 0 L 30 40 L 0 40 L 0 0 Z
+path 2 fill nonzero rgba(0,0,0,1) opacity 1
+  M 4 0 L 26 0 R 30 0 30 4 w 0.707107 L 30 36 R 30 40 26 40 w 0.707107 L 4 40 R 0 40 0 36 w 0.707107 L 0 4 R 0 0 4 0 w 0.707107 Z
+path 3 fill nonzero rgba(0,0,0,1) opacity 1
+  M 15 0 R 30 0 30 20 w 0.707107 R 30 40 15 40 w 0.707107 R 0 40 0 20 w 0.707107 R 0 0 15 0 w 0.707107 Z
+path 4 fill nonzero rgba(0,0,0,1) opacity 1
+  M 15 20 L 35 20 R 40 20 40 25 w 0.707107 L 40 55 R 40 60 35 60 w 0.707107 L 15 60 R 10 60 10 55 w 0.707107 L 10 25 R 10 20 15 20 w 0.707107 Z
+path 5 fill nonzero rgba(0,0,0,1) opacity 1
+  M 10 20 L 40 20 L 40 60 L 10 60 L 10 20 Z
+stream F0 F1 F2 F3 F4 F5
+)~");
+}
+
+TEST_CASE("svg circle and ellipse", "[svg][shapes]") {
+  // Percentages without a viewBox resolve against the 200x100 viewport; r
+  // against sqrt((w^2 + h^2) / 2). An auto ellipse radius takes the other
+  // one; negative, zero or missing radii are not rendered.
+  CHECK(dump_of(R"~(<circle cx="50" cy="40" r="10"/>)~"
+                R"~(<ellipse cx="50" cy="40" rx="20" ry="10"/>)~"
+                R"~(<ellipse cx="5" cy="5" ry="3"/>)~"
+                R"~(<ellipse rx="-1" ry="-1"/><circle r="-5"/><circle r="0"/><ellipse rx="0" ry="10"/>)~"
+                R"~(<circle cx="10%" cy="50%" r="10%"/>)~",
+                R"~(width="200" height="100")~") ==
+        R"~(scene 200 100
+path 0 fill nonzero rgba(0,0,0,1) opacity 1
+  M 35.8114 50 R 35.8114 65.8114 20 65.8114 w 0.707107 R 4.18861 65.8114 4.18861 50 w 0.707107 R 4.18861 34.1886 20 34.1886 w 0.707107 R 35.8114 34.1886 35.8114 50 w 0.707107 Z
+path 1 fill nonzero rgba(0,0,0,1) opacity 1
+  M 8 5 R 8 8 5 8 w 0.707107 R 2 8 2 5 w 0.707107 R 2 2 5 2 w 0.707107 R 8 2 8 5 w 0.707107 Z
+path 2 fill nonzero rgba(0,0,0,1) opacity 1
+  M 70 40 R 70 50 50 50 w 0.707107 R 30 50 30 40 w 0.707107 R 30 30 50 30 w 0.707107 R 70 30 70 40 w 0.707107 Z
+path 3 fill nonzero rgba(0,0,0,1) opacity 1
+  M 60 40 R 60 50 50 50 w 0.707107 R 40 50 40 40 w 0.707107 R 40 30 50 30 w 0.707107 R 60 30 60 40 w 0.707107 Z
+stream F0 F1 F2 F3
+)~");
+}
+
+TEST_CASE("svg line, polyline, polygon", "[svg][shapes]") {
+  // line has no fill area; polyline stays open (fills close it anyway); the
+  // odd trailing coordinate is dropped; parsing stops at invalid data; a
+  // single point is nothing.
+  CHECK(dump_of(R"~(<line x1="0" y1="0" x2="10" y2="10"/>)~"
+                R"~(<polyline points="0,0 10,0 10,10 5"/>)~"
+                R"~(<polygon points="0 0 10 0 10 10"/>)~"
+                R"~(<polygon points="1 1 2 2 oops 3 3"/>)~"
+                R"~(<polyline points="5 5"/><polygon/>)~") ==
+        R"~(scene 100 100
+path 0 fill nonzero rgba(0,0,0,1) opacity 1
+  M 1 1 L 2 2 L 1 1 Z
+path 1 fill nonzero rgba(0,0,0,1) opacity 1
+  M 0 0 L 10 0 L 10 10 L 0 0 Z
+path 2 fill nonzero rgba(0,0,0,1) opacity 1
+  M 0 0 L 10 0 L 10 10
+stream F0 F1 F2
+)~");
+}
+
+// ------------------------------------------------------------------ viewport and transforms
+
+TEST_CASE("svg root size: units, percentages, defaults", "[svg][viewport]") {
+  auto size = [](const std::string& attrs) {
+    const auto r = mpvg::svg::parse_svg_string("<svg xmlns=\"http://www.w3.org/2000/svg\" " + attrs + "/>");
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%g %g", r.scene.width, r.scene.height);
+    return std::string(buf);
+  };
+  CHECK(size(R"~(width="10cm" height="1in")~") == "377.953 96");
+  CHECK(size(R"~(height="5mm" width="2pc")~") == "32 18.8976");
+  CHECK(size(R"~(width="2em" height="3ex")~") == "32 24");
+  CHECK(size(R"~(width="50%" height="10pt" viewBox="0 0 40 30")~") == "20 13.3333");
+  CHECK(size(R"~(viewBox="0 0 40 30")~") == "40 30");
+  CHECK(size(R"~(width="30")~") == "30 100");
+  CHECK(size("") == "100 100");
+  CHECK(size(R"~(viewBox="0 0 -5 10")~") == "100 100");  // negative: invalid viewBox, ignored
+  CHECK(size(R"~(width="auto" height="7px")~") == "100 7");
+}
+
+TEST_CASE("svg root size: zero sizes give an empty scene", "[svg][viewport]") {
+  CHECK(dump_of("<rect width=\"5\" height=\"5\"/>", R"~(width="0" height="10")~") == "scene 0 10\nstream\n");
+  CHECK(dump_of("<rect width=\"5\" height=\"5\"/>", R"~(viewBox="0 0 0 10")~") == "scene 0 10\nstream\n");
+  CHECK(dump_of("<rect width=\"5\" height=\"5\"/>", R"~(display="none")~") == "scene 100 100\nstream\n");
+}
+
+TEST_CASE("svg viewBox and preserveAspectRatio", "[svg][viewport]") {
+  // viewBox 10 20 50 100 into a 200x100 viewport: meet scales by 1 and
+  // leaves 150 units free horizontally; slice scales by 4 and crops 300
+  // vertically.
+  auto matrix = [](const std::string& par) {
+    return headers_of("<rect width=\"1\" height=\"1\"/>",
+                      "width=\"200\" height=\"100\" viewBox=\"10 20 50 100\" " + par);
+  };
+  auto expect = [](const std::string& m) {
+    return "scene 200 100\npath 0 fill nonzero rgba(0,0,0,1) opacity 1 matrix(" + m + ")\nstream F0\n";
+  };
+  CHECK(matrix("") == expect("1 0 0 1 65 -20"));
+  CHECK(matrix(R"~(preserveAspectRatio="xMinYMin")~") == expect("1 0 0 1 -10 -20"));
+  CHECK(matrix(R"~(preserveAspectRatio="xMaxYMax meet")~") == expect("1 0 0 1 140 -20"));
+  CHECK(matrix(R"~(preserveAspectRatio="xMidYMid slice")~") == expect("4 0 0 4 -40 -230"));
+  CHECK(matrix(R"~(preserveAspectRatio="xMinYMax slice")~") == expect("4 0 0 4 -40 -380"));
+  CHECK(matrix(R"~(preserveAspectRatio="none")~") == expect("4 0 0 1 -40 -20"));
+  CHECK(matrix(R"~(preserveAspectRatio="defer xMaxYMin")~") == expect("1 0 0 1 140 -20"));
+  CHECK(matrix(R"~(preserveAspectRatio="bogus")~") == expect("1 0 0 1 65 -20"));
+}
+
+TEST_CASE("svg transforms: each kind, lists, nesting under a viewBox", "[svg][transform]") {
+  // The viewBox maps 100 user units to 200 px: every matrix includes scale(2).
+  CHECK(headers_of(R"~(<rect width="1" height="1" transform="translate(10)"/>)~"
+                   R"~(<rect width="1" height="1" transform="translate(10,20) scale(2)"/>)~"
+                   R"~(<rect width="1" height="1" transform="scale(2 3)"/>)~"
+                   R"~(<rect width="1" height="1" transform="rotate(90)"/>)~"
+                   R"~(<rect width="1" height="1" transform="rotate(90 10 20)"/>)~"
+                   R"~(<rect width="1" height="1" transform="skewX(45)"/>)~"
+                   R"~(<rect width="1" height="1" transform="skewY(45)"/>)~"
+                   R"~(<rect width="1" height="1" transform=" matrix(1,2,3,4,5,6) , translate(1 1)"/>)~"
+                   R"~(<rect width="1" height="1" transform="translate(10) oops"/>)~"
+                   R"~(<g transform="translate(5 5)"><rect width="1" height="1" transform="scale(2)"/></g>)~",
+                   R"~(width="200" height="200" viewBox="0 0 100 100")~") ==
+        R"~(scene 200 200
+path 0 fill nonzero rgba(0,0,0,1) opacity 1 matrix(4 0 0 4 10 10)
+path 1 fill nonzero rgba(0,0,0,1) opacity 1 matrix(2 0 0 2 0 0)
+path 2 fill nonzero rgba(0,0,0,1) opacity 1 matrix(2 4 6 8 18 24)
+path 3 fill nonzero rgba(0,0,0,1) opacity 1 matrix(2 2 0 2 0 0)
+path 4 fill nonzero rgba(0,0,0,1) opacity 1 matrix(2 0 2 2 0 0)
+path 5 fill nonzero rgba(0,0,0,1) opacity 1 matrix(0 2 -2 0 60 20)
+path 6 fill nonzero rgba(0,0,0,1) opacity 1 matrix(0 2 -2 0 0 0)
+path 7 fill nonzero rgba(0,0,0,1) opacity 1 matrix(4 0 0 6 0 0)
+path 8 fill nonzero rgba(0,0,0,1) opacity 1 matrix(4 0 0 4 20 40)
+path 9 fill nonzero rgba(0,0,0,1) opacity 1 matrix(2 0 0 2 20 0)
+stream F0 F1 F2 F3 F4 F5 F6 F7 F8 F9
+)~");
+}
+
+TEST_CASE("svg transforms: style property, degenerate matrices", "[svg][transform]") {
+  // transform in style wins over the attribute; a non-invertible transform
+  // shows nothing; an overflowing one neither.
+  CHECK(
+      headers_of(
+          R"~(<rect width="1" height="1" transform="scale(5)" style="transform: translate(3 4)"/>)~"
+          R"~(<rect width="1" height="1" transform="scale(0 1)"/>)~"
+          R"~(<g transform="scale(1e9)"><g transform="scale(1e9)"><g transform="scale(1e9)"><g transform="scale(1e9)">)~"
+          R"~(<g transform="scale(1e9)"><g transform="scale(1e9)"><g transform="scale(1e9)"><g transform="scale(1e9)">)~"
+          R"~(<g transform="scale(1e9)"><g transform="scale(1e9)"><g transform="scale(1e9)"><g transform="scale(1e9)">)~"
+          R"~(<g transform="scale(1e9)"><g transform="scale(1e9)"><g transform="scale(1e9)"><g transform="scale(1e9)">)~"
+          R"~(<g transform="scale(1e9)"><g transform="scale(1e9)"><g transform="scale(1e9)"><g transform="scale(1e9)">)~"
+          R"~(<g transform="scale(1e9)"><g transform="scale(1e9)"><g transform="scale(1e9)"><g transform="scale(1e9)">)~"
+          R"~(<g transform="scale(1e9)"><g transform="scale(1e9)"><g transform="scale(1e9)"><g transform="scale(1e9)">)~"
+          R"~(<g transform="scale(1e9)"><g transform="scale(1e9)"><g transform="scale(1e9)"><g transform="scale(1e9)">)~"
+          R"~(<g transform="scale(1e9)"><g transform="scale(1e9)"><g transform="scale(1e9)"><g transform="scale(1e9)">)~"
+          R"~(<g transform="scale(1e9)"><g transform="scale(1e9)"><g transform="scale(1e9)"><g transform="scale(1e9)">)~"
+          R"~(<rect width="1" height="1"/>)~"
+          R"~(</g></g></g></g></g></g></g></g></g></g></g></g></g></g></g></g></g></g></g></g>)~"
+          R"~(</g></g></g></g></g></g></g></g></g></g></g></g></g></g></g></g></g></g></g></g>)~") ==
+      R"~(scene 100 100
+path 0 fill nonzero rgba(0,0,0,1) opacity 1 matrix(1 0 0 1 3 4)
+stream F0
+)~");
+}
+
+// ------------------------------------------------------------------ style
+
+TEST_CASE("svg style: style attribute over presentation attributes, inheritance", "[svg][style]") {
+  // In document order under a red evenodd group: inherits; style wins over
+  // the attribute; an invalid declaration is dropped (inherit red, and
+  // fill-rule from style); an invalid declaration falls back to the
+  // attribute; comments and !important; "inherit"; invalid colour inherits.
+  CHECK(headers_of(
+            R"~(<g fill="red" fill-rule="evenodd">)~"
+            R"~(<rect width="1" height="1"/>)~"
+            R"~(<rect width="1" height="1" fill="blue" style="fill: lime"/>)~"
+            R"~(<rect width="1" height="1" style="fill:bogus; fill-rule: nonzero"/>)~"
+            R"~(<rect width="1" height="1" fill="blue" style="fill: bogus"/>)~"
+            R"~(<rect width="1" height="1" style="/* c */ fill : #00f !important ; fill-opacity: 50%"/>)~"
+            R"~(<rect width="1" height="1" fill="inherit" fill-opacity=".25"/>)~"
+            R"~(<rect width="1" height="1" fill="nonsense"/></g>)~") ==
+        R"~(scene 100 100
+path 0 fill evenodd rgba(1,0,0,1) opacity 1
+path 1 fill evenodd rgba(1,0,0,1) opacity 0.25
+path 2 fill evenodd rgba(0,0,1,1) opacity 0.5
+path 3 fill evenodd rgba(0,0,1,1) opacity 1
+path 4 fill nonzero rgba(1,0,0,1) opacity 1
+path 5 fill evenodd rgba(0,1,0,1) opacity 1
+path 6 fill evenodd rgba(1,0,0,1) opacity 1
+stream F0 F1 F2 F3 F4 F5 F6
+)~");
+}
+
+TEST_CASE("svg style: colours of every syntax", "[svg][style][color]") {
+  // Document order: named (any case); #rgb; #rgba; #rrggbb; #rrggbbaa;
+  // rgb() integers; percentages clamped; rgba(); space syntax with "/ 25%";
+  // hsl(); hsla(); transparent (alpha 0: not emitted); currentColor; integers
+  // clamped; invalid (#12345) falls back to the default black.
+  CHECK(headers_of(R"~(<rect width="1" height="1" fill="CornflowerBlue"/>)~"
+                   R"~(<rect width="1" height="1" fill="#f80"/>)~"
+                   R"~(<rect width="1" height="1" fill="#f808"/>)~"
+                   R"~(<rect width="1" height="1" fill="#FF8000"/>)~"
+                   R"~(<rect width="1" height="1" fill="#ff800080"/>)~"
+                   R"~(<rect width="1" height="1" fill="rgb(255, 128, 0)"/>)~"
+                   R"~(<rect width="1" height="1" fill="RGB(100%, 50%, 150%)"/>)~"
+                   R"~(<rect width="1" height="1" fill="rgba(0,0,255,0.5)"/>)~"
+                   R"~(<rect width="1" height="1" fill="rgb(0 0 255 / 25%)"/>)~"
+                   R"~(<rect width="1" height="1" fill="hsl(120, 100%, 25%)"/>)~"
+                   R"~(<rect width="1" height="1" fill="hsla(240,100%,50%,0.5)"/>)~"
+                   R"~(<rect width="1" height="1" fill="transparent"/>)~"
+                   R"~(<rect width="1" height="1" color="teal" fill="currentColor"/>)~"
+                   R"~(<rect width="1" height="1" fill="rgb(-10,300,0)"/>)~"
+                   R"~(<rect width="1" height="1" fill="#12345"/>)~") ==
+        R"~(scene 100 100
+path 0 fill nonzero rgba(0,0,0,1) opacity 1
+path 1 fill nonzero rgba(0,1,0,1) opacity 1
+path 2 fill nonzero rgba(0,0.501961,0.501961,1) opacity 1
+path 3 fill nonzero rgba(0,0,1,0.5) opacity 1
+path 4 fill nonzero rgba(0,0.5,0,1) opacity 1
+path 5 fill nonzero rgba(0,0,1,0.25) opacity 1
+path 6 fill nonzero rgba(0,0,1,0.5) opacity 1
+path 7 fill nonzero rgba(1,0.5,1,1) opacity 1
+path 8 fill nonzero rgba(1,0.501961,0,1) opacity 1
+path 9 fill nonzero rgba(1,0.501961,0,0.501961) opacity 1
+path 10 fill nonzero rgba(1,0.501961,0,1) opacity 1
+path 11 fill nonzero rgba(1,0.533333,0,0.533333) opacity 1
+path 12 fill nonzero rgba(1,0.533333,0,1) opacity 1
+path 13 fill nonzero rgba(0.392157,0.584314,0.929412,1) opacity 1
+stream F0 F1 F2 F3 F4 F5 F6 F7 F8 F9 F10 F11 F12 F13
+)~");
+}
+
+TEST_CASE("svg style: currentColor resolves where fill is declared, color inherits", "[svg][style][color]") {
+  // The group's fill=currentColor resolves with the group's color (navy);
+  // the second rect declares its own fill=currentColor with color=olive.
+  CHECK(headers_of(R"~(<g color="navy" fill="currentColor"><rect width="1" height="1" color="red"/>)~"
+                   R"~(<rect width="1" height="1" color="olive" fill="currentColor"/></g>)~"
+                   R"~(<rect width="1" height="1" fill="currentColor"/>)~") ==
+        R"~(scene 100 100
+path 0 fill nonzero rgba(0,0,0,1) opacity 1
+path 1 fill nonzero rgba(0.501961,0.501961,0,1) opacity 1
+path 2 fill nonzero rgba(0,0,0.501961,1) opacity 1
+stream F0 F1 F2
+)~");
+}
+
+TEST_CASE("svg style: opacity and fill-opacity", "[svg][style][opacity]") {
+  // fill-opacity x opacity x the group's opacity; opacity="inherit" takes the
+  // parent's value (so the group's 0.5 counts twice); 150% clamps to 1;
+  // opacity 0 is not emitted. Group opacity is approximated per shape.
+  const auto r =
+      parse(R"~(<g opacity="0.5"><rect width="1" height="1" fill-opacity="0.5" opacity="0.5"/>)~"
+            R"~(<rect width="2" height="2" opacity="inherit"/></g>)~"
+            R"~(<rect width="3" height="3" opacity="150%"/><rect width="4" height="4" opacity="0"/>)~"
+            R"~(<g opacity="0.25"><rect width="5" height="5"/></g>)~");
+  CHECK(mpvg::dump(r.scene) == R"~(scene 100 100
+path 0 fill nonzero rgba(0,0,0,1) opacity 0.25
+  M 0 0 L 5 0 L 5 5 L 0 5 L 0 0 Z
+path 1 fill nonzero rgba(0,0,0,1) opacity 1
+  M 0 0 L 3 0 L 3 3 L 0 3 L 0 0 Z
+path 2 fill nonzero rgba(0,0,0,1) opacity 0.25
+  M 0 0 L 2 0 L 2 2 L 0 2 L 0 0 Z
+path 3 fill nonzero rgba(0,0,0,1) opacity 0.125
+  M 0 0 L 1 0 L 1 1 L 0 1 L 0 0 Z
+stream F0 F1 F2 F3
+)~");
+  CHECK(r.warnings == std::vector<std::string>{"group opacity applied per shape"});
+  // A group with a single shape is exact: no warning.
+  CHECK(parse(R"~(<g opacity="0.5"><rect width="1" height="1"/></g>)~").warnings.empty());
+}
+
+TEST_CASE("svg style: display and visibility", "[svg][style]") {
+  // display="none" removes the subtree (style wins over the attribute);
+  // visibility is inherited and a child may override it.
+  CHECK(
+      headers_of(
+          R"~(<g display="none"><rect width="1" height="1"/></g>)~"
+          R"~(<g visibility="hidden"><rect width="2" height="2"/><rect width="3" height="3" visibility="visible"/></g>)~"
+          R"~(<rect width="4" height="4" style="display:none" display="inline"/>)~"
+          R"~(<rect width="5" height="5" display="block"/>)~"
+          R"~(<rect width="6" height="6" visibility="collapse"/>)~") ==
+      R"~(scene 100 100
+path 0 fill nonzero rgba(0,0,0,1) opacity 1
+path 1 fill nonzero rgba(0,0,0,1) opacity 1
+stream F0 F1
+)~");
+  const auto r = parse(R"~(<g visibility="hidden"><rect width="3" height="3" visibility="visible"/></g>)~");
+  CHECK(r.scene.geometries.at(0).points().at(1).x == 3);
+}
+
+TEST_CASE("svg style: paint servers fall back", "[svg][style][paint]") {
+  // Document order: gradient with a fallback colour; gradient alone (not
+  // rendered); missing element with a fallback; missing without; reference
+  // to a non-paint-server (not rendered despite the fallback); quoted IRI
+  // with a currentColor fallback.
+  const auto r = parse(R"~(<linearGradient id="lg"><stop offset="0" stop-color="red"/></linearGradient>)~"
+                       R"~(<rect id="a" width="1" height="1" fill="url(#lg) green"/>)~"
+                       R"~(<rect width="2" height="2" fill="url(#lg)"/>)~"
+                       R"~(<rect width="3" height="3" fill="url(#missing) #00f"/>)~"
+                       R"~(<rect width="4" height="4" fill="url(#missing)"/>)~"
+                       R"~(<rect width="5" height="5" fill="url(#a) red"/>)~"
+                       R"~(<rect width="6" height="6" color="olive" fill="url( '#lg' ) currentColor"/>)~");
+  CHECK(mpvg::dump(r.scene) == R"~(scene 100 100
+path 0 fill nonzero rgba(0.501961,0.501961,0,1) opacity 1
+  M 0 0 L 6 0 L 6 6 L 0 6 L 0 0 Z
+path 1 fill nonzero rgba(0,0,1,1) opacity 1
+  M 0 0 L 3 0 L 3 3 L 0 3 L 0 0 Z
+path 2 fill nonzero rgba(0,0.501961,0,1) opacity 1
+  M 0 0 L 1 0 L 1 1 L 0 1 L 0 0 Z
+stream F0 F1 F2
+)~");
+  CHECK(r.warnings ==
+        std::vector<std::string>{"gradients and patterns are not supported: painted with the fallback colour",
+                                 "gradients and patterns are not supported: fill not rendered"});
+}
+
+// ------------------------------------------------------------------ structure
+
+TEST_CASE("svg use: translation, href precedence, inheritance, recursion", "[svg][use]") {
+  // use#r with x/y and a transform: scale(2) then translate(5 6); the rect
+  // inherits the use's fill. href wins over xlink:href; the group's rect
+  // inherits through the use; the nested use inherits too. A self-reference
+  // and a missing target render nothing.
+  const auto r =
+      parse(R"~(<defs><rect id="r" width="10" height="10" fill-opacity="0.5"/>)~"
+            R"~(<g id="g"><rect width="1" height="1" fill="inherit"/><use href="#r" x="1"/></g></defs>)~"
+            R"~(<use xlink:href="#r" x="5" y="6" fill="red" transform="scale(2)"/>)~"
+            R"~(<use href="#g" xlink:href="#r" fill="blue" fill-opacity="0.1"/>)~"
+            R"~(<use href="#self" id="self"/><use href="#missing"/>)~");
+  CHECK(mpvg::dump(r.scene) == R"~(scene 100 100
+path 0 fill nonzero rgba(0,0,1,1) opacity 0.5 matrix(1 0 0 1 1 0)
+  M 0 0 L 10 0 L 10 10 L 0 10 L 0 0 Z
+path 1 fill nonzero rgba(0,0,1,1) opacity 0.1
+  M 0 0 L 1 0 L 1 1 L 0 1 L 0 0 Z
+path 2 fill nonzero rgba(1,0,0,1) opacity 0.5 matrix(2 0 0 2 10 12)
+  M 0 0 L 10 0 L 10 10 L 0 10 L 0 0 Z
+stream F0 F1 F2
+)~");
+  CHECK(has_warning(r, "recursive use reference ignored"));
+}
+
+TEST_CASE("svg use: indirect recursion is cut, content before it stays", "[svg][use]") {
+  // g1 uses itself through use2: the inner reference is dropped.
+  CHECK(headers_of(R"~(<g id="g1"><rect width="1" height="1"/><use id="u1" href="#u2"/></g>)~"
+                   R"~(<use id="u2" href="#g1" x="10"/>)~") ==
+        R"~(scene 100 100
+path 0 fill nonzero rgba(0,0,0,1) opacity 1 matrix(1 0 0 1 10 0)
+path 1 fill nonzero rgba(0,0,0,1) opacity 1
+stream F0 F1
+)~");
+}
+
+TEST_CASE("svg structure: defs, namespaces, unknown elements", "[svg][structure]") {
+  // defs content is not rendered; elements of other namespaces (and their
+  // subtrees) are ignored; a prefixed SVG element counts; unsupported
+  // elements are ignored with one warning per name.
+  const auto r = mpvg::svg::parse_svg_string(
+      R"~(<s:svg xmlns:s="http://www.w3.org/2000/svg" viewBox="0 0 10 10">)~"
+      R"~(<s:defs><s:rect width="9" height="9"/></s:defs>)~"
+      R"~(<s:rect width="1" height="1"/><rect width="2" height="2"/>)~"
+      R"~(<x:g xmlns:x="urn:other"><s:rect width="3" height="3"/></x:g>)~"
+      R"~(<g xmlns="http://www.w3.org/2000/svg"><rect width="4" height="4"/><text>a</text><text>b</text></g>)~"
+      R"~(<s:a><s:circle r="1"/></s:a></s:svg>)~");
+  CHECK(mpvg::dump(r.scene) == R"~(scene 10 10
+path 0 fill nonzero rgba(0,0,0,1) opacity 1
+  M 1 0 R 1 1 0 1 w 0.707107 R -1 1 -1 0 w 0.707107 R -1 -1 0 -1 w 0.707107 R 1 -1 1 0 w 0.707107 Z
+path 1 fill nonzero rgba(0,0,0,1) opacity 1
+  M 0 0 L 4 0 L 4 4 L 0 4 L 0 0 Z
+path 2 fill nonzero rgba(0,0,0,1) opacity 1
+  M 0 0 L 1 0 L 1 1 L 0 1 L 0 0 Z
+stream F0 F1 F2
+)~");
+  CHECK(r.warnings == std::vector<std::string>{"<text> elements are not supported: ignored"});
+  // Without any namespace declaration the document is still taken as SVG.
+  CHECK(mpvg::dump(
+            mpvg::svg::parse_svg_string(R"~(<svg width="5" height="5"><rect width="1" height="1"/></svg>)~")
+                .scene) ==
+        "scene 5 5\npath 0 fill nonzero rgba(0,0,0,1) opacity 1\n  M 0 0 L 1 0 L 1 1 L 0 1 L 0 0 Z\nstream "
+        "F0\n");
+}
+
+TEST_CASE("svg structure: internal DTD entities", "[svg][structure]") {
+  const auto r = mpvg::svg::parse_svg_string(
+      "<?xml version=\"1.0\"?>\n<!DOCTYPE svg [\n<!ENTITY ns \"http://www.w3.org/2000/svg\">\n"
+      "<!ENTITY Shape \"<rect width='2' height='3' fill='green'/>\">\n]>\n"
+      "<svg xmlns=\"&ns;\" viewBox=\"0 0 10 10\">&Shape;</svg>");
+  CHECK(mpvg::dump(r.scene) == R"~(scene 10 10
+path 0 fill nonzero rgba(0,0.501961,0,1) opacity 1
+  M 0 0 L 2 0 L 2 3 L 0 3 L 0 0 Z
+stream F0
+)~");
+}
+
+// ------------------------------------------------------------------ clipping
+
+TEST_CASE("svg clip-path: items, clip-rule, transforms, invalid children", "[svg][clip]") {
+  // clipPath transform translate(1 2) applies inside the clipped element's
+  // space translate(5 5); the circle's own transform and clip-rule apply;
+  // g, display="none", line and text children do not count.
+  const auto r = parse(
+      R"~(<clipPath id="c" transform="translate(1 2)"><rect width="10" height="10"/>)~"
+      R"~(<circle cx="5" cy="5" r="5" clip-rule="evenodd" transform="scale(2)"/>)~"
+      R"~(<g><rect width="50" height="50"/></g><rect width="20" height="20" display="none"/>)~"
+      R"~(<line x2="10" y2="10"/><text>x</text></clipPath>)~"
+      R"~(<rect width="30" height="30" fill="green" clip-path="url(#c)" transform="translate(5 5)"/>)~");
+  CHECK(mpvg::dump(r.scene) == R"~(scene 100 100
+path 0 clip nonzero matrix(1 0 0 1 6 7)
+  M 0 0 L 10 0 L 10 10 L 0 10 L 0 0 Z
+path 1 clip evenodd matrix(2 0 0 2 6 7)
+  M 10 5 R 10 10 5 10 w 0.707107 R 0 10 0 5 w 0.707107 R 0 0 5 0 w 0.707107 R 10 0 10 5 w 0.707107 Z
+path 2 fill nonzero rgba(0,0.501961,0,1) opacity 1 matrix(1 0 0 1 5 5)
+  M 0 0 L 30 0 L 30 30 L 0 30 L 0 0 Z
+stream ( C0 C1 | F2 )
+)~");
+}
+
+TEST_CASE("svg clip-path: clip-rule inherits from the clipPath's ancestors", "[svg][clip]") {
+  CHECK(headers_of(R"~(<g clip-rule="evenodd"><clipPath id="c"><rect width="5" height="5"/></clipPath></g>)~"
+                   R"~(<g clip-rule="nonzero"><rect width="9" height="9" clip-path="url(#c)"/></g>)~") ==
+        R"~(scene 100 100
+path 0 clip evenodd
+path 1 fill nonzero rgba(0,0,0,1) opacity 1
+stream ( C0 | F1 )
+)~");
+}
+
+TEST_CASE("svg clip-path: empty, invisible, missing and invalid references", "[svg][clip]") {
+  // Document order: an empty clipPath clips everything; a hidden-only
+  // clipPath too; a missing id is ignored (resvg, masking/clipPath/
+  // invalid-FuncIRI); a reference to a non-clipPath hides the element; a
+  // group without fills is not wrapped at all.
+  CHECK(
+      headers_of(
+          R"~(<clipPath id="e"/><clipPath id="h"><rect width="5" height="5" visibility="hidden"/></clipPath>)~"
+          R"~(<rect width="1" height="1" clip-path="url(#e)"/>)~"
+          R"~(<rect width="2" height="2" clip-path="url(#h)"/>)~"
+          R"~(<rect width="3" height="3" clip-path="url(#nowhere)"/>)~"
+          R"~(<rect id="notclip" width="4" height="4" clip-path="url(#notclip)"/>)~"
+          R"~(<g clip-path="url(#e)" fill="none"><rect width="5" height="5"/></g>)~") ==
+      R"~(scene 100 100
+path 0 fill nonzero rgba(0,0,0,1) opacity 1
+path 1 fill nonzero rgba(0,0,0,1) opacity 1
+path 2 fill nonzero rgba(0,0,0,1) opacity 1
+stream F0 ( | F1 ) ( | F2 )
+)~");
+}
+
+TEST_CASE("svg clip-path: objectBoundingBox units use tight bounds", "[svg][clip]") {
+  // circle: bounds 30..70. Cubic: its y extremum is 0.75 * 40 = 30, not the
+  // control polygon's 40; the element's transform comes on top. Group: the
+  // union of its children, fill="none" included. A line (no area) and a
+  // fill-less rect draw nothing.
+  CHECK(
+      headers_of(
+          R"~(<clipPath id="o" clipPathUnits="objectBoundingBox"><rect x="0.25" y="0.25" width="0.5" height="0.5"/></clipPath>)~"
+          R"~(<circle cx="50" cy="50" r="20" clip-path="url(#o)"/>)~"
+          R"~(<path d="M 0 0 C 0 40 40 40 40 0 Z" transform="translate(10 10)" clip-path="url(#o)"/>)~"
+          R"~(<g clip-path="url(#o)"><rect x="10" y="10" width="10" height="10"/>)~"
+          R"~(<rect x="30" y="5" width="10" height="10" fill="none"/></g>)~"
+          R"~(<line x2="10" y2="0" clip-path="url(#o)"/>)~"
+          R"~(<rect width="10" height="10" fill="none" clip-path="url(#o)"/>)~") ==
+      R"~(scene 100 100
+path 0 clip nonzero matrix(30 0 0 15 10 5)
+path 1 fill nonzero rgba(0,0,0,1) opacity 1
+path 2 clip nonzero matrix(40 0 0 30 10 10)
+path 3 fill nonzero rgba(0,0,0,1) opacity 1 matrix(1 0 0 1 10 10)
+path 4 clip nonzero matrix(40 0 0 40 30 30)
+path 5 fill nonzero rgba(0,0,0,1) opacity 1
+stream ( C0 | F1 ) ( C2 | F3 ) ( C4 | F5 )
+)~");
+}
+
+TEST_CASE("svg clip-path: bounding boxes count hidden children and rotated curves", "[svg][clip]") {
+  // A hidden shape still counts for the group's box (SVG 2 bounding boxes;
+  // resvg painting/visibility/bbox-impact). The rotated rect's tight box is
+  // 20 +- 10 sqrt(2).
+  CHECK(headers_of(
+            R"~(<clipPath id="o" clipPathUnits="objectBoundingBox"><rect width="1" height="1"/></clipPath>)~"
+            R"~(<g clip-path="url(#o)"><rect x="0" y="0" width="50" height="50" visibility="hidden"/>)~"
+            R"~(<rect x="10" y="10" width="20" height="20" transform="rotate(45 20 20)"/></g>)~") ==
+        R"~(scene 100 100
+path 0 clip nonzero matrix(50 0 0 50 0 0)
+path 1 fill nonzero rgba(0,0,0,1) opacity 1 matrix(0.707107 0.707107 -0.707107 0.707107 20 -8.28427)
+stream ( C0 | F1 )
+)~");
+  CHECK(
+      headers_of(
+          R"~(<clipPath id="o" clipPathUnits="objectBoundingBox"><rect width="1" height="1"/></clipPath>)~"
+          R"~(<g clip-path="url(#o)"><rect x="10" y="10" width="20" height="20" transform="rotate(45 20 20)"/></g>)~") ==
+      R"~(scene 100 100
+path 0 clip nonzero matrix(28.2843 0 0 28.2843 5.85786 5.85786)
+path 1 fill nonzero rgba(0,0,0,1) opacity 1 matrix(0.707107 0.707107 -0.707107 0.707107 20 -8.28427)
+stream ( C0 | F1 )
+)~");
+}
+
+TEST_CASE("svg clip-path: nested clip paths", "[svg][clip]") {
+  // r is clipped by a; a is clipped by b (intersection, in r's space, not
+  // a's transform); a's child rect is clipped by c in objectBoundingBox units
+  // of that child. u holds a use (x=3) of r with its own clip c: the use's box
+  // is r's box in the use's space (1..21, offset by 3). self references itself
+  // twice; both references are ignored.
+  const auto r = parse(
+      R"~(<clipPath id="a" clip-path="url(#b)"><rect width="10" height="10" clip-path="url(#c)"/></clipPath>)~"
+      R"~(<clipPath id="b" transform="translate(100 0)"><circle r="5"/></clipPath>)~"
+      R"~(<clipPath id="c" clipPathUnits="objectBoundingBox"><rect width="0.5" height="1"/></clipPath>)~"
+      R"~(<clipPath id="self" clip-path="url(#self)"><rect width="1" height="1" clip-path="url(#self)"/></clipPath>)~"
+      R"~(<rect id="r" width="20" height="20" transform="translate(1 1)" clip-path="url(#a)"/>)~"
+      R"~(<clipPath id="u"><use href="#r" x="3" clip-path="url(#c)"/></clipPath>)~"
+      R"~(<rect width="2" height="2" clip-path="url(#self)"/>)~"
+      R"~(<rect width="3" height="3" clip-path="url(#u)"/>)~");
+  const std::string d = mpvg::dump(r.scene);
+  std::string headers;
+  for (size_t pos = 0; pos < d.size();) {
+    const size_t end = d.find('\n', pos);
+    if (d.compare(pos, 2, "  ") != 0) headers += d.substr(pos, end - pos + 1);
+    pos = end + 1;
+  }
+  CHECK(headers == R"~(scene 100 100
+path 0 clip nonzero matrix(20 0 0 20 4 1)
+path 1 clip nonzero matrix(1 0 0 1 104 1)
+path 2 clip nonzero matrix(10 0 0 10 4 1)
+path 3 clip nonzero matrix(1 0 0 1 4 1)
+path 4 clip nonzero matrix(1 0 0 1 4 1)
+path 5 fill nonzero rgba(0,0,0,1) opacity 1
+path 6 clip nonzero
+path 7 fill nonzero rgba(0,0,0,1) opacity 1
+path 8 clip nonzero matrix(1 0 0 1 101 1)
+path 9 clip nonzero matrix(10 0 0 10 1 1)
+path 10 clip nonzero matrix(1 0 0 1 1 1)
+path 11 fill nonzero rgba(0,0,0,1) opacity 1 matrix(1 0 0 1 1 1)
+stream ( ( C0 | ( ( C1 | ( C2 | C3 ) ) | C4 ) ) | F5 ) ( C6 | F7 ) ( ( C8 | ( C9 | C10 ) ) | F11 )
+)~");
+  CHECK(r.warnings == std::vector<std::string>{"recursive clip-path reference ignored"});
+}
+
+TEST_CASE("svg clip-path: on groups, use and the root, with group opacity", "[svg][clip]") {
+  // The group clip uses the group's box (rotated rect and the use's rect at
+  // x+5) mapped through the clipPath transform; opacity multiplies into both
+  // fills, which the stream lists top-most first.
+  const auto r = parse(
+      R"~(<clipPath id="obb" clipPathUnits="objectBoundingBox" transform="translate(0.1 0)"><rect width="0.5" height="0.5"/></clipPath>)~"
+      R"~(<clipPath id="k"><rect width="50" height="50"/></clipPath>)~"
+      R"~(<g clip-path="url(#obb)" opacity="0.5" fill="blue">)~"
+      R"~(<rect x="10" y="20" width="20" height="20" transform="rotate(45 20 30)"/>)~"
+      R"~(<use href="#r" x="5" clip-path="url(#k)"/></g>)~"
+      R"~(<rect id="r" x="60" y="10" width="10" height="10" fill="red"/>)~",
+      R"~(width="200" height="100" viewBox="0 0 100 100" clip-path="url(#k)")~");
+  CHECK(mpvg::dump(r.scene) == R"~(scene 200 100
+path 0 clip nonzero matrix(1 0 0 1 50 0)
+  M 0 0 L 50 0 L 50 50 L 0 50 L 0 0 Z
+path 1 fill nonzero rgba(1,0,0,1) opacity 1 matrix(1 0 0 1 50 0)
+  M 60 10 L 70 10 L 70 20 L 60 20 L 60 10 Z
+path 2 clip nonzero matrix(69.1421 0 0 34.1421 55.9579 10)
+  M 0 0 L 0.5 0 L 0.5 0.5 L 0 0.5 L 0 0 Z
+path 3 clip nonzero matrix(1 0 0 1 55 0)
+  M 0 0 L 50 0 L 50 50 L 0 50 L 0 0 Z
+path 4 fill nonzero rgba(1,0,0,1) opacity 0.5 matrix(1 0 0 1 55 0)
+  M 60 10 L 70 10 L 70 20 L 60 20 L 60 10 Z
+path 5 fill nonzero rgba(0,0,1,1) opacity 0.5 matrix(0.707107 0.707107 -0.707107 0.707107 77.0711 -5.35534)
+  M 10 20 L 30 20 L 30 40 L 10 40 L 10 20 Z
+stream ( C0 | F1 ( C2 | ( C3 | F4 ) F5 ) )
+)~");
+  CHECK(r.warnings == std::vector<std::string>{"group opacity applied per shape"});
+}
+
+TEST_CASE("svg clip-path: use children of clipPath", "[svg][clip]") {
+  // A use of a shape counts with the use's offset; a use of a group or a
+  // line does not.
+  CHECK(
+      headers_of(
+          R"~(<defs><rect id="s" width="4" height="4" transform="scale(2)"/><g id="g"><rect width="9" height="9"/></g>)~"
+          R"~(<line id="l" x2="5" y2="5"/></defs>)~"
+          R"~(<clipPath id="c"><use href="#s" x="1" y="2"/><use href="#g"/><use href="#l"/></clipPath>)~"
+          R"~(<rect width="20" height="20" clip-path="url(#c)"/>)~") ==
+      R"~(scene 100 100
+path 0 clip nonzero matrix(2 0 0 2 1 2)
+path 1 fill nonzero rgba(0,0,0,1) opacity 1
+stream ( C0 | F1 )
+)~");
+}
+
+// ------------------------------------------------------------------ bounds
+
+TEST_CASE("svg bounds: tight boxes of conics and cubics", "[svg][bounds]") {
+  using mpvg::svg::detail::add_path_bounds;
+  using mpvg::svg::detail::Bounds;
+  using mpvg::svg::detail::ellipse_path;
+  // An ellipse rx=2 ry=1 rotated by 45 degrees: half extents
+  // sqrt(rx^2 cos^2 + ry^2 sin^2) = sqrt(2.5) on both axes.
+  const double c = std::sqrt(0.5);
+  Bounds b;
+  add_path_bounds(ellipse_path(0, 0, 2, 1), mpvg::Affine{c, c, -c, c, 10, 20}, b);
+  CHECK(b.x0 == Approx(10 - std::sqrt(2.5)));
+  CHECK(b.x1 == Approx(10 + std::sqrt(2.5)));
+  CHECK(b.y0 == Approx(20 - std::sqrt(2.5)));
+  CHECK(b.y1 == Approx(20 + std::sqrt(2.5)));
+  // A cubic whose control points overshoot: x in [0, 10], y up to 7.5.
+  mpvg::Path cubic;
+  cubic.move_to({0, 0});
+  cubic.cubic_to({0, 10}, {10, 10}, {10, 0});
+  Bounds cb;
+  add_path_bounds(cubic, mpvg::Affine{}, cb);
+  CHECK(cb.x0 == 0);
+  CHECK(cb.x1 == 10);
+  CHECK(cb.y0 == 0);
+  CHECK(cb.y1 == Approx(7.5));
+}
+
+// ------------------------------------------------------------------ errors and robustness
+
+TEST_CASE("svg errors: one clear line each", "[svg][errors]") {
+  CHECK(error_of("<svg><g></svg>") ==
+        "XML parse error at line 1: XML_ERROR_MISMATCHED_ELEMENT (XMLElement name=g)");
+  CHECK(error_of("<svg>\n<rect x='1' x='2'/></svg>") ==
+        "XML parse error at line 2: XML_ERROR_PARSING_ATTRIBUTE (XMLElement name=rect)");
+  CHECK(error_of("") == "XML parse error at line 1: XML_ERROR_EMPTY_DOCUMENT");
+  CHECK(error_of("<html xmlns='http://www.w3.org/1999/xhtml'/>") ==
+        "not an SVG document: the root element is <html>, not <svg>");
+  CHECK(error_of("<svg xmlns='http://example.org/'/>") ==
+        "not an SVG document: the root <svg> is in namespace 'http://example.org/', not "
+        "http://www.w3.org/2000/svg");
+  CHECK(error_of("<!-- nothing -->") == "not an SVG document: no root element");
+  CHECK(error_of("<svg width='-5' height='10'/>") == "invalid root <svg>: negative width '-5'");
+  CHECK(error_of("<svg height='-1%' viewBox='0 0 10 10'/>") == "invalid root <svg>: negative height '-1%'");
+  CHECK_THROWS_AS(mpvg::svg::parse_svg_string("<svg><g></svg>"), mpvg::Error);
+}
+
+TEST_CASE("svg files: reading and unreadable paths", "[svg][errors]") {
+  const std::string missing = std::string(MPVG_BINARY_DIR) + "/no-such-file.svg";
+  try {
+    mpvg::svg::parse_svg_file(missing);
+    FAIL("no error thrown");
+  } catch (const mpvg::Error& e) {
+    CHECK(std::string(e.what()) == "cannot read '" + missing + "': No such file or directory");
+  }
+  try {
+    mpvg::svg::parse_svg_file(MPVG_BINARY_DIR);
+    FAIL("no error thrown");
+  } catch (const mpvg::Error& e) {
+    CHECK(std::string(e.what()) == "cannot read '" + std::string(MPVG_BINARY_DIR) + "': Is a directory");
+  }
+  const std::string path = std::string(MPVG_BINARY_DIR) + "/test_svg_parser_file.svg";
+  {
+    std::ofstream f(path);
+    f << "<svg xmlns='http://www.w3.org/2000/svg' width='4' height='3'><rect width='1' height='2'/></svg>";
+  }
+  const auto r = mpvg::svg::parse_svg_file(path);
+  std::remove(path.c_str());
+  CHECK(mpvg::dump(r.scene) ==
+        "scene 4 3\npath 0 fill nonzero rgba(0,0,0,1) opacity 1\n  M 0 0 L 1 0 L 1 2 L 0 2 L 0 0 Z\nstream "
+        "F0\n");
+}
+
+TEST_CASE("svg robustness: hostile input terminates with bounded output", "[svg][robustness]") {
+  // Deep XML nesting is tinyxml2's error; exponential use fan-out and
+  // clip-path chains hit the frontend's limits with a warning.
+  std::string deep;
+  for (int i = 0; i < 200; i++) deep += "<g>";
+  for (int i = 0; i < 200; i++) deep += "</g>";
+  CHECK(
+      error_of("<svg>" + deep + "</svg>").rfind("XML parse error at line 1: XML_ELEMENT_DEPTH_EXCEEDED", 0) ==
+      0);
+
+  std::string bomb = "<defs><rect id='l0' width='1' height='1'/>";
+  for (int i = 1; i <= 8; i++) {
+    bomb += "<g id='l" + std::to_string(i) + "'>";
+    for (int k = 0; k < 10; k++) bomb += "<use href='#l" + std::to_string(i - 1) + "'/>";
+    bomb += "</g>";
+  }
+  bomb += "</defs><use href='#l8'/>";
+  const auto b = parse(bomb);
+  CHECK(has_warning(b, "more than 1000000 element instances: the rest of the document is ignored"));
+  CHECK(b.scene.paths.size() < 1000000);
+
+  std::string chain;
+  for (int i = 0; i < 300; i++)
+    chain += "<clipPath id='k" + std::to_string(i) + "' clip-path='url(#k" + std::to_string(i + 1) +
+             ")'><rect width='5' height='5'/></clipPath>";
+  const auto c = parse(chain + "<rect width='1' height='1' clip-path='url(#k0)'/>");
+  CHECK(c.warnings.size() == 1);
+  CHECK(mpvg::dump(c.scene) == "scene 100 100\nstream\n");
+
+  // Numbers out of range or not numbers at all are syntax errors, never
+  // NaN or infinity in the scene.
+  const auto n = parse(
+      R"~(<rect width="1e999" height="1"/><rect width="NaN" height="1"/><rect width="inf" height="1"/>)~"
+      R"~(<circle r="1e10"/><path d="M 0 0 L 1e10 0 L 1 1"/><rect width="2" height="2" transform="scale(1e400)"/>)~");
+  CHECK(mpvg::dump(n.scene) ==
+        "scene 100 100\npath 0 fill nonzero rgba(0,0,0,1) opacity 1\n  M 0 0 L 2 0 L 2 2 L 0 2 L 0 0 "
+        "Z\nstream F0\n");
+}
