@@ -45,7 +45,10 @@ void write_png_rgba16(const std::string& path, int width, int height, const std:
 }
 
 std::vector<uint8_t> read_png_rgba8(const std::string& path, int* width, int* height) {
-  auto in = OIIO::ImageInput::open(path);
+  // Keep PNG's straight alpha as stored (OpenImageIO premultiplies otherwise).
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::open(path, &config);
   if (!in) throw Error("cannot read '" + path + "': " + OIIO::geterror());
   OIIO::ImageSpec spec = in->spec();
   const int nc = spec.nchannels;
