@@ -175,8 +175,9 @@ std::optional<RGBA> named_color(std::string_view name) {
   std::transform(key.begin(), key.end(), key.begin(),
                  [](char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; });
   if (key == "transparent") return RGBA{0, 0, 0, 0};
-  const auto it = std::lower_bound(std::begin(kNamedColors), std::end(kNamedColors), key,
-                                   [](const NamedColor& c, const std::string& k) { return k.compare(c.name) > 0; });
+  const auto it =
+      std::lower_bound(std::begin(kNamedColors), std::end(kNamedColors), key,
+                       [](const NamedColor& c, const std::string& k) { return k.compare(c.name) > 0; });
   if (it == std::end(kNamedColors) || key != it->name) return std::nullopt;
   return RGBA{it->r / 255.0f, it->g / 255.0f, it->b / 255.0f, 1.0f};
 }

@@ -17,7 +17,7 @@ constexpr std::string_view kXlinkNs = "http://www.w3.org/1999/xlink";
 
 char lower(char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }
 
-// In-scope namespace declarations (Namespaces in XML 1.0 §6): a stack of
+// In-scope namespace declarations (Namespaces in XML 1.0 §6, "Applying Namespaces"): a stack of
 // (prefix, uri); "" is the default namespace. Later entries shadow earlier.
 class NamespaceScope {
  public:
@@ -29,7 +29,9 @@ class NamespaceScope {
   }
   size_t mark() const { return decls_.size(); }
   void release(size_t mark) { decls_.resize(mark); }
-  void declare(std::string prefix, std::string uri) { decls_.emplace_back(std::move(prefix), std::move(uri)); }
+  void declare(std::string prefix, std::string uri) {
+    decls_.emplace_back(std::move(prefix), std::move(uri));
+  }
 
  private:
   std::vector<std::pair<std::string, std::string>> decls_;
@@ -41,12 +43,13 @@ std::pair<std::string_view, std::string_view> split_qname(std::string_view q) {
   return {q.substr(0, colon), q.substr(colon + 1)};
 }
 
-// Whether an element name is in the SVG namespace. Unprefixed names with no
-// default namespace declared are taken as SVG too: hand-written files often
-// omit xmlns, and nothing else could be meant.
-bool in_svg_namespace(std::string_view prefix, const NamespaceScope& ns) {
+// Whether an element name is in the SVG namespace. In a document that does
+// not use namespaces at all (an unprefixed root without xmlns, as
+// hand-written files often are), unprefixed names without a default
+// namespace are taken as SVG: nothing else could be meant.
+bool in_svg_namespace(std::string_view prefix, const NamespaceScope& ns, bool no_namespaces) {
   const std::string* uri = ns.lookup(prefix);
-  if (!uri) return prefix.empty();
+  if (!uri) return no_namespaces && prefix.empty();
   return *uri == kSvgNs;
 }
 
@@ -61,12 +64,15 @@ class TreeBuilder {
     const size_t mark = ns_.mark();
     for (const tinyxml2::XMLAttribute* a = x->FirstAttribute(); a; a = a->Next()) {
       const std::string_view name = a->Name();
-      if (name == "xmlns") ns_.declare("", a->Value());
-      else if (name.substr(0, 6) == "xmlns:") ns_.declare(std::string(name.substr(6)), a->Value());
+      if (name == "xmlns")
+        ns_.declare("", a->Value());
+      else if (name.substr(0, 6) == "xmlns:")
+        ns_.declare(std::string(name.substr(6)), a->Value());
     }
     const auto [prefix, local] = split_qname(x->Name());
+    if (!parent) no_namespaces_ = prefix.empty() && !ns_.lookup("");
     std::unique_ptr<Element> e;
-    if (in_svg_namespace(prefix, ns_)) {
+    if (in_svg_namespace(prefix, ns_, no_namespaces_)) {
       e = std::make_unique<Element>();
       e->name = std::string(local);
       e->parent = parent;
@@ -91,9 +97,12 @@ class TreeBuilder {
       } else {
         const std::string* uri = ns_.lookup(prefix);
         // An undeclared "xlink" prefix is a common slip; honour it.
-        if ((uri && *uri == kXlinkNs) || (!uri && prefix == "xlink")) name = "xlink:" + std::string(local);
-        else if (uri && *uri == kSvgNs) name = std::string(local);
-        else continue;
+        if ((uri && *uri == kXlinkNs) || (!uri && prefix == "xlink"))
+          name = "xlink:" + std::string(local);
+        else if (uri && *uri == kSvgNs)
+          name = std::string(local);
+        else
+          continue;
       }
       if (name == "style") {
         e.declarations = parse_style_attribute(a->Value());
@@ -106,6 +115,7 @@ class TreeBuilder {
 
   Document& doc_;
   NamespaceScope ns_;
+  bool no_namespaces_ = false;
 };
 
 }  // namespace
@@ -170,8 +180,20 @@ std::string expand_internal_entities(std::string_view text) {
   const size_t open = text.find('[', doctype);
   const size_t first_gt = text.find('>', doctype);
   if (open == std::string_view::npos || open > first_gt) return std::string(text);
-  const size_t close = text.find("]", open);
-  if (close == std::string_view::npos) return std::string(text);
+  // The subset ends at the first ']' outside quoted literals and comments.
+  size_t close = open + 1;
+  while (close < text.size() && text[close] != ']') {
+    const char c = text[close];
+    size_t next = close + 1;
+    if (c == '"' || c == '\'') {
+      next = text.find(c, close + 1);
+      next = next == std::string_view::npos ? text.size() : next + 1;
+    } else if (text.substr(close, 4) == "<!--") {
+      next = text.find("-->", close + 4);
+      next = next == std::string_view::npos ? text.size() : next + 3;
+    }
+    close = next;
+  }
   const size_t end = text.find('>', close);
   if (end == std::string_view::npos) return std::string(text);
 
@@ -197,18 +219,22 @@ std::string expand_internal_entities(std::string_view text) {
     if (qend == std::string_view::npos) continue;
     entities.emplace_back(std::move(name), std::string(rest.substr(0, qend)));
   }
-  if (entities.empty()) return std::string(text);
 
+  // tinyxml2 splits a DOCTYPE at every '>', so markup inside entity values
+  // would leak out as elements: blank the whole declaration, keeping its
+  // newlines so that error line numbers stay right.
+  std::string out(text.substr(0, doctype));
+  for (size_t i = doctype; i <= end; i++) out += text[i] == '\n' ? '\n' : ' ';
   const size_t limit = std::max<size_t>(text.size() * 4, size_t(1) << 20);
-  std::string out(text.substr(0, end + 1));
   size_t i = end + 1;
   while (i < text.size()) {
     const char c = text[i];
-    if (c == '&' && out.size() < limit) {
+    if (c == '&' && !entities.empty() && out.size() < limit) {
       const size_t semi = text.find(';', i + 1);
       if (semi != std::string_view::npos && semi - i <= 64) {
         const std::string_view name = text.substr(i + 1, semi - i - 1);
-        const auto it = std::find_if(entities.begin(), entities.end(), [&](const auto& e) { return e.first == name; });
+        const auto it =
+            std::find_if(entities.begin(), entities.end(), [&](const auto& e) { return e.first == name; });
         if (it != entities.end()) {
           out += it->second;
           i = semi + 1;
@@ -229,8 +255,8 @@ Document parse_document(std::string_view raw) {
   if (err != tinyxml2::XML_SUCCESS) {
     // ErrorStr() reads "Error=NAME ErrorID=N (0xN) Line number=N[: detail]";
     // keep the detail, which names the element or attribute at fault.
-    std::string msg = "XML parse error at line " + std::to_string(std::max(1, xml.ErrorLineNum())) + ": " +
-                      xml.ErrorName();
+    std::string msg =
+        "XML parse error at line " + std::to_string(std::max(1, xml.ErrorLineNum())) + ": " + xml.ErrorName();
     const char* full = xml.ErrorStr();
     const char* detail = full ? std::strstr(full, "Line number=") : nullptr;
     if (detail) detail = std::strchr(detail, ':');
@@ -248,8 +274,14 @@ Document parse_document(std::string_view raw) {
   TreeBuilder builder(doc);
   doc.root = builder.build(root, nullptr);
   if (!doc.root || doc.root->name != "svg") {
-    throw Error(std::string("not an SVG document: the root element is <") + root->Name() +
-                ">, expected <svg> in the SVG namespace");
+    const auto [prefix, local] = split_qname(root->Name());
+    if (local == "svg") {
+      const std::string attr = prefix.empty() ? "xmlns" : "xmlns:" + std::string(prefix);
+      const char* ns = root->Attribute(attr.c_str());
+      throw Error(std::string("not an SVG document: the root <") + root->Name() + "> is in namespace '" +
+                  (ns ? ns : "(undeclared)") + "', not " + std::string(kSvgNs));
+    }
+    throw Error(std::string("not an SVG document: the root element is <") + root->Name() + ">, not <svg>");
   }
   return doc;
 }

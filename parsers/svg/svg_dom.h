@@ -43,8 +43,9 @@ std::vector<std::pair<std::string, std::string>> parse_style_attribute(std::stri
 
 // Expands the general entities declared in the document's internal DTD
 // subset (<!DOCTYPE svg [ <!ENTITY name "value"> ]>), which tinyxml2 does not
-// do; drawing tools write the SVG namespace itself through one. Expansion is
-// one level deep and the output size is bounded.
+// do; drawing tools write the SVG namespace itself through one. A DOCTYPE
+// with an internal subset is blanked out (tinyxml2 mis-splits it). Expansion
+// is one level deep and the output size is bounded.
 std::string expand_internal_entities(std::string_view text);
 
 }  // namespace mpvg::svg::detail

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "parsers/svg/svg_values.h"
 
@@ -50,12 +51,13 @@ void PathBuilder::close() {
   if (pending_move_) return;
   path_.close();
   // After a closepath the current point is the subpath's start, and a
-  // following drawing command starts a new subpath there (SVG 2 §9.3.4).
+  // following drawing command starts a new subpath there (SVG 2 paths.html#PathDataClosePathCommand).
   current_ = start_;
   pending_move_ = true;
 }
 
-void PathBuilder::arc_to(double rx, double ry, double x_axis_rotation_deg, bool large_arc, bool sweep, Vec2 p) {
+void PathBuilder::arc_to(double rx, double ry, double x_axis_rotation_deg, bool large_arc, bool sweep,
+                         Vec2 p) {
   const Vec2 p0 = current_;
   // F.6.2: identical endpoints omit the arc; a zero radius makes it a line.
   if (p0 == p) return;
@@ -92,7 +94,8 @@ void PathBuilder::arc_to(double rx, double ry, double x_axis_rotation_deg, bool 
   const double cyp = -coef * ry * x1p / rx;
 
   // F.6.5.3: back to user space.
-  const Vec2 c{cs_phi * cxp - sn_phi * cyp + (p0.x + p.x) / 2, sn_phi * cxp + cs_phi * cyp + (p0.y + p.y) / 2};
+  const Vec2 c{cs_phi * cxp - sn_phi * cyp + (p0.x + p.x) / 2,
+               sn_phi * cxp + cs_phi * cyp + (p0.y + p.y) / 2};
 
   // F.6.5.5-6: start angle and sweep, on the unit circle of the ellipse.
   const Vec2 u{(x1p - cxp) / rx, (y1p - cyp) / ry};
@@ -133,16 +136,7 @@ void PathBuilder::arc_to(double rx, double ry, double x_axis_rotation_deg, bool 
 
 namespace {
 
-bool is_command(char c) {
-  switch (c) {
-    case 'M': case 'm': case 'L': case 'l': case 'H': case 'h': case 'V': case 'v':
-    case 'C': case 'c': case 'S': case 's': case 'Q': case 'q': case 'T': case 't':
-    case 'A': case 'a': case 'Z': case 'z':
-      return true;
-    default:
-      return false;
-  }
-}
+bool is_command(char c) { return c != '\0' && std::strchr("MmLlHhVvCcSsQqTtAaZz", c) != nullptr; }
 
 bool starts_number(char c) { return (c >= '0' && c <= '9') || c == '.' || c == '-' || c == '+'; }
 
@@ -152,7 +146,8 @@ bool parse_path_data(std::string_view d, Path& out) {
   Scanner s(d);
   PathBuilder pb;
   // Smooth curves reflect the previous control point only when the previous
-  // command was of the same family (SVG 2 §9.3.6, §9.3.7).
+  // command was of the same family (SVG 2 paths.html#PathDataCubicBezierCommands,
+  // #PathDataQuadraticBezierCommands).
   enum class Prev { Other, Cubic, Quad } prev = Prev::Other;
   Vec2 ctrl;
   char cmd = 0;
@@ -186,7 +181,7 @@ bool parse_path_data(std::string_view d, Path& out) {
       ok = false;  // neither a command nor an implicit repetition
       break;
     }
-    // Path data must begin with a moveto (SVG 2 §9.3.9 grammar).
+    // Path data must begin with a moveto (SVG 2 paths.html#PathDataBNF).
     if (!started && cmd != 'M' && cmd != 'm') {
       ok = false;
       break;
@@ -198,7 +193,8 @@ bool parse_path_data(std::string_view d, Path& out) {
     Prev next = Prev::Other;
     bool good = true;
     switch (cmd) {
-      case 'M': case 'm': {
+      case 'M':
+      case 'm': {
         double x, y;
         if ((good = num(x) && num(y))) {
           pb.move_to(base + Vec2{x, y});
@@ -207,22 +203,26 @@ bool parse_path_data(std::string_view d, Path& out) {
         }
         break;
       }
-      case 'L': case 'l': {
+      case 'L':
+      case 'l': {
         double x, y;
         if ((good = num(x) && num(y))) pb.line_to(base + Vec2{x, y});
         break;
       }
-      case 'H': case 'h': {
+      case 'H':
+      case 'h': {
         double x;
         if ((good = num(x))) pb.line_to({rel ? cur.x + x : x, cur.y});
         break;
       }
-      case 'V': case 'v': {
+      case 'V':
+      case 'v': {
         double y;
         if ((good = num(y))) pb.line_to({cur.x, rel ? cur.y + y : y});
         break;
       }
-      case 'C': case 'c': {
+      case 'C':
+      case 'c': {
         double x1, y1, x2, y2, x, y;
         if ((good = num(x1) && num(y1) && num(x2) && num(y2) && num(x) && num(y))) {
           ctrl = base + Vec2{x2, y2};
@@ -231,7 +231,8 @@ bool parse_path_data(std::string_view d, Path& out) {
         }
         break;
       }
-      case 'S': case 's': {
+      case 'S':
+      case 's': {
         double x2, y2, x, y;
         if ((good = num(x2) && num(y2) && num(x) && num(y))) {
           const Vec2 c1 = prev == Prev::Cubic ? cur + (cur - ctrl) : cur;
@@ -241,7 +242,8 @@ bool parse_path_data(std::string_view d, Path& out) {
         }
         break;
       }
-      case 'Q': case 'q': {
+      case 'Q':
+      case 'q': {
         double x1, y1, x, y;
         if ((good = num(x1) && num(y1) && num(x) && num(y))) {
           ctrl = base + Vec2{x1, y1};
@@ -250,7 +252,8 @@ bool parse_path_data(std::string_view d, Path& out) {
         }
         break;
       }
-      case 'T': case 't': {
+      case 'T':
+      case 't': {
         double x, y;
         if ((good = num(x) && num(y))) {
           ctrl = prev == Prev::Quad ? cur + (cur - ctrl) : cur;
@@ -259,7 +262,8 @@ bool parse_path_data(std::string_view d, Path& out) {
         }
         break;
       }
-      case 'A': case 'a': {
+      case 'A':
+      case 'a': {
         double rx, ry, angle, x, y;
         bool large, sweep;
         if ((good = num(rx) && num(ry) && num(angle) && flag(large) && flag(sweep) && num(x) && num(y)))
@@ -292,8 +296,10 @@ std::vector<Vec2> parse_points(std::string_view text) {
   while (!s.at_end()) {
     const auto v = s.number();
     if (!v) break;
-    if (have_x) pts.push_back({pending, *v});
-    else pending = *v;
+    if (have_x)
+      pts.push_back({pending, *v});
+    else
+      pending = *v;
     have_x = !have_x;
     s.skip_comma_ws();
   }
@@ -310,7 +316,7 @@ Path rect_path(double x, double y, double w, double h, double rx, double ry) {
     pb.close();
     return pb.take();
   }
-  // SVG 2 §10.2: start at (x + rx, y), go clockwise; each corner is a quarter
+  // SVG 2 shapes.html#RectElement: start at (x + rx, y), go clockwise; each corner is a quarter
   // ellipse, i.e. a conic with its control point on the corner and weight
   // cos(45°). Straight edges of zero length (rx = w / 2) are left out.
   const double k = M_SQRT1_2;
@@ -331,7 +337,7 @@ Path rect_path(double x, double y, double w, double h, double rx, double ry) {
 }
 
 Path ellipse_path(double cx, double cy, double rx, double ry) {
-  // SVG 2 §10.4-10.5: four quarter arcs starting at (cx + rx, cy) in the
+  // SVG 2 shapes.html#CircleElement, #EllipseElement: four quarter arcs starting at (cx + rx, cy) in the
   // direction of positive angles.
   const double k = M_SQRT1_2;
   PathBuilder pb;
@@ -410,8 +416,7 @@ void add_path_bounds(const Path& path, const Affine& m, Bounds& b) {
     b.add(q[deg]);
     double t[2];
     switch (seg.type) {
-      case SegmentType::Line:
-        break;
+      case SegmentType::Line: break;
       case SegmentType::Quad:
       case SegmentType::RQuad: {
         // Extrema of the conic (q0 B0 + w q1 B1 + q2 B2) / (B0 + w B1 + B2)
@@ -423,12 +428,14 @@ void add_path_bounds(const Path& path, const Affine& m, Bounds& b) {
         for (int axis = 0; axis < 2; axis++) {
           const double a0 = axis ? q[0].y : q[0].x, a1 = axis ? q[1].y : q[1].x, a2 = axis ? q[2].y : q[2].x;
           const double n0 = a0, n1 = 2 * w * a1 - 2 * a0, n2 = a0 - 2 * w * a1 + a2;
-          const int k = roots_in_unit_interval(n2 * d1 - n1 * d2, 2 * (n2 * d0 - n0 * d2), n1 * d0 - n0 * d1, t);
+          const int k =
+              roots_in_unit_interval(n2 * d1 - n1 * d2, 2 * (n2 * d0 - n0 * d2), n1 * d0 - n0 * d1, t);
           for (int i = 0; i < k; i++) {
             const double u = 1 - t[i];
             const double b0 = u * u, b1 = 2 * w * t[i] * u, b2 = t[i] * t[i];
             const double den = b0 + b1 + b2;
-            b.add(Vec2{(q[0].x * b0 + q[1].x * b1 + q[2].x * b2) / den, (q[0].y * b0 + q[1].y * b1 + q[2].y * b2) / den});
+            b.add(Vec2{(q[0].x * b0 + q[1].x * b1 + q[2].x * b2) / den,
+                       (q[0].y * b0 + q[1].y * b1 + q[2].y * b2) / den});
           }
         }
         break;
@@ -438,10 +445,12 @@ void add_path_bounds(const Path& path, const Affine& m, Bounds& b) {
         for (int axis = 0; axis < 2; axis++) {
           const double a0 = axis ? q[0].y : q[0].x, a1 = axis ? q[1].y : q[1].x;
           const double a2 = axis ? q[2].y : q[2].x, a3 = axis ? q[3].y : q[3].x;
-          const int k = roots_in_unit_interval(-a0 + 3 * a1 - 3 * a2 + a3, 2 * (a0 - 2 * a1 + a2), a1 - a0, t);
+          const int k =
+              roots_in_unit_interval(-a0 + 3 * a1 - 3 * a2 + a3, 2 * (a0 - 2 * a1 + a2), a1 - a0, t);
           for (int i = 0; i < k; i++) {
             const double u = 1 - t[i];
-            const double b0 = u * u * u, b1 = 3 * u * u * t[i], b2 = 3 * u * t[i] * t[i], b3 = t[i] * t[i] * t[i];
+            const double b0 = u * u * u, b1 = 3 * u * u * t[i], b2 = 3 * u * t[i] * t[i],
+                         b3 = t[i] * t[i] * t[i];
             b.add(Vec2{q[0].x * b0 + q[1].x * b1 + q[2].x * b2 + q[3].x * b3,
                        q[0].y * b0 + q[1].y * b1 + q[2].y * b2 + q[3].y * b3});
           }

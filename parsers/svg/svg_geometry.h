@@ -40,16 +40,16 @@ class PathBuilder {
   bool pending_move_ = false;
 };
 
-// Path data (SVG 2 §9.3.9 grammar). On a syntax error the path holds every
-// segment before the erroneous one (SVG 2 §9.5.4 "error handling in path
-// data") and the function returns false.
+// Path data (SVG 2 paths.html#PathDataBNF). On a syntax error the path holds
+// every segment before the erroneous one (SVG 2 paths.html
+// #PathDataErrorHandling) and the function returns false.
 bool parse_path_data(std::string_view d, Path& out);
 
 // A points attribute (polyline, polygon): coordinate pairs; an odd trailing
-// coordinate is dropped and parsing stops at the first error (SVG 1.1 §9.7).
+// coordinate is dropped and parsing stops at the first error (SVG 1.1 §9.7.1).
 std::vector<Vec2> parse_points(std::string_view s);
 
-// The basic shapes as paths (SVG 2 §10.2-10.6 "equivalent path"). Callers
+// The basic shapes as paths (SVG 2 shapes.html: each shape's "equivalent path"). Callers
 // have validated the sizes (w, h, rx, ry > 0 where required).
 Path rect_path(double x, double y, double w, double h, double rx, double ry);
 Path ellipse_path(double cx, double cy, double rx, double ry);

@@ -128,8 +128,8 @@ std::optional<Length> parse_length(std::string_view text) {
     static const struct {
       const char* name;
       Unit unit;
-    } units[] = {{"px", Unit::Px}, {"pt", Unit::Pt}, {"pc", Unit::Pc}, {"mm", Unit::Mm}, {"cm", Unit::Cm},
-                 {"in", Unit::In}, {"em", Unit::Em}, {"ex", Unit::Ex}};
+    } units[] = {{"px", Unit::Px}, {"pt", Unit::Pt}, {"pc", Unit::Pc}, {"mm", Unit::Mm},
+                 {"cm", Unit::Cm}, {"in", Unit::In}, {"em", Unit::Em}, {"ex", Unit::Ex}};
     const std::string_view u = s.rest();
     bool found = false;
     for (const auto& e : units) {
@@ -147,7 +147,7 @@ std::optional<Length> parse_length(std::string_view text) {
 }
 
 double length_to_px(const Length& l, double percent_base) {
-  // CSS Values 3 §6.2 absolute lengths: 1in = 96px = 2.54cm = 72pt = 6pc.
+  // CSS Values 3 absolute lengths: 1in = 96px = 2.54cm = 72pt = 6pc.
   switch (l.unit) {
     case Unit::None:
     case Unit::Px: return l.value;

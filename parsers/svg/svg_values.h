@@ -65,7 +65,7 @@ struct Length {
   Unit unit = Unit::None;
 };
 
-// <length> | <percentage> (SVG 2 §4.6 / CSS Values), trimmed, units
+// <length> | <percentage> (CSS Values 3, as used by SVG 2), trimmed, units
 // case-insensitive. nullopt on anything else.
 std::optional<Length> parse_length(std::string_view s);
 
@@ -74,7 +74,7 @@ std::optional<Length> parse_length(std::string_view s);
 // that 100% stands for.
 double length_to_px(const Length& l, double percent_base);
 
-// A transform list (SVG 1.1 §7.6 grammar, SVG 2 §8.5). nullopt on any syntax
+// A transform list (SVG 1.1 §7.6 grammar). nullopt on any syntax
 // error (the caller ignores the whole attribute, as CSS does); an empty or
 // blank list is the identity.
 std::optional<Affine> parse_transform(std::string_view s);
@@ -91,7 +91,7 @@ std::optional<RGBA> parse_color(Scanner& s);
 std::optional<RGBA> parse_color(std::string_view s);
 std::optional<RGBA> named_color(std::string_view name);
 
-// A <paint> value (SVG 1.1 §11.2, SVG 2 §13.2): none | currentColor |
+// A <paint> value (SVG 1.1 §11.2, SVG 2 painting.html#SpecifyingPaint): none | currentColor |
 // <color> [<icccolor>] | <url> [none | currentColor | <color>] |
 // context-fill | context-stroke.
 struct PaintValue {
@@ -113,7 +113,7 @@ std::optional<std::string> parse_func_iri(Scanner& s, bool* external);
 std::optional<std::string> parse_iri_fragment(std::string_view s);
 
 // opacity, fill-opacity: <number> | <percentage>, clamped to [0, 1]
-// (CSS Color 4 §4.3 <alpha-value>).
+// (CSS Color 4 <alpha-value>).
 std::optional<double> parse_alpha(std::string_view s);
 
 struct ViewBox {
@@ -132,8 +132,8 @@ struct AspectRatio {
 // preserveAspectRatio (SVG 1.1 §7.8): [defer] <align> [meet | slice].
 std::optional<AspectRatio> parse_aspect_ratio(std::string_view s);
 
-// The viewBox-to-viewport transform (SVG 2 §8.2 "equivalent transform of an
-// SVG viewport"). vb must have positive width and height.
+// The viewBox-to-viewport transform (SVG 2 coords.html
+// #ComputingAViewportsTransform). vb must have positive width and height.
 Affine view_box_transform(const ViewBox& vb, const AspectRatio& ar, double width, double height);
 
 }  // namespace mpvg::svg::detail
