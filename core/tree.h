@@ -12,7 +12,7 @@ namespace mpvg {
 
 // Stopping criteria (paper §4.1).
 struct TreeParams {
-  uint32_t min_segments = 16;   // subdivide cells with more geometry entries than this
+  uint32_t min_segments = 4;    // subdivide cells with more geometry entries than this
   int max_depth = -1;           // deepest level; -1: down to 1-pixel cells
   size_t max_entries = size_t(1) << 27;  // cap on all levels' entries together (memory)
   bool prune = true;

@@ -32,6 +32,10 @@ ImageF render_tree_cpu(const ShortcutTree& tree, int width, int height, const st
   img.rgba.assign(size_t(width) * size_t(height) * 4, 0.0f);
   // Schedule: each leaf's pixels inside the image, in strips.
   std::vector<Task> tasks;
+  std::vector<char> uniform(tree.leaves.size(), 1);
+  for (size_t l = 0; l < tree.leaves.size(); l++)
+    for (uint32_t i = tree.leaves[l].begin; i < tree.leaves[l].end && uniform[l]; i++)
+      uniform[l] = !entry_is_geometry(tree.leaf_entries[i]);
   for (uint32_t l = 0; l < tree.leaves.size(); l++) {
     const Cell& c = tree.leaves[l];
     const uint32_t s = tree.root_size >> c.level;
@@ -55,6 +59,18 @@ ImageF render_tree_cpu(const ShortcutTree& tree, int width, int height, const st
       if (ti >= tasks.size()) return;
       const Task& task = tasks[ti];
       const Cell& c = tree.leaves[task.leaf];
+      if (uniform[task.leaf]) {
+        // No geometry in the cell: every sample has the colour of its
+        // initial windings, so one evaluation serves the whole strip.
+        const Rgba4 col = sample_cell(in, c.begin, c.end, float(task.x0), float(task.y0));
+        const float under = 1.0f - col.a;
+        const float px[4] = {col.r + under * background.r, col.g + under * background.g,
+                             col.b + under * background.b, col.a + under * background.a};
+        for (uint32_t y = task.y0; y < task.y1; y++)
+          for (uint32_t x = task.x0; x < task.x1; x++)
+            std::copy(px, px + 4, &img.rgba[(size_t(y) * size_t(width) + x) * 4]);
+        continue;
+      }
       for (uint32_t y = task.y0; y < task.y1; y++) {
         for (uint32_t x = task.x0; x < task.x1; x++) {
           float acc[4] = {0, 0, 0, 0};
