@@ -1,0 +1,73 @@
+#!/usr/bin/env bash
+# Command-line behaviour of svg2png: outputs, sizes, stdin/stdout, and one
+# clear error line with a non-zero exit for bad input.
+# usage: test_cli.sh SVG2PNG SOURCE_DIR
+set -u
+bin=$1
+src=$2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fails=0
+check() {  # description, condition...
+  local what=$1
+  shift
+  if "$@"; then echo "ok   $what"; else echo "FAIL $what"; fails=$((fails + 1)); fi
+}
+png_size() {  # prints WIDTHxHEIGHT of a PNG (IHDR at byte 16)
+  local w h
+  w=$(od -An -tu1 -j16 -N4 "$1" | awk '{print $1*16777216+$2*65536+$3*256+$4}')
+  h=$(od -An -tu1 -j20 -N4 "$1" | awk '{print $1*16777216+$2*65536+$3*256+$4}')
+  echo "${w}x${h}"
+}
+differ() { ! cmp -s "$1" "$2"; }
+svg=$src/testdata/golden/arcs.svg   # 128 x 96
+
+"$bin" -q "$svg" "$tmp/a.png"; rc=$?
+check "renders at the intrinsic size" test "$rc" = 0 -a "$(png_size "$tmp/a.png")" = 128x96
+"$bin" -q -w 64 "$svg" "$tmp/b.png"
+check "-w keeps the aspect ratio" test "$(png_size "$tmp/b.png")" = 64x48
+"$bin" -q -h 192 "$svg" "$tmp/c.png"
+check "-h keeps the aspect ratio" test "$(png_size "$tmp/c.png")" = 256x192
+"$bin" -q -w 100 -h 100 "$svg" "$tmp/d.png"
+check "-w and -h stretch" test "$(png_size "$tmp/d.png")" = 100x100
+"$bin" -q -w 100 -h 100 -a "$svg" "$tmp/e.png"
+check "-a fits inside" test "$(png_size "$tmp/e.png")" = 100x75
+"$bin" -q -z 0.5 "$svg" "$tmp/f.png"
+check "-z scales" test "$(png_size "$tmp/f.png")" = 64x48
+"$bin" -q - - < "$svg" > "$tmp/g.png"
+check "stdin to stdout gives the same bytes as files" cmp -s "$tmp/a.png" "$tmp/g.png"
+"$bin" -q -o "$tmp/h.png" "$svg"
+check "-o names the output" cmp -s "$tmp/a.png" "$tmp/h.png"
+"$bin" -q --seed 7 "$svg" "$tmp/i.png"
+check "--seed changes the sample pattern" differ "$tmp/a.png" "$tmp/i.png"
+"$bin" -q --backend cpu "$svg" "$tmp/j.png"
+check "--backend cpu renders the same image" cmp -s "$tmp/a.png" "$tmp/j.png"
+"$bin" -q --bits 16 "$svg" "$tmp/k.png"
+check "--bits 16 writes a 16-bit PNG" test "$(od -An -tu1 -j24 -N1 "$tmp/k.png" | tr -d ' ')" = 16
+
+err=$("$bin" "$tmp/missing.svg" "$tmp/x.png" 2>&1); rc=$?
+check "missing input: exit 1, one line" test "$rc" = 1 -a "$(echo "$err" | wc -l)" = 1
+check "missing input: says what" grep -q "cannot read" <<<"$err"
+printf '<svg xmlns="http://www.w3.org/2000/svg"><rect width="10" height="10"</svg>' > "$tmp/bad.svg"
+err=$("$bin" "$tmp/bad.svg" "$tmp/x.png" 2>&1); rc=$?
+check "malformed XML: exit 1, one line" test "$rc" = 1 -a "$(echo "$err" | wc -l)" = 1
+check "malformed XML: says where" grep -q "XML parse error at line" <<<"$err"
+check "malformed XML: no output file" test ! -e "$tmp/x.png"
+printf '<html/>' > "$tmp/html.svg"
+"$bin" "$tmp/html.svg" "$tmp/x.png" 2>/dev/null; rc=$?
+check "not SVG: exit 1" test "$rc" = 1
+err=$("$bin" --frobnicate "$svg" "$tmp/x.png" 2>&1); rc=$?
+check "unknown option: exit 2 with a message" test "$rc" = 2 -a -n "$err"
+"$bin" -w -3 "$svg" "$tmp/x.png" 2>/dev/null; rc=$?
+check "negative width: exit 2" test "$rc" = 2
+"$bin" --aa 9x9 "$svg" "$tmp/x.png" 2>/dev/null; rc=$?
+check "unknown --aa mode: exit 2" test "$rc" = 2
+"$bin" "$svg" 2>/dev/null; rc=$?
+check "missing output argument: exit 2" test "$rc" = 2
+"$bin" -q "$svg" "$tmp/no/such/dir/x.png" 2>/dev/null; rc=$?
+check "unwritable output: exit 1" test "$rc" = 1
+"$bin" --help > "$tmp/help.txt"; rc=$?
+check "--help: exit 0 with usage" test "$rc" = 0 -a -s "$tmp/help.txt"
+
+echo "$fails failed"
+test "$fails" = 0
