@@ -30,6 +30,7 @@
 #include <cstdint>
 
 #include "core/hd.h"
+#include "core/scan.h"
 #include "core/shortcut_tree.h"
 
 namespace mpvg {
@@ -50,16 +51,9 @@ MPVG_HD_INLINE int32_t prune_depth_delta(const Entry* entries, uint32_t i) {
   return d;
 }
 
-// Segmented scan value of the per-depth link scans.
-struct LinkSeg {
-  uint32_t dist;
-  uint32_t head;
-};
-struct LinkSegAdd {
-  MPVG_HD_INLINE LinkSeg operator()(LinkSeg a, LinkSeg b) const {
-    return LinkSeg{b.head ? b.dist : a.dist + b.dist, a.head | b.head};
-  }
-};
+// The per-depth link scans sum 1s in segments that start at each '(' of
+// that depth: Segmented<uint32_t> with SegmentedSum (core/scan.h).
+using LinkSeg = Segmented<uint32_t>;
 
 // Classifies element i of a cell [begin, end): is it a whole path reduced to
 // one winding entry, and what does its fill rule say?

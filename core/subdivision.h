@@ -44,6 +44,7 @@
 
 #include "core/abstract_segment.h"
 #include "core/hd.h"
+#include "core/scan.h"
 #include "core/shortcut_tree.h"
 
 namespace mpvg {
@@ -109,18 +110,10 @@ MPVG_HD_INLINE uint32_t split_entry(Entry e, const AbstractSegment* segments, co
   }
 }
 
-// Segmented-scan value for consolidating winding increments per path per
-// child cell (second kernel of §4.2). head marks the first entry of a run.
-struct WindSeg {
-  int32_t wind;
-  uint32_t head;
-};
-
-struct WindSegAdd {
-  MPVG_HD_INLINE WindSeg operator()(WindSeg a, WindSeg b) const {
-    return WindSeg{b.head ? b.wind : a.wind + b.wind, a.head | b.head};
-  }
-};
+// Winding increments are consolidated per path per child cell by a
+// segmented sum (second kernel of §4.2) whose heads are the first entries of
+// path runs: Segmented<int32_t> with SegmentedSum (core/scan.h).
+using WindSeg = Segmented<int32_t>;
 
 // Number of entries one (parent entry, child) pair writes: its split plus,
 // when it ends its path's run, one winding entry if the consolidated winding

@@ -32,10 +32,10 @@ bool prune_round(TreeLevel& level, const std::vector<PathRecord>& paths) {
   for (int32_t d = 1; d <= max_depth; d++) {
     for (size_t i = 0; i < n; i++)
       link[i] = LinkSeg{1u, (entry_kind(e[i]) == ENTRY_PUSH && depth[i] == d) ? 1u : 0u};
-    std::inclusive_scan(link.begin(), link.end(), link.begin(), LinkSegAdd{});
+    std::inclusive_scan(link.begin(), link.end(), link.begin(), SegmentedSum<uint32_t>{});
     for (size_t i = 0; i < n; i++) {
       if (depth[i] != d) continue;
-      const uint32_t o = static_cast<uint32_t>(i) - (link[i].dist - 1);
+      const uint32_t o = static_cast<uint32_t>(i) - (link[i].value - 1);
       open[i] = o;
       const uint32_t k = entry_kind(e[i]);
       if (k == ENTRY_ACTIVATE) bar[o] = static_cast<uint32_t>(i);

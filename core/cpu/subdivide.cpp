@@ -47,7 +47,7 @@ TreeLevel subdivide_cpu(const TreeLevel& parent, const std::vector<AbstractSegme
     }
   }
   // Pass 2: consolidate windings per path run (segmented inclusive scan).
-  std::inclusive_scan(wind.begin(), wind.end(), wind.begin(), WindSegAdd{});
+  std::inclusive_scan(wind.begin(), wind.end(), wind.begin(), SegmentedSum<int32_t>{});
   // Pass 3: output offsets (exclusive scan, one extra slot per non-zero run).
   for (size_t k = 0; k < parent.cells.size(); k++) {
     const Cell& pc = parent.cells[k];
@@ -56,7 +56,7 @@ TreeLevel subdivide_cpu(const TreeLevel& parent, const std::vector<AbstractSegme
       const size_t base = fanout * size_t(pc.begin) + size_t(c) * size;
       for (uint32_t i = pc.begin; i < pc.end; i++) {
         const size_t j = base + (i - pc.begin);
-        count[j] = split_output_count(flags[j], run_ends(in, i, pc.end), wind[j].wind);
+        count[j] = split_output_count(flags[j], run_ends(in, i, pc.end), wind[j].value);
       }
     }
   }
@@ -74,7 +74,7 @@ TreeLevel subdivide_cpu(const TreeLevel& parent, const std::vector<AbstractSegme
       cc.end = offset[base + size];
       for (uint32_t i = pc.begin; i < pc.end; i++) {
         const size_t j = base + (i - pc.begin);
-        split_scatter(in[i], flags[j], run_ends(in, i, pc.end), wind[j].wind, segments.data(),
+        split_scatter(in[i], flags[j], run_ends(in, i, pc.end), wind[j].value, segments.data(),
                       out.entries.data() + offset[j]);
       }
     }

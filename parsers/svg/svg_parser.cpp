@@ -539,6 +539,32 @@ class Converter {
   // ------------------------------------------------------------ rendering
 
   // Converts a rendered element (and its subtree) in painter's order.
+  // What rendering an element (or a clipPath child) needs, resolved once:
+  // its style, the space its content lives in, a use's target, its clip.
+  // False when the element shows nothing.
+  struct Placed {
+    Style st;
+    Affine space;
+    const Element* target = nullptr;
+    ClipRef clip;
+  };
+  bool place(const Element& e, Kind kind, const Context& ctx, Placed& out) {
+    out.st = compute_style(e, ctx);
+    if (out.st.display_none) return false;
+    out.space = ctx.ctm * out.st.transform;
+    if (kind == Kind::Use) {
+      out.target = use_target(e);
+      if (!out.target) return false;
+      // The use's x/y are an extra translation after its transform (SVG 1.1
+      // §5.6); clip-path and bounding box live in that translated space.
+      out.space = out.space * use_offset(e);
+    }
+    // A non-invertible transform makes everything degenerate: nothing shows.
+    if (!invertible(out.space)) return false;
+    out.clip = resolve_clip(out.st.clip_path);
+    return out.clip.state != ClipRef::Invalid;
+  }
+
   void render(const Element& e, const Context& ctx, int depth) {
     const Kind kind = classify(e);
     if (kind == Kind::Ignored) return;
@@ -552,21 +578,12 @@ class Converter {
       return;
     }
     if (!enter(depth)) return;
-    const Style st = compute_style(e, ctx);
-    if (st.display_none) return;
-    Affine space = ctx.ctm * st.transform;
-    const Element* target = nullptr;
-    if (kind == Kind::Use) {
-      target = use_target(e);
-      if (!target) return;
-      // The use's x/y are an extra translation after its transform (SVG 1.1
-      // §5.6); clip-path and bounding box live in that translated space.
-      space = space * use_offset(e);
-    }
-    // A non-invertible transform makes everything degenerate: nothing shows.
-    if (!invertible(space)) return;
-    const ClipRef clip = resolve_clip(st.clip_path);
-    if (clip.state == ClipRef::Invalid) return;
+    Placed pl;
+    if (!place(e, kind, ctx, pl)) return;
+    const Style& st = pl.st;
+    const Affine& space = pl.space;
+    const Element* target = pl.target;
+    const ClipRef& clip = pl.clip;
 
     const size_t start = ops_.size();
     const Context inner = child_context(st, space, false);
@@ -758,18 +775,12 @@ class Converter {
     }
     if (e.name == "line") return;  // no area
     if (!enter(depth)) return;
-    const Style st = compute_style(e, ctx);
-    if (st.display_none) return;
-    Affine space = ctx.ctm * st.transform;
-    const Element* target = nullptr;
-    if (kind == Kind::Use) {
-      target = use_target(e);
-      if (!target) return;
-      space = space * use_offset(e);
-    }
-    if (!invertible(space)) return;
-    const ClipRef clip = resolve_clip(st.clip_path);
-    if (clip.state == ClipRef::Invalid) return;
+    Placed pl;
+    if (!place(e, kind, ctx, pl)) return;
+    const Style& st = pl.st;
+    const Affine& space = pl.space;
+    const Element* target = pl.target;
+    const ClipRef& clip = pl.clip;
 
     const size_t start = ops_.size();
     if (kind == Kind::Use) {
