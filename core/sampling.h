@@ -27,9 +27,11 @@ struct SampleInputs {
 };
 
 // Winding contribution of one geometry or winding entry to sample (px, py).
-MPVG_HD_INLINE int entry_winding(Entry e, const AbstractSegment* segments, float px, float py) {
+// seg is the entry's abstract segment (SEGMENT entries only): the CPU reads
+// it from the segment array, a GPU block from its shared-memory copy.
+MPVG_HD_INLINE int entry_winding(Entry e, const AbstractSegment* seg, float px, float py) {
   switch (entry_kind(e)) {
-    case ENTRY_SEGMENT: return abstract_ray_winding(segments[e.data], px, py);
+    case ENTRY_SEGMENT: return abstract_ray_winding(*seg, px, py);
     case ENTRY_SHORTCUT_UP: return py >= entry_float(e) ? 1 : 0;
     case ENTRY_SHORTCUT_DOWN: return py >= entry_float(e) ? -1 : 0;
     default: return static_cast<int32_t>(e.data);  // ENTRY_WINDING
@@ -84,8 +86,14 @@ MPVG_HD_INLINE void sample_finish_path(SampleState& st, const SampleInputs& in, 
   if (st.color.a >= kOpaqueAlpha) st.done = true;
 }
 
-// Advances one sample over one entry.
-MPVG_HD_INLINE void sample_step(SampleState& st, const SampleInputs& in, Entry e, float px, float py) {
+// The segment a SEGMENT entry refers to, or null for other entries.
+MPVG_HD_INLINE const AbstractSegment* entry_segment(Entry e, const AbstractSegment* segments) {
+  return entry_kind(e) == ENTRY_SEGMENT ? &segments[e.data] : nullptr;
+}
+
+// Advances one sample over one entry; seg as in entry_winding.
+MPVG_HD_INLINE void sample_step(SampleState& st, const SampleInputs& in, Entry e, const AbstractSegment* seg, float px,
+                                float py) {
   if (st.done) return;
   if (entry_is_delimiter(e)) {
     sample_finish_path(st, in, px, py);
@@ -101,13 +109,16 @@ MPVG_HD_INLINE void sample_step(SampleState& st, const SampleInputs& in, Entry e
     st.path = path;
     st.winding = 0;
   }
-  st.winding += entry_winding(e, in.segments, px, py);
+  st.winding += entry_winding(e, seg, px, py);
 }
 
 // Colour of sample (px, py) from the entries [begin, end) of its leaf cell.
 MPVG_HD_INLINE Rgba4 sample_cell(const SampleInputs& in, uint32_t begin, uint32_t end, float px, float py) {
   SampleState st = sample_start();
-  for (uint32_t i = begin; i < end && !st.done; i++) sample_step(st, in, in.entries[i], px, py);
+  for (uint32_t i = begin; i < end && !st.done; i++) {
+    const Entry e = in.entries[i];
+    sample_step(st, in, e, entry_segment(e, in.segments), px, py);
+  }
   sample_finish_path(st, in, px, py);
   return st.color;
 }

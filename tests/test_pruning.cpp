@@ -12,6 +12,7 @@
 #include "core/sampling.h"
 #include "tests/catch.h"
 #include "tests/oracle.h"
+#include "tests/random_scenes.h"
 
 using namespace mpvg;
 
@@ -19,90 +20,7 @@ namespace {
 
 constexpr int kSize = 64;
 
-struct Gen {
-  std::mt19937 rng;
-  SceneBuilder& b;
-  int max_depth;
-
-  Path shape() {
-    std::uniform_int_distribution<int> kind(0, 9);
-    const int k = kind(rng);
-    Path p;
-    if (k <= 1) {
-      // Covers the whole image: F1 / C1 candidates in every cell.
-      p.move_to({-10, -10});
-      p.line_to({kSize + 10, -10});
-      p.line_to({kSize + 10, kSize + 10});
-      p.line_to({-10, kSize + 10});
-      p.close();
-      if (k == 1) {  // twice, same orientation: winding 2 (even-odd: F0 / C0)
-        p.move_to({-12, -12});
-        p.line_to({kSize + 12, -12});
-        p.line_to({kSize + 12, kSize + 12});
-        p.line_to({-12, kSize + 12});
-        p.close();
-      }
-      return p;
-    }
-    if (k == 2) {  // a half-plane-ish box
-      std::uniform_int_distribution<int> c(0, kSize);
-      const double x = c(rng), y = c(rng);
-      p.move_to({x, -10});
-      p.line_to({kSize + 10, -10});
-      p.line_to({kSize + 10, y});
-      p.line_to({x, y});
-      p.close();
-      return p;
-    }
-    return oracle::random_path(rng, -8.0, kSize + 8.0, 1 + k % 2, 5);
-  }
-
-  FillRule rule() { return std::bernoulli_distribution(0.5)(rng) ? FillRule::EvenOdd : FillRule::NonZero; }
-
-  Paint paint() {
-    std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    Paint p;
-    p.color = RGBA{u(rng), u(rng), u(rng), std::bernoulli_distribution(0.5)(rng) ? 1.0f : u(rng)};
-    return p;
-  }
-
-  void fill_list(int depth) {
-    const int n = std::uniform_int_distribution<int>(1, 4)(rng);
-    for (int i = 0; i < n; i++) {
-      if (depth < max_depth && std::bernoulli_distribution(0.4)(rng)) {
-        b.push();
-        clip_union(depth + 1);
-        b.activate();
-        fill_list(depth + 1);
-        b.pop();
-      } else {
-        b.fill(b.add_geometry(shape()), Affine{}, rule(), paint());
-      }
-    }
-  }
-
-  void clip_union(int depth) {
-    const int n = std::uniform_int_distribution<int>(0, 3)(rng);
-    for (int i = 0; i < n; i++) {
-      if (depth < max_depth && std::bernoulli_distribution(0.3)(rng)) {
-        b.push();
-        clip_union(depth + 1);
-        b.activate();
-        clip_union(depth + 1);
-        b.pop();
-      } else {
-        b.clip(b.add_geometry(shape()), Affine{}, rule());
-      }
-    }
-  }
-};
-
-Scene random_clip_scene(uint32_t seed, int max_depth) {
-  SceneBuilder b(kSize, kSize);
-  Gen g{std::mt19937(seed), b, max_depth};
-  g.fill_list(0);
-  return b.finish();
-}
+Scene random_clip_scene(uint32_t seed, int max_depth) { return random_scenes::clip_scene(seed, max_depth, kSize); }
 
 // Recursive, stack-based evaluation of the scene stream (no short cuts):
 // the reference semantics of §3.

@@ -34,7 +34,7 @@ std::vector<int> cell_windings(const TreeLevel& level, const Cell& c, const Shor
   for (uint32_t i = c.begin; i < c.end; i++) {
     const Entry e = level.entries[i];
     if (entry_is_delimiter(e)) continue;
-    w[entry_path(e)] += entry_winding(e, tree.segments.data(), px, py);
+    w[entry_path(e)] += entry_winding(e, entry_segment(e, tree.segments.data()), px, py);
   }
   return w;
 }

@@ -1,0 +1,169 @@
+// mpvg_bench: GPU timings of the pipeline on SVG inputs at 1024 px width,
+// beside the paper's Table 1 (GTX Titan). Per-stage times come from CUDA
+// events after warm-up, medians over --runs repetitions; end-to-end is the
+// wall time of `svg2png --backend cuda` on the same input.
+//
+//   mpvg_bench [--runs N] [--json FILE] [--svg2png PATH] [--shapes T,I,U;...] FILE.svg...
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/encoding.h"
+#include "core/error.h"
+#include "core/renderer.h"
+#include "gpu/gpu_backend.h"
+#include "parsers/svg/svg_parser.h"
+
+using namespace mpvg;
+
+namespace {
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+struct Paper {
+  double pre, r8, r32, r4432;
+};
+// Table 1 of the paper, GTX Titan, ms (with strokes converted to fills).
+const std::map<std::string, Paper> kPaper = {
+    {"tiger", {31.04, 12.89, 17.24, 52.70}},
+    {"boston", {128.02, 37.22, 41.81, 71.14}},
+    {"hawaii", {115.29, 26.16, 29.48, 50.50}},
+    {"reschart", {24.96, 8.51, 11.14, 32.34}},
+};
+
+std::vector<gpu::SamplerShape> parse_shapes(const std::string& s) {
+  std::vector<gpu::SamplerShape> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ';')) {
+    gpu::SamplerShape sh;
+    if (std::sscanf(item.c_str(), "%d,%d,%d", &sh.threads, &sh.chunk, &sh.batch) == 3) out.push_back(sh);
+  }
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int runs = 21;
+  std::string json_path, svg2png = "svg2png", shapes_arg;
+  std::vector<std::string> files;
+  for (int i = 1; i < argc; i++) {
+    const std::string a = argv[i];
+    if (a == "--runs" && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
+    else if (a == "--json" && i + 1 < argc) json_path = argv[++i];
+    else if (a == "--svg2png" && i + 1 < argc) svg2png = argv[++i];
+    else if (a == "--shapes" && i + 1 < argc) shapes_arg = argv[++i];
+    else files.push_back(a);
+  }
+  if (files.empty()) {
+    std::fprintf(stderr, "usage: mpvg_bench [--runs N] [--json FILE] [--svg2png PATH] [--shapes T,I,U;...] FILE.svg...\n");
+    return 2;
+  }
+  try {
+    const std::string device = gpu::device_name();
+    std::printf("device: %s, %d runs per measurement (median)\n\n", device.c_str(), runs);
+    std::string json = "{\n  \"device\": \"" + device + "\",\n  \"runs\": " + std::to_string(runs) + ",\n  \"inputs\": [\n";
+    std::printf("%-10s %7s %7s %7s %7s %8s %7s %7s %7s %7s %7s %7s %9s | %8s %8s\n", "input", "abstr", "subdiv",
+                "prune", "pre", "pre-wall", "sched", "sample", "1x8", "1x32", "4x4x32", "MiB", "svg2png", "paper-pre",
+                "paper-32");
+    gpu::Context ctx;
+    std::vector<std::string> rows;
+    for (size_t fi = 0; fi < files.size(); fi++) {
+      const std::string& f = files[fi];
+      const std::string name = std::filesystem::path(f).stem().string();
+      const svg::ParseResult doc = svg::parse_svg_file(f);
+      const int w = 1024, h = static_cast<int>(std::lround(doc.scene.height * 1024.0 / doc.scene.width));
+      const EncodedScene enc = encode(doc.scene, Affine::scale(w / doc.scene.width, h / doc.scene.height), Gamma::Srgb);
+      const TreeParams params;
+      const PaintRecord bg{0, 0, 0, 0};
+      const std::vector<SampleOffset> p8 = stratified_pattern(8, 0), p32 = stratified_pattern(32, 0);
+      for (int warm = 0; warm < 3; warm++) {
+        ctx.build(enc, w, h, params);
+        ctx.render_on_device(p8, bg);
+        ctx.render_on_device(p32, bg);
+      }
+      std::vector<double> ab, sd, pr, pre, prew, sch32, sam32, r8, r32;
+      for (int r = 0; r < runs; r++) {
+        gpu::GpuTimes tb;
+        prew.push_back(ctx.build_timed(enc, w, h, params, &tb));
+        ab.push_back(tb.abstract_ms);
+        sd.push_back(tb.subdivide_ms);
+        pr.push_back(tb.prune_ms);
+        pre.push_back(tb.preprocess_ms());
+        r8.push_back(ctx.render_on_device(p8, bg));
+        gpu::GpuTimes t32;
+        r32.push_back(ctx.render_on_device(p32, bg, &t32));
+        sch32.push_back(t32.schedule_ms);
+        sam32.push_back(t32.sample_ms);
+      }
+      const double mib = ctx.tree_bytes() / 1048576.0;
+      // End to end: the command-line tool, parse and PNG writing included.
+      std::vector<double> e2e;
+      const std::string cmd = svg2png + " -q --backend cuda -w 1024 '" + f + "' /tmp/mpvg_bench_out.png";
+      for (int r = 0; r < 5; r++) {
+        const auto t0 = std::chrono::steady_clock::now();
+        if (std::system(cmd.c_str()) != 0) {
+          e2e.clear();
+          break;
+        }
+        e2e.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      }
+      const auto paper = kPaper.find(name);
+      char line[512];
+      std::snprintf(line, sizeof line, "%-10s %7.3f %7.3f %7.3f %7.3f %8.3f %7.3f %7.3f %7.3f %7.3f %7s %7.2f %9.1f | %8.2f %8.2f",
+                    name.c_str(), median(ab), median(sd), median(pr), median(pre), median(prew), median(sch32),
+                    median(sam32), median(r8), median(r32), "-", mib, e2e.empty() ? NAN : median(e2e),
+                    paper != kPaper.end() ? paper->second.pre : NAN, paper != kPaper.end() ? paper->second.r32 : NAN);
+      std::printf("%s\n", line);
+      std::fflush(stdout);
+      char js[1024];
+      std::snprintf(js, sizeof js,
+                    "    {\"input\": \"%s\", \"width\": %d, \"height\": %d, \"input_segments\": %zu, "
+                    "\"abstract_ms\": %.4f, \"subdivide_ms\": %.4f, \"prune_ms\": %.4f, \"preprocess_ms\": %.4f, "
+                    "\"preprocess_wall_ms\": %.4f, \"schedule_1x32_ms\": %.4f, \"sample_integrate_1x32_ms\": %.4f, "
+                    "\"render_1x8_ms\": %.4f, \"render_1x32_ms\": %.4f, \"tree_mib\": %.3f, \"svg2png_ms\": %.2f}",
+                    name.c_str(), w, h, enc.input_segment_count, median(ab), median(sd), median(pr), median(pre),
+                    median(prew), median(sch32), median(sam32), median(r8), median(r32), mib,
+                    e2e.empty() ? -1.0 : median(e2e));
+      rows.push_back(js);
+      // Sampler shapes (threads S, chunk I, batch U), 1x32 render time.
+      for (const gpu::SamplerShape& sh : parse_shapes(shapes_arg)) {
+        ctx.set_sampler_shape(sh);
+        std::vector<double> t;
+        ctx.render_on_device(p32, bg);
+        for (int r = 0; r < runs; r++) t.push_back(ctx.render_on_device(p32, bg));
+        std::printf("    shape S=%d I=%d U=%d: 1x32 %.3f ms\n", sh.threads, sh.chunk, sh.batch, median(t));
+        char sj[256];
+        std::snprintf(sj, sizeof sj, "    {\"input\": \"%s\", \"shape\": [%d, %d, %d], \"render_1x32_ms\": %.4f}",
+                      name.c_str(), sh.threads, sh.chunk, sh.batch, median(t));
+        rows.push_back(sj);
+      }
+      ctx.set_sampler_shape(gpu::SamplerShape{});
+    }
+    for (size_t i = 0; i < rows.size(); i++) json += rows[i] + (i + 1 < rows.size() ? ",\n" : "\n");
+    json += "  ]\n}\n";
+    if (!json_path.empty()) {
+      FILE* fp = std::fopen(json_path.c_str(), "w");
+      if (!fp) throw Error("cannot write " + json_path);
+      std::fputs(json.c_str(), fp);
+      std::fclose(fp);
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "mpvg_bench: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,114 @@
+// Stage "abstract" on the GPU: one thread per input segment runs
+// abstraction.h, first to count its pieces, then (after an exclusive scan)
+// to write them in order. The initial stream (delimiters and each path's
+// SEGMENT entries) is expanded in parallel over output entries.
+#include "core/abstraction.h"
+#include "gpu/context.cuh"
+
+namespace mpvg::gpu {
+
+namespace {
+
+constexpr unsigned kBlock = 128;
+
+__global__ void k_abstract_count(const InputSegment* in, size_t n, uint32_t* count) {
+  const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (i < n) count[i] = static_cast<uint32_t>(abstract_input_segment(in[i], nullptr));
+}
+
+__global__ void k_abstract_write(const InputSegment* in, size_t n, const uint32_t* offset, AbstractSegment* out) {
+  const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (i < n) abstract_input_segment(in[i], out + offset[i]);
+}
+
+// Length of each element of the placeholder stream once expanded.
+__global__ void k_stream_lengths(const Entry* placeholders, size_t m, const uint32_t* path_input,
+                                 const uint32_t* seg_offset, uint32_t* len) {
+  const size_t s = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (s > m) return;
+  if (s == m) {
+    len[s] = 0;
+    return;
+  }
+  const Entry e = placeholders[s];
+  if (entry_is_delimiter(e)) {
+    len[s] = 1;
+    return;
+  }
+  const uint32_t p = entry_path(e);
+  len[s] = seg_offset[path_input[p + 1]] - seg_offset[path_input[p]];
+}
+
+// Output entry j belongs to the stream element whose range holds it.
+__global__ void k_stream_expand(const Entry* placeholders, size_t m, const uint32_t* pos, const uint32_t* path_input,
+                                const uint32_t* seg_offset, size_t total, Entry* out, uint32_t* out_cell) {
+  const size_t j = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (j >= total) return;
+  size_t lo = 0, hi = m;  // last s with pos[s] <= j
+  while (hi - lo > 1) {
+    const size_t mid = (lo + hi) / 2;
+    if (pos[mid] <= j) lo = mid; else hi = mid;
+  }
+  const Entry e = placeholders[lo];
+  out_cell[j] = 0;
+  if (entry_is_delimiter(e)) {
+    out[j] = e;
+    return;
+  }
+  const uint32_t p = entry_path(e);
+  out[j] = make_entry(ENTRY_SEGMENT, p, seg_offset[path_input[p]] + static_cast<uint32_t>(j - pos[lo]));
+}
+
+}  // namespace
+
+void Context::Impl::abstract(const EncodedScene& scene) {
+  const size_t n = scene.segments.size();
+  input.upload(scene.segments);
+  paths.upload(scene.paths);
+  paints.upload(scene.paints);
+  placeholders.upload(scene.stream);
+  npaths = scene.paths.size();
+  // First input segment of each path; segments come grouped by path.
+  std::vector<uint32_t> first(npaths + 1, 0);
+  for (const InputSegment& s : scene.segments) first[s.path + 1]++;
+  for (size_t p = 0; p < npaths; p++) first[p + 1] += first[p];
+  path_input.upload(first);
+
+  uint32_t* count = (u32[0].resize(n + 1), u32[0].data());
+  uint32_t* offset = (u32[1].resize(n + 1), u32[1].data());
+  MPVG_CUDA(cudaMemset(count + n, 0, sizeof(uint32_t)));
+  if (n) {
+    k_abstract_count<<<grid_for(n, kBlock), kBlock>>>(input.data(), n, count);
+    MPVG_LAUNCHED();
+  }
+  prim.exclusive_sum(count, offset, n + 1);
+  nsegments = read_u32(offset + n);
+  segments.resize(nsegments);
+  if (n) {
+    k_abstract_write<<<grid_for(n, kBlock), kBlock>>>(input.data(), n, offset, segments.data());
+    MPVG_LAUNCHED();
+  }
+
+  // The initial stream, as one virtual cell.
+  const size_t m = scene.stream.size();
+  uint32_t* len = (u32[2].resize(m + 1), u32[2].data());
+  uint32_t* pos = (u32[3].resize(m + 1), u32[3].data());
+  k_stream_lengths<<<grid_for(m + 1, kBlock), kBlock>>>(placeholders.data(), m, path_input.data(), offset, len);
+  MPVG_LAUNCHED();
+  prim.exclusive_sum(len, pos, m + 1);
+  const size_t total = read_u32(pos + m);
+  level.entries.resize(total);
+  level.entry_cell.resize(total);
+  level.nentries = total;
+  if (total) {
+    k_stream_expand<<<grid_for(total, kBlock), kBlock>>>(placeholders.data(), m, pos, path_input.data(), offset,
+                                                         total, level.entries.data(), level.entry_cell.data());
+    MPVG_LAUNCHED();
+  }
+  const Cell virt{0, static_cast<uint32_t>(total), 0, 0, 0, 0};
+  level.cells.resize(1);
+  level.ncells = 1;
+  MPVG_CUDA(cudaMemcpy(level.cells.data(), &virt, sizeof virt, cudaMemcpyHostToDevice));
+}
+
+}  // namespace mpvg::gpu

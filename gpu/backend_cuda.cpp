@@ -1,0 +1,66 @@
+// The backend dispatcher of a build with CUDA.
+#include <cuda_runtime.h>
+
+#include <chrono>
+
+#include "core/error.h"
+#include "gpu/backend.h"
+#include "gpu/gpu_backend.h"
+
+namespace mpvg {
+
+bool cuda_available(std::string* why) {
+  int n = 0;
+  const cudaError_t e = cudaGetDeviceCount(&n);
+  if (e != cudaSuccess || n == 0) {
+    if (why) *why = e != cudaSuccess ? std::string("no usable CUDA device (") + cudaGetErrorString(e) + ")"
+                                     : std::string("no CUDA device");
+    cudaGetLastError();  // clear the sticky error of a failed query
+    return false;
+  }
+  return true;
+}
+
+namespace {
+
+ImageF render_cuda(const Scene& scene, const RenderOptions& o, RenderStats& st) {
+  if (o.width <= 0 || o.height <= 0) throw Error("output size must be positive");
+  if (o.width > 32768 || o.height > 32768) throw Error("output size is larger than 32768 pixels");
+  if (o.samples < 1 || o.samples > 1024) throw Error("samples per pixel must be between 1 and 1024");
+  st.backend = "cuda";
+  const auto t_all = std::chrono::steady_clock::now();
+  auto t0 = std::chrono::steady_clock::now();
+  const EncodedScene enc = encode(scene, o.view, o.gamma);
+  st.encode_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  gpu::Context ctx;
+  gpu::GpuTimes gt;
+  ctx.build(enc, o.width, o.height, o.tree, &gt);
+  ImageF img = ctx.render(stratified_pattern(o.samples, o.seed), background_paint(o.background, o.gamma), &gt);
+  st.abstract_ms += gt.abstract_ms;
+  st.subdivide_ms += gt.subdivide_ms;
+  st.prune_ms += gt.prune_ms;
+  st.schedule_ms += gt.schedule_ms;
+  st.sample_ms += gt.sample_ms;
+  st.total_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_all).count();
+  st.input_segments = enc.input_segment_count;
+  st.tree_bytes = ctx.tree_bytes();
+  return img;
+}
+
+}  // namespace
+
+ImageF render(const Scene& scene, const RenderOptions& options, RenderStats* stats) {
+  RenderStats local;
+  RenderStats& st = stats ? *stats : local;
+  if (options.backend == Backend::Cpu) return render_cpu(scene, options, &st);
+  std::string why;
+  if (!cuda_available(&why)) {
+    if (options.backend == Backend::Cuda) throw Error("CUDA backend unavailable: " + why);
+    ImageF img = render_cpu(scene, options, &st);
+    st.note = why + "; rendered on the CPU";
+    return img;
+  }
+  return render_cuda(scene, options, st);
+}
+
+}  // namespace mpvg

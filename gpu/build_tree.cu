@@ -1,0 +1,187 @@
+// Building the tree on the GPU: abstraction, the root, then breadth first,
+// level by level, subdivision and pruning -- the loop of
+// core/cpu/build_tree.cpp, with every per-cell and per-entry step a kernel.
+// The host reads back a handful of counts per level to size the next one.
+#include <algorithm>
+
+#include "core/subdivision.h"
+#include "gpu/context.cuh"
+
+namespace mpvg::gpu {
+
+namespace {
+
+constexpr unsigned kBlock = 256;
+
+__global__ void k_weights(const Entry* e, const uint32_t* entry_cell, size_t n, uint32_t* weight) {
+  const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (i < n && entry_weight(e[i])) atomicAdd(&weight[entry_cell[i]], 1u);
+}
+
+// Which cells are subdivided, and the counts that place their entries.
+__global__ void k_decide(const Cell* cells, size_t ncells, const uint32_t* weight, bool may_subdivide,
+                         uint32_t min_segments, LevelCounts* counts) {
+  const size_t k = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (k > ncells) return;
+  if (k == ncells) {
+    counts[k] = LevelCounts{0, 0, 0, 0};
+    return;
+  }
+  const Cell c = cells[k];
+  const uint32_t size = c.end - c.begin;
+  const bool sub = may_subdivide && weight[k] > min_segments;
+  counts[k] = sub ? LevelCounts{1, size, 0, 0} : LevelCounts{0, 0, size, 1};
+}
+
+// Every entry goes to its cell's slot in the next parent level or in the
+// leaf stream (after the leaves of earlier levels).
+__global__ void k_distribute(const Entry* e, const uint32_t* entry_cell, size_t n, const Cell* cells,
+                             const LevelCounts* pos, const LevelCounts* counts, Entry* parent, uint32_t* parent_cell,
+                             Entry* leaf_entries, size_t leaf_base) {
+  const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  const uint32_t k = entry_cell[i];
+  const uint32_t within = static_cast<uint32_t>(i) - cells[k].begin;
+  if (counts[k].sub) {
+    parent[pos[k].parent_entries + within] = e[i];
+    parent_cell[pos[k].parent_entries + within] = pos[k].sub;
+  } else {
+    leaf_entries[leaf_base + pos[k].leaf_entries + within] = e[i];
+  }
+}
+
+__global__ void k_cells_out(const Cell* cells, size_t ncells, const LevelCounts* pos, const LevelCounts* counts,
+                            Cell* parent_cells, Cell* leaves, size_t leaf_base, size_t leaf_entry_base, Node* nodes,
+                            size_t node_base, size_t child_base) {
+  const size_t k = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (k >= ncells) return;
+  Cell c = cells[k];
+  const uint32_t size = c.end - c.begin;
+  if (counts[k].sub) {
+    c.begin = pos[k].parent_entries;
+    c.end = c.begin + size;
+    parent_cells[pos[k].sub] = c;
+    nodes[node_base + k] = Node{static_cast<int32_t>(child_base + 4 * size_t(pos[k].sub)), 0};
+  } else {
+    c.begin = static_cast<uint32_t>(leaf_entry_base + pos[k].leaf_entries);
+    c.end = c.begin + size;
+    leaves[leaf_base + pos[k].leaves] = c;
+    nodes[node_base + k] = Node{-1, static_cast<uint32_t>(leaf_base + pos[k].leaves)};
+  }
+}
+
+TreeLevel download_level(const DeviceLevel& lv) {
+  TreeLevel t;
+  t.cells = lv.cells.download(lv.ncells);
+  t.entries = lv.entries.download(lv.nentries);
+  return t;
+}
+
+}  // namespace
+
+void Context::Impl::build(const EncodedScene& scene, int w, int h, const TreeParams& params, GpuTimes* times) {
+  StageTimer timer(times != nullptr);
+  GpuTimes local;
+  GpuTimes& t = times ? *times : local;
+  width = w;
+  height = h;
+  root_size = tree_root_size(w, h);
+  kept_levels.clear();
+  host_paths = scene.paths;
+  host_paints = scene.paints;
+  peak_level_entries = 0;
+
+  timer.start(&t.abstract_ms);
+  abstract(scene);
+  timer.stop();
+
+  timer.start(&t.subdivide_ms);
+  subdivide(level, child, true);
+  timer.stop();
+  std::swap(level, child);
+  if (params.prune) {
+    timer.start(&t.prune_ms);
+    prune(level);
+    timer.stop();
+  }
+
+  const int max_level = tree_max_level(root_size, params);
+  size_t total_entries = level.nentries;
+  nnodes = 1;
+  nodes.grow_keep(1);
+  nleaves = 0;
+  nleaf_entries = 0;
+  size_t node_base = 0;
+  for (int lv = 0;; lv++) {
+    depth = lv;
+    peak_level_entries = std::max(peak_level_entries, level.nentries);
+    if (params.keep_levels) kept_levels.push_back(download_level(level));
+    const size_t ncells = level.ncells;
+    uint32_t* weight = (u32[5].resize(ncells), u32[5].data());
+    counts.resize(2 * (ncells + 1));
+    LevelCounts* cnt = counts.data();
+    LevelCounts* pos = counts.data() + ncells + 1;
+
+    timer.start(&t.subdivide_ms);
+    MPVG_CUDA(cudaMemset(weight, 0, ncells * sizeof(uint32_t)));
+    if (level.nentries) {
+      k_weights<<<grid_for(level.nentries, kBlock), kBlock>>>(level.entries.data(), level.entry_cell.data(),
+                                                              level.nentries, weight);
+      MPVG_LAUNCHED();
+    }
+    bool may_subdivide = lv < max_level;
+    LevelCounts tot{};
+    size_t child_entries = 0;
+    for (int attempt = 0; attempt < 2; attempt++) {
+      k_decide<<<grid_for(ncells + 1, kBlock), kBlock>>>(level.cells.data(), ncells, weight, may_subdivide,
+                                                         params.min_segments, cnt);
+      MPVG_LAUNCHED();
+      prim.exclusive_scan(cnt, pos, LevelCountsAdd{}, LevelCounts{0, 0, 0, 0}, ncells + 1);
+      MPVG_CUDA(cudaMemcpy(&tot, pos + ncells, sizeof tot, cudaMemcpyDeviceToHost));
+      // Place entries: subdivided cells into the parent level, the others
+      // into the leaf stream.
+      parent.entries.resize(tot.parent_entries);
+      parent.entry_cell.resize(tot.parent_entries);
+      parent.cells.resize(tot.sub);
+      parent.nentries = tot.parent_entries;
+      parent.ncells = tot.sub;
+      leaf_entries.grow_keep(nleaf_entries + tot.leaf_entries);
+      leaves.grow_keep(nleaves + tot.leaves);
+      const size_t child_base = node_base + ncells;
+      nodes.grow_keep(child_base + 4 * size_t(tot.sub));
+      if (level.nentries) {
+        k_distribute<<<grid_for(level.nentries, kBlock), kBlock>>>(
+            level.entries.data(), level.entry_cell.data(), level.nentries, level.cells.data(), pos, cnt,
+            parent.entries.data(), parent.entry_cell.data(), leaf_entries.data(), nleaf_entries);
+        MPVG_LAUNCHED();
+      }
+      k_cells_out<<<grid_for(ncells, kBlock), kBlock>>>(level.cells.data(), ncells, pos, cnt, parent.cells.data(),
+                                                        leaves.data(), nleaves, nleaf_entries, nodes.data(), node_base,
+                                                        child_base);
+      MPVG_LAUNCHED();
+      if (tot.sub == 0) break;
+      subdivide(parent, child, false);
+      child_entries = child.nentries;
+      if (total_entries + child_entries <= params.max_entries) break;
+      // Memory cap (criterion 1 of §4.1): this level is the last; redo the
+      // placement with every cell a leaf.
+      may_subdivide = false;
+    }
+    timer.stop();
+    nleaves += tot.leaves;
+    nleaf_entries += tot.leaf_entries;
+    nnodes = node_base + ncells + 4 * size_t(tot.sub);
+    if (tot.sub == 0) break;
+    if (params.prune) {
+      timer.start(&t.prune_ms);
+      prune(child);
+      timer.stop();
+    }
+    total_entries += child.nentries;
+    node_base += ncells;
+    std::swap(level, child);
+  }
+  timer.collect();
+}
+
+}  // namespace mpvg::gpu

@@ -1,0 +1,92 @@
+// gpu::Context: the host-facing side of the CUDA executor.
+#include "gpu/context.cuh"
+
+namespace mpvg::gpu {
+
+Context::Context() : impl_(std::make_unique<Impl>()) {}
+Context::~Context() = default;
+
+void Context::build(const EncodedScene& scene, int width, int height, const TreeParams& params, GpuTimes* times) {
+  if (scene.segments.size() >= (size_t(1) << 31)) throw Error("scene too large for the CUDA backend");
+  impl_->build(scene, width, height, params, times);
+}
+
+namespace {
+
+// GPU time of a host call that issues work on the default stream.
+template <class F>
+double timed(F&& f) {
+  cudaEvent_t a, b;
+  MPVG_CUDA(cudaEventCreate(&a));
+  MPVG_CUDA(cudaEventCreate(&b));
+  MPVG_CUDA(cudaEventRecord(a));
+  f();
+  MPVG_CUDA(cudaEventRecord(b));
+  MPVG_CUDA(cudaEventSynchronize(b));
+  float ms = 0;
+  MPVG_CUDA(cudaEventElapsedTime(&ms, a, b));
+  cudaEventDestroy(a);
+  cudaEventDestroy(b);
+  return ms;
+}
+
+}  // namespace
+
+double Context::build_timed(const EncodedScene& scene, int width, int height, const TreeParams& params,
+                            GpuTimes* times) {
+  return timed([&] { build(scene, width, height, params, times); });
+}
+
+double Context::render_on_device(const std::vector<SampleOffset>& pattern, const PaintRecord& background,
+                                 GpuTimes* times) {
+  return timed([&] { impl_->render(pattern, background, times); });
+}
+
+ShortcutTree Context::download_tree() const {
+  const Impl& m = *impl_;
+  ShortcutTree t;
+  t.root_size = m.root_size;
+  t.depth = m.depth;
+  t.segments = m.segments.download(m.nsegments);
+  t.paths = m.host_paths;
+  t.paints = m.host_paints;
+  t.nodes = m.nodes.download(m.nnodes);
+  t.leaves = m.leaves.download(m.nleaves);
+  t.leaf_entries = m.leaf_entries.download(m.nleaf_entries);
+  t.levels = m.kept_levels;
+  t.peak_level_entries = m.peak_level_entries;
+  return t;
+}
+
+ImageF Context::render(const std::vector<SampleOffset>& pattern, const PaintRecord& background, GpuTimes* times) {
+  impl_->render(pattern, background, times);
+  ImageF img;
+  img.width = impl_->width;
+  img.height = impl_->height;
+  img.rgba.resize(size_t(img.width) * img.height * 4);
+  MPVG_CUDA(cudaMemcpy(img.rgba.data(), impl_->image.data(), img.rgba.size() * sizeof(float), cudaMemcpyDeviceToHost));
+  return img;
+}
+
+void Context::set_sampler_shape(const SamplerShape& shape) {
+  if (shape.threads < 32 || shape.threads > 1024 || shape.threads % 32 || shape.chunk < 1 || shape.batch < 1)
+    throw Error("invalid sampler shape");
+  impl_->shape = shape;
+}
+
+size_t Context::tree_bytes() const {
+  const Impl& m = *impl_;
+  return m.nsegments * sizeof(AbstractSegment) + m.nnodes * sizeof(Node) + m.nleaves * sizeof(Cell) +
+         m.nleaf_entries * sizeof(Entry) + m.host_paths.size() * sizeof(PathRecord) +
+         m.host_paints.size() * sizeof(PaintRecord);
+}
+
+std::string device_name() {
+  int dev = 0;
+  MPVG_CUDA(cudaGetDevice(&dev));
+  cudaDeviceProp p{};
+  MPVG_CUDA(cudaGetDeviceProperties(&p, dev));
+  return p.name;
+}
+
+}  // namespace mpvg::gpu

@@ -1,0 +1,128 @@
+// Device-side state of a gpu::Context and the CUB calls the stages share.
+#pragma once
+#include <cub/cub.cuh>
+
+#include "core/abstraction.h"
+#include "core/scan.h"
+#include "core/shortcut_tree.h"
+#include "core/tree.h"
+#include "gpu/cuda_util.h"
+#include "gpu/gpu_backend.h"
+
+namespace mpvg::gpu {
+
+// Scans, reductions and compactions through CUB, with one temporary buffer
+// ("ask for the temp storage size first").
+class Primitives {
+ public:
+  template <class In, class Out>
+  void exclusive_sum(In in, Out out, size_t n) {
+    size_t bytes = 0;
+    MPVG_CUDA(cub::DeviceScan::ExclusiveSum(nullptr, bytes, in, out, static_cast<int>(n)));
+    MPVG_CUDA(cub::DeviceScan::ExclusiveSum(temp(bytes), bytes, in, out, static_cast<int>(n)));
+  }
+  template <class In, class Out>
+  void inclusive_sum(In in, Out out, size_t n) {
+    size_t bytes = 0;
+    MPVG_CUDA(cub::DeviceScan::InclusiveSum(nullptr, bytes, in, out, static_cast<int>(n)));
+    MPVG_CUDA(cub::DeviceScan::InclusiveSum(temp(bytes), bytes, in, out, static_cast<int>(n)));
+  }
+  template <class In, class Out, class Op>
+  void inclusive_scan(In in, Out out, Op op, size_t n) {
+    size_t bytes = 0;
+    MPVG_CUDA(cub::DeviceScan::InclusiveScan(nullptr, bytes, in, out, op, static_cast<int>(n)));
+    MPVG_CUDA(cub::DeviceScan::InclusiveScan(temp(bytes), bytes, in, out, op, static_cast<int>(n)));
+  }
+  template <class In, class Out, class Op, class T>
+  void exclusive_scan(In in, Out out, Op op, T init, size_t n) {
+    size_t bytes = 0;
+    MPVG_CUDA(cub::DeviceScan::ExclusiveScan(nullptr, bytes, in, out, op, init, static_cast<int>(n)));
+    MPVG_CUDA(cub::DeviceScan::ExclusiveScan(temp(bytes), bytes, in, out, op, init, static_cast<int>(n)));
+  }
+  template <class In, class Out>
+  void reduce_max(In in, Out out, size_t n) {
+    size_t bytes = 0;
+    MPVG_CUDA(cub::DeviceReduce::Max(nullptr, bytes, in, out, static_cast<int>(n)));
+    MPVG_CUDA(cub::DeviceReduce::Max(temp(bytes), bytes, in, out, static_cast<int>(n)));
+  }
+
+ private:
+  void* temp(size_t bytes) {
+    temp_.resize(bytes);
+    return temp_.data();
+  }
+  DeviceBuffer<uint8_t> temp_;
+};
+
+// One tree level on the device: cells, their entries, and each entry's cell.
+struct DeviceLevel {
+  DeviceBuffer<Cell> cells;
+  DeviceBuffer<Entry> entries;
+  DeviceBuffer<uint32_t> entry_cell;
+  size_t ncells = 0, nentries = 0;
+};
+
+// Four counters scanned together when a level is split into subdivided
+// cells and leaves.
+struct LevelCounts {
+  uint32_t sub, parent_entries, leaf_entries, leaves;
+};
+struct LevelCountsAdd {
+  __host__ __device__ LevelCounts operator()(LevelCounts a, LevelCounts b) const {
+    return LevelCounts{a.sub + b.sub, a.parent_entries + b.parent_entries, a.leaf_entries + b.leaf_entries,
+                       a.leaves + b.leaves};
+  }
+};
+
+struct Context::Impl {
+  Primitives prim;
+  // Scene.
+  DeviceBuffer<InputSegment> input;
+  DeviceBuffer<PathRecord> paths;
+  DeviceBuffer<PaintRecord> paints;
+  DeviceBuffer<Entry> placeholders;      // encoding's stream, one SEGMENT placeholder per path
+  DeviceBuffer<uint32_t> path_input;     // first input segment of each path (npaths + 1)
+  DeviceBuffer<AbstractSegment> segments;
+  size_t npaths = 0, nsegments = 0;
+  // Tree under construction and built.
+  DeviceLevel level, parent, child;
+  DeviceBuffer<Node> nodes;
+  DeviceBuffer<Cell> leaves;
+  DeviceBuffer<Entry> leaf_entries;
+  size_t nnodes = 0, nleaves = 0, nleaf_entries = 0;
+  uint32_t root_size = 1;
+  int depth = 0;
+  size_t peak_level_entries = 0;
+  std::vector<TreeLevel> kept_levels;  // TreeParams::keep_levels
+  std::vector<PathRecord> host_paths;
+  std::vector<PaintRecord> host_paints;
+  // Scratch.
+  DeviceBuffer<uint32_t> u32[6];
+  DeviceBuffer<int32_t> i32[2];
+  DeviceBuffer<Segmented<int32_t>> wind;
+  DeviceBuffer<Segmented<uint32_t>> link;
+  DeviceBuffer<LevelCounts> counts;
+  DeviceBuffer<uint32_t> scalar;  // small results read back by the host
+  // Rendering.
+  DeviceBuffer<SampleOffset> pattern;
+  DeviceBuffer<float4> image;
+  DeviceBuffer<float4> leaf_color;
+  DeviceBuffer<uint32_t> leaf_batches;  // exclusive scan of batches per leaf
+  SamplerShape shape;
+  int width = 0, height = 0;
+
+  uint32_t read_u32(const uint32_t* p) {
+    uint32_t v = 0;
+    MPVG_CUDA(cudaMemcpy(&v, p, sizeof v, cudaMemcpyDeviceToHost));
+    return v;
+  }
+
+  // Stages (abstract.cu, subdivide.cu, prune.cu, build_tree.cu, render.cu).
+  void abstract(const EncodedScene& scene);
+  void subdivide(const DeviceLevel& from, DeviceLevel& to, bool root);
+  int prune(DeviceLevel& lv);
+  void build(const EncodedScene& scene, int width, int height, const TreeParams& params, GpuTimes* times);
+  void render(const std::vector<SampleOffset>& pattern, const PaintRecord& background, GpuTimes* times);
+};
+
+}  // namespace mpvg::gpu

@@ -1,0 +1,75 @@
+// The CUDA executor of the pipeline (paper §4.2, §4.4, §5.3). The same
+// per-element functions of core/ as the CPU executor, run by kernels; scans
+// and compactions by CUB. Plain C++ interface: tests and tools compiled with
+// g++ use it without seeing CUDA.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/cpu/cpu_stages.h"
+#include "core/encoding.h"
+#include "core/integration.h"
+#include "core/tree.h"
+
+namespace mpvg::gpu {
+
+// GPU time per stage, from CUDA events, in milliseconds.
+struct GpuTimes {
+  double abstract_ms = 0, subdivide_ms = 0, prune_ms = 0, schedule_ms = 0, sample_ms = 0;
+  double preprocess_ms() const { return abstract_ms + subdivide_ms + prune_ms; }
+  double render_ms() const { return schedule_ms + sample_ms; }
+};
+
+// Kernel shape of the sampler (§5.3): threads per block (the paper's S, the
+// samples in flight), entries streamed through shared memory per chunk (I),
+// and unit areas per batch (U).
+struct SamplerShape {
+  int threads = 128;
+  int chunk = 32;
+  int batch = 32;
+};
+
+// Device state, reused across frames: buffers grow to the largest scene seen
+// and are kept, so repeated frames measure the pipeline, not cudaMalloc.
+class Context {
+ public:
+  Context();
+  ~Context();
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  // Uploads an encoded scene and builds its shortcut tree on the GPU. The
+  // tree stays on the device; times, if given, receive per-stage GPU times.
+  void build(const EncodedScene& scene, int width, int height, const TreeParams& params, GpuTimes* times = nullptr);
+
+  // As build(); returns the GPU time of the whole build, host round trips
+  // between kernels included, in ms (events around it).
+  double build_timed(const EncodedScene& scene, int width, int height, const TreeParams& params, GpuTimes* times);
+
+  // The built tree as host arrays, levels included when params.keep_levels.
+  ShortcutTree download_tree() const;
+
+  // Renders the built tree: box filter over the pattern, composited over the
+  // background; returns the image in the integration colour space.
+  ImageF render(const std::vector<SampleOffset>& pattern, const PaintRecord& background,
+                GpuTimes* times = nullptr);
+
+  // As render(), leaving the image on the device (benchmarks); returns the
+  // GPU time of the whole render, gaps between kernels included, in ms.
+  double render_on_device(const std::vector<SampleOffset>& pattern, const PaintRecord& background,
+                          GpuTimes* times = nullptr);
+
+  void set_sampler_shape(const SamplerShape& shape);
+  size_t tree_bytes() const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+// Name of the CUDA device in use, e.g. "NVIDIA H100 80GB HBM3".
+std::string device_name();
+
+}  // namespace mpvg::gpu

@@ -1,0 +1,149 @@
+// Stage "prune" on the GPU (§4.4): depth by an inclusive scan, one segmented
+// scan per depth to cross-link delimiters, every element marking the
+// elimination array with atomic increments and decrements, an inclusive scan,
+// and an order-preserving compaction; repeated until nothing changes.
+#include "core/pruning.h"
+#include "gpu/context.cuh"
+
+namespace mpvg::gpu {
+
+namespace {
+
+constexpr unsigned kBlock = 256;
+
+__global__ void k_depth_delta(const Entry* e, size_t n, int32_t* depth) {
+  const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (i < n) depth[i] = prune_depth_delta(e, static_cast<uint32_t>(i));
+}
+
+__global__ void k_link_init(const Entry* e, const int32_t* depth, size_t n, int32_t d, Segmented<uint32_t>* link) {
+  const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (i < n) link[i] = Segmented<uint32_t>{1u, (entry_kind(e[i]) == ENTRY_PUSH && depth[i] == d) ? 1u : 0u};
+}
+
+__global__ void k_link_apply(const Entry* e, const int32_t* depth, size_t n, int32_t d,
+                             const Segmented<uint32_t>* link, uint32_t* open, uint32_t* bar, uint32_t* close) {
+  const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (i >= n || depth[i] != d) return;
+  const uint32_t o = static_cast<uint32_t>(i) - (link[i].value - 1);
+  open[i] = o;
+  const uint32_t k = entry_kind(e[i]);
+  if (k == ENTRY_ACTIVATE) bar[o] = static_cast<uint32_t>(i);
+  if (k == ENTRY_POP) close[o] = static_cast<uint32_t>(i);
+}
+
+__global__ void k_classify(const Entry* e, const uint32_t* entry_cell, size_t n, const Cell* cells,
+                           const PathRecord* paths, uint32_t* term) {
+  const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  const Cell c = cells[entry_cell[i]];
+  term[i] = prune_classify(e, static_cast<uint32_t>(i), c.begin, c.end, paths);
+}
+
+__global__ void k_first_c1(const uint32_t* term, size_t n, PruneLinks links, uint32_t* first_c1) {
+  const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (i < n && term[i] == TERM_C1 && prune_c1_in_content(links, static_cast<uint32_t>(i)))
+    atomicMin(&first_c1[links.open[i]], static_cast<uint32_t>(i));
+}
+
+__global__ void k_mark(const Entry* e, const uint32_t* entry_cell, size_t n, const Cell* cells, const uint32_t* term,
+                       PruneLinks links, int32_t* elim) {
+  const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  auto add = [elim](uint32_t at, int32_t v) { atomicAdd(&elim[at], v); };
+  prune_mark(e, term, links, static_cast<uint32_t>(i), cells[entry_cell[i]].end, add);
+}
+
+__global__ void k_keep(const int32_t* elim, size_t n, uint32_t* keep) {
+  const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (i < n) keep[i] = elim[i] <= 0 ? 1u : 0u;
+  if (i == n) keep[i] = 0;
+}
+
+__global__ void k_compact(const Entry* e, const uint32_t* entry_cell, size_t n, const uint32_t* keep,
+                          const uint32_t* kpos, Entry* out, uint32_t* out_cell) {
+  const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (i < n && keep[i]) {
+    out[kpos[i]] = e[i];
+    out_cell[kpos[i]] = entry_cell[i];
+  }
+}
+
+__global__ void k_cells_remap(Cell* cells, size_t ncells, const uint32_t* kpos) {
+  const size_t k = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (k >= ncells) return;
+  cells[k].begin = kpos[cells[k].begin];
+  cells[k].end = kpos[cells[k].end];
+}
+
+}  // namespace
+
+int Context::Impl::prune(DeviceLevel& lv) {
+  int rounds = 0;
+  for (;;) {
+    const size_t n = lv.nentries;
+    if (n == 0) return rounds;
+    const unsigned grid = grid_for(n, kBlock);
+    const Entry* e = lv.entries.data();
+    int32_t* depth = (i32[0].resize(n), i32[0].data());
+    int32_t* elim = (i32[1].resize(n + 1), i32[1].data());
+    uint32_t* open = (u32[0].resize(n), u32[0].data());
+    uint32_t* bar = (u32[1].resize(n), u32[1].data());
+    uint32_t* close = (u32[2].resize(n), u32[2].data());
+    uint32_t* term = (u32[3].resize(n + 1), u32[3].data());
+    uint32_t* first_c1 = (u32[4].resize(n + 1), u32[4].data());
+    scalar.resize(4);
+
+    k_depth_delta<<<grid, kBlock>>>(e, n, depth);
+    MPVG_LAUNCHED();
+    prim.inclusive_sum(depth, depth, n);
+    prim.reduce_max(depth, reinterpret_cast<int32_t*>(scalar.data()), n);
+    const int32_t max_depth = static_cast<int32_t>(read_u32(scalar.data()));
+
+    MPVG_CUDA(cudaMemset(open, 0xff, n * sizeof(uint32_t)));
+    MPVG_CUDA(cudaMemset(bar, 0xff, n * sizeof(uint32_t)));
+    MPVG_CUDA(cudaMemset(close, 0xff, n * sizeof(uint32_t)));
+    link.resize(n);
+    for (int32_t d = 1; d <= max_depth; d++) {
+      k_link_init<<<grid, kBlock>>>(e, depth, n, d, link.data());
+      MPVG_LAUNCHED();
+      prim.inclusive_scan(link.data(), link.data(), SegmentedSum<uint32_t>{}, n);
+      k_link_apply<<<grid, kBlock>>>(e, depth, n, d, link.data(), open, bar, close);
+      MPVG_LAUNCHED();
+    }
+
+    k_classify<<<grid, kBlock>>>(e, lv.entry_cell.data(), n, lv.cells.data(), paths.data(), term);
+    MPVG_LAUNCHED();
+    MPVG_CUDA(cudaMemset(first_c1, 0xff, n * sizeof(uint32_t)));
+    const PruneLinks links{depth, open, bar, close, first_c1};
+    k_first_c1<<<grid, kBlock>>>(term, n, links, first_c1);
+    MPVG_LAUNCHED();
+    MPVG_CUDA(cudaMemset(elim, 0, (n + 1) * sizeof(int32_t)));
+    k_mark<<<grid, kBlock>>>(e, lv.entry_cell.data(), n, lv.cells.data(), term, links, elim);
+    MPVG_LAUNCHED();
+    prim.inclusive_sum(elim, elim, n + 1);
+
+    // Sweep: keep flags, their exclusive scan gives every survivor its slot
+    // and every cell its new range.
+    uint32_t* keep = term;  // terminals are no longer needed
+    uint32_t* kpos = first_c1;
+    k_keep<<<grid_for(n + 1, kBlock), kBlock>>>(elim, n, keep);
+    MPVG_LAUNCHED();
+    prim.exclusive_sum(keep, kpos, n + 1);
+    const size_t kept = read_u32(kpos + n);
+    if (kept == n) return rounds;
+    rounds++;
+    DeviceLevel& out = parent;  // scratch level
+    out.entries.resize(kept);
+    out.entry_cell.resize(kept);
+    k_compact<<<grid, kBlock>>>(e, lv.entry_cell.data(), n, keep, kpos, out.entries.data(), out.entry_cell.data());
+    MPVG_LAUNCHED();
+    k_cells_remap<<<grid_for(lv.ncells, kBlock), kBlock>>>(lv.cells.data(), lv.ncells, kpos);
+    MPVG_LAUNCHED();
+    lv.entries.swap(out.entries);
+    lv.entry_cell.swap(out.entry_cell);
+    lv.nentries = kept;
+  }
+}
+
+}  // namespace mpvg::gpu

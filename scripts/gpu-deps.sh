@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Prepares .deps/ (ignored by git) for a GPU host that has CUDA, CMake, g++
+# and libpng but no internet: Debian's tinyxml2 and Catch2 v2 packages
+# unpacked under .deps/root, and the bench inputs under .deps/bench.
+# Run on the Debian development machine; then carry .deps with the checkout.
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+deps=$root/.deps
+bench=${1:-$root/../shared/bench/svg}
+mkdir -p "$deps/debs" "$deps/root" "$deps/bench"
+(cd "$deps/debs" && apt-get download libtinyxml2-9 libtinyxml2-dev catch2 >/dev/null)
+for f in "$deps"/debs/*.deb; do dpkg -x "$f" "$deps/root"; done
+cp "$bench"/*.svg "$deps/bench/"
+du -sh "$deps"

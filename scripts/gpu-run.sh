@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# One call on a GPU machine (CUDA 13.0, CMake, g++, libpng; no internet, no
+# tinyxml2 / FreeType / MuPDF / OpenImageIO): builds the GPU targets, runs the
+# whole test suite (GPU tests included), compute-sanitizer memcheck and
+# racecheck on one bench input, and the benchmark. What the build lacks
+# travels in .deps/ (scripts/gpu-deps.sh). Results go to $OUT (default
+# ./gpu-out): ctest.log, sanitizer logs, bench.json, bench.txt.
+#
+#   scripts/gpu-run.sh [build] [test] [sanitize] [bench]   (default: all four)
+set -uo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+deps=$root/.deps
+out=${OUT:-$root/gpu-out}
+build=$root/build-gpu
+mkdir -p "$out"
+steps=${*:-build test sanitize bench}
+export LD_LIBRARY_PATH=$deps/root/usr/lib/x86_64-linux-gnu:${LD_LIBRARY_PATH:-}
+export MPVG_BENCH_DIR=$deps/bench
+status=0
+has() { [[ " $steps " == *" $1 "* ]]; }
+
+if has build; then
+  nvidia-smi --query-gpu=name,driver_version,clocks.sm,clocks.max.sm,memory.total --format=csv > "$out/gpu.txt" 2>&1
+  cat "$out/gpu.txt"
+  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DMPVG_IMAGE_IO=png \
+    -DCMAKE_PREFIX_PATH="$deps/root/usr" -DMPVG_CATCH2_V2_INCLUDE="$deps/root/usr/include" \
+    -DCMAKE_CUDA_ARCHITECTURES=90 > "$out/configure.log" 2>&1 || { tail -30 "$out/configure.log"; exit 1; }
+  t0=$(date +%s)
+  cmake --build "$build" -j "$(nproc)" > "$out/build.log" 2>&1 || { grep -E "error" "$out/build.log" | head -30; exit 1; }
+  echo "build: $(( $(date +%s) - t0 )) s"
+fi
+if has test; then
+  (cd "$build" && ctest --output-on-failure -j 4 > "$out/ctest.log" 2>&1) || status=1
+  grep -E "Test +#|tests passed|FAILED|Skipped" "$out/ctest.log" | tail -15
+fi
+if has sanitize; then
+  for tool in memcheck racecheck; do
+    compute-sanitizer --tool $tool --error-exitcode 3 "$build/apps/svg2png" --backend cuda -q -w 512 \
+      "$deps/bench/tiger.svg" /tmp/sanitize.png > "$out/sanitizer-$tool.log" 2>&1
+    rc=$?
+    echo "compute-sanitizer $tool: exit $rc, $(grep -cE 'Invalid|Race|Error' "$out/sanitizer-$tool.log") error lines"
+    tail -2 "$out/sanitizer-$tool.log"
+    [ $rc = 0 ] || status=1
+  done
+fi
+if has bench; then
+  "$build/apps/mpvg_bench" --svg2png "$build/apps/svg2png" --json "$out/bench.json" ${MPVG_BENCH_SHAPES:+--shapes "$MPVG_BENCH_SHAPES"} \
+    "$deps/bench/tiger.svg" "$deps/bench/boston.svg" "$deps/bench/hawaii.svg" "$deps/bench/reschart.svg" \
+    | tee "$out/bench.txt" || status=1
+fi
+exit $status

@@ -1,0 +1,144 @@
+// CPU vs GPU, stage by stage (CTest label "gpu"; reported as skipped where
+// no CUDA device exists): abstract segments equal, every tree level equal
+// entry for entry, leaves and nodes equal, images within 1/255, and GPU
+// images bit-identical from run to run and across sampler shapes.
+//
+// Random scenes always; the bench inputs too when MPVG_BENCH_DIR names a
+// folder of SVG files (rendered at 1024 px width).
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+
+#include "core/cpu/cpu_stages.h"
+#include "core/renderer.h"
+#include "gpu/backend.h"
+#include "gpu/gpu_backend.h"
+#include "parsers/svg/svg_parser.h"
+#include "tests/catch.h"
+#include "tests/random_scenes.h"
+
+using namespace mpvg;
+
+namespace {
+
+struct Case {
+  std::string name;
+  EncodedScene enc;
+  int width, height;
+};
+
+std::vector<Case> cases() {
+  std::vector<Case> out;
+  for (uint32_t seed = 1; seed <= 12; seed++) {
+    const Scene s = random_scenes::clip_scene(seed, 3, 100);
+    out.push_back({"random " + std::to_string(seed), encode(s, Affine{}, Gamma::Srgb), 100, 80});
+  }
+  if (const char* dir = std::getenv("MPVG_BENCH_DIR")) {
+    std::vector<std::filesystem::path> files;
+    for (const auto& e : std::filesystem::directory_iterator(dir))
+      if (e.path().extension() == ".svg") files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    for (const auto& f : files) {
+      const svg::ParseResult doc = svg::parse_svg_file(f.string());
+      const int w = 1024, h = static_cast<int>(std::lround(doc.scene.height * 1024.0 / doc.scene.width));
+      out.push_back({f.stem().string(),
+                     encode(doc.scene, Affine::scale(w / doc.scene.width, h / doc.scene.height), Gamma::Srgb), w, h});
+    }
+  } else {
+    WARN("MPVG_BENCH_DIR is not set: bench inputs not compared");
+  }
+  return out;
+}
+
+template <class T>
+bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
+template <class T>
+size_t first_difference(const std::vector<T>& a, const std::vector<T>& b) {
+  for (size_t i = 0; i < std::min(a.size(), b.size()); i++)
+    if (std::memcmp(&a[i], &b[i], sizeof(T)) != 0) return i;
+  return std::min(a.size(), b.size());
+}
+
+}  // namespace
+
+TEST_CASE("CPU and GPU build identical trees, stage by stage", "[gpu]") {
+  gpu::Context ctx;
+  for (const Case& c : cases()) {
+    INFO(c.name);
+    TreeParams params;
+    params.keep_levels = true;
+    const ShortcutTree cpu = build_tree_cpu(c.enc, c.width, c.height, params);
+    ctx.build(c.enc, c.width, c.height, params);
+    const ShortcutTree gpu = ctx.download_tree();
+    INFO("abstract segments: cpu " << cpu.segments.size() << " gpu " << gpu.segments.size() << ", first difference at "
+                                   << first_difference(cpu.segments, gpu.segments));
+    REQUIRE(same_bytes(cpu.segments, gpu.segments));
+    REQUIRE(cpu.levels.size() == gpu.levels.size());
+    for (size_t l = 0; l < cpu.levels.size(); l++) {
+      INFO("level " << l << ": cells " << cpu.levels[l].cells.size() << "/" << gpu.levels[l].cells.size()
+                    << ", entries " << cpu.levels[l].entries.size() << "/" << gpu.levels[l].entries.size()
+                    << ", first entry difference at "
+                    << first_difference(cpu.levels[l].entries, gpu.levels[l].entries));
+      REQUIRE(same_bytes(cpu.levels[l].cells, gpu.levels[l].cells));
+      REQUIRE(same_bytes(cpu.levels[l].entries, gpu.levels[l].entries));
+    }
+    REQUIRE(same_bytes(cpu.nodes, gpu.nodes));
+    REQUIRE(same_bytes(cpu.leaves, gpu.leaves));
+    REQUIRE(same_bytes(cpu.leaf_entries, gpu.leaf_entries));
+    CHECK(cpu.depth == gpu.depth);
+  }
+}
+
+TEST_CASE("CPU and GPU images agree within 1/255; GPU images are deterministic", "[gpu]") {
+  gpu::Context ctx;
+  for (const Case& c : cases()) {
+    INFO(c.name);
+    for (int samples : {8, 32}) {
+      INFO("samples " << samples);
+      const std::vector<SampleOffset> pattern = stratified_pattern(samples, 3);
+      const PaintRecord bg = background_paint(RGBA{1, 1, 1, 0.5f}, Gamma::Srgb);
+      const TreeParams params;
+      const ImageF cpu = render_tree_cpu(build_tree_cpu(c.enc, c.width, c.height, params), c.width, c.height,
+                                         pattern, bg, 0);
+      ctx.build(c.enc, c.width, c.height, params);
+      const ImageF a = ctx.render(pattern, bg);
+      const ImageF b = ctx.render(pattern, bg);
+      REQUIRE(same_bytes(a.rgba, b.rgba));  // run to run
+      float worst = 0;
+      for (size_t i = 0; i < a.rgba.size(); i++) worst = std::max(worst, std::fabs(a.rgba[i] - cpu.rgba[i]));
+      INFO("largest CPU/GPU difference " << worst * 255 << "/255");
+      CHECK(worst <= 1.0f / 255.0f);
+      const std::vector<uint8_t> q_cpu = to_rgba8(cpu, Gamma::Srgb), q_gpu = to_rgba8(a, Gamma::Srgb);
+      int q_worst = 0;
+      for (size_t i = 0; i < q_cpu.size(); i++) q_worst = std::max(q_worst, std::abs(q_cpu[i] - q_gpu[i]));
+      CHECK(q_worst <= 1);
+      // Other sampler shapes sum the same samples in the same order.
+      for (gpu::SamplerShape shape : {gpu::SamplerShape{256, 64, 16}, gpu::SamplerShape{64, 16, 64}}) {
+        ctx.set_sampler_shape(shape);
+        const ImageF s = ctx.render(pattern, bg);
+        CHECK(same_bytes(a.rgba, s.rgba));
+      }
+      ctx.set_sampler_shape(gpu::SamplerShape{});
+    }
+  }
+}
+
+TEST_CASE("backend choice: auto renders on the GPU here, cuda and cpu agree", "[gpu]") {
+  const Scene s = random_scenes::clip_scene(5, 2, 64);
+  RenderOptions o;
+  o.width = o.height = 64;
+  RenderStats st;
+  o.backend = Backend::Auto;
+  const ImageF a = render(s, o, &st);
+  CHECK(st.backend == "cuda");
+  CHECK(st.note.empty());
+  o.backend = Backend::Cpu;
+  const ImageF b = render(s, o, &st);
+  CHECK(st.backend == "cpu");
+  float worst = 0;
+  for (size_t i = 0; i < a.rgba.size(); i++) worst = std::max(worst, std::fabs(a.rgba[i] - b.rgba[i]));
+  CHECK(worst <= 1.0f / 255.0f);
+}
