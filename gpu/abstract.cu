@@ -2,6 +2,8 @@
 // abstraction.h, first to count its pieces, then (after an exclusive scan)
 // to write them in order. The initial stream (delimiters and each path's
 // SEGMENT entries) is expanded in parallel over output entries.
+#include <algorithm>
+
 #include "core/abstraction.h"
 #include "gpu/context.cuh"
 
@@ -68,6 +70,12 @@ void Context::Impl::abstract(const EncodedScene& scene) {
   paints.upload(scene.paints);
   placeholders.upload(scene.stream);
   npaths = scene.paths.size();
+  scene_depth = 0;
+  int32_t d = 0;
+  for (const Entry& e : scene.stream) {
+    if (entry_kind(e) == ENTRY_PUSH) scene_depth = std::max(scene_depth, ++d);
+    if (entry_kind(e) == ENTRY_POP) d--;
+  }
   // First input segment of each path; segments come grouped by path.
   std::vector<uint32_t> first(npaths + 1, 0);
   for (const InputSegment& s : scene.segments) first[s.path + 1]++;

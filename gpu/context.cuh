@@ -84,6 +84,7 @@ struct Context::Impl {
   DeviceBuffer<uint32_t> path_input;     // first input segment of each path (npaths + 1)
   DeviceBuffer<AbstractSegment> segments;
   size_t npaths = 0, nsegments = 0;
+  int32_t scene_depth = 0;  // deepest clip nesting of the scene
   // Tree under construction and built.
   DeviceLevel level, parent, child;
   DeviceBuffer<Node> nodes;

@@ -2,6 +2,8 @@
 // scan per depth to cross-link delimiters, every element marking the
 // elimination array with atomic increments and decrements, an inclusive scan,
 // and an order-preserving compaction; repeated until nothing changes.
+#include <thrust/iterator/transform_iterator.h>
+
 #include "core/pruning.h"
 #include "gpu/context.cuh"
 
@@ -54,16 +56,15 @@ __global__ void k_mark(const Entry* e, const uint32_t* entry_cell, size_t n, con
   prune_mark(e, term, links, static_cast<uint32_t>(i), cells[entry_cell[i]].end, add);
 }
 
-__global__ void k_keep(const int32_t* elim, size_t n, uint32_t* keep) {
-  const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
-  if (i < n) keep[i] = elim[i] <= 0 ? 1u : 0u;
-  if (i == n) keep[i] = 0;
-}
+// An element survives when its elimination count is not positive.
+struct Kept {
+  __host__ __device__ uint32_t operator()(int32_t elim) const { return elim <= 0 ? 1u : 0u; }
+};
 
-__global__ void k_compact(const Entry* e, const uint32_t* entry_cell, size_t n, const uint32_t* keep,
+__global__ void k_compact(const Entry* e, const uint32_t* entry_cell, size_t n, const int32_t* elim,
                           const uint32_t* kpos, Entry* out, uint32_t* out_cell) {
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
-  if (i < n && keep[i]) {
+  if (i < n && elim[i] <= 0) {
     out[kpos[i]] = e[i];
     out_cell[kpos[i]] = entry_cell[i];
   }
@@ -79,6 +80,11 @@ __global__ void k_cells_remap(Cell* cells, size_t ncells, const uint32_t* kpos) 
 }  // namespace
 
 int Context::Impl::prune(DeviceLevel& lv) {
+  // Without clip groups only rules 12 and 14 (at the top level) apply; they
+  // depend on nothing another elimination can change, so one round reaches
+  // the fixpoint, and there is no depth to scan. With clip groups, the
+  // scene's nesting depth bounds every cell's: no read-back is needed to
+  // know how many link scans to run.
   int rounds = 0;
   for (;;) {
     const size_t n = lv.nentries;
@@ -92,57 +98,57 @@ int Context::Impl::prune(DeviceLevel& lv) {
     uint32_t* close = (u32[2].resize(n), u32[2].data());
     uint32_t* term = (u32[3].resize(n + 1), u32[3].data());
     uint32_t* first_c1 = (u32[4].resize(n + 1), u32[4].data());
-    scalar.resize(4);
 
-    k_depth_delta<<<grid, kBlock>>>(e, n, depth);
-    MPVG_LAUNCHED();
-    prim.inclusive_sum(depth, depth, n);
-    prim.reduce_max(depth, reinterpret_cast<int32_t*>(scalar.data()), n);
-    const int32_t max_depth = static_cast<int32_t>(read_u32(scalar.data()));
-
-    MPVG_CUDA(cudaMemset(open, 0xff, n * sizeof(uint32_t)));
-    MPVG_CUDA(cudaMemset(bar, 0xff, n * sizeof(uint32_t)));
-    MPVG_CUDA(cudaMemset(close, 0xff, n * sizeof(uint32_t)));
-    link.resize(n);
-    for (int32_t d = 1; d <= max_depth; d++) {
-      k_link_init<<<grid, kBlock>>>(e, depth, n, d, link.data());
+    if (scene_depth == 0) {
+      MPVG_CUDA(cudaMemsetAsync(depth, 0, n * sizeof(int32_t)));
+    } else {
+      k_depth_delta<<<grid, kBlock>>>(e, n, depth);
       MPVG_LAUNCHED();
-      prim.inclusive_scan(link.data(), link.data(), SegmentedSum<uint32_t>{}, n);
-      k_link_apply<<<grid, kBlock>>>(e, depth, n, d, link.data(), open, bar, close);
-      MPVG_LAUNCHED();
+      prim.inclusive_sum(depth, depth, n);
+      MPVG_CUDA(cudaMemsetAsync(open, 0xff, n * sizeof(uint32_t)));
+      MPVG_CUDA(cudaMemsetAsync(bar, 0xff, n * sizeof(uint32_t)));
+      MPVG_CUDA(cudaMemsetAsync(close, 0xff, n * sizeof(uint32_t)));
+      link.resize(n);
+      for (int32_t d = 1; d <= scene_depth; d++) {
+        k_link_init<<<grid, kBlock>>>(e, depth, n, d, link.data());
+        MPVG_LAUNCHED();
+        prim.inclusive_scan(link.data(), link.data(), SegmentedSum<uint32_t>{}, n);
+        k_link_apply<<<grid, kBlock>>>(e, depth, n, d, link.data(), open, bar, close);
+        MPVG_LAUNCHED();
+      }
     }
 
     k_classify<<<grid, kBlock>>>(e, lv.entry_cell.data(), n, lv.cells.data(), paths.data(), term);
     MPVG_LAUNCHED();
-    MPVG_CUDA(cudaMemset(first_c1, 0xff, n * sizeof(uint32_t)));
     const PruneLinks links{depth, open, bar, close, first_c1};
-    k_first_c1<<<grid, kBlock>>>(term, n, links, first_c1);
-    MPVG_LAUNCHED();
-    MPVG_CUDA(cudaMemset(elim, 0, (n + 1) * sizeof(int32_t)));
+    if (scene_depth > 0) {
+      MPVG_CUDA(cudaMemsetAsync(first_c1, 0xff, n * sizeof(uint32_t)));
+      k_first_c1<<<grid, kBlock>>>(term, n, links, first_c1);
+      MPVG_LAUNCHED();
+    }
+    MPVG_CUDA(cudaMemsetAsync(elim, 0, (n + 1) * sizeof(int32_t)));
     k_mark<<<grid, kBlock>>>(e, lv.entry_cell.data(), n, lv.cells.data(), term, links, elim);
     MPVG_LAUNCHED();
     prim.inclusive_sum(elim, elim, n + 1);
 
-    // Sweep: keep flags, their exclusive scan gives every survivor its slot
-    // and every cell its new range.
-    uint32_t* keep = term;  // terminals are no longer needed
-    uint32_t* kpos = first_c1;
-    k_keep<<<grid_for(n + 1, kBlock), kBlock>>>(elim, n, keep);
-    MPVG_LAUNCHED();
-    prim.exclusive_sum(keep, kpos, n + 1);
+    // Sweep: the exclusive scan of the keep flags gives every survivor its
+    // slot and every cell its new range (item n only completes the scan).
+    uint32_t* kpos = term;
+    prim.exclusive_sum(thrust::make_transform_iterator(elim, Kept{}), kpos, n + 1);
     const size_t kept = read_u32(kpos + n);
     if (kept == n) return rounds;
     rounds++;
     DeviceLevel& out = parent;  // scratch level
     out.entries.resize(kept);
     out.entry_cell.resize(kept);
-    k_compact<<<grid, kBlock>>>(e, lv.entry_cell.data(), n, keep, kpos, out.entries.data(), out.entry_cell.data());
+    k_compact<<<grid, kBlock>>>(e, lv.entry_cell.data(), n, elim, kpos, out.entries.data(), out.entry_cell.data());
     MPVG_LAUNCHED();
     k_cells_remap<<<grid_for(lv.ncells, kBlock), kBlock>>>(lv.cells.data(), lv.ncells, kpos);
     MPVG_LAUNCHED();
     lv.entries.swap(out.entries);
     lv.entry_cell.swap(out.entry_cell);
     lv.nentries = kept;
+    if (scene_depth == 0) return rounds;
   }
 }
 
