@@ -110,6 +110,7 @@ int main(int argc, char** argv) {
         sam32.push_back(t32.sample_ms);
       }
       const double mib = ctx.tree_bytes() / 1048576.0;
+      const gpu::Context::BuildCounts bc = ctx.build_counts();
       // End to end: the command-line tool, parse and PNG writing included.
       std::vector<double> e2e;
       const std::string cmd = svg2png + " -q --backend cuda -w 1024 '" + f + "' /tmp/mpvg_bench_out.png";
@@ -128,16 +129,19 @@ int main(int argc, char** argv) {
                     median(sam32), median(r8), median(r32), "-", mib, e2e.empty() ? NAN : median(e2e),
                     paper != kPaper.end() ? paper->second.pre : NAN, paper != kPaper.end() ? paper->second.r32 : NAN);
       std::printf("%s\n", line);
+      std::printf("    build: depth %d, %zu kernel launches, %zu CUB calls, %zu host round trips\n", bc.depth,
+                  bc.launches, bc.cub_calls, bc.syncs);
       std::fflush(stdout);
-      char js[1024];
+      char js[2048];
       std::snprintf(js, sizeof js,
                     "    {\"input\": \"%s\", \"width\": %d, \"height\": %d, \"input_segments\": %zu, "
                     "\"abstract_ms\": %.4f, \"subdivide_ms\": %.4f, \"prune_ms\": %.4f, \"preprocess_ms\": %.4f, "
                     "\"preprocess_wall_ms\": %.4f, \"schedule_1x32_ms\": %.4f, \"sample_integrate_1x32_ms\": %.4f, "
-                    "\"render_1x8_ms\": %.4f, \"render_1x32_ms\": %.4f, \"tree_mib\": %.3f, \"svg2png_ms\": %.2f}",
+                    "\"render_1x8_ms\": %.4f, \"render_1x32_ms\": %.4f, \"tree_mib\": %.3f, \"svg2png_ms\": %.2f, "
+                    "\"depth\": %d, \"launches\": %zu, \"cub_calls\": %zu, \"host_round_trips\": %zu}",
                     name.c_str(), w, h, enc.input_segment_count, median(ab), median(sd), median(pr), median(pre),
                     median(prew), median(sch32), median(sam32), median(r8), median(r32), mib,
-                    e2e.empty() ? -1.0 : median(e2e));
+                    e2e.empty() ? -1.0 : median(e2e), bc.depth, bc.launches, bc.cub_calls, bc.syncs);
       rows.push_back(js);
       // Sampler shapes (threads S, chunk I, batch U), 1x32 render time.
       for (const gpu::SamplerShape& sh : parse_shapes(shapes_arg)) {

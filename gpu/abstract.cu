@@ -18,9 +18,17 @@ __global__ void k_abstract_count(const InputSegment* in, size_t n, uint32_t* cou
   if (i < n) count[i] = static_cast<uint32_t>(abstract_input_segment(in[i], nullptr));
 }
 
-__global__ void k_abstract_write(const InputSegment* in, size_t n, const uint32_t* offset, AbstractSegment* out) {
+// Writes the pieces at their offsets; a segment whose pieces would not fit
+// in the output's capacity raises the overflow flag instead.
+__global__ void k_abstract_write(const InputSegment* in, size_t n, const uint32_t* offset, size_t capacity,
+                                 AbstractSegment* out, uint32_t* overflow) {
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
-  if (i < n) abstract_input_segment(in[i], out + offset[i]);
+  if (i >= n) return;
+  if (offset[i + 1] > capacity) {
+    atomicOr(overflow, 1u);
+    return;
+  }
+  abstract_input_segment(in[i], out + offset[i]);
 }
 
 // Length of each element of the placeholder stream once expanded.
@@ -87,31 +95,48 @@ void Context::Impl::abstract(const EncodedScene& scene) {
   MPVG_CUDA(cudaMemset(count + n, 0, sizeof(uint32_t)));
   if (n) {
     k_abstract_count<<<grid_for(n, kBlock), kBlock>>>(input.data(), n, count);
-    MPVG_LAUNCHED();
+    launched();
   }
   prim.exclusive_sum(count, offset, n + 1);
-  nsegments = read_u32(offset + n);
-  segments.resize(nsegments);
-  if (n) {
-    k_abstract_write<<<grid_for(n, kBlock), kBlock>>>(input.data(), n, offset, segments.data());
-    MPVG_LAUNCHED();
-  }
-
-  // The initial stream, as one virtual cell.
+  // Pieces go into the capacity the segment buffer has (at least two per
+  // input segment); the stream's length is scanned meanwhile, and one round
+  // trip reads both totals and the overflow flag.
+  overflow.resize(1);
+  MPVG_CUDA(cudaMemsetAsync(overflow.data(), 0, sizeof(uint32_t)));
+  segments.resize(std::max(segments.capacity(), 2 * n + 64));
+  auto write = [&]() {
+    if (!n) return;
+    k_abstract_write<<<grid_for(n, kBlock), kBlock>>>(input.data(), n, offset, segments.size(), segments.data(),
+                                                      overflow.data());
+    launched();
+  };
+  write();
   const size_t m = scene.stream.size();
   uint32_t* len = (u32[2].resize(m + 1), u32[2].data());
   uint32_t* pos = (u32[3].resize(m + 1), u32[3].data());
   k_stream_lengths<<<grid_for(m + 1, kBlock), kBlock>>>(placeholders.data(), m, path_input.data(), offset, len);
-  MPVG_LAUNCHED();
+  launched();
   prim.exclusive_sum(len, pos, m + 1);
-  const size_t total = read_u32(pos + m);
+  uint32_t pieces = 0, total = 0, failed = 0;
+  read_words({{offset + n, &pieces}, {pos + m, &total}, {overflow.data(), &failed}});
+  if (failed) {
+    segments.resize(pieces);
+    MPVG_CUDA(cudaMemsetAsync(overflow.data(), 0, sizeof(uint32_t)));
+    write();
+    read_words({{overflow.data(), &failed}});
+    if (failed) throw Error("abstraction overflowed its grown buffer");
+  }
+  nsegments = pieces;
+  segments.resize(pieces);
+
+  // The initial stream, as one virtual cell.
   level.entries.resize(total);
   level.entry_cell.resize(total);
   level.nentries = total;
   if (total) {
     k_stream_expand<<<grid_for(total, kBlock), kBlock>>>(placeholders.data(), m, pos, path_input.data(), offset,
                                                          total, level.entries.data(), level.entry_cell.data());
-    MPVG_LAUNCHED();
+    launched();
   }
   const Cell virt{0, static_cast<uint32_t>(total), 0, 0, 0, 0};
   level.cells.resize(1);

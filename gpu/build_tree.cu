@@ -86,6 +86,7 @@ void Context::Impl::build(const EncodedScene& scene, int w, int h, const TreePar
   width = w;
   height = h;
   root_size = tree_root_size(w, h);
+  const size_t launches0 = launches, syncs0 = syncs, calls0 = prim.calls;
   kept_levels.clear();
   host_paths = scene.paths;
   host_paints = scene.paints;
@@ -127,7 +128,7 @@ void Context::Impl::build(const EncodedScene& scene, int w, int h, const TreePar
     if (level.nentries) {
       k_weights<<<grid_for(level.nentries, kBlock), kBlock>>>(level.entries.data(), level.entry_cell.data(),
                                                               level.nentries, weight);
-      MPVG_LAUNCHED();
+      launched();
     }
     bool may_subdivide = lv < max_level;
     LevelCounts tot{};
@@ -135,7 +136,7 @@ void Context::Impl::build(const EncodedScene& scene, int w, int h, const TreePar
     for (int attempt = 0; attempt < 2; attempt++) {
       k_decide<<<grid_for(ncells + 1, kBlock), kBlock>>>(level.cells.data(), ncells, weight, may_subdivide,
                                                          params.min_segments, cnt);
-      MPVG_LAUNCHED();
+      launched();
       prim.exclusive_scan(cnt, pos, LevelCountsAdd{}, LevelCounts{0, 0, 0, 0}, ncells + 1);
       MPVG_CUDA(cudaMemcpy(&tot, pos + ncells, sizeof tot, cudaMemcpyDeviceToHost));
       // Place entries: subdivided cells into the parent level, the others
@@ -153,12 +154,12 @@ void Context::Impl::build(const EncodedScene& scene, int w, int h, const TreePar
         k_distribute<<<grid_for(level.nentries, kBlock), kBlock>>>(
             level.entries.data(), level.entry_cell.data(), level.nentries, level.cells.data(), pos, cnt,
             parent.entries.data(), parent.entry_cell.data(), leaf_entries.data(), nleaf_entries);
-        MPVG_LAUNCHED();
+        launched();
       }
       k_cells_out<<<grid_for(ncells, kBlock), kBlock>>>(level.cells.data(), ncells, pos, cnt, parent.cells.data(),
                                                         leaves.data(), nleaves, nleaf_entries, nodes.data(), node_base,
                                                         child_base);
-      MPVG_LAUNCHED();
+      launched();
       if (tot.sub == 0) break;
       subdivide(parent, child, false);
       child_entries = child.nentries;
@@ -182,6 +183,9 @@ void Context::Impl::build(const EncodedScene& scene, int w, int h, const TreePar
     std::swap(level, child);
   }
   timer.collect();
+  build_launches = launches - launches0;
+  build_syncs = syncs - syncs0;
+  build_cub_calls = prim.calls - calls0;
 }
 
 }  // namespace mpvg::gpu

@@ -68,6 +68,10 @@ ImageF Context::render(const std::vector<SampleOffset>& pattern, const PaintReco
   return img;
 }
 
+Context::BuildCounts Context::build_counts() const {
+  return BuildCounts{impl_->depth, impl_->build_launches, impl_->build_cub_calls, impl_->build_syncs};
+}
+
 void Context::set_sampler_shape(const SamplerShape& shape) {
   if (shape.threads < 32 || shape.threads > 1024 || shape.threads % 32 || shape.chunk < 1 || shape.batch < 1)
     throw Error("invalid sampler shape");

@@ -2,6 +2,9 @@
 #pragma once
 #include <cub/cub.cuh>
 
+#include <initializer_list>
+#include <utility>
+
 #include "core/abstraction.h"
 #include "core/scan.h"
 #include "core/shortcut_tree.h"
@@ -15,32 +18,39 @@ namespace mpvg::gpu {
 // ("ask for the temp storage size first").
 class Primitives {
  public:
+  size_t calls = 0;  // CUB calls issued (each one to three kernels)
+
   template <class In, class Out>
   void exclusive_sum(In in, Out out, size_t n) {
+    calls++;
     size_t bytes = 0;
     MPVG_CUDA(cub::DeviceScan::ExclusiveSum(nullptr, bytes, in, out, static_cast<int>(n)));
     MPVG_CUDA(cub::DeviceScan::ExclusiveSum(temp(bytes), bytes, in, out, static_cast<int>(n)));
   }
   template <class In, class Out>
   void inclusive_sum(In in, Out out, size_t n) {
+    calls++;
     size_t bytes = 0;
     MPVG_CUDA(cub::DeviceScan::InclusiveSum(nullptr, bytes, in, out, static_cast<int>(n)));
     MPVG_CUDA(cub::DeviceScan::InclusiveSum(temp(bytes), bytes, in, out, static_cast<int>(n)));
   }
   template <class In, class Out, class Op>
   void inclusive_scan(In in, Out out, Op op, size_t n) {
+    calls++;
     size_t bytes = 0;
     MPVG_CUDA(cub::DeviceScan::InclusiveScan(nullptr, bytes, in, out, op, static_cast<int>(n)));
     MPVG_CUDA(cub::DeviceScan::InclusiveScan(temp(bytes), bytes, in, out, op, static_cast<int>(n)));
   }
   template <class In, class Out, class Op, class T>
   void exclusive_scan(In in, Out out, Op op, T init, size_t n) {
+    calls++;
     size_t bytes = 0;
     MPVG_CUDA(cub::DeviceScan::ExclusiveScan(nullptr, bytes, in, out, op, init, static_cast<int>(n)));
     MPVG_CUDA(cub::DeviceScan::ExclusiveScan(temp(bytes), bytes, in, out, op, init, static_cast<int>(n)));
   }
   template <class In, class Out>
   void reduce_max(In in, Out out, size_t n) {
+    calls++;
     size_t bytes = 0;
     MPVG_CUDA(cub::DeviceReduce::Max(nullptr, bytes, in, out, static_cast<int>(n)));
     MPVG_CUDA(cub::DeviceReduce::Max(temp(bytes), bytes, in, out, static_cast<int>(n)));
@@ -112,11 +122,29 @@ struct Context::Impl {
   SamplerShape shape;
   int width = 0, height = 0;
 
+  // Host round trips and launches, per build (reported by the benchmark).
+  size_t launches = 0, syncs = 0;
+  size_t build_launches = 0, build_cub_calls = 0, build_syncs = 0;  // of the last build
+  void launched() {
+    MPVG_LAUNCHED();
+    launches++;
+  }
   uint32_t read_u32(const uint32_t* p) {
     uint32_t v = 0;
     MPVG_CUDA(cudaMemcpy(&v, p, sizeof v, cudaMemcpyDeviceToHost));
+    syncs++;
     return v;
   }
+  // Reads several device words in one round trip.
+  void read_words(std::initializer_list<std::pair<const uint32_t*, uint32_t*>> words) {
+    for (const auto& w : words) MPVG_CUDA(cudaMemcpyAsync(w.second, w.first, sizeof(uint32_t), cudaMemcpyDeviceToHost));
+    MPVG_CUDA(cudaStreamSynchronize(0));
+    syncs++;
+  }
+  // GPU-side allocation failure flag: a kernel that would write past its
+  // output's capacity sets it and writes nothing; the host grows the buffer
+  // and runs the kernel again.
+  DeviceBuffer<uint32_t> overflow;
 
   // Stages (abstract.cu, subdivide.cu, prune.cu, build_tree.cu, render.cu).
   void abstract(const EncodedScene& scene);

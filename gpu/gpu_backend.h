@@ -23,9 +23,10 @@ struct GpuTimes {
 
 // Kernel shape of the sampler (§5.3): threads per block (the paper's S, the
 // samples in flight), entries streamed through shared memory per chunk (I),
-// and unit areas per batch (U).
+// and unit areas per batch (U). The paper used S = 128, I = 32, U = 32 on a
+// GTX Titan; on an H200 S = 64 measured fastest (BENCHMARKS.md).
 struct SamplerShape {
-  int threads = 128;
+  int threads = 64;
   int chunk = 32;
   int batch = 32;
 };
@@ -59,6 +60,14 @@ class Context {
   // GPU time of the whole render, gaps between kernels included, in ms.
   double render_on_device(const std::vector<SampleOffset>& pattern, const PaintRecord& background,
                           GpuTimes* times = nullptr);
+
+  // Work issued by the last build: tree depth, kernel launches, CUB calls,
+  // and host round trips (device-to-host reads that wait for the GPU).
+  struct BuildCounts {
+    int depth = 0;
+    size_t launches = 0, cub_calls = 0, syncs = 0;
+  };
+  BuildCounts build_counts() const;
 
   void set_sampler_shape(const SamplerShape& shape);
   size_t tree_bytes() const;

@@ -103,7 +103,7 @@ int Context::Impl::prune(DeviceLevel& lv) {
       MPVG_CUDA(cudaMemsetAsync(depth, 0, n * sizeof(int32_t)));
     } else {
       k_depth_delta<<<grid, kBlock>>>(e, n, depth);
-      MPVG_LAUNCHED();
+      launched();
       prim.inclusive_sum(depth, depth, n);
       MPVG_CUDA(cudaMemsetAsync(open, 0xff, n * sizeof(uint32_t)));
       MPVG_CUDA(cudaMemsetAsync(bar, 0xff, n * sizeof(uint32_t)));
@@ -111,24 +111,24 @@ int Context::Impl::prune(DeviceLevel& lv) {
       link.resize(n);
       for (int32_t d = 1; d <= scene_depth; d++) {
         k_link_init<<<grid, kBlock>>>(e, depth, n, d, link.data());
-        MPVG_LAUNCHED();
+        launched();
         prim.inclusive_scan(link.data(), link.data(), SegmentedSum<uint32_t>{}, n);
         k_link_apply<<<grid, kBlock>>>(e, depth, n, d, link.data(), open, bar, close);
-        MPVG_LAUNCHED();
+        launched();
       }
     }
 
     k_classify<<<grid, kBlock>>>(e, lv.entry_cell.data(), n, lv.cells.data(), paths.data(), term);
-    MPVG_LAUNCHED();
+    launched();
     const PruneLinks links{depth, open, bar, close, first_c1};
     if (scene_depth > 0) {
       MPVG_CUDA(cudaMemsetAsync(first_c1, 0xff, n * sizeof(uint32_t)));
       k_first_c1<<<grid, kBlock>>>(term, n, links, first_c1);
-      MPVG_LAUNCHED();
+      launched();
     }
     MPVG_CUDA(cudaMemsetAsync(elim, 0, (n + 1) * sizeof(int32_t)));
     k_mark<<<grid, kBlock>>>(e, lv.entry_cell.data(), n, lv.cells.data(), term, links, elim);
-    MPVG_LAUNCHED();
+    launched();
     prim.inclusive_sum(elim, elim, n + 1);
 
     // Sweep: the exclusive scan of the keep flags gives every survivor its
@@ -142,9 +142,9 @@ int Context::Impl::prune(DeviceLevel& lv) {
     out.entries.resize(kept);
     out.entry_cell.resize(kept);
     k_compact<<<grid, kBlock>>>(e, lv.entry_cell.data(), n, elim, kpos, out.entries.data(), out.entry_cell.data());
-    MPVG_LAUNCHED();
+    launched();
     k_cells_remap<<<grid_for(lv.ncells, kBlock), kBlock>>>(lv.cells.data(), lv.ncells, kpos);
-    MPVG_LAUNCHED();
+    launched();
     lv.entries.swap(out.entries);
     lv.entry_cell.swap(out.entry_cell);
     lv.nentries = kept;

@@ -154,7 +154,7 @@ void Context::Impl::render(const std::vector<SampleOffset>& pat, const PaintReco
   k_leaf_info<<<grid_for(nleaves + 1, kBlock), kBlock>>>(leaves.data(), nleaves, leaf_entries.data(), in, root_size,
                                                          width, height, static_cast<uint32_t>(shape.batch), nb,
                                                          leaf_color.data());
-  MPVG_LAUNCHED();
+  launched();
   prim.exclusive_sum(nb, leaf_batches.data(), nleaves + 1);
   const uint32_t total_batches = read_u32(leaf_batches.data() + nleaves);
   timer.stop();
@@ -167,12 +167,12 @@ void Context::Impl::render(const std::vector<SampleOffset>& pat, const PaintReco
     k_sample<<<total_batches, shape.threads, shared>>>(leaves.data(), static_cast<uint32_t>(nleaves),
                                                        leaf_batches.data(), in, pattern.data(), n, shape.chunk,
                                                        shape.batch, root_size, width, height, bg, image.data());
-    MPVG_LAUNCHED();
+    launched();
   }
   const size_t npix = size_t(width) * height;
   k_fill_uniform<<<grid_for(npix, kBlock), kBlock>>>(nodes.data(), root_size, width, height, leaf_color.data(), bg,
                                                      image.data());
-  MPVG_LAUNCHED();
+  launched();
   timer.stop();
   timer.collect();
 }

@@ -2,6 +2,8 @@
 // a level at once. Pairs (parent entry, child) are laid out so that each
 // child's block lists its parent's entries in order (as on the CPU):
 //   pair(i, c) = fanout * begin(k) + c * size(k) + (i - begin(k)).
+#include <algorithm>
+
 #include "core/subdivision.h"
 #include "gpu/context.cuh"
 
@@ -50,10 +52,12 @@ __global__ void k_count(const Entry* entries, const uint32_t* entry_cell, size_t
   }
 }
 
-// Kernel 4: scatter into the child level.
+// Kernel 4: scatter into the child level, whose buffers hold `capacity`
+// entries: a pair that would write past them raises the overflow flag.
 __global__ void k_scatter(const Entry* entries, const uint32_t* entry_cell, size_t n, const Cell* cells,
                           const AbstractSegment* segments, uint32_t fanout, const uint32_t* flags,
-                          const Segmented<int32_t>* wind, const uint32_t* offset, Entry* out, uint32_t* out_cell) {
+                          const Segmented<int32_t>* wind, const uint32_t* offset, const uint32_t* count,
+                          size_t capacity, Entry* out, uint32_t* out_cell, uint32_t* overflow) {
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
   if (i >= n) return;
   const uint32_t k = entry_cell[i];
@@ -64,6 +68,10 @@ __global__ void k_scatter(const Entry* entries, const uint32_t* entry_cell, size
   for (uint32_t c = 0; c < fanout; c++) {
     const size_t j = fanout * size_t(pc.begin) + c * size + (i - pc.begin);
     const uint32_t o = offset[j];
+    if (o + size_t(count[j]) > capacity) {
+      atomicOr(overflow, 1u);
+      continue;
+    }
     const uint32_t m = split_scatter(e, flags[j], last, wind[j].value, segments, out + o);
     for (uint32_t t = 0; t < m; t++) out_cell[o + t] = fanout * k + c;
   }
@@ -101,29 +109,45 @@ void Context::Impl::subdivide(const DeviceLevel& from, DeviceLevel& to, bool roo
   if (n) {
     k_split<<<grid_for(n, kBlock), kBlock>>>(from.entries.data(), from.entry_cell.data(), n, from.cells.data(),
                                              segments.data(), fanout, root, root_size, flags, wind.data());
-    MPVG_LAUNCHED();
+    launched();
     prim.inclusive_scan(wind.data(), wind.data(), SegmentedSum<int32_t>{}, pairs);
     k_count<<<grid_for(n, kBlock), kBlock>>>(from.entries.data(), from.entry_cell.data(), n, from.cells.data(),
                                              fanout, flags, wind.data(), count);
-    MPVG_LAUNCHED();
+    launched();
   }
   prim.exclusive_sum(count, offset, pairs + 1);
-  const size_t total = read_u32(offset + pairs);
+  // Scatter into the capacity the child buffers already have (they only
+  // grow, so after the first frame this rarely fails), then read the total
+  // and the overflow flag in one round trip; on overflow, grow and redo.
+  overflow.resize(1);
+  const size_t estimate = std::max(to.entries.capacity(), 2 * pairs + 1024);
+  to.entries.resize(estimate);
+  to.entry_cell.resize(estimate);
+  to.ncells = fanout * from.ncells;
+  to.cells.resize(to.ncells);
+  uint32_t total = 0, failed = 0;
+  for (int attempt = 0;; attempt++) {
+    MPVG_CUDA(cudaMemsetAsync(overflow.data(), 0, sizeof(uint32_t)));
+    if (n) {
+      k_scatter<<<grid_for(n, kBlock), kBlock>>>(from.entries.data(), from.entry_cell.data(), n, from.cells.data(),
+                                                 segments.data(), fanout, flags, wind.data(), offset, count,
+                                                 to.entries.size(), to.entries.data(), to.entry_cell.data(),
+                                                 overflow.data());
+      launched();
+    }
+    read_words({{offset + pairs, &total}, {overflow.data(), &failed}});
+    if (!failed) break;
+    if (attempt > 0) throw Error("subdivision overflowed its grown buffers");
+    to.entries.resize(total);
+    to.entry_cell.resize(total);
+  }
   to.entries.resize(total);
   to.entry_cell.resize(total);
   to.nentries = total;
-  to.ncells = fanout * from.ncells;
-  to.cells.resize(to.ncells);
-  if (n) {
-    k_scatter<<<grid_for(n, kBlock), kBlock>>>(from.entries.data(), from.entry_cell.data(), n, from.cells.data(),
-                                               segments.data(), fanout, flags, wind.data(), offset,
-                                               to.entries.data(), to.entry_cell.data());
-    MPVG_LAUNCHED();
-  }
   if (from.ncells) {
     k_child_cells<<<grid_for(from.ncells, kBlock), kBlock>>>(from.cells.data(), from.ncells, fanout, root, offset,
                                                             to.cells.data());
-    MPVG_LAUNCHED();
+    launched();
   }
 }
 

@@ -6,7 +6,8 @@
 # travels in .deps/ (scripts/gpu-deps.sh). Results go to $OUT (default
 # ./gpu-out): ctest.log, sanitizer logs, bench.json, bench.txt.
 #
-#   scripts/gpu-run.sh [build] [test] [sanitize] [bench]   (default: all four)
+#   scripts/gpu-run.sh [build] [test] [sanitize] [bench] [profile]
+#   (default: the first four; profile runs Nsight Compute on the kernels)
 set -uo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 deps=$root/.deps
@@ -41,6 +42,15 @@ if has sanitize; then
     echo "compute-sanitizer $tool: exit $rc, $(grep -cE 'Invalid|Race|Error' "$out/sanitizer-$tool.log") error lines"
     tail -2 "$out/sanitizer-$tool.log"
     [ $rc = 0 ] || status=1
+  done
+fi
+if has profile; then
+  metrics=gpu__time_duration.sum,sm__throughput.avg.pct_of_peak_sustained_elapsed,dram__throughput.avg.pct_of_peak_sustained_elapsed,sm__warps_active.avg.pct_of_peak_sustained_active,smsp__thread_inst_executed_per_inst_executed.ratio,launch__grid_size,launch__registers_per_thread
+  for f in tiger hawaii; do
+    ncu --clock-control none --csv --metrics "$metrics" \
+      -k regex:'k_sample|k_split|k_scatter|k_count|k_mark|k_classify|k_compact|k_abstract_write|k_distribute|k_fill_uniform|k_leaf_info' \
+      "$build/apps/svg2png" --backend cuda -q -w 1024 "$deps/bench/$f.svg" /tmp/profile.png > "$out/ncu-$f.csv" 2> "$out/ncu-$f.err"
+    echo "ncu $f: exit $?, $(grep -c '"' "$out/ncu-$f.csv") rows"
   done
 fi
 if has bench; then
