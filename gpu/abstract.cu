@@ -98,12 +98,12 @@ void Context::Impl::abstract(const EncodedScene& scene) {
     launched();
   }
   prim.exclusive_sum(count, offset, n + 1);
-  // Pieces go into the capacity the segment buffer has (at least two per
+  // Pieces go into the capacity the segment buffer has (at least four per
   // input segment); the stream's length is scanned meanwhile, and one round
   // trip reads both totals and the overflow flag.
   overflow.resize(1);
   MPVG_CUDA(cudaMemsetAsync(overflow.data(), 0, sizeof(uint32_t)));
-  segments.resize(std::max(segments.capacity(), 2 * n + 64));
+  segments.resize(std::max(segments.capacity(), 4 * n + 64));
   auto write = [&]() {
     if (!n) return;
     k_abstract_write<<<grid_for(n, kBlock), kBlock>>>(input.data(), n, offset, segments.size(), segments.data(),
