@@ -14,9 +14,14 @@ struct Options {
   double zoom = 1.0;
   bool keep_aspect = false;
   RGBA background{0, 0, 0, 0};
-  int samples = 32;
+  // Antialiasing: a preset (1x8, 1x32, 4x4x32), then explicit --filter,
+  // --samples and --pattern override its parts.
+  std::string preset = "4x4x32";
+  std::optional<Filter> filter;
+  std::optional<int> samples;
+  std::optional<PatternKind> pattern;
   uint32_t seed = 0;
-  Gamma gamma = Gamma::Srgb;
+  Gamma gamma = Gamma::Linear;
   Backend backend = Backend::Auto;
   int bits = 8;
   bool stats = false;

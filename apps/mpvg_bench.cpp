@@ -76,9 +76,9 @@ int main(int argc, char** argv) {
     const std::string device = gpu::device_name();
     std::printf("device: %s, %d runs per measurement (median)\n\n", device.c_str(), runs);
     std::string json = "{\n  \"device\": \"" + device + "\",\n  \"runs\": " + std::to_string(runs) + ",\n  \"inputs\": [\n";
-    std::printf("%-10s %7s %7s %7s %7s %8s %7s %7s %7s %7s %7s %7s %9s | %8s %8s\n", "input", "abstr", "subdiv",
-                "prune", "pre", "pre-wall", "sched", "sample", "1x8", "1x32", "4x4x32", "MiB", "svg2png", "paper-pre",
-                "paper-32");
+    std::printf("%-10s %7s %7s %7s %7s %8s %7s %7s %7s %7s %7s %7s %9s | %8s %8s %8s\n", "input", "abstr",
+                "subdiv", "prune", "pre", "pre-wall", "sched", "sample", "1x8", "1x32", "4x4x32", "MiB", "svg2png",
+                "paper-pre", "paper-32", "paper-44");
     gpu::Context ctx;
     std::vector<std::string> rows;
     for (size_t fi = 0; fi < files.size(); fi++) {
@@ -86,34 +86,58 @@ int main(int argc, char** argv) {
       const std::string name = std::filesystem::path(f).stem().string();
       const svg::ParseResult doc = svg::parse_svg_file(f);
       const int w = 1024, h = static_cast<int>(std::lround(doc.scene.height * 1024.0 / doc.scene.width));
-      const EncodedScene enc = encode(doc.scene, Affine::scale(w / doc.scene.width, h / doc.scene.height), Gamma::Srgb);
+      // The paper's three modes: box 1x8 and 1x32, and 4x4x32 (cardinal
+      // cubic B-spline, 32 blue-noise samples per unit area, linear light).
+      auto plan_for = [&](Filter f, PatternKind pk, int samples) {
+        RenderOptions o;
+        o.width = w;
+        o.height = h;
+        o.view = Affine::scale(w / doc.scene.width, h / doc.scene.height);
+        o.filter = f;
+        o.pattern = pk;
+        o.samples = samples;
+        return plan_render(o);
+      };
+      const RenderPlan p8 = plan_for(Filter::Box, PatternKind::Stratified, 8);
+      const RenderPlan p32 = plan_for(Filter::Box, PatternKind::Stratified, 32);
+      const RenderPlan pc = plan_for(Filter::Cardinal, PatternKind::BlueNoise, 32);
+      const EncodedScene enc = encode(doc.scene, p32.view, Gamma::Srgb);
+      const EncodedScene enc_c = encode(doc.scene, pc.view, Gamma::Linear);
       const TreeParams params;
       const PaintRecord bg{0, 0, 0, 0};
-      const std::vector<SampleOffset> p8 = stratified_pattern(8, 0), p32 = stratified_pattern(32, 0);
+      auto r8 = [&](gpu::GpuTimes* t) { return ctx.render_on_device(p8.integ, p8.frame, bg, t); };
+      auto r32 = [&](gpu::GpuTimes* t) { return ctx.render_on_device(p32.integ, p32.frame, bg, t); };
+      auto r4432 = [&](gpu::GpuTimes* t) { return ctx.render_on_device(pc.integ, pc.frame, bg, t); };
       for (int warm = 0; warm < 3; warm++) {
+        ctx.build(enc_c, pc.frame.ua_w, pc.frame.ua_h, params);
+        r4432(nullptr);
         ctx.build(enc, w, h, params);
-        ctx.render_on_device(p8, bg);
-        ctx.render_on_device(p32, bg);
+        r8(nullptr);
+        r32(nullptr);
       }
-      std::vector<double> ab, sd, pr, pre, prew, sch32, sam32, r8, r32;
+      std::vector<double> ab, sd, pr, pre, prew, sch32, sam32, t8, t32, t4432, integ4432;
       for (int r = 0; r < runs; r++) {
+        gpu::GpuTimes tc;
+        ctx.build(enc_c, pc.frame.ua_w, pc.frame.ua_h, params);
+        t4432.push_back(r4432(&tc));
+        integ4432.push_back(tc.integrate_ms);
         gpu::GpuTimes tb;
         prew.push_back(ctx.build_timed(enc, w, h, params, &tb));
         ab.push_back(tb.abstract_ms);
         sd.push_back(tb.subdivide_ms);
         pr.push_back(tb.prune_ms);
         pre.push_back(tb.preprocess_ms());
-        r8.push_back(ctx.render_on_device(p8, bg));
-        gpu::GpuTimes t32;
-        r32.push_back(ctx.render_on_device(p32, bg, &t32));
-        sch32.push_back(t32.schedule_ms);
-        sam32.push_back(t32.sample_ms);
+        t8.push_back(r8(nullptr));
+        gpu::GpuTimes t;
+        t32.push_back(r32(&t));
+        sch32.push_back(t.schedule_ms);
+        sam32.push_back(t.sample_ms);
       }
       const double mib = ctx.tree_bytes() / 1048576.0;
       const gpu::Context::BuildCounts bc = ctx.build_counts();
       // End to end: the command-line tool, parse and PNG writing included.
       std::vector<double> e2e;
-      const std::string cmd = svg2png + " -q --backend cuda -w 1024 '" + f + "' /tmp/mpvg_bench_out.png";
+      const std::string cmd = svg2png + " -q --backend cuda --aa 1x32 --gamma srgb -w 1024 '" + f + "' /tmp/mpvg_bench_out.png";
       for (int r = 0; r < 5; r++) {
         const auto t0 = std::chrono::steady_clock::now();
         if (std::system(cmd.c_str()) != 0) {
@@ -124,10 +148,11 @@ int main(int argc, char** argv) {
       }
       const auto paper = kPaper.find(name);
       char line[512];
-      std::snprintf(line, sizeof line, "%-10s %7.3f %7.3f %7.3f %7.3f %8.3f %7.3f %7.3f %7.3f %7.3f %7s %7.2f %9.1f | %8.2f %8.2f",
+      std::snprintf(line, sizeof line, "%-10s %7.3f %7.3f %7.3f %7.3f %8.3f %7.3f %7.3f %7.3f %7.3f %7.3f %7.2f %9.1f | %8.2f %8.2f %8.2f",
                     name.c_str(), median(ab), median(sd), median(pr), median(pre), median(prew), median(sch32),
-                    median(sam32), median(r8), median(r32), "-", mib, e2e.empty() ? NAN : median(e2e),
-                    paper != kPaper.end() ? paper->second.pre : NAN, paper != kPaper.end() ? paper->second.r32 : NAN);
+                    median(sam32), median(t8), median(t32), median(t4432), mib, e2e.empty() ? NAN : median(e2e),
+                    paper != kPaper.end() ? paper->second.pre : NAN, paper != kPaper.end() ? paper->second.r32 : NAN,
+                    paper != kPaper.end() ? paper->second.r4432 : NAN);
       std::printf("%s\n", line);
       std::printf("    build: depth %d, %zu kernel launches, %zu CUB calls, %zu host round trips\n", bc.depth,
                   bc.launches, bc.cub_calls, bc.syncs);
@@ -137,18 +162,20 @@ int main(int argc, char** argv) {
                     "    {\"input\": \"%s\", \"width\": %d, \"height\": %d, \"input_segments\": %zu, "
                     "\"abstract_ms\": %.4f, \"subdivide_ms\": %.4f, \"prune_ms\": %.4f, \"preprocess_ms\": %.4f, "
                     "\"preprocess_wall_ms\": %.4f, \"schedule_1x32_ms\": %.4f, \"sample_integrate_1x32_ms\": %.4f, "
-                    "\"render_1x8_ms\": %.4f, \"render_1x32_ms\": %.4f, \"tree_mib\": %.3f, \"svg2png_ms\": %.2f, "
+                    "\"render_1x8_ms\": %.4f, \"render_1x32_ms\": %.4f, \"render_4x4x32_ms\": %.4f, "
+                    "\"integrate_4x4x32_ms\": %.4f, \"tree_mib\": %.3f, \"svg2png_ms\": %.2f, "
                     "\"depth\": %d, \"launches\": %zu, \"cub_calls\": %zu, \"host_round_trips\": %zu}",
                     name.c_str(), w, h, enc.input_segment_count, median(ab), median(sd), median(pr), median(pre),
-                    median(prew), median(sch32), median(sam32), median(r8), median(r32), mib,
+                    median(prew), median(sch32), median(sam32), median(t8), median(t32), median(t4432),
+                    median(integ4432), mib,
                     e2e.empty() ? -1.0 : median(e2e), bc.depth, bc.launches, bc.cub_calls, bc.syncs);
       rows.push_back(js);
       // Sampler shapes (threads S, chunk I, batch U), 1x32 render time.
       for (const gpu::SamplerShape& sh : parse_shapes(shapes_arg)) {
         ctx.set_sampler_shape(sh);
         std::vector<double> t;
-        ctx.render_on_device(p32, bg);
-        for (int r = 0; r < runs; r++) t.push_back(ctx.render_on_device(p32, bg));
+        r32(nullptr);
+        for (int r = 0; r < runs; r++) t.push_back(r32(nullptr));
         std::printf("    shape S=%d I=%d U=%d: 1x32 %.3f ms\n", sh.threads, sh.chunk, sh.batch, median(t));
         char sj[256];
         std::snprintf(sj, sizeof sj, "    {\"input\": \"%s\", \"shape\": [%d, %d, %d], \"render_1x32_ms\": %.4f}",

@@ -39,25 +39,34 @@ PaintRecord background_paint(const RGBA& c, Gamma gamma) {
   return PaintRecord{r * a, g * a, b * a, a};
 }
 
-ImageF render_cpu(const Scene& scene, const RenderOptions& o, RenderStats* stats) {
+RenderPlan plan_render(const RenderOptions& o) {
   if (o.width <= 0 || o.height <= 0) throw Error("output size must be positive");
   if (o.width > 32768 || o.height > 32768) throw Error("output size is larger than 32768 pixels");
-  if (o.samples < 1 || o.samples > 1024) throw Error("samples per pixel must be between 1 and 1024");
+  if (o.samples < 1 || o.samples > 1024) throw Error("samples per unit area must be between 1 and 1024");
+  RenderPlan p;
+  p.integ = make_integration(o.filter, o.pattern, o.samples, o.seed);
+  p.pattern = std::vector<SampleOffset>(p.integ.offsets.begin(), p.integ.offsets.begin() + o.samples);
+  p.frame = integration_frame(p.integ, o.width, o.height);
+  p.view = Affine::translate(p.frame.to_unit_areas, p.frame.to_unit_areas) * o.view;
+  return p;
+}
+
+ImageF render_cpu(const Scene& scene, const RenderOptions& o, RenderStats* stats) {
+  const RenderPlan plan = plan_render(o);
   RenderStats local;
   RenderStats& st = stats ? *stats : local;
   st.backend = "cpu";
   const auto t_all = std::chrono::steady_clock::now();
   auto t0 = std::chrono::steady_clock::now();
-  const EncodedScene enc = encode(scene, o.view, o.gamma);
+  const EncodedScene enc = encode(scene, plan.view, o.gamma);
   st.encode_ms += ms_since(t0);
   BuildTimes bt;
-  const ShortcutTree tree = build_tree_cpu(enc, o.width, o.height, o.tree, &bt);
+  const ShortcutTree tree = build_tree_cpu(enc, plan.frame.ua_w, plan.frame.ua_h, o.tree, &bt);
   st.abstract_ms += bt.abstract_ms;
   st.subdivide_ms += bt.subdivide_ms;
   st.prune_ms += bt.prune_ms;
   RenderTimes rt;
-  ImageF img = render_tree_cpu(tree, o.width, o.height, stratified_pattern(o.samples, o.seed),
-                               background_paint(o.background, o.gamma), o.threads, &rt);
+  ImageF img = render_tree_cpu(tree, plan.integ, plan.frame, background_paint(o.background, o.gamma), o.threads, &rt);
   st.schedule_ms += rt.schedule_ms;
   st.sample_ms += rt.sample_ms;
   st.total_ms += ms_since(t_all);

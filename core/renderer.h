@@ -8,6 +8,7 @@
 
 #include "core/cpu/cpu_stages.h"
 #include "core/encoding.h"
+#include "core/integration.h"
 #include "core/scene.h"
 #include "core/tree.h"
 
@@ -19,8 +20,10 @@ struct RenderOptions {
   int width = 0, height = 0;  // output pixels
   Affine view;                // scene units to pixels
   RGBA background{0, 0, 0, 0};
-  int samples = 32;           // per pixel (box filter)
+  int samples = 32;           // per unit area
   uint32_t seed = 0;          // sample pattern
+  Filter filter = Filter::Box;
+  PatternKind pattern = PatternKind::Stratified;
   Gamma gamma = Gamma::Srgb;  // colour space of integration
   Backend backend = Backend::Auto;
   TreeParams tree;
@@ -40,6 +43,16 @@ struct RenderStats {
 
 // Renders on the CPU. Throws mpvg::Error for scenes it cannot render.
 ImageF render_cpu(const Scene& scene, const RenderOptions& options, RenderStats* stats = nullptr);
+
+// What both backends prepare from the options: the pattern, the filter's
+// weights, the frame of unit areas, and the scene-to-unit-area transform.
+struct RenderPlan {
+  std::vector<SampleOffset> pattern;
+  Integration integ;
+  IntegrationFrame frame;
+  Affine view;  // scene units to unit-area coordinates
+};
+RenderPlan plan_render(const RenderOptions& options);
 
 // The background as a premultiplied paint in the integration colour space.
 PaintRecord background_paint(const RGBA& c, Gamma gamma);

@@ -24,23 +24,21 @@ bool cuda_available(std::string* why) {
 namespace {
 
 ImageF render_cuda(const Scene& scene, const RenderOptions& o, RenderStats& st) {
-  if (o.width <= 0 || o.height <= 0) throw Error("output size must be positive");
-  if (o.width > 32768 || o.height > 32768) throw Error("output size is larger than 32768 pixels");
-  if (o.samples < 1 || o.samples > 1024) throw Error("samples per pixel must be between 1 and 1024");
+  const RenderPlan plan = plan_render(o);
   st.backend = "cuda";
   const auto t_all = std::chrono::steady_clock::now();
   auto t0 = std::chrono::steady_clock::now();
-  const EncodedScene enc = encode(scene, o.view, o.gamma);
+  const EncodedScene enc = encode(scene, plan.view, o.gamma);
   st.encode_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   gpu::Context ctx;
   gpu::GpuTimes gt;
-  ctx.build(enc, o.width, o.height, o.tree, &gt);
-  ImageF img = ctx.render(stratified_pattern(o.samples, o.seed), background_paint(o.background, o.gamma), &gt);
+  ctx.build(enc, plan.frame.ua_w, plan.frame.ua_h, o.tree, &gt);
+  ImageF img = ctx.render(plan.integ, plan.frame, background_paint(o.background, o.gamma), &gt);
   st.abstract_ms += gt.abstract_ms;
   st.subdivide_ms += gt.subdivide_ms;
   st.prune_ms += gt.prune_ms;
   st.schedule_ms += gt.schedule_ms;
-  st.sample_ms += gt.sample_ms;
+  st.sample_ms += gt.sample_ms + gt.integrate_ms;
   st.total_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_all).count();
   st.input_segments = enc.input_segment_count;
   st.tree_bytes = ctx.tree_bytes();

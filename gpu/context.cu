@@ -37,9 +37,9 @@ double Context::build_timed(const EncodedScene& scene, int width, int height, co
   return timed([&] { build(scene, width, height, params, times); });
 }
 
-double Context::render_on_device(const std::vector<SampleOffset>& pattern, const PaintRecord& background,
-                                 GpuTimes* times) {
-  return timed([&] { impl_->render(pattern, background, times); });
+double Context::render_on_device(const Integration& integ, const IntegrationFrame& frame,
+                                 const PaintRecord& background, GpuTimes* times) {
+  return timed([&] { impl_->render(integ, frame, background, times); });
 }
 
 ShortcutTree Context::download_tree() const {
@@ -59,10 +59,16 @@ ShortcutTree Context::download_tree() const {
 }
 
 ImageF Context::render(const std::vector<SampleOffset>& pattern, const PaintRecord& background, GpuTimes* times) {
-  impl_->render(pattern, background, times);
+  const Integration box = make_integration(Filter::Box, pattern);
+  return render(box, integration_frame(box, impl_->width, impl_->height), background, times);
+}
+
+ImageF Context::render(const Integration& integ, const IntegrationFrame& frame, const PaintRecord& background,
+                       GpuTimes* times) {
+  impl_->render(integ, frame, background, times);
   ImageF img;
-  img.width = impl_->width;
-  img.height = impl_->height;
+  img.width = impl_->out_width;
+  img.height = impl_->out_height;
   img.rgba.resize(size_t(img.width) * img.height * 4);
   MPVG_CUDA(cudaMemcpy(img.rgba.data(), impl_->image.data(), img.rgba.size() * sizeof(float), cudaMemcpyDeviceToHost));
   return img;

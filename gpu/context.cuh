@@ -8,6 +8,7 @@
 #include "core/abstraction.h"
 #include "core/scan.h"
 #include "core/shortcut_tree.h"
+#include "core/integration.h"
 #include "core/tree.h"
 #include "gpu/cuda_util.h"
 #include "gpu/gpu_backend.h"
@@ -119,6 +120,10 @@ struct Context::Impl {
   DeviceBuffer<float4> image;
   DeviceBuffer<float4> leaf_color;
   DeviceBuffer<uint32_t> leaf_batches;  // exclusive scan of batches per leaf
+  DeviceBuffer<float> weights, weight_sums, buf;
+  DeviceBuffer<double> totals;
+  DeviceBuffer<unsigned long long> acc;  // fixed-point accumulators, 4 per pixel
+  int out_width = 0, out_height = 0;
   SamplerShape shape;
   int width = 0, height = 0;
 
@@ -151,7 +156,8 @@ struct Context::Impl {
   void subdivide(const DeviceLevel& from, DeviceLevel& to, bool root);
   int prune(DeviceLevel& lv);
   void build(const EncodedScene& scene, int width, int height, const TreeParams& params, GpuTimes* times);
-  void render(const std::vector<SampleOffset>& pattern, const PaintRecord& background, GpuTimes* times);
+  void render(const Integration& integ, const IntegrationFrame& frame, const PaintRecord& background,
+              GpuTimes* times);
 };
 
 }  // namespace mpvg::gpu

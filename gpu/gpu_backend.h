@@ -17,8 +17,9 @@ namespace mpvg::gpu {
 // GPU time per stage, from CUDA events, in milliseconds.
 struct GpuTimes {
   double abstract_ms = 0, subdivide_ms = 0, prune_ms = 0, schedule_ms = 0, sample_ms = 0;
+  double integrate_ms = 0;  // wide filters: normalisation, prefilter, output
   double preprocess_ms() const { return abstract_ms + subdivide_ms + prune_ms; }
-  double render_ms() const { return schedule_ms + sample_ms; }
+  double render_ms() const { return schedule_ms + sample_ms + integrate_ms; }
 };
 
 // Kernel shape of the sampler (§5.3): threads per block (the paper's S, the
@@ -51,14 +52,18 @@ class Context {
   // The built tree as host arrays, levels included when params.keep_levels.
   ShortcutTree download_tree() const;
 
-  // Renders the built tree: box filter over the pattern, composited over the
-  // background; returns the image in the integration colour space.
-  ImageF render(const std::vector<SampleOffset>& pattern, const PaintRecord& background,
+  // Renders the built tree (built over frame's unit-area grid): samples
+  // every unit area with its class's pattern (integ.offsets), integrates as
+  // integ says, composites over the background; returns the image in the
+  // integration colour space.
+  ImageF render(const Integration& integ, const IntegrationFrame& frame, const PaintRecord& background,
                 GpuTimes* times = nullptr);
+  // The box filter over the pixels the tree was built for.
+  ImageF render(const std::vector<SampleOffset>& pattern, const PaintRecord& background, GpuTimes* times = nullptr);
 
   // As render(), leaving the image on the device (benchmarks); returns the
   // GPU time of the whole render, gaps between kernels included, in ms.
-  double render_on_device(const std::vector<SampleOffset>& pattern, const PaintRecord& background,
+  double render_on_device(const Integration& integ, const IntegrationFrame& frame, const PaintRecord& background,
                           GpuTimes* times = nullptr);
 
   // Work issued by the last build: tree depth, kernel launches, CUB calls,

@@ -142,3 +142,56 @@ TEST_CASE("backend choice: auto renders on the GPU here, cuda and cpu agree", "[
   for (size_t i = 0; i < a.rgba.size(); i++) worst = std::max(worst, std::fabs(a.rgba[i] - b.rgba[i]));
   CHECK(worst <= 1.0f / 255.0f);
 }
+
+TEST_CASE("CPU and GPU agree within 1/255 under every preset, filter and colour space", "[gpu]") {
+  struct Mode {
+    const char* name;
+    Filter filter;
+    PatternKind pattern;
+    int samples;
+  };
+  const Mode modes[] = {
+      {"1x8", Filter::Box, PatternKind::Stratified, 8},
+      {"1x32", Filter::Box, PatternKind::Stratified, 32},
+      {"4x4x32", Filter::Cardinal, PatternKind::BlueNoise, 32},
+      {"hat 2x2x8", Filter::Hat, PatternKind::BlueNoise, 8},
+      {"bspline 4x4x64", Filter::BSpline, PatternKind::BlueNoise, 64},
+      {"mitchell 4x4x32", Filter::Mitchell, PatternKind::Stratified, 32},
+      {"catmull-rom 4x4x32", Filter::CatmullRom, PatternKind::BlueNoise, 32},
+  };
+  std::vector<std::pair<std::string, Scene>> scenes;
+  for (uint32_t seed = 1; seed <= 4; seed++) scenes.push_back({"random " + std::to_string(seed), random_scenes::clip_scene(seed, 3, 100)});
+  if (const char* dir = std::getenv("MPVG_BENCH_DIR"))
+    for (const char* name : {"tiger.svg", "reschart.svg"}) {
+      const std::string path = std::string(dir) + "/" + name;
+      if (std::filesystem::exists(path)) scenes.push_back({name, svg::parse_svg_file(path).scene});
+    }
+  for (const auto& [name, scene] : scenes) {
+    const bool big = scene.width > 200;
+    const int w = big ? 1024 : 100, h = static_cast<int>(std::lround(scene.height * w / scene.width));
+    for (const Mode& m : modes)
+      for (Gamma g : {Gamma::Linear, Gamma::Srgb}) {
+        INFO(name << ", " << m.name << ", " << (g == Gamma::Linear ? "linear" : "srgb"));
+        RenderOptions o;
+        o.width = w;
+        o.height = h;
+        o.view = Affine::scale(w / scene.width, h / scene.height);
+        o.background = RGBA{1, 1, 1, 0.5f};
+        o.filter = m.filter;
+        o.pattern = m.pattern;
+        o.samples = m.samples;
+        o.seed = 9;
+        o.gamma = g;
+        o.backend = Backend::Cpu;
+        const ImageF cpu = render(scene, o);
+        o.backend = Backend::Cuda;
+        const ImageF a = render(scene, o), b = render(scene, o);
+        REQUIRE(same_bytes(a.rgba, b.rgba));  // run to run
+        const std::vector<uint8_t> q_cpu = to_rgba8(cpu, g), q_gpu = to_rgba8(a, g);
+        int worst = 0;
+        for (size_t i = 0; i < q_cpu.size(); i++) worst = std::max(worst, std::abs(q_cpu[i] - q_gpu[i]));
+        INFO("largest 8-bit CPU/GPU difference " << worst << "/255");
+        CHECK(worst <= 1);
+      }
+  }
+}

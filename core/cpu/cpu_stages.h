@@ -46,9 +46,15 @@ struct RenderTimes {
   double schedule_ms = 0, sample_ms = 0;
 };
 
-// schedule + sample + integrate: every pixel's unit area is sampled with
-// pattern (offsets in [0,1)^2) in the leaf that holds it, box-filtered, and
-// composited over background (premultiplied). threads = 0: all cores.
+// schedule + sample + integrate: every unit area of frame is sampled with
+// its class's pattern (integ.offsets) in the leaf that holds it, integrated
+// as integ says (integration.h) and composited over background
+// (premultiplied). The tree must have been built over the frame's unit-area
+// grid. threads = 0: all cores.
+ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const IntegrationFrame& frame,
+                       const PaintRecord& background, int threads, RenderTimes* times = nullptr);
+
+// The box filter over width x height pixels (the tree built over them).
 ImageF render_tree_cpu(const ShortcutTree& tree, int width, int height, const std::vector<SampleOffset>& pattern,
                        const PaintRecord& background, int threads, RenderTimes* times = nullptr);
 

@@ -1,7 +1,14 @@
 // Stages "schedule", "sample" and "integrate" on the CPU. Cells are aligned
-// to pixels, so the unit areas of a leaf are the pixels it covers (the
-// non-warped scheduler of §5.3); threads take strips of one leaf at a time,
-// so a cell's stream stays in cache while its samples are evaluated.
+// to unit areas, so the unit areas of a leaf are the unit-area grid squares
+// it covers (the non-warped scheduler of §5.3); threads take strips of one
+// leaf at a time, so a cell's stream stays in cache while its samples are
+// evaluated.
+//
+// Integration (integration.h): with the box filter a unit area is its pixel
+// and the average of its samples is written directly. Wider filters send one
+// weighted sum per covered pixel into fixed-point accumulators (atomic, so
+// the order of arrival does not matter), which are then normalised, passed
+// through the cardinal prefilter if asked, clamped and cropped.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -21,55 +28,95 @@ struct Task {
 
 constexpr uint32_t kMaxTaskPixels = 256;
 
-}  // namespace
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
 
-ImageF render_tree_cpu(const ShortcutTree& tree, int width, int height, const std::vector<SampleOffset>& pattern,
-                       const PaintRecord& background, int threads, RenderTimes* times) {
-  auto t0 = std::chrono::steady_clock::now();
-  ImageF img;
-  img.width = width;
-  img.height = height;
-  img.rgba.assign(size_t(width) * size_t(height) * 4, 0.0f);
-  // Schedule: each leaf's pixels inside the image, in strips.
+// Runs f(i) for i in [0, n) on `threads` threads, dynamically balanced.
+template <class F>
+void parallel_for(size_t n, int threads, F&& f) {
+  int nt = threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency());
+  nt = std::max(1, std::min<int>(nt, static_cast<int>(std::min<size_t>(n, 1 << 20))));
+  std::atomic<size_t> next{0};
+  auto worker = [&]() {
+    for (size_t i; (i = next.fetch_add(1, std::memory_order_relaxed)) < n;) f(i);
+  };
+  std::vector<std::thread> pool;
+  for (int i = 1; i < nt; i++) pool.emplace_back(worker);
+  worker();
+  for (std::thread& th : pool) th.join();
+}
+
+// Schedule: every leaf's unit areas inside the w x h grid, in strips.
+std::vector<Task> schedule(const ShortcutTree& tree, int w, int h) {
   std::vector<Task> tasks;
-  std::vector<char> uniform(tree.leaves.size(), 1);
-  for (size_t l = 0; l < tree.leaves.size(); l++)
-    for (uint32_t i = tree.leaves[l].begin; i < tree.leaves[l].end && uniform[l]; i++)
-      uniform[l] = !entry_is_geometry(tree.leaf_entries[i]);
   for (uint32_t l = 0; l < tree.leaves.size(); l++) {
     const Cell& c = tree.leaves[l];
     const uint32_t s = tree.root_size >> c.level;
     const uint32_t x0 = c.ix * s, y0 = c.iy * s;
-    const uint32_t x1 = std::min<uint32_t>(x0 + s, static_cast<uint32_t>(width));
-    const uint32_t y1 = std::min<uint32_t>(y0 + s, static_cast<uint32_t>(height));
+    const uint32_t x1 = std::min<uint32_t>(x0 + s, static_cast<uint32_t>(w));
+    const uint32_t y1 = std::min<uint32_t>(y0 + s, static_cast<uint32_t>(h));
     if (x0 >= x1 || y0 >= y1) continue;
     const uint32_t rows = std::max<uint32_t>(1, kMaxTaskPixels / (x1 - x0));
     for (uint32_t y = y0; y < y1; y += rows) tasks.push_back({l, x0, x1, y, std::min(y1, y + rows)});
   }
-  if (times) times->schedule_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return tasks;
+}
+
+// Leaves without geometry have one colour everywhere.
+std::vector<char> uniform_leaves(const ShortcutTree& tree) {
+  std::vector<char> uniform(tree.leaves.size(), 1);
+  for (size_t l = 0; l < tree.leaves.size(); l++)
+    for (uint32_t i = tree.leaves[l].begin; i < tree.leaves[l].end && uniform[l]; i++)
+      uniform[l] = !entry_is_geometry(tree.leaf_entries[i]);
+  return uniform;
+}
+
+void composite(const float* p, const PaintRecord& bg, float* out) {
+  const float under = 1.0f - p[3];
+  out[0] = p[0] + under * bg.r;
+  out[1] = p[1] + under * bg.g;
+  out[2] = p[2] + under * bg.b;
+  out[3] = p[3] + under * bg.a;
+}
+
+}  // namespace
+
+ImageF render_tree_cpu(const ShortcutTree& tree, int width, int height, const std::vector<SampleOffset>& pattern,
+                       const PaintRecord& background, int threads, RenderTimes* times) {
+  const Integration box = make_integration(Filter::Box, pattern);
+  return render_tree_cpu(tree, box, integration_frame(box, width, height), background, threads, times);
+}
+
+ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const IntegrationFrame& frame,
+                       const PaintRecord& background, int threads, RenderTimes* times) {
+  const std::vector<SampleOffset>& pattern = integ.offsets;  // class 0 first
+  auto t0 = std::chrono::steady_clock::now();
+  ImageF img;
+  img.width = frame.width;
+  img.height = frame.height;
+  img.rgba.assign(size_t(frame.width) * size_t(frame.height) * 4, 0.0f);
+  const std::vector<Task> tasks = schedule(tree, frame.ua_w, frame.ua_h);
+  const std::vector<char> uniform = uniform_leaves(tree);
+  if (times) times->schedule_ms += ms_since(t0);
 
   t0 = std::chrono::steady_clock::now();
   const SampleInputs in{tree.leaf_entries.data(), tree.segments.data(), tree.paths.data(), tree.paints.data()};
-  const int n = static_cast<int>(pattern.size());
-  const float w = box_weight(n);
-  std::atomic<size_t> next{0};
-  auto worker = [&]() {
-    for (;;) {
-      const size_t ti = next.fetch_add(1, std::memory_order_relaxed);
-      if (ti >= tasks.size()) return;
+  const int n = integ.samples;
+  const bool direct = integ.support == 1 && integ.pad == 0;
+  if (direct) {
+    // Box filter: each unit area is its pixel.
+    const float w = box_weight(n);
+    parallel_for(tasks.size(), threads, [&](size_t ti) {
       const Task& task = tasks[ti];
       const Cell& c = tree.leaves[task.leaf];
       if (uniform[task.leaf]) {
-        // No geometry in the cell: every sample has the colour of its
-        // initial windings, so one evaluation serves the whole strip.
         const Rgba4 col = sample_cell(in, c.begin, c.end, float(task.x0), float(task.y0));
-        const float under = 1.0f - col.a;
-        const float px[4] = {col.r + under * background.r, col.g + under * background.g,
-                             col.b + under * background.b, col.a + under * background.a};
+        const float p[4] = {col.r, col.g, col.b, col.a};
         for (uint32_t y = task.y0; y < task.y1; y++)
           for (uint32_t x = task.x0; x < task.x1; x++)
-            std::copy(px, px + 4, &img.rgba[(size_t(y) * size_t(width) + x) * 4]);
-        continue;
+            composite(p, background, &img.rgba[(size_t(y) * size_t(frame.width) + x) * 4]);
+        return;
       }
       for (uint32_t y = task.y0; y < task.y1; y++) {
         for (uint32_t x = task.x0; x < task.x1; x++) {
@@ -81,24 +128,71 @@ ImageF render_tree_cpu(const ShortcutTree& tree, int width, int height, const st
             acc[2] += col.b;
             acc[3] += col.a;
           }
-          float* px = &img.rgba[(size_t(y) * size_t(width) + x) * 4];
-          const float r = acc[0] * w, g = acc[1] * w, b = acc[2] * w, a = acc[3] * w;
-          const float under = 1.0f - a;
-          px[0] = r + under * background.r;
-          px[1] = g + under * background.g;
-          px[2] = b + under * background.b;
-          px[3] = a + under * background.a;
+          const float p[4] = {acc[0] * w, acc[1] * w, acc[2] * w, acc[3] * w};
+          composite(p, background, &img.rgba[(size_t(y) * size_t(frame.width) + x) * 4]);
+        }
+      }
+    });
+    if (times) times->sample_ms += ms_since(t0);
+    return img;
+  }
+
+  // Shared samples: every unit area sends K x K weighted sums.
+  const int K = integ.support, T = K * K;
+  std::vector<std::atomic<long long>> acc(size_t(frame.acc_w) * frame.acc_h * 4);
+  for (auto& a : acc) a.store(0, std::memory_order_relaxed);
+  parallel_for(tasks.size(), threads, [&](size_t ti) {
+    const Task& task = tasks[ti];
+    const Cell& c = tree.leaves[task.leaf];
+    std::vector<Rgba4> col(static_cast<size_t>(n));
+    Rgba4 flat{0, 0, 0, 0};
+    if (uniform[task.leaf]) flat = sample_cell(in, c.begin, c.end, float(task.x0), float(task.y0));
+    static_assert(sizeof(Rgba4) == 4 * sizeof(float), "Rgba4 is four floats");
+    for (uint32_t uy = task.y0; uy < task.y1; uy++) {
+      for (uint32_t ux = task.x0; ux < task.x1; ux++) {
+        const int cls = unit_area_class(ux, uy, integ.class_mod);
+        const SampleOffset* o = &integ.offsets[size_t(cls) * n];
+        if (!uniform[task.leaf])
+          for (int i = 0; i < n; i++) col[i] = sample_cell(in, c.begin, c.end, float(ux) + o[i].x, float(uy) + o[i].y);
+        for (int ey = 0; ey < K; ey++) {
+          const int ay = static_cast<int>(uy) - ey;
+          if (ay < 0 || ay >= frame.acc_h) continue;
+          for (int ex = 0; ex < K; ex++) {
+            const int ax = static_cast<int>(ux) - ex;
+            if (ax < 0 || ax >= frame.acc_w) continue;
+            float s[4];
+            const size_t t = size_t(cls) * T + size_t(ey) * K + ex;
+            integrate_unit_area(integ.weights.data() + t * n, integ.weight_sums[t], n, uniform[task.leaf] != 0,
+                                &flat.r, &col[0].r, s);
+            std::atomic<long long>* a = &acc[(size_t(ay) * frame.acc_w + ax) * 4];
+            for (int ch = 0; ch < 4; ch++) a[ch].fetch_add(to_fixed(s[ch]), std::memory_order_relaxed);
+          }
         }
       }
     }
-  };
-  int nt = threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency());
-  nt = std::max(1, std::min<int>(nt, static_cast<int>(tasks.size())));
-  std::vector<std::thread> pool;
-  for (int i = 1; i < nt; i++) pool.emplace_back(worker);
-  worker();
-  for (std::thread& th : pool) th.join();
-  if (times) times->sample_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  });
+  // Normalise, prefilter rows then columns, clamp, crop, composite.
+  std::vector<float> buf(acc.size());
+  for (size_t i = 0; i < acc.size(); i++) {
+    const size_t px = i / 4;
+    const int pc = unit_area_class(uint32_t(px % frame.acc_w), uint32_t(px / frame.acc_w), integ.class_mod);
+    buf[i] = fixed_to_float(acc[i].load(std::memory_order_relaxed), kFixedScale * integ.totals[pc]);
+  }
+  if (integ.prefilter) {
+    parallel_for(size_t(frame.acc_h), threads,
+                 [&](size_t y) { cardinal_prefilter_line(&buf[y * frame.acc_w * 4], frame.acc_w, 4); });
+    parallel_for(size_t(frame.acc_w), threads,
+                 [&](size_t x) { cardinal_prefilter_line(&buf[x * 4], frame.acc_h, frame.acc_w * 4); });
+  }
+  for (int y = 0; y < frame.height; y++)
+    for (int x = 0; x < frame.width; x++) {
+      float p[4];
+      const float* q = &buf[((size_t(y) + integ.pad) * frame.acc_w + x + integ.pad) * 4];
+      std::copy(q, q + 4, p);
+      clamp_premultiplied(p);
+      composite(p, background, &img.rgba[(size_t(y) * frame.width + x) * 4]);
+    }
+  if (times) times->sample_ms += ms_since(t0);
   return img;
 }
 
