@@ -79,7 +79,7 @@ Integration build_integration(Filter f, int m, int classes, std::vector<SampleOf
           const SampleOffset o = in.offsets[size_t(c) * m + i];
           const float w = filter_kernel(f, static_cast<float>(ex) + o.x - half) *
                           filter_kernel(f, static_cast<float>(ey) + o.y - half) / static_cast<float>(m);
-          in.weights[t * m + i] = w;
+          in.weights[(size_t(c) * m + i) * T + size_t(ey) * K + ex] = w;
           sum += w;
         }
         in.weight_sums[t] = sum;

@@ -101,9 +101,10 @@ struct Integration {
   int classes = 1;     // K^2 for K > 1
   int class_mod = 1;   // K for K > 1: class of unit area (u, v) is unit_area_class(u, v, class_mod)
   std::vector<SampleOffset> offsets;  // [class][i]
-  // weights[(class * K^2 + ey * K + ex) * m + i]: weight of sample i of a
+  // weights[(class * m + i) * K^2 + ey * K + ex]: weight of sample i of a
   // unit area of that class for the accumulation pixel (ex, ey) unit areas
-  // before it (see integration_frame).
+  // before it (see integration_frame). Targets vary fastest: the GPU's
+  // threads for one unit area's K^2 pixels read neighbouring weights.
   std::vector<float> weights;
   std::vector<float> weight_sums;  // [class][target]: sum over i, for uniform cells
   std::vector<double> totals;      // [pixel class]: all weights reaching such a pixel
@@ -154,18 +155,18 @@ MPVG_HD_INLINE float box_weight(int n) { return 1.0f / static_cast<float>(n); }
 constexpr double kFixedScale = 17592186044416.0;
 MPVG_HD_INLINE long long to_fixed(float v) { return static_cast<long long>(rint(static_cast<double>(v) * kFixedScale)); }
 
-// The weighted sum one unit area sends to one pixel: sum_i w[i] col[i]
-// (4 channels per sample), in this order on both backends. A uniform cell's
-// samples all have the colour flat: flat times the weights' sum.
-MPVG_HD_INLINE void integrate_unit_area(const float* w, float wsum, int n, bool uniform, const float* flat,
-                                        const float* col, float out[4]) {
+// The weighted sum one unit area sends to one pixel: sum_i w[i stride]
+// col[i] (4 channels per sample), in this order on both backends. A uniform
+// cell's samples all have the colour flat: flat times the weights' sum.
+MPVG_HD_INLINE void integrate_unit_area(const float* w, int stride, float wsum, int n, bool uniform,
+                                        const float* flat, const float* col, float out[4]) {
   if (uniform) {
     for (int c = 0; c < 4; c++) out[c] = flat[c] * wsum;
     return;
   }
   for (int c = 0; c < 4; c++) out[c] = 0.0f;
   for (int i = 0; i < n; i++)
-    for (int c = 0; c < 4; c++) out[c] += w[i] * col[i * 4 + c];
+    for (int c = 0; c < 4; c++) out[c] += w[i * stride] * col[i * 4 + c];
 }
 
 MPVG_HD_INLINE float fixed_to_float(long long v, double norm) {
@@ -173,33 +174,56 @@ MPVG_HD_INLINE float fixed_to_float(long long v, double norm) {
 }
 
 // The recursive prefilter that turns B-spline weights into cardinal ones
-// (Unser et al. 1991; the parallel formulation is Nehab et al. 2011's): the
-// inverse of the sampled B-spline [1/6, 4/6, 1/6] along one line of n
-// samples of 4 channels, `stride` floats apart, as a causal and an
-// anticausal first-order recursion with pole z = sqrt(3) - 2 and mirror
-// boundaries. On a padded image the boundaries are kCardinalPad pixels away
-// from anything visible.
+// (Unser et al. 1991): the inverse of the sampled B-spline [1/6, 4/6, 1/6]
+// along a line, as a causal and an anticausal first-order recursion with pole
+// z = sqrt(3) - 2, gain 6, and mirror boundaries:
+//
+//   causal      c[k] = x[k] + z c[k-1],        c[-1] = sum_{k>=1} z^(k-1) x[k]
+//   anticausal  a[k] = z (a[k+1] - c[k]),      a[n-1] = z / (z^2 - 1) (c[n-1] + z c[n-2])
+//   output      y[k] = 6 a[k]
+//
+// The CPU runs the recursions along each line; the GPU cuts lines into
+// blocks, runs them on every block from a zero carry, propagates the carries
+// between blocks and corrects each block by the carry times powers of z
+// (Nehab et al. 2011). Both use the pieces below. On a padded image the
+// boundaries are kCardinalPad pixels away from anything visible.
+constexpr float kCardinalPole = -0.267949192431122706f;  // sqrt(3) - 2
+constexpr float kCardinalGain = 6.0f;
+constexpr int kCardinalHorizon = 13;  // |z|^13 < 1e-7
+
+// c[-1] of a line of n >= 2 samples (x[k] at data[k * stride]), truncated
+// at the horizon.
+MPVG_HD_INLINE float cardinal_causal_carry(const float* data, int n, int stride) {
+  const float z = kCardinalPole;
+  const int horizon = n < kCardinalHorizon ? n : kCardinalHorizon;
+  float sum = 0.0f, zk = 1.0f;
+  for (int k = 1; k < horizon; k++) {
+    sum += zk * data[k * stride];
+    zk *= z;
+  }
+  return sum;
+}
+
+// a[n-1] from the causal outputs c[n-1], c[n-2].
+MPVG_HD_INLINE float cardinal_anticausal_start(float c_last, float c_before) {
+  const float z = kCardinalPole;
+  return (z / (z * z - 1.0f)) * (c_last + z * c_before);
+}
+
+// The whole prefilter on one line of n samples of 4 channels, `stride`
+// floats apart (the CPU's executor).
 MPVG_HD_INLINE void cardinal_prefilter_line(float* data, int n, int stride) {
-  const float z = -0.267949192431122706f;  // sqrt(3) - 2
+  const float z = kCardinalPole;
   if (n < 2) return;
   for (int c = 0; c < 4; c++) {
     float* d = data + c;
-    // Causal initialisation: sum of z^k f[k] over the mirror-extended line,
-    // truncated where z^k < 1e-7.
-    float sum = d[0], zk = z;
-    const int horizon = n < 13 ? n : 13;
-    for (int k = 1; k < horizon; k++) {
-      sum += zk * d[k * stride];
-      zk *= z;
-    }
-    d[0] = sum;
-    for (int k = 1; k < n; k++) d[k * stride] += z * d[(k - 1) * stride];
-    // Anticausal initialisation and recursion; the gain 6 restores DC.
-    float next = (z / (z * z - 1.0f)) * (d[(n - 1) * stride] + z * d[(n - 2) * stride]);
-    d[(n - 1) * stride] = 6.0f * next;
+    float carry = cardinal_causal_carry(d, n, stride);
+    for (int k = 0; k < n; k++) carry = d[k * stride] += z * carry;
+    float next = cardinal_anticausal_start(d[(n - 1) * stride], d[(n - 2) * stride]);
+    d[(n - 1) * stride] = kCardinalGain * next;
     for (int k = n - 2; k >= 0; k--) {
       next = z * (next - d[k * stride]);
-      d[k * stride] = 6.0f * next;
+      d[k * stride] = kCardinalGain * next;
     }
   }
 }

@@ -79,7 +79,8 @@ Context::BuildCounts Context::build_counts() const {
 }
 
 void Context::set_sampler_shape(const SamplerShape& shape) {
-  if (shape.threads < 32 || shape.threads > 1024 || shape.threads % 32 || shape.chunk < 1 || shape.batch < 1)
+  if (shape.threads < 32 || shape.threads > 1024 || shape.threads % 32 || shape.chunk < 1 || shape.batch < 1 ||
+      (shape.batch & (shape.batch - 1)) != 0)
     throw Error("invalid sampler shape");
   impl_->shape = shape;
 }

@@ -119,6 +119,7 @@ struct Context::Impl {
   DeviceBuffer<SampleOffset> pattern;
   DeviceBuffer<float4> image;
   DeviceBuffer<float4> leaf_color;
+  DeviceBuffer<float4> ua_color;  // wide filters: flat colour per unit area, a < 0 where not uniform
   DeviceBuffer<uint32_t> leaf_batches;  // exclusive scan of batches per leaf
   DeviceBuffer<float> weights, weight_sums, buf;
   DeviceBuffer<double> totals;

@@ -24,8 +24,9 @@ struct GpuTimes {
 
 // Kernel shape of the sampler (§5.3): threads per block (the paper's S, the
 // samples in flight), entries streamed through shared memory per chunk (I),
-// and unit areas per batch (U). The paper used S = 128, I = 32, U = 32 on a
-// GTX Titan; on an H200 S = 64 measured fastest (BENCHMARKS.md).
+// and unit areas per batch (U, a power of two: a batch is a tile of unit
+// areas, 8 x 4 for 32). The paper used S = 128, I = 32, U = 32 on a GTX
+// Titan; on an H200 S = 64 measured fastest (BENCHMARKS.md).
 struct SamplerShape {
   int threads = 64;
   int chunk = 32;

@@ -31,7 +31,9 @@ if has build; then
   echo "build: $(( $(date +%s) - t0 )) s"
 fi
 if has test; then
-  (cd "$build" && ctest --output-on-failure -j 4 > "$out/ctest.log" 2>&1) || status=1
+  # A hung test fails after 300 s instead of taking the call with it;
+  # MPVG_CTEST_ARGS adds CTest options (e.g. -R / -E).
+  (cd "$build" && ctest --output-on-failure --timeout 300 -j 4 ${MPVG_CTEST_ARGS:-} > "$out/ctest.log" 2>&1) || status=1
   grep -E "Test +#|tests passed|FAILED|Skipped" "$out/ctest.log" | tail -15
 fi
 if has sanitize; then
@@ -48,7 +50,7 @@ if has profile; then
   metrics=gpu__time_duration.sum,sm__throughput.avg.pct_of_peak_sustained_elapsed,dram__throughput.avg.pct_of_peak_sustained_elapsed,sm__warps_active.avg.pct_of_peak_sustained_active,smsp__thread_inst_executed_per_inst_executed.ratio,launch__grid_size,launch__registers_per_thread
   for f in tiger hawaii; do
     ncu --clock-control none --csv --metrics "$metrics" \
-      -k regex:'k_sample|k_split|k_scatter|k_count|k_mark|k_classify|k_compact|k_abstract_write|k_distribute|k_fill_uniform|k_leaf_info' \
+      -k regex:'k_sample|k_normalize|k_prefilter_lines|k_unit_area_color|k_output|k_split|k_scatter|k_count|k_mark|k_classify|k_compact|k_abstract_write|k_distribute|k_fill_uniform|k_leaf_info' \
       "$build/apps/svg2png" --backend cuda -q -w 1024 "$deps/bench/$f.svg" /tmp/profile.png > "$out/ncu-$f.csv" 2> "$out/ncu-$f.err"
     echo "ncu $f: exit $?, $(grep -c '"' "$out/ncu-$f.csv") rows"
   done

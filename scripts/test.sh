@@ -6,4 +6,4 @@ set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 "$root/scripts/build.sh"
 cd "$root/build"
-exec ctest --output-on-failure -j "$(nproc 2>/dev/null || echo 2)"
+exec ctest --output-on-failure --timeout 900 -j "$(nproc 2>/dev/null || echo 2)"

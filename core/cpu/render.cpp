@@ -161,9 +161,9 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
             const int ax = static_cast<int>(ux) - ex;
             if (ax < 0 || ax >= frame.acc_w) continue;
             float s[4];
-            const size_t t = size_t(cls) * T + size_t(ey) * K + ex;
-            integrate_unit_area(integ.weights.data() + t * n, integ.weight_sums[t], n, uniform[task.leaf] != 0,
-                                &flat.r, &col[0].r, s);
+            const size_t t = size_t(ey) * K + ex;
+            integrate_unit_area(integ.weights.data() + size_t(cls) * n * T + t, T, integ.weight_sums[cls * T + t], n,
+                                uniform[task.leaf] != 0, &flat.r, &col[0].r, s);
             std::atomic<long long>* a = &acc[(size_t(ay) * frame.acc_w + ax) * 4];
             for (int ch = 0; ch < 4; ch++) a[ch].fetch_add(to_fixed(s[ch]), std::memory_order_relaxed);
           }
