@@ -241,8 +241,10 @@ __global__ void k_normalize(const unsigned long long* acc, const float4* ua_colo
 //      last block starts from the boundary value a[n-1].
 constexpr int kPrefilterLines = 8, kPrefilterBlocks = 64;
 
+// a x + y, rounded twice like the CPU's recursion (the build keeps nvcc from
+// contracting it into an FMA).
 __device__ __forceinline__ float4 axpy4(float a, float4 x, float4 y) {
-  return make_float4(fmaf(a, x.x, y.x), fmaf(a, x.y, y.y), fmaf(a, x.z, y.z), fmaf(a, x.w, y.w));
+  return make_float4(a * x.x + y.x, a * x.y + y.y, a * x.z + y.z, a * x.w + y.w);
 }
 
 __global__ void k_prefilter_lines(float4* data, int lines, int n, size_t line_stride, size_t elem_stride) {
