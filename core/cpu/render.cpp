@@ -137,33 +137,38 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
     return img;
   }
 
-  // Shared samples: every unit area sends K x K weighted sums.
+  // Shared samples: every unit area sends K x K weighted sums. Unit areas
+  // of uniform leaves are gathered in the normalisation instead (as on the
+  // GPU): their flat colours go to ua_color.
   const int K = integ.support, T = K * K;
   std::vector<std::atomic<long long>> acc(size_t(frame.acc_w) * frame.acc_h * 4);
   for (auto& a : acc) a.store(0, std::memory_order_relaxed);
+  std::vector<Rgba4> ua_color(size_t(frame.ua_w) * frame.ua_h, Rgba4{0, 0, 0, -1});
   parallel_for(tasks.size(), threads, [&](size_t ti) {
     const Task& task = tasks[ti];
     const Cell& c = tree.leaves[task.leaf];
+    if (uniform[task.leaf]) {
+      const Rgba4 flat = sample_cell(in, c.begin, c.end, float(task.x0), float(task.y0));
+      for (uint32_t uy = task.y0; uy < task.y1; uy++)
+        for (uint32_t ux = task.x0; ux < task.x1; ux++) ua_color[size_t(uy) * frame.ua_w + ux] = flat;
+      return;
+    }
     std::vector<Rgba4> col(static_cast<size_t>(n));
-    Rgba4 flat{0, 0, 0, 0};
-    if (uniform[task.leaf]) flat = sample_cell(in, c.begin, c.end, float(task.x0), float(task.y0));
+    std::vector<float> sums(size_t(T) * 4);
     static_assert(sizeof(Rgba4) == 4 * sizeof(float), "Rgba4 is four floats");
     for (uint32_t uy = task.y0; uy < task.y1; uy++) {
       for (uint32_t ux = task.x0; ux < task.x1; ux++) {
         const int cls = unit_area_class(ux, uy, integ.class_mod);
         const SampleOffset* o = &integ.offsets[size_t(cls) * n];
-        if (!uniform[task.leaf])
-          for (int i = 0; i < n; i++) col[i] = sample_cell(in, c.begin, c.end, float(ux) + o[i].x, float(uy) + o[i].y);
+        for (int i = 0; i < n; i++) col[i] = sample_cell(in, c.begin, c.end, float(ux) + o[i].x, float(uy) + o[i].y);
+        integrate_unit_area_all(integ.weights.data() + size_t(cls) * n * T, T, n, &col[0].r, sums.data());
         for (int ey = 0; ey < K; ey++) {
           const int ay = static_cast<int>(uy) - ey;
           if (ay < 0 || ay >= frame.acc_h) continue;
           for (int ex = 0; ex < K; ex++) {
             const int ax = static_cast<int>(ux) - ex;
             if (ax < 0 || ax >= frame.acc_w) continue;
-            float s[4];
-            const size_t t = size_t(ey) * K + ex;
-            integrate_unit_area(integ.weights.data() + size_t(cls) * n * T + t, T, integ.weight_sums[cls * T + t], n,
-                                uniform[task.leaf] != 0, &flat.r, &col[0].r, s);
+            const float* s = &sums[size_t(ey * K + ex) * 4];
             std::atomic<long long>* a = &acc[(size_t(ay) * frame.acc_w + ax) * 4];
             for (int ch = 0; ch < 4; ch++) a[ch].fetch_add(to_fixed(s[ch]), std::memory_order_relaxed);
           }
@@ -171,13 +176,27 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
       }
     }
   });
-  // Normalise, prefilter rows then columns, clamp, crop, composite.
+  // Normalise (adding the uniform unit areas), prefilter rows then columns,
+  // clamp, crop, composite.
   std::vector<float> buf(acc.size());
-  for (size_t i = 0; i < acc.size(); i++) {
-    const size_t px = i / 4;
-    const int pc = unit_area_class(uint32_t(px % frame.acc_w), uint32_t(px / frame.acc_w), integ.class_mod);
-    buf[i] = fixed_to_float(acc[i].load(std::memory_order_relaxed), kFixedScale * integ.totals[pc]);
-  }
+  parallel_for(size_t(frame.acc_h), threads, [&](size_t ay) {
+    for (int ax = 0; ax < frame.acc_w; ax++) {
+      const size_t px = ay * size_t(frame.acc_w) + ax;
+      long long sum[4];
+      for (int ch = 0; ch < 4; ch++) sum[ch] = acc[px * 4 + ch].load(std::memory_order_relaxed);
+      for (int e = 0; e < T; e++) {
+        const uint32_t ux = uint32_t(ax + e % K), uy = uint32_t(ay + e / K);
+        const Rgba4& u = ua_color[size_t(uy) * frame.ua_w + ux];
+        if (u.a < 0.0f) continue;
+        float s[4];
+        integrate_unit_area(nullptr, 0, integ.weight_sums[unit_area_class(ux, uy, integ.class_mod) * T + e], 0, true,
+                            &u.r, nullptr, s);
+        for (int ch = 0; ch < 4; ch++) sum[ch] += to_fixed(s[ch]);
+      }
+      const double norm = kFixedScale * integ.totals[unit_area_class(uint32_t(ax), uint32_t(ay), integ.class_mod)];
+      for (int ch = 0; ch < 4; ch++) buf[px * 4 + ch] = fixed_to_float(sum[ch], norm);
+    }
+  });
   if (integ.prefilter) {
     parallel_for(size_t(frame.acc_h), threads,
                  [&](size_t y) { cardinal_prefilter_line(&buf[y * frame.acc_w * 4], frame.acc_w, 4); });
