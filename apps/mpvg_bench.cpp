@@ -84,7 +84,7 @@ int main(int argc, char** argv) {
     for (size_t fi = 0; fi < files.size(); fi++) {
       const std::string& f = files[fi];
       const std::string name = std::filesystem::path(f).stem().string();
-      const svg::ParseResult doc = svg::parse_svg_file(f);
+      const svg::ParseResult doc = svg::parse_svg_file(f, svg::ParseOptions::at_width(1024));
       const int w = 1024, h = static_cast<int>(std::lround(doc.scene.height * 1024.0 / doc.scene.width));
       // The paper's three modes: box 1x8 and 1x32, and 4x4x32 (cardinal
       // cubic B-spline, 32 blue-noise samples per unit area, linear light).

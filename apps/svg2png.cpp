@@ -1,4 +1,5 @@
 // svg2png: renders an SVG document to a PNG.
+#include <chrono>
 #include <cstdio>
 #include <exception>
 
@@ -18,7 +19,17 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    svg::ParseResult doc = svg::parse_svg_file(opt.positional[0]);
+    // Strokes are converted for the output's pixels (tolerance, hairlines).
+    svg::ParseOptions parse_options;
+    parse_options.view = [&opt](double w, double h) {
+      int width, height;
+      Affine view;
+      cli::output_geometry(opt, w, h, &width, &height, &view);
+      return view;
+    };
+    const auto t0 = std::chrono::steady_clock::now();
+    svg::ParseResult doc = svg::parse_svg_file(opt.positional[0], parse_options);
+    const double parse_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (!opt.quiet)
       for (const std::string& w : doc.warnings) std::fprintf(stderr, "svg2png: warning: %s\n", w.c_str());
     int width, height;
@@ -31,7 +42,11 @@ int main(int argc, char** argv) {
       write_png_rgba16(opt.output, width, height, to_rgba16(img, opt.gamma));
     else
       write_png_rgba8(opt.output, width, height, to_rgba8(img, opt.gamma));
-    if (opt.stats) std::fprintf(stderr, "%s", cli::format_stats(stats).c_str());
+    if (opt.stats) {
+      std::fprintf(stderr, "parse %.3f ms (stroke %.3f ms, %zu strokes)\n", parse_ms, doc.stroke_seconds * 1e3,
+                   doc.stroked_paths);
+      std::fprintf(stderr, "%s", cli::format_stats(stats).c_str());
+    }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "svg2png: %s\n", e.what());
     return 1;

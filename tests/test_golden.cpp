@@ -21,7 +21,13 @@ namespace fs = std::filesystem;
 namespace {
 
 std::vector<uint8_t> render_golden(const std::string& svg_path, int* w, int* h) {
-  const svg::ParseResult doc = svg::parse_svg_file(svg_path);
+  // Rendered at the intrinsic size, as svg2png without size options; the
+  // strokes are prepared for that scale.
+  svg::ParseOptions po;
+  po.view = [](double w, double h) {
+    return Affine::scale(std::lround(w) / w, std::lround(h) / h);
+  };
+  const svg::ParseResult doc = svg::parse_svg_file(svg_path, po);
   RenderOptions o;
   o.width = static_cast<int>(std::lround(doc.scene.width));
   o.height = static_cast<int>(std::lround(doc.scene.height));

@@ -39,7 +39,7 @@ std::vector<Case> cases() {
       if (e.path().extension() == ".svg") files.push_back(e.path());
     std::sort(files.begin(), files.end());
     for (const auto& f : files) {
-      const svg::ParseResult doc = svg::parse_svg_file(f.string());
+      const svg::ParseResult doc = svg::parse_svg_file(f.string(), svg::ParseOptions::at_width(1024));
       const int w = 1024, h = static_cast<int>(std::lround(doc.scene.height * 1024.0 / doc.scene.width));
       out.push_back({f.stem().string(),
                      encode(doc.scene, Affine::scale(w / doc.scene.width, h / doc.scene.height), Gamma::Srgb), w, h});

@@ -248,7 +248,7 @@ TEST_CASE("noise: 4x4x32 renders with two seeds differ far less than 1x8 ones", 
     return st;
   };
   for (const auto& [path, width] : inputs) {
-    const Scene s = svg::parse_svg_file(path).scene;
+    const Scene s = svg::parse_svg_file(path, svg::ParseOptions::at_width(width)).scene;
     const int w = width, h = static_cast<int>(std::lround(s.height * width / s.width));
     auto seeds = [&](Filter f, PatternKind pk, int m, Gamma g) {
       return stats(differences(render(s, w, h, f, pk, m, 1, g), render(s, w, h, f, pk, m, 2, g), g));

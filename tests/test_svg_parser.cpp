@@ -895,3 +895,211 @@ TEST_CASE("svg robustness: hostile input terminates with bounded output", "[svg]
         "scene 100 100\npath 0 fill nonzero rgba(0,0,0,1) opacity 1\n  M 0 0 L 2 0 L 2 2 L 0 2 L 0 0 "
         "Z\nstream F0\n");
 }
+
+// ------------------------------------------------------------------ strokes
+
+TEST_CASE("svg stroke: a line draws its stroke, polylines get caps and joins in one contour", "[svg][stroke]") {
+  // Width 1 (the initial value), square caps, bevel join: one contour, the
+  // outer edge through the bevel, the inner edge through the vertex.
+  CHECK(dump_of(R"~(<line x1="10" y1="10" x2="30" y2="10" stroke="red" stroke-width="4" fill="blue"/>)~"
+                R"~(<polyline points="10 50 30 50 30 70" fill="none" stroke="#00f" stroke-linecap="square" )~"
+                R"~(stroke-linejoin="bevel"/>)~") ==
+        R"~(scene 100 100
+path 0 fill nonzero rgba(0,0,1,1) opacity 1
+  M 10 49.5 L 30 49.5 L 30.5 50 L 30.5 70 L 30.5 70.5 L 29.5 70.5 L 29.5 70 L 29.5 50 L 30 50 L 30 50.5 L 10 50.5 L 9.5 50.5 L 9.5 49.5 L 10 49.5 Z
+path 1 fill nonzero rgba(1,0,0,1) opacity 1
+  M 10 8 L 30 8 L 30 12 L 10 12 L 10 8 Z
+stream F0 F1
+)~");
+}
+
+TEST_CASE("svg stroke: paint-order, inheritance, stroke-opacity, currentColor, percentages", "[svg][stroke]") {
+  // Document order: rect 1 strokes then fills (paint-order: stroke); rect 2
+  // "markers stroke" means markers, stroke, fill. stroke, stroke-width and
+  // stroke-opacity inherit from the group; currentColor is the colour where
+  // stroke is declared; 10% of the viewport diagonal (100) is 10.
+  const std::string body = R"~(<g stroke="green" stroke-width="2" stroke-opacity="0.5" color="#f00">)~"
+                           R"~(<rect x="10" y="10" width="20" height="20" fill="currentColor" paint-order="stroke"/>)~"
+                           R"~(<rect x="40" y="10" width="20" height="20" stroke="currentColor" stroke-width="10%")~"
+                           R"~( paint-order="markers stroke"/></g>)~";
+  CHECK(headers_of(body) == R"~(scene 100 100
+path 0 fill nonzero rgba(0,0,0,1) opacity 1
+path 1 fill nonzero rgba(1,0,0,1) opacity 0.5
+path 2 fill nonzero rgba(1,0,0,1) opacity 1
+path 3 fill nonzero rgba(0,0.501961,0,1) opacity 0.5
+stream F0 F1 F2 F3
+)~");
+  const auto r = parse(body);
+  // The 10% stroke: outer edge 5 outside the rect.
+  const mpvg::Path& wide = r.scene.geometries.at(r.scene.paths.at(1).geometry);
+  CHECK(wide.points().at(0).x == 40);
+  CHECK(wide.points().at(0).y == 5);
+  CHECK(r.stroked_paths == 2);
+}
+
+TEST_CASE("svg stroke: paint-order values", "[svg][stroke]") {
+  auto order = [](const std::string& po) {
+    return headers_of(R"~(<rect width="10" height="10" fill="#00f" stroke="#f00" paint-order=")~" + po + "\"/>");
+  };
+  const std::string fill_first = "scene 100 100\npath 0 fill nonzero rgba(1,0,0,1) opacity 1\n"
+                                 "path 1 fill nonzero rgba(0,0,1,1) opacity 1\nstream F0 F1\n";
+  const std::string stroke_first = "scene 100 100\npath 0 fill nonzero rgba(0,0,1,1) opacity 1\n"
+                                   "path 1 fill nonzero rgba(1,0,0,1) opacity 1\nstream F0 F1\n";
+  CHECK(order("normal") == fill_first);
+  CHECK(order("fill") == fill_first);
+  CHECK(order("markers") == fill_first);
+  CHECK(order("stroke") == stroke_first);
+  CHECK(order("markers stroke fill") == stroke_first);
+  CHECK(order("stroke stroke") == fill_first);  // invalid: ignored
+  CHECK(order("bogus") == fill_first);
+}
+
+TEST_CASE("svg stroke: dash arrays and offsets, invalid values ignored", "[svg][stroke]") {
+  // "10, 5 5" repeats to 10 5 5 10 5 5; offset -5 is 35 into the 40 long
+  // pattern: dashes at 5-15, 20-25, 35-40.
+  CHECK(dump_of(R"~(<line x2="40" stroke="#000" stroke-dasharray="10, 5 5" stroke-dashoffset="-5"/>)~") ==
+        R"~(scene 100 100
+path 0 fill nonzero rgba(0,0,0,1) opacity 1
+  M 5 -0.5 L 15 -0.5 L 15 0.5 L 5 0.5 L 5 -0.5 Z
+  M 20 -0.5 L 25 -0.5 L 25 0.5 L 20 0.5 L 20 -0.5 Z
+  M 35 -0.5 L 40 -0.5 L 40 0.5 L 35 0.5 L 35 -0.5 Z
+stream F0
+)~");
+  // A negative dash invalidates the declaration: the inherited 10% (of the
+  // diagonal 100) applies.
+  CHECK(dump_of(R"~(<g stroke-dasharray="10%"><line x2="40" stroke="#000" stroke-dasharray="5 -5"/></g>)~") ==
+        R"~(scene 100 100
+path 0 fill nonzero rgba(0,0,0,1) opacity 1
+  M 0 -0.5 L 10 -0.5 L 10 0.5 L 0 0.5 L 0 -0.5 Z
+  M 20 -0.5 L 30 -0.5 L 30 0.5 L 20 0.5 L 20 -0.5 Z
+stream F0
+)~");
+  // All zeros: solid. mm units; em units follow font-size.
+  CHECK(headers_of(R"~(<line x2="40" stroke="#000" stroke-dasharray="0 0"/>)~") ==
+        "scene 100 100\npath 0 fill nonzero rgba(0,0,0,1) opacity 1\nstream F0\n");
+  const auto mm = parse(R"~(<line x2="100" stroke="#000" stroke-dasharray="10mm"/>)~");
+  CHECK(mm.scene.geometries.at(0).contours().size() == 2);  // 37.8 on, 37.8 off, 24.4 on
+  const auto em = parse(R"~(<g font-size="20"><line x2="100" stroke="#000" stroke-dasharray="1em 0.5em"/></g>)~");
+  CHECK(em.scene.geometries.at(0).contours().size() == 4);  // period 30: 0, 30, 60, 90
+}
+
+TEST_CASE("svg stroke: width, miter limit and line join values", "[svg][stroke]") {
+  // An angle of 33.7 degrees: miter ratio 1 / sin(16.85) = 3.45, within the
+  // initial limit 4; 0.5 is invalid and ignored (were it clamped to 1, the
+  // join would be a bevel).
+  const auto r = parse(R"~(<polyline points="0 0 40 0 10 20" fill="none" stroke="#000" stroke-width="2" )~"
+                       R"~(stroke-miterlimit="0.5"/>)~");
+  // The miter tip lies past the vertex: some point has x > 41.
+  double max_x = 0;
+  for (const mpvg::Vec2& p : r.scene.geometries.at(0).points()) max_x = std::max(max_x, p.x);
+  CHECK(max_x > 41);
+  // Negative widths are invalid (the inherited width applies); zero draws
+  // nothing.
+  CHECK(headers_of(R"~(<g stroke-width="3"><line x2="10" stroke="#000" stroke-width="-1"/></g>)~") ==
+        "scene 100 100\npath 0 fill nonzero rgba(0,0,0,1) opacity 1\nstream F0\n");
+  CHECK(dump_of(R"~(<line x2="10" stroke="#000" stroke-width="0"/>)~") == "scene 100 100\nstream\n");
+  CHECK(dump_of(R"~(<line x2="10" stroke="#000" stroke-opacity="0"/>)~") == "scene 100 100\nstream\n");
+  CHECK(dump_of(R"~(<line x2="10" stroke="#000" visibility="hidden"/>)~") == "scene 100 100\nstream\n");
+  // Round joins and caps are disks: conics.
+  const auto round = parse(R"~(<polyline points="0 0 40 0 40 20" fill="none" stroke="#000" stroke-width="4" )~"
+                           R"~(stroke-linejoin="round" stroke-linecap="round"/>)~");
+  size_t conics = 0;
+  for (const mpvg::Path::Segment& s : round.scene.geometries.at(0).segments())
+    conics += s.type == mpvg::SegmentType::RQuad;
+  CHECK(conics == 12);
+}
+
+TEST_CASE("svg stroke: zero-length subpaths get dots and squares", "[svg][stroke]") {
+  // "M p Z" and "M p L p": round caps give disks of the stroke width; butt
+  // caps nothing; square caps a square. A fill needs area: "M p Z" fills
+  // nothing.
+  CHECK(dump_of(R"~(<path d="M 10 10 Z M 20 20 L 20 20" stroke="red" stroke-width="4" stroke-linecap="round"/>)~"
+                R"~(<path d="M 50 50 Z" stroke="red" stroke-linecap="butt"/>)~"
+                R"~(<path d="M 60 60 Z" stroke="red" stroke-width="2" stroke-linecap="square" fill="blue"/>)~") ==
+        R"~(scene 100 100
+path 0 fill nonzero rgba(1,0,0,1) opacity 1
+  M 59 59 L 61 59 L 61 61 L 59 61 L 59 59 Z
+path 1 fill nonzero rgba(1,0,0,1) opacity 1
+  M 12 10 R 12 12 10 12 w 0.707107 R 8 12 8 10 w 0.707107 R 8 8 10 8 w 0.707107 R 12 8 12 10 w 0.707107 Z
+  M 22 20 R 22 22 20 22 w 0.707107 R 18 22 18 20 w 0.707107 R 18 18 20 18 w 0.707107 R 22 18 22 20 w 0.707107 Z
+path 2 fill nonzero rgba(0,0,0,1) opacity 1
+  M 10 10 Z
+  M 20 20 L 20 20
+stream F0 F1 F2
+)~");
+  // A lone moveto is not a subpath: nothing, caps or not.
+  CHECK(dump_of(R"~(<path d="M 10 10" stroke="red" stroke-linecap="round"/>)~") == "scene 100 100\nstream\n");
+}
+
+TEST_CASE("svg stroke: vector-effect non-scaling-stroke strokes in scene units", "[svg][stroke]") {
+  // scale(2 1): the stroke keeps width 2 in scene units, and the outline is
+  // already in scene space (no transform on the path). A closed rectangle
+  // is two loops: the outer edge and the inner edge (through the vertices).
+  CHECK(dump_of(R"~(<rect x="10" y="10" width="20" height="20" fill="none" stroke="red" stroke-width="2" )~"
+                R"~(transform="scale(2 1)" vector-effect="non-scaling-stroke" stroke-linejoin="bevel"/>)~") ==
+        R"~(scene 100 100
+path 0 fill nonzero rgba(1,0,0,1) opacity 1
+  M 20 9 L 60 9 L 61 10 L 61 30 L 60 31 L 20 31 L 19 30 L 19 10 L 20 9 Z
+  M 20 11 L 20 10 L 21 10 L 21 30 L 20 30 L 20 29 L 60 29 L 60 30 L 59 30 L 59 10 L 60 10 L 60 11 L 20 11 Z
+stream F0
+)~");
+  // Without it the stroke is transformed with the shape.
+  CHECK(headers_of(R"~(<rect x="10" y="10" width="20" height="20" fill="none" stroke="red" transform="scale(2 1)"/>)~") ==
+        "scene 100 100\npath 0 fill nonzero rgba(1,0,0,1) opacity 1 matrix(2 0 0 1 0 0)\nstream F0\n");
+}
+
+TEST_CASE("svg stroke: hairlines are widened to the device scale with their opacity scaled", "[svg][stroke]") {
+  // ParseOptions::device_scale 2: a stroke thinner than half a unit is drawn
+  // half a unit wide; 0.1 keeps a fifth of its opacity.
+  CHECK(dump_of(R"~(<line x2="40" stroke="#000" stroke-width="0.1"/>)~") ==
+        R"~(scene 100 100
+path 0 fill nonzero rgba(0,0,0,1) opacity 0.2
+  M 0 -0.25 L 40 -0.25 L 40 0.25 L 0 0.25 L 0 -0.25 Z
+stream F0
+)~");
+  mpvg::svg::ParseOptions o;
+  o.device_scale = 20;
+  const auto r = mpvg::svg::parse_svg_string(
+      R"~(<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 100"><line x2="40" stroke="#000" stroke-width="0.1"/></svg>)~",
+      ".", o);
+  CHECK(r.scene.paints.at(0).opacity == 1);
+  CHECK(r.scene.geometries.at(0).points().at(0).y == Approx(-0.05));
+}
+
+TEST_CASE("svg stroke: clip paths and bounding boxes use fill geometry only", "[svg][stroke]") {
+  // The clipPath child's stroke is not part of the clip region.
+  CHECK(dump_of(R"~(<defs><clipPath id="c"><rect width="50" height="50" stroke="red" stroke-width="20"/></clipPath></defs>)~"
+                R"~(<rect width="100" height="100" fill="blue" clip-path="url(#c)"/>)~") ==
+        R"~(scene 100 100
+path 0 clip nonzero
+  M 0 0 L 50 0 L 50 50 L 0 50 L 0 0 Z
+path 1 fill nonzero rgba(0,0,1,1) opacity 1
+  M 0 0 L 100 0 L 100 100 L 0 100 L 0 0 Z
+stream ( C0 | F1 )
+)~");
+  // objectBoundingBox: the box of the fill (10..30), not of the stroke.
+  CHECK(headers_of(R"~(<defs><clipPath id="o" clipPathUnits="objectBoundingBox"><rect width="1" height="1"/></clipPath></defs>)~"
+                   R"~(<rect x="10" y="10" width="20" height="20" fill="blue" stroke="red" stroke-width="10" clip-path="url(#o)"/>)~") ==
+        R"~(scene 100 100
+path 0 clip nonzero matrix(20 0 0 20 10 10)
+path 1 fill nonzero rgba(1,0,0,1) opacity 1
+path 2 fill nonzero rgba(0,0,1,1) opacity 1
+stream ( C0 | F1 F2 )
+)~");
+}
+
+TEST_CASE("svg stroke: paint servers and unsupported paints warn as for fills", "[svg][stroke][paint]") {
+  const auto r = parse(R"~(<linearGradient id="lg"/>)~"
+                       R"~(<rect width="5" height="5" stroke="url(#lg)"/>)~"
+                       R"~(<rect width="5" height="5" stroke="url(#lg) #00f" fill="none"/>)~"
+                       R"~(<rect width="5" height="5" stroke="context-stroke"/>)~"
+                       R"~(<rect width="5" height="5" stroke="url(#missing)"/>)~"
+                       R"~(<rect width="5" height="5" stroke="url(#lg)" marker-end="url(#m)"/>)~");
+  // Three black fills and the fallback-blue stroke.
+  CHECK(r.scene.paths.size() == 5);
+  CHECK(r.scene.paints.at(r.scene.paths.at(3).paint).color.b == 1);
+  CHECK(r.warnings == std::vector<std::string>{"gradients and patterns are not supported: stroke not rendered",
+                                               "gradients and patterns are not supported: painted with the fallback colour",
+                                               "context-fill and context-stroke paints are not supported: stroke not rendered",
+                                               "markers are not supported: marker ignored"});
+}

@@ -15,11 +15,13 @@ void PathBuilder::begin_segment() {
     path_.move_to(current_);
     pending_move_ = false;
   }
+  after_move_ = false;
 }
 
 void PathBuilder::move_to(Vec2 p) {
   current_ = start_ = p;
   pending_move_ = true;
+  after_move_ = true;
 }
 
 void PathBuilder::line_to(Vec2 p) {
@@ -47,8 +49,17 @@ void PathBuilder::cubic_to(Vec2 p1, Vec2 p2, Vec2 p3) {
 }
 
 void PathBuilder::close() {
-  // "M x y Z" draws nothing; there is no contour to close.
-  if (pending_move_) return;
+  if (pending_move_) {
+    // "M x y Z" is a zero-length subpath: a closed contour without
+    // segments, which fills nothing but gets round or square caps when
+    // stroked (SVG 2 painting.html#LineCaps). A second Z adds nothing.
+    if (after_move_) {
+      path_.move_to(current_);
+      path_.close();
+      after_move_ = false;
+    }
+    return;
+  }
   path_.close();
   // After a closepath the current point is the subpath's start, and a
   // following drawing command starts a new subpath there (SVG 2 paths.html#PathDataClosePathCommand).

@@ -14,8 +14,9 @@
 namespace mpvg::svg::detail {
 
 // Builds a Path from SVG-style commands. A moveto is only materialised when a
-// drawing command follows it, so lone movetos ("M 1 1 M 2 2 ...", "M 1 1 Z")
-// leave no empty contours behind.
+// drawing command or a closepath follows it, so lone movetos ("M 1 1 M 2 2
+// ...") leave no empty contours behind; "M 1 1 Z" is a closed contour
+// without segments (a zero-length subpath, stroked as a dot).
 class PathBuilder {
  public:
   void move_to(Vec2 p);
@@ -38,6 +39,7 @@ class PathBuilder {
   Vec2 current_;
   Vec2 start_;
   bool pending_move_ = false;
+  bool after_move_ = false;  // the last command was a moveto
 };
 
 // Path data (SVG 2 paths.html#PathDataBNF). On a syntax error the path holds

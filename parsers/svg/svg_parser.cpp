@@ -12,7 +12,9 @@
 #include "parsers/svg/svg_parser.h"
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -25,6 +27,7 @@
 #include "parsers/svg/svg_dom.h"
 #include "parsers/svg/svg_geometry.h"
 #include "parsers/svg/svg_values.h"
+#include "stroker/stroker.h"
 
 namespace mpvg::svg {
 
@@ -47,6 +50,10 @@ struct Op {
   uint32_t shape = 0;  // Fill, Clip, Bounds: index into Converter::shapes_
   uint32_t paint = 0;  // Fill: index into Converter::paints_
   Affine xf;           // Fill, Clip, Bounds: user space to scene
+  // Fill: the geometry is a stroke converted to fill geometry. Strokes are
+  // not part of an element's object bounding box (SVG 2
+  // coords.html#BoundingBoxes), so bounds skip them.
+  bool stroke = false;
 
   static Op of(OpKind k) {
     Op op;
@@ -55,6 +62,12 @@ struct Op {
   }
 };
 
+// paint-order (SVG 2 painting.html#PaintOrder): the order in which fill,
+// stroke and markers are painted.
+enum class PaintLayer : uint8_t { Fill, Stroke, Markers };
+using PaintOrder = std::array<PaintLayer, 3>;
+constexpr PaintOrder kNormalPaintOrder{PaintLayer::Fill, PaintLayer::Stroke, PaintLayer::Markers};
+
 // Computed values of the inherited properties that the scene can express
 // (SVG 2 painting, CSS Masking 1 clip-rule; CSS Cascade 4 §7.2 inheritance).
 struct Inherited {
@@ -62,6 +75,20 @@ struct Inherited {
   RGBA fill{0, 0, 0, 1};  // initial value: black
   FillRule fill_rule = FillRule::NonZero;
   double fill_opacity = 1;
+  // Stroke properties (SVG 2 painting.html#StrokeProperties), all inherited;
+  // lengths in user units.
+  bool stroke_none = true;  // initial value: none
+  RGBA stroke{0, 0, 0, 1};
+  double stroke_opacity = 1;
+  double stroke_width = 1;
+  stroke::Join stroke_join = stroke::Join::Miter;
+  stroke::Cap stroke_cap = stroke::Cap::Butt;
+  double stroke_miterlimit = 4;
+  std::vector<double> stroke_dasharray;  // empty: none
+  double stroke_dashoffset = 0;
+  PaintOrder paint_order = kNormalPaintOrder;
+  // font-size in user units (CSS Fonts 4; medium = 16px): em and ex lengths.
+  double font_size = 16;
   FillRule clip_rule = FillRule::NonZero;
   bool visible = true;
   RGBA color{0, 0, 0, 1};
@@ -86,6 +113,7 @@ struct Style {
   bool display_none = false;
   Affine transform;
   bool transform_invalid = false;  // the transform attribute did not parse
+  bool non_scaling_stroke = false;  // vector-effect (not inherited)
 };
 
 // A property's value on one element.
@@ -136,6 +164,81 @@ std::optional<std::string> parse_keyword(std::string_view s) {
   std::transform(k.begin(), k.end(), k.begin(),
                  [](char c) { return (c >= 'A' && c <= 'Z') ? char(c - 'A' + 'a') : c; });
   return k;
+}
+
+// <dasharray> = [ <length> | <percentage> ]# with commas and/or white space
+// between values (SVG 2 painting.html#StrokeDasharrayProperty), or none.
+// A negative value invalidates the whole list.
+template <class ToUser>
+std::optional<std::vector<double>> parse_dasharray(std::string_view v, ToUser to_user) {
+  v = trim(v);
+  std::vector<double> out;
+  if (iequals(v, "none")) return out;
+  while (!v.empty()) {
+    size_t n = 0;
+    while (n < v.size() && v[n] != ',' && !is_ws(v[n])) n++;
+    const auto l = to_user(v.substr(0, n));
+    if (!l || *l < 0) return std::nullopt;
+    out.push_back(*l);
+    v = trim(v.substr(n));
+    if (!v.empty() && v.front() == ',') {
+      v = trim(v.substr(1));
+      if (v.empty()) return std::nullopt;
+    }
+  }
+  if (out.empty()) return std::nullopt;
+  return out;
+}
+
+// font-size (CSS Fonts 4 §2.5): an absolute-size keyword (scaled from
+// medium = 16px), larger / smaller (a factor of 1.2), or a non-negative
+// length or percentage, em, ex and % relative to the parent's size.
+std::optional<double> parse_font_size(std::string_view v, double parent) {
+  v = trim(v);
+  static const struct {
+    const char* name;
+    double scale;
+  } sizes[] = {{"xx-small", 3.0 / 5}, {"x-small", 3.0 / 4}, {"small", 8.0 / 9}, {"medium", 1},
+               {"large", 6.0 / 5},    {"x-large", 3.0 / 2}, {"xx-large", 2},      {"xxx-large", 3}};
+  for (const auto& k : sizes)
+    if (iequals(v, k.name)) return 16 * k.scale;
+  if (iequals(v, "larger")) return parent * 1.2;
+  if (iequals(v, "smaller")) return parent / 1.2;
+  const auto l = parse_length(v);
+  if (!l || l->value < 0) return std::nullopt;
+  switch (l->unit) {
+    case Unit::Em: return l->value * parent;
+    case Unit::Ex: return l->value * parent / 2;
+    default: return length_to_px(*l, parent);  // % of the parent's size too
+  }
+}
+
+// paint-order: normal | [ fill || stroke || markers ]; the layers left out
+// follow in their normal order (SVG 2 painting.html#PaintOrder).
+std::optional<PaintOrder> parse_paint_order(std::string_view v) {
+  v = trim(v);
+  if (iequals(v, "normal")) return kNormalPaintOrder;
+  Scanner s(v);
+  std::vector<PaintLayer> given;
+  while (!s.at_end()) {
+    const std::string_view w = s.word();
+    PaintLayer l;
+    if (iequals(w, "fill"))
+      l = PaintLayer::Fill;
+    else if (iequals(w, "stroke"))
+      l = PaintLayer::Stroke;
+    else if (iequals(w, "markers"))
+      l = PaintLayer::Markers;
+    else
+      return std::nullopt;
+    if (std::find(given.begin(), given.end(), l) != given.end()) return std::nullopt;
+    given.push_back(l);
+    s.skip_ws();
+  }
+  if (given.empty()) return std::nullopt;
+  for (PaintLayer l : kNormalPaintOrder)
+    if (std::find(given.begin(), given.end(), l) == given.end()) given.push_back(l);
+  return PaintOrder{given[0], given[1], given[2]};
 }
 
 bool invertible(const Affine& m) {
@@ -191,7 +294,11 @@ struct ClipRef {
 
 class Converter {
  public:
-  Converter(const Document& doc, std::vector<std::string>& warnings) : doc_(doc), warnings_(warnings) {}
+  Converter(const Document& doc, const ParseOptions& options, ParseResult& result)
+      : doc_(doc), options_(options), warnings_(result.warnings) {}
+
+  double stroke_seconds() const { return stroke_seconds_; }
+  size_t stroked_paths() const { return stroked_paths_; }
 
   Scene run() {
     const Element& root = *doc_.root;
@@ -213,6 +320,8 @@ class Converter {
     const double width = side("width", vb ? vb->w : 0);
     const double height = side("height", vb ? vb->h : 0);
     SceneBuilder builder(width, height);
+    device_ = options_.view ? options_.view(width, height)
+                            : Affine::scale(options_.device_scale, options_.device_scale);
     // A zero-sized viewport or viewBox disables rendering (SVG 2 geometry properties
     // width/height, coords.html#ViewBoxAttribute).
     if (width == 0 || height == 0 || (vb && (vb->w == 0 || vb->h == 0))) return builder.finish();
@@ -272,14 +381,23 @@ class Converter {
       return parse_color(v);
     });
     if (color.state == Prop<RGBA>::Set) inh.color = color.value;
+    // font-size before any length: em units refer to it. Relative values
+    // (em, ex, %, larger, smaller) are relative to the parent's font size.
+    const double parent_em = ctx.inh.font_size;
+    const auto font_size = property<double>(
+        e, "font-size", [&](std::string_view v) -> std::optional<double> { return parse_font_size(v, parent_em); });
+    if (font_size.state == Prop<double>::Set) inh.font_size = font_size.value;
 
     if (!ctx.in_clip) {
       // Inside a clipPath only geometry counts (CSS Masking 1, the clipPath
       // element): fill is moot.
       const auto fill = property<PaintValue>(e, "fill", parse_paint);
-      if (fill.state == Prop<PaintValue>::Set) resolve_fill(fill.value, inh);
+      if (fill.state == Prop<PaintValue>::Set) resolve_paint(fill.value, inh.color, inh.fill_none, inh.fill, "fill");
+      stroke_style(e, inh, st);
       unsupported_reference(e, "mask", "masks are not supported: mask ignored");
       unsupported_reference(e, "filter", "filters are not supported: filter ignored");
+      for (const char* m : {"marker-start", "marker-mid", "marker-end"})
+        unsupported_reference(e, m, "markers are not supported: marker ignored");
     }
     if (const auto r = property<FillRule>(e, "fill-rule", parse_fill_rule); r.state == Prop<FillRule>::Set)
       inh.fill_rule = r.value;
@@ -317,47 +435,114 @@ class Converter {
     return st;
   }
 
+  // The stroke properties of `e` (SVG 2 painting.html#StrokeProperties),
+  // over the inherited values in `inh`. Invalid values are ignored like any
+  // invalid declaration: a negative width or dash, a miter limit below 1.
+  void stroke_style(const Element& e, Inherited& inh, Style& st) {
+    const auto stroke = property<PaintValue>(e, "stroke", parse_paint);
+    if (stroke.state == Prop<PaintValue>::Set)
+      resolve_paint(stroke.value, inh.color, inh.stroke_none, inh.stroke, "stroke");
+    if (const auto o = property<double>(e, "stroke-opacity", parse_alpha); o.state == Prop<double>::Set)
+      inh.stroke_opacity = o.value;
+    // Lengths that are neither horizontal nor vertical: percentages of the
+    // normalised viewport diagonal (SVG 2 coords.html#Units).
+    auto user_length = [&](std::string_view v) -> std::optional<double> {
+      const auto l = parse_length(v);
+      if (!l) return std::nullopt;
+      return to_user(*l, Axis::Diagonal, inh.font_size);
+    };
+    const auto width = property<double>(e, "stroke-width", [&](std::string_view v) -> std::optional<double> {
+      const auto w = user_length(v);
+      if (!w || *w < 0) return std::nullopt;
+      return w;
+    });
+    if (width.state == Prop<double>::Set) inh.stroke_width = width.value;
+    const auto join = property<stroke::Join>(e, "stroke-linejoin", [](std::string_view v) {
+      std::optional<stroke::Join> none;
+      const auto k = parse_keyword(v);
+      if (!k) return none;
+      if (*k == "miter") return std::optional(stroke::Join::Miter);
+      if (*k == "miter-clip") return std::optional(stroke::Join::MiterClip);
+      if (*k == "round") return std::optional(stroke::Join::Round);
+      if (*k == "bevel") return std::optional(stroke::Join::Bevel);
+      if (*k == "arcs") return std::optional(stroke::Join::Arcs);
+      return none;
+    });
+    if (join.state == Prop<stroke::Join>::Set) inh.stroke_join = join.value;
+    const auto cap = property<stroke::Cap>(e, "stroke-linecap", [](std::string_view v) -> std::optional<stroke::Cap> {
+      const auto k = parse_keyword(v);
+      if (!k) return std::nullopt;
+      if (*k == "butt") return stroke::Cap::Butt;
+      if (*k == "round") return stroke::Cap::Round;
+      if (*k == "square") return stroke::Cap::Square;
+      return std::nullopt;
+    });
+    if (cap.state == Prop<stroke::Cap>::Set) inh.stroke_cap = cap.value;
+    // A <number> of at least 1 (SVG 2 painting.html#StrokeMiterlimitProperty); "5mm" is not one.
+    const auto ml = property<double>(e, "stroke-miterlimit", [](std::string_view v) -> std::optional<double> {
+      const auto n = parse_number(v);
+      if (!n || *n < 1) return std::nullopt;
+      return n;
+    });
+    if (ml.state == Prop<double>::Set) inh.stroke_miterlimit = ml.value;
+    const auto dashes = property<std::vector<double>>(e, "stroke-dasharray", [&](std::string_view v) {
+      return parse_dasharray(v, user_length);
+    });
+    if (dashes.state == Prop<std::vector<double>>::Set) inh.stroke_dasharray = dashes.value;
+    if (const auto o = property<double>(e, "stroke-dashoffset", user_length); o.state == Prop<double>::Set)
+      inh.stroke_dashoffset = o.value;
+    if (const auto po = property<PaintOrder>(e, "paint-order", parse_paint_order); po.state == Prop<PaintOrder>::Set)
+      inh.paint_order = po.value;
+    // vector-effect is not inherited (SVG 2 coords.html#VectorEffects); of its values only
+    // non-scaling-stroke concerns what we draw.
+    const auto ve = property<std::string>(e, "vector-effect", parse_keyword);
+    st.non_scaling_stroke = ve.state == Prop<std::string>::Set && ve.value == "non-scaling-stroke";
+  }
+
   void unsupported_reference(const Element& e, const char* name, const char* message) {
     const auto v = property<std::string>(
         e, name, [](std::string_view t) { return std::optional<std::string>(std::string(trim(t))); });
     if (v.state == Prop<std::string>::Set && !iequals(v.value, "none")) warn(message);
   }
 
-  void resolve_fill(const PaintValue& p, Inherited& inh) {
+  // Resolves a fill or stroke paint (SVG 2 painting.html#SpecifyingPaint)
+  // into `none` and `color`; `current` is the element's color, for
+  // currentColor. `what` names the property in warnings.
+  void resolve_paint(const PaintValue& p, const RGBA& current, bool& none, RGBA& color, const std::string& what) {
     auto solid = [&](const RGBA& c) {
-      inh.fill_none = false;
-      inh.fill = c;
+      none = false;
+      color = c;
     };
     switch (p.kind) {
-      case PaintValue::Kind::None: inh.fill_none = true; return;
+      case PaintValue::Kind::None: none = true; return;
       case PaintValue::Kind::Color: solid(p.color); return;
-      case PaintValue::Kind::CurrentColor: solid(inh.color); return;
+      case PaintValue::Kind::CurrentColor: solid(current); return;
       case PaintValue::Kind::Context:
-        warn("context-fill and context-stroke paints are not supported: fill not rendered");
-        inh.fill_none = true;
+        warn("context-fill and context-stroke paints are not supported: " + what + " not rendered");
+        none = true;
         return;
       case PaintValue::Kind::Url: break;
     }
     const Element* target = p.url_external ? nullptr : find(p.url);
-    if (p.url_external) warn("references to other documents are not supported: fill falls back");
+    if (p.url_external) warn("references to other documents are not supported: " + what + " falls back");
     if (target && !is_paint_server(target->name)) {
       // A reference to an element that cannot paint (SVG 2 painting.html#SpecifyingPaint): the
-      // fill is not rendered, fallback or not (as resvg does).
-      inh.fill_none = true;
+      // paint is not rendered, fallback or not (as resvg does).
+      none = true;
       return;
     }
     const bool has_fallback =
         p.fallback == PaintValue::Fallback::Color || p.fallback == PaintValue::Fallback::CurrentColor;
     if (target) {
       warn(has_fallback ? "gradients and patterns are not supported: painted with the fallback colour"
-                        : "gradients and patterns are not supported: fill not rendered");
+                        : "gradients and patterns are not supported: " + what + " not rendered");
     }
     // A missing paint server uses the fallback, and without one paints
     // nothing (SVG 2 painting.html#SpecifyingPaint).
     switch (p.fallback) {
       case PaintValue::Fallback::Color: solid(p.fallback_color); return;
-      case PaintValue::Fallback::CurrentColor: solid(inh.color); return;
-      default: inh.fill_none = true; return;
+      case PaintValue::Fallback::CurrentColor: solid(current); return;
+      default: none = true; return;
     }
   }
 
@@ -438,8 +623,8 @@ class Converter {
     return t;
   }
 
-  Affine use_offset(const Element& use) {
-    return Affine::translate(length(use, "x", Axis::X, 0), length(use, "y", Axis::Y, 0));
+  Affine use_offset(const Element& use, double em) {
+    return Affine::translate(length(use, "x", Axis::X, 0, em), length(use, "y", Axis::Y, 0, em));
   }
 
   // ------------------------------------------------------------ geometry
@@ -457,32 +642,43 @@ class Converter {
     }
   }
 
+  // A length in user units, em and ex relative to the element's font size
+  // `em` (ex is taken as half an em: fonts are not modelled).
+  double to_user(const Length& l, Axis axis, double em) const {
+    if (l.unit == Unit::Em) return l.value * em;
+    if (l.unit == Unit::Ex) return l.value * em / 2;
+    return length_to_px(l, percent_base(axis));
+  }
+
   // A length attribute in user units; `def` when absent or invalid.
-  double length(const Element& e, const char* name, Axis axis, double def) const {
+  double length(const Element& e, const char* name, Axis axis, double def, double em) const {
     const std::string* a = e.attribute(name);
     if (!a) return def;
     const auto l = parse_length(*a);
-    return l ? length_to_px(*l, percent_base(axis)) : def;
+    return l ? to_user(*l, axis, em) : def;
   }
 
   // A length that may be "auto" (rect rx/ry, ellipse rx/ry in SVG 2): absent,
   // "auto", invalid or negative values all mean auto (nullopt).
-  std::optional<double> auto_length(const Element& e, const char* name, Axis axis) const {
+  std::optional<double> auto_length(const Element& e, const char* name, Axis axis, double em) const {
     const std::string* a = e.attribute(name);
     if (!a || !parse_length(*a)) return std::nullopt;
-    const double v = length(e, name, axis, 0);
+    const double v = length(e, name, axis, 0, em);
     if (v < 0) return std::nullopt;
     return v;
   }
 
   // The element's geometry, built once; -1 when it has none (invalid sizes,
   // empty path data).
-  int shape_index(const Element& e) {
+  // The font size `em` of the first instance converted applies to all (em
+  // lengths in shapes reused with different font sizes are rare).
+  int shape_index(const Element& e, double em) {
     const auto it = shape_of_.find(&e);
     if (it != shape_of_.end()) return it->second;
-    std::optional<Path> p = build_shape(e);
+    std::optional<Path> p = build_shape(e, em);
     int index = -1;
-    if (p && !p->empty()) {
+    // Zero-length subpaths ("M p Z") have no segments but are stroked.
+    if (p && !p->contours().empty()) {
       index = static_cast<int>(shapes_.size());
       shapes_.push_back(std::move(*p));
     }
@@ -490,7 +686,7 @@ class Converter {
     return index;
   }
 
-  std::optional<Path> build_shape(const Element& e) const {
+  std::optional<Path> build_shape(const Element& e, double em) const {
     const std::string& n = e.name;
     if (n == "path") {
       const std::string* d = e.attribute("d");
@@ -503,30 +699,30 @@ class Converter {
       // SVG 2 shapes.html#RectElement: width/height "auto" (absent) or <= 0
       // disable rendering; an auto radius takes the other's value, both auto
       // mean square corners, and each is clamped to half the side.
-      const double w = length(e, "width", Axis::X, 0), h = length(e, "height", Axis::Y, 0);
+      const double w = length(e, "width", Axis::X, 0, em), h = length(e, "height", Axis::Y, 0, em);
       if (!(w > 0 && h > 0)) return std::nullopt;
-      auto rx = auto_length(e, "rx", Axis::X), ry = auto_length(e, "ry", Axis::Y);
+      auto rx = auto_length(e, "rx", Axis::X, em), ry = auto_length(e, "ry", Axis::Y, em);
       if (!rx) rx = ry;
       if (!ry) ry = rx;
       const double crx = std::min(rx.value_or(0), w / 2), cry = std::min(ry.value_or(0), h / 2);
-      return rect_path(length(e, "x", Axis::X, 0), length(e, "y", Axis::Y, 0), w, h, crx, cry);
+      return rect_path(length(e, "x", Axis::X, 0, em), length(e, "y", Axis::Y, 0, em), w, h, crx, cry);
     }
     if (n == "circle") {
-      const double r = length(e, "r", Axis::Diagonal, 0);
+      const double r = length(e, "r", Axis::Diagonal, 0, em);
       if (!(r > 0)) return std::nullopt;
-      return ellipse_path(length(e, "cx", Axis::X, 0), length(e, "cy", Axis::Y, 0), r, r);
+      return ellipse_path(length(e, "cx", Axis::X, 0, em), length(e, "cy", Axis::Y, 0, em), r, r);
     }
     if (n == "ellipse") {
       // SVG 2 shapes.html#EllipseElement: an auto radius takes the other's value.
-      auto rx = auto_length(e, "rx", Axis::X), ry = auto_length(e, "ry", Axis::Y);
+      auto rx = auto_length(e, "rx", Axis::X, em), ry = auto_length(e, "ry", Axis::Y, em);
       if (!rx) rx = ry;
       if (!ry) ry = rx;
       if (!rx || !(*rx > 0) || !(*ry > 0)) return std::nullopt;
-      return ellipse_path(length(e, "cx", Axis::X, 0), length(e, "cy", Axis::Y, 0), *rx, *ry);
+      return ellipse_path(length(e, "cx", Axis::X, 0, em), length(e, "cy", Axis::Y, 0, em), *rx, *ry);
     }
     if (n == "line") {
-      return line_path({length(e, "x1", Axis::X, 0), length(e, "y1", Axis::Y, 0)},
-                       {length(e, "x2", Axis::X, 0), length(e, "y2", Axis::Y, 0)});
+      return line_path({length(e, "x1", Axis::X, 0, em), length(e, "y1", Axis::Y, 0, em)},
+                       {length(e, "x2", Axis::X, 0, em), length(e, "y2", Axis::Y, 0, em)});
     }
     if (n == "polyline" || n == "polygon") {
       const std::string* pts = e.attribute("points");
@@ -557,7 +753,7 @@ class Converter {
       if (!out.target) return false;
       // The use's x/y are an extra translation after its transform (SVG 1.1
       // §5.6); clip-path and bounding box live in that translated space.
-      out.space = out.space * use_offset(e);
+      out.space = out.space * use_offset(e, out.st.inh.font_size);
     }
     // A non-invertible transform makes everything degenerate: nothing shows.
     if (!invertible(out.space)) return false;
@@ -593,7 +789,7 @@ class Converter {
         for (const auto& c : e.children) render(*c, inner, depth + 1);
         break;
       case Kind::Use: render(*target, inner, depth + 1); break;
-      default: shape_fill(e, st, space); break;
+      default: shape_paint(e, st, space); break;
     }
     active_.pop_back();
 
@@ -601,26 +797,84 @@ class Converter {
     if (clip.state == ClipRef::Valid) clip_content(start, *clip.element, space, depth);
   }
 
-  void shape_fill(const Element& e, const Style& st, const Affine& space) {
-    const int shape = shape_index(e);
+  // A shape's fill and stroke, in the order of paint-order. The fill
+  // operation is always there (as bounds only when it paints nothing): it
+  // carries the shape's bounding box.
+  void shape_paint(const Element& e, const Style& st, const Affine& space) {
+    const int shape = shape_index(e, st.inh.font_size);
     if (shape < 0) return;
-    Op op = Op::of(OpKind::Bounds);
-    op.shape = static_cast<uint32_t>(shape);
-    op.xf = space;
-    op.rule = st.inh.fill_rule;
+    Op fill = Op::of(OpKind::Bounds);
+    fill.shape = static_cast<uint32_t>(shape);
+    fill.xf = space;
+    fill.rule = st.inh.fill_rule;
     // A line encloses no area (SVG 2 shapes.html#LineElement): it can only
     // be stroked.
-    const bool paints =
-        e.name != "line" && !st.inh.fill_none && st.inh.visible && st.inh.fill.a * st.inh.fill_opacity > 0;
-    if (paints) {
+    const bool fills = e.name != "line" && !shapes_[shape].empty() && !st.inh.fill_none && st.inh.visible &&
+                       st.inh.fill.a * st.inh.fill_opacity > 0;
+    if (fills) {
       Paint paint;
       paint.color = st.inh.fill;
       paint.opacity = static_cast<float>(st.inh.fill_opacity);
       paints_.push_back(paint);
-      op.kind = OpKind::Fill;
-      op.paint = static_cast<uint32_t>(paints_.size() - 1);
+      fill.kind = OpKind::Fill;
+      fill.paint = static_cast<uint32_t>(paints_.size() - 1);
     }
-    ops_.push_back(op);
+    const std::optional<Op> stroke = shape_stroke(static_cast<uint32_t>(shape), st, space);
+    // Markers are not supported; only fill and stroke order matters.
+    for (PaintLayer l : st.inh.paint_order) {
+      if (l == PaintLayer::Fill) ops_.push_back(fill);
+      if (l == PaintLayer::Stroke && stroke) ops_.push_back(*stroke);
+    }
+  }
+
+  // The stroke of shapes_[shape] as a filled path (nonzero) with the stroke
+  // paint, or nothing when it paints nothing (SVG 2 painting.html#StrokeProperties:
+  // stroke none, zero width, invisible or fully transparent).
+  std::optional<Op> shape_stroke(uint32_t shape, const Style& st, const Affine& space) {
+    const Inherited& inh = st.inh;
+    if (inh.stroke_none || !inh.visible || !(inh.stroke_width > 0) || !(inh.stroke.a * inh.stroke_opacity > 0))
+      return std::nullopt;
+    const auto t0 = std::chrono::steady_clock::now();
+    stroke::Style ss;
+    ss.join = inh.stroke_join;
+    ss.cap = inh.stroke_cap;
+    ss.miter_limit = inh.stroke_miterlimit;
+    ss.dashes = inh.stroke_dasharray;
+    ss.dash_offset = inh.stroke_dashoffset;
+    // Device pixels for tolerances and hairlines: the scene as the parse
+    // options expect it to be rendered.
+    const Affine& device = device_;
+    Op op = Op::of(OpKind::Fill);
+    op.stroke = true;
+    op.rule = FillRule::NonZero;
+    Path outline;
+    double opacity = 1;
+    if (st.non_scaling_stroke) {
+      // vector-effect: non-scaling-stroke: the stroke is computed in the
+      // host coordinate space, here scene units (SVG 2 coords.html#VectorEffects).
+      const stroke::Hairline hl = stroke::hairline(inh.stroke_width, device);
+      ss.width = hl.width;
+      opacity = hl.opacity;
+      outline = stroke::stroke_to_fill(stroke::transformed(shapes_[shape], space), ss, device);
+      op.xf = Affine{};
+    } else {
+      const stroke::Hairline hl = stroke::hairline(inh.stroke_width, device * space);
+      ss.width = hl.width;
+      opacity = hl.opacity;
+      outline = stroke::stroke_to_fill(shapes_[shape], ss, device * space);
+      op.xf = space;
+    }
+    stroke_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    stroked_paths_++;
+    if (outline.empty()) return std::nullopt;
+    op.shape = static_cast<uint32_t>(shapes_.size());
+    shapes_.push_back(std::move(outline));
+    Paint paint;
+    paint.color = inh.stroke;
+    paint.opacity = static_cast<float>(inh.stroke_opacity * opacity);
+    paints_.push_back(paint);
+    op.paint = static_cast<uint32_t>(paints_.size() - 1);
+    return op;
   }
 
   // Element opacity multiplies into the paints below it. For one shape that
@@ -676,6 +930,7 @@ class Converter {
     Bounds b;
     const Affine inv = inverse(space);
     for_each_content(begin, end, [&](const Op& op) {
+      if (op.stroke) return;
       add_path_bounds(shapes_[op.shape], same(op.xf, space) ? Affine{} : inv * op.xf, b);
     });
     return b;
@@ -788,8 +1043,9 @@ class Converter {
       clip_child(*target, child_context(st, space, true), depth + 1);
       active_.pop_back();
     } else {
-      const int shape = shape_index(e);
-      if (shape < 0 || !st.inh.visible) return;
+      const int shape = shape_index(e, st.inh.font_size);
+      // A shape without segments ("M p Z") has no area to clip with.
+      if (shape < 0 || !st.inh.visible || shapes_[shape].empty()) return;
       Op op = Op::of(OpKind::Clip);
       op.shape = static_cast<uint32_t>(shape);
       op.xf = space;
@@ -820,6 +1076,8 @@ class Converter {
   }
 
   const Document& doc_;
+  const ParseOptions& options_;
+  Affine device_;  // scene units to output pixels (ParseOptions::view)
   std::vector<std::string>& warnings_;
   std::unordered_set<std::string> warned_;
   double percent_w_ = 100, percent_h_ = 100;
@@ -831,18 +1089,24 @@ class Converter {
   std::vector<const Element*> active_;        // elements being converted (use cycles)
   std::vector<const Element*> active_clips_;  // clipPaths being expanded (clip-path cycles)
   size_t instances_ = 0;
+  double stroke_seconds_ = 0;
+  size_t stroked_paths_ = 0;
 };
 
 }  // namespace
 
-ParseResult parse_svg_string(std::string_view text, [[maybe_unused]] const std::string& base_dir) {
+ParseResult parse_svg_string(std::string_view text, [[maybe_unused]] const std::string& base_dir,
+                             const ParseOptions& options) {
   const Document doc = parse_document(text);
   ParseResult result;
-  result.scene = Converter(doc, result.warnings).run();
+  Converter conv(doc, options, result);
+  result.scene = conv.run();
+  result.stroke_seconds = conv.stroke_seconds();
+  result.stroked_paths = conv.stroked_paths();
   return result;
 }
 
-ParseResult parse_svg_file(const std::string& path) {
+ParseResult parse_svg_file(const std::string& path, const ParseOptions& options) {
   auto fail = [&](int err) { return Error("cannot read '" + path + "': " + std::strerror(err)); };
   FILE* f = path == "-" ? stdin : std::fopen(path.c_str(), "rb");
   if (!f) throw fail(errno);
@@ -856,7 +1120,16 @@ ParseResult parse_svg_file(const std::string& path) {
   if (failed) throw fail(err);
   const std::filesystem::path dir =
       path == "-" ? std::filesystem::path() : std::filesystem::path(path).parent_path();
-  return parse_svg_string(data, dir.empty() ? std::string(".") : dir.string());
+  return parse_svg_string(data, dir.empty() ? std::string(".") : dir.string(), options);
+}
+
+ParseOptions ParseOptions::at_width(int pixels) {
+  ParseOptions o;
+  o.view = [pixels](double w, double h) {
+    const double height = std::max(1.0, std::round(h * pixels / w));
+    return Affine::scale(pixels / w, height / h);
+  };
+  return o;
 }
 
 }  // namespace mpvg::svg

@@ -8,15 +8,21 @@
 // preserveAspectRatio), g, a (as g), defs, path, rect, circle, ellipse, line,
 // polyline, polygon, use, clipPath (nested, objectBoundingBox units); the
 // transform attribute; presentation attributes and the style attribute for
-// fill, fill-rule, fill-opacity, opacity, clip-path, clip-rule, display,
-// visibility, color and transform. Curves stay curves; arcs, circles and
-// rounded corners become exact rational quadratics.
+// fill, fill-rule, fill-opacity, stroke, stroke-width, stroke-opacity,
+// stroke-linejoin, stroke-linecap, stroke-miterlimit, stroke-dasharray,
+// stroke-dashoffset, paint-order, vector-effect, opacity, clip-path,
+// clip-rule, display, visibility, color and transform. Curves stay curves;
+// arcs, circles and rounded corners become exact rational quadratics.
+// Strokes become filled paths (stroker/), painted with the nonzero rule
+// above or below the fill as paint-order says; they are not part of clip
+// paths or bounding boxes.
 //
 // Not supported (warned about, and rendered approximately or not at all):
-// strokes, text, images, gradients and patterns (the paint's fallback colour
-// is used), masks, filters, nested <svg>, symbol, switch, <style> sheets,
-// and group opacity (multiplied into each descendant's paint).
+// text, images, gradients and patterns (the paint's fallback colour is
+// used), markers, masks, filters, nested <svg>, symbol, switch, <style>
+// sheets, and group opacity (multiplied into each descendant's paint).
 #pragma once
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -30,15 +36,39 @@ struct ParseResult {
   // One short line per feature rendered approximately or not at all,
   // deduplicated, in the order first met.
   std::vector<std::string> warnings;
+  // Time spent converting strokes to fills (stroke::stroke_to_fill), and
+  // the number of strokes converted.
+  double stroke_seconds = 0;
+  size_t stroked_paths = 0;
+};
+
+struct ParseOptions {
+  // Strokes become fill geometry while parsing (stroke::stroke_to_fill):
+  // outlines within 1/16 pixel of the exact ones, and hairlines (strokes
+  // thinner than a pixel) drawn one pixel wide with their opacity scaled to
+  // keep the ink (stroke::hairline). Both need to know what a pixel is.
+  // `view`, when set, is called once with the document's size (scene
+  // units) and returns the scene-to-pixel transform the document will be
+  // rendered with (svg2png passes the one its -w/-h/-z give). Without it,
+  // the scene is prepared for `device_scale` pixels per scene unit; at
+  // other scales the outline error scales along, and the hairline width
+  // with it.
+  std::function<Affine(double width, double height)> view;
+  double device_scale = 2;
+
+  // Options for rendering at `pixels` wide, the height rounded to keep the
+  // aspect ratio (as svg2png -w does).
+  static ParseOptions at_width(int pixels);
 };
 
 // Reads and parses a file; "-" reads standard input. Throws mpvg::Error with
 // a one-line message: "cannot read 'PATH': <reason>", "XML parse error at
 // line N: ...", or a message naming a non-SVG root or an invalid root size.
-ParseResult parse_svg_file(const std::string& path);
+ParseResult parse_svg_file(const std::string& path, const ParseOptions& options = {});
 
 // Parses SVG text. base_dir is where relative references of the document
 // resolve (the document's directory); no external resource is loaded yet.
-ParseResult parse_svg_string(std::string_view text, const std::string& base_dir = ".");
+ParseResult parse_svg_string(std::string_view text, const std::string& base_dir = ".",
+                             const ParseOptions& options = {});
 
 }  // namespace mpvg::svg
