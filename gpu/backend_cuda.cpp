@@ -42,6 +42,11 @@ ImageF render_cuda(const Scene& scene, const RenderOptions& o, RenderStats& st) 
   st.total_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_all).count();
   st.input_segments = enc.input_segment_count;
   st.tree_bytes = ctx.tree_bytes();
+  const gpu::Context::BuildCounts counts = ctx.build_counts();
+  st.abstract_segments = counts.abstract_segments;
+  st.depth = counts.depth;
+  st.leaves = counts.leaves;
+  st.leaf_entries = counts.leaf_entries;
   return img;
 }
 

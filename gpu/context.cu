@@ -75,7 +75,9 @@ ImageF Context::render(const Integration& integ, const IntegrationFrame& frame, 
 }
 
 Context::BuildCounts Context::build_counts() const {
-  return BuildCounts{impl_->depth, impl_->build_launches, impl_->build_cub_calls, impl_->build_syncs};
+  const Impl& m = *impl_;
+  return BuildCounts{m.depth, m.build_launches, m.build_cub_calls, m.build_syncs, m.nsegments, m.nleaves,
+                     m.nleaf_entries};
 }
 
 void Context::set_sampler_shape(const SamplerShape& shape) {

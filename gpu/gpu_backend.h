@@ -68,10 +68,12 @@ class Context {
                           GpuTimes* times = nullptr);
 
   // Work issued by the last build: tree depth, kernel launches, CUB calls,
-  // and host round trips (device-to-host reads that wait for the GPU).
+  // and host round trips (device-to-host reads that wait for the GPU); and
+  // what it built: abstract segments, leaf cells, leaf entries.
   struct BuildCounts {
     int depth = 0;
     size_t launches = 0, cub_calls = 0, syncs = 0;
+    size_t abstract_segments = 0, leaves = 0, leaf_entries = 0;
   };
   BuildCounts build_counts() const;
 
