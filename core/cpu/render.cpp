@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "core/cpu/cpu_stages.h"
+#include "core/parallel.h"
 #include "core/sampling.h"
 
 namespace mpvg {
@@ -30,21 +31,6 @@ constexpr uint32_t kMaxTaskPixels = 256;
 
 double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
-// Runs f(i) for i in [0, n) on `threads` threads, dynamically balanced.
-template <class F>
-void parallel_for(size_t n, int threads, F&& f) {
-  int nt = threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency());
-  nt = std::max(1, std::min<int>(nt, static_cast<int>(std::min<size_t>(n, 1 << 20))));
-  std::atomic<size_t> next{0};
-  auto worker = [&]() {
-    for (size_t i; (i = next.fetch_add(1, std::memory_order_relaxed)) < n;) f(i);
-  };
-  std::vector<std::thread> pool;
-  for (int i = 1; i < nt; i++) pool.emplace_back(worker);
-  worker();
-  for (std::thread& th : pool) th.join();
 }
 
 // Schedule: every leaf's unit areas inside the w x h grid, in strips.

@@ -24,6 +24,7 @@
 #include <unordered_set>
 
 #include "core/error.h"
+#include "core/parallel.h"
 #include "parsers/svg/svg_dom.h"
 #include "parsers/svg/svg_geometry.h"
 #include "parsers/svg/svg_values.h"
@@ -339,6 +340,7 @@ class Converter {
       percent_h_ = height;
     }
     render(root, ctx, 0);
+    convert_strokes();
     emit(builder);
     return builder.finish();
   }
@@ -829,52 +831,66 @@ class Converter {
 
   // The stroke of shapes_[shape] as a filled path (nonzero) with the stroke
   // paint, or nothing when it paints nothing (SVG 2 painting.html#StrokeProperties:
-  // stroke none, zero width, invisible or fully transparent).
+  // stroke none, zero width, invisible or fully transparent). The outline
+  // itself is computed later, with all others, by convert_strokes().
   std::optional<Op> shape_stroke(uint32_t shape, const Style& st, const Affine& space) {
     const Inherited& inh = st.inh;
     if (inh.stroke_none || !inh.visible || !(inh.stroke_width > 0) || !(inh.stroke.a * inh.stroke_opacity > 0))
       return std::nullopt;
-    const auto t0 = std::chrono::steady_clock::now();
-    stroke::Style ss;
-    ss.join = inh.stroke_join;
-    ss.cap = inh.stroke_cap;
-    ss.miter_limit = inh.stroke_miterlimit;
-    ss.dashes = inh.stroke_dasharray;
-    ss.dash_offset = inh.stroke_dashoffset;
-    // Device pixels for tolerances and hairlines: the scene as the parse
-    // options expect it to be rendered.
-    const Affine& device = device_;
+    StrokeJob job;
+    job.source = shape;
+    job.style.join = inh.stroke_join;
+    job.style.cap = inh.stroke_cap;
+    job.style.miter_limit = inh.stroke_miterlimit;
+    job.style.dashes = inh.stroke_dasharray;
+    job.style.dash_offset = inh.stroke_dashoffset;
     Op op = Op::of(OpKind::Fill);
     op.stroke = true;
     op.rule = FillRule::NonZero;
-    Path outline;
-    double opacity = 1;
+    // Device pixels for tolerances and hairlines: the scene as the parse
+    // options expect it to be rendered.
+    stroke::Hairline hl;
     if (st.non_scaling_stroke) {
       // vector-effect: non-scaling-stroke: the stroke is computed in the
       // host coordinate space, here scene units (SVG 2 coords.html#VectorEffects).
-      const stroke::Hairline hl = stroke::hairline(inh.stroke_width, device);
-      ss.width = hl.width;
-      opacity = hl.opacity;
-      outline = stroke::stroke_to_fill(stroke::transformed(shapes_[shape], space), ss, device);
+      hl = stroke::hairline(inh.stroke_width, device_);
+      job.device = device_;
+      job.transform_first = true;
+      job.space = space;
       op.xf = Affine{};
     } else {
-      const stroke::Hairline hl = stroke::hairline(inh.stroke_width, device * space);
-      ss.width = hl.width;
-      opacity = hl.opacity;
-      outline = stroke::stroke_to_fill(shapes_[shape], ss, device * space);
+      hl = stroke::hairline(inh.stroke_width, device_ * space);
+      job.device = device_ * space;
       op.xf = space;
     }
-    stroke_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    stroked_paths_++;
-    if (outline.empty()) return std::nullopt;
-    op.shape = static_cast<uint32_t>(shapes_.size());
-    shapes_.push_back(std::move(outline));
+    job.style.width = hl.width;
+    job.out = static_cast<uint32_t>(shapes_.size());
+    shapes_.emplace_back();
+    op.shape = job.out;
+    stroke_jobs_.push_back(std::move(job));
     Paint paint;
     paint.color = inh.stroke;
-    paint.opacity = static_cast<float>(inh.stroke_opacity * opacity);
+    paint.opacity = static_cast<float>(inh.stroke_opacity * hl.opacity);
     paints_.push_back(paint);
     op.paint = static_cast<uint32_t>(paints_.size() - 1);
     return op;
+  }
+
+  // Converts every stroke to fill geometry, in parallel (each writes its own
+  // shape). A stroke that comes out empty paints nothing.
+  void convert_strokes() {
+    const auto t0 = std::chrono::steady_clock::now();
+    parallel_for(stroke_jobs_.size(), 0, [&](size_t i) {
+      const StrokeJob& job = stroke_jobs_[i];
+      const Path& source = shapes_[job.source];
+      shapes_[job.out] = job.transform_first
+                             ? stroke::stroke_to_fill(stroke::transformed(source, job.space), job.style, job.device)
+                             : stroke::stroke_to_fill(source, job.style, job.device);
+    });
+    stroke_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    stroked_paths_ = stroke_jobs_.size();
+    for (Op& op : ops_)
+      if (op.kind == OpKind::Fill && op.stroke && shapes_[op.shape].empty()) op.kind = OpKind::Bounds;
   }
 
   // Element opacity multiplies into the paints below it. For one shape that
@@ -1085,6 +1101,17 @@ class Converter {
   std::vector<Op> ops_;
   std::vector<Paint> paints_;
   std::vector<Path> shapes_;
+  // A stroke waiting for convert_strokes(): shapes_[source] stroked with
+  // `style` into shapes_[out]; with transform_first (non-scaling-stroke)
+  // the source is mapped by `space` first. `device` maps the stroked
+  // geometry to output pixels.
+  struct StrokeJob {
+    uint32_t source = 0, out = 0;
+    stroke::Style style;
+    Affine device, space;
+    bool transform_first = false;
+  };
+  std::vector<StrokeJob> stroke_jobs_;
   std::unordered_map<const Element*, int> shape_of_;
   std::vector<const Element*> active_;        // elements being converted (use cycles)
   std::vector<const Element*> active_clips_;  // clipPaths being expanded (clip-path cycles)
