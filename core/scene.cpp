@@ -87,6 +87,45 @@ void Path::close() {
   open_contour_ = false;
 }
 
+Path Path::contour_path(size_t i) const {
+  const Contour& c = contours_.at(i);
+  Path out;
+  out.move_to(points_[c.start_point]);
+  for (uint32_t k = c.first_segment; k < c.first_segment + c.segment_count; k++) {
+    const Segment& s = segments_[k];
+    const Vec2* p = &points_[s.first_point];
+    const double* w = weights_.data() + s.first_weight;
+    switch (s.type) {
+      case SegmentType::Line: out.line_to(p[1]); break;
+      case SegmentType::Quad: out.quad_to(p[1], p[2]); break;
+      case SegmentType::RQuad: out.rquad_to(p[1], p[2], w[0]); break;
+      case SegmentType::Cubic: out.cubic_to(p[1], p[2], p[3]); break;
+      case SegmentType::RCubic: out.rcubic_to(p[1], p[2], p[3], w[0], w[1], w[2], w[3]); break;
+    }
+  }
+  if (c.closed) out.close();
+  return out;
+}
+
+void Path::append(const Path& other) {
+  const auto np = static_cast<uint32_t>(points_.size());
+  const auto nw = static_cast<uint32_t>(weights_.size());
+  const auto ns = static_cast<uint32_t>(segments_.size());
+  points_.insert(points_.end(), other.points_.begin(), other.points_.end());
+  weights_.insert(weights_.end(), other.weights_.begin(), other.weights_.end());
+  for (Segment s : other.segments_) {
+    s.first_point += np;
+    if (s.type == SegmentType::RQuad || s.type == SegmentType::RCubic) s.first_weight += nw;
+    segments_.push_back(s);
+  }
+  for (Contour c : other.contours_) {
+    c.first_segment += ns;
+    c.start_point += np;
+    contours_.push_back(c);
+  }
+  if (!other.contours_.empty()) open_contour_ = other.open_contour_;
+}
+
 size_t Scene::segment_count() const {
   size_t n = 0;
   for (const ScenePath& sp : paths) {

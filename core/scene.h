@@ -76,6 +76,11 @@ class Path {
   const std::vector<Segment>& segments() const { return segments_; }
   const std::vector<Contour>& contours() const { return contours_; }
 
+  // Contour i alone, as a path of its own (the same commands replayed).
+  Path contour_path(size_t i) const;
+  // Appends the contours of `other`, as if its commands followed ours.
+  void append(const Path& other);
+
  private:
   void ensure_contour();
   void add_segment(SegmentType t, uint32_t first_weight);

@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "parsers/svg/svg_geometry.h"
 #include "parsers/svg/svg_parser.h"
+#include "stroker/stroker.h"
 #include "tests/catch.h"
 
 namespace {
@@ -1102,4 +1103,74 @@ TEST_CASE("svg stroke: paint servers and unsupported paints warn as for fills", 
                                                "gradients and patterns are not supported: painted with the fallback colour",
                                                "context-fill and context-stroke paints are not supported: stroke not rendered",
                                                "markers are not supported: marker ignored"});
+}
+
+namespace {
+
+// Built by hand: the path of kSubpaths below, in the same commands.
+mpvg::Path many_subpaths() {
+  mpvg::Path p;
+  p.move_to({10, 10});
+  p.line_to({40, 10});
+  p.line_to({40, 30});
+  p.close();
+  p.move_to({50, 50});
+  p.line_to({80, 60});
+  p.quad_to({90, 90}, {60, 90});
+  p.move_to({10, 80});
+  p.close();
+  p.move_to({20, 60});
+  p.cubic_to({30, 40}, {5, 40}, {15, 60});
+  return p;
+}
+constexpr const char* kSubpaths = "M10 10 L40 10 L40 30 Z M50 50 L80 60 Q90 90 60 90 M10 80 Z M20 60 C30 40 5 40 15 60";
+
+}  // namespace
+
+TEST_CASE("core Path: contours taken apart and appended again give the same path", "[svg][stroke]") {
+  const mpvg::Path whole = many_subpaths();
+  REQUIRE(whole.contours().size() == 4);
+  mpvg::Path again = whole.contour_path(0);
+  for (size_t i = 1; i < whole.contours().size(); i++) again.append(whole.contour_path(i));
+  CHECK(again.points() == whole.points());
+  CHECK(again.weights() == whole.weights());
+  REQUIRE(again.segments().size() == whole.segments().size());
+  for (size_t i = 0; i < whole.segments().size(); i++) {
+    CHECK(again.segments()[i].type == whole.segments()[i].type);
+    CHECK(again.segments()[i].first_point == whole.segments()[i].first_point);
+  }
+  REQUIRE(again.contours().size() == whole.contours().size());
+  for (size_t i = 0; i < whole.contours().size(); i++) {
+    CHECK(again.contours()[i].first_segment == whole.contours()[i].first_segment);
+    CHECK(again.contours()[i].segment_count == whole.contours()[i].segment_count);
+    CHECK(again.contours()[i].start_point == whole.contours()[i].start_point);
+    CHECK(again.contours()[i].closed == whole.contours()[i].closed);
+  }
+}
+
+TEST_CASE("svg stroke: subpaths stroked as separate tasks give the whole path's stroke", "[svg][stroke]") {
+  // The frontend strokes each subpath of a path as its own task and
+  // concatenates the results; that must equal stroking the path whole, for
+  // dashes (restarting per subpath), zero-length subpaths and closed ones.
+  const mpvg::Path whole = many_subpaths();
+  for (const char* style : {R"~(stroke-width="3" stroke-linejoin="round" stroke-linecap="round")~",
+                            R"~(stroke-width="2" stroke-dasharray="7 3" stroke-dashoffset="2" stroke-linecap="square")~"}) {
+    const auto r = parse(std::string(R"~(<path fill="none" stroke="#000" )~") + style + " d=\"" + kSubpaths + "\"/>");
+    REQUIRE(r.scene.geometries.size() == 1);
+    mpvg::stroke::Style ss;
+    ss.width = std::string(style).find("dasharray") != std::string::npos ? 2 : 3;
+    ss.join = std::string(style).find("round") != std::string::npos ? mpvg::stroke::Join::Round : mpvg::stroke::Join::Miter;
+    ss.cap = std::string(style).find("square") != std::string::npos ? mpvg::stroke::Cap::Square : mpvg::stroke::Cap::Round;
+    if (std::string(style).find("dasharray") != std::string::npos) {
+      ss.dashes = {7, 3};
+      ss.dash_offset = 2;
+    }
+    // The default parse options prepare strokes for 2 pixels per unit.
+    const mpvg::Path expected = mpvg::stroke::stroke_to_fill(whole, ss, mpvg::Affine::scale(2, 2));
+    const mpvg::Path& got = r.scene.geometries[0];
+    CHECK(got.points() == expected.points());
+    CHECK(got.weights() == expected.weights());
+    CHECK(got.segments().size() == expected.segments().size());
+    CHECK(got.contours().size() == expected.contours().size());
+  }
 }

@@ -876,17 +876,45 @@ class Converter {
     return op;
   }
 
-  // Converts every stroke to fill geometry, in parallel (each writes its own
-  // shape). A stroke that comes out empty paints nothing.
+  // Converts every stroke to fill geometry, in parallel. A stroke is the
+  // union of its subpaths' strokes, each dashed from the start of the
+  // pattern (SVG 2 painting.html#StrokeDashing), so a path of several
+  // subpaths is stroked one subpath per task (one long stroke does not hold
+  // up the others) and the pieces are concatenated in order: the result is
+  // the same geometry as stroking it whole. A stroke that comes out empty
+  // paints nothing.
   void convert_strokes() {
     const auto t0 = std::chrono::steady_clock::now();
-    parallel_for(stroke_jobs_.size(), 0, [&](size_t i) {
-      const StrokeJob& job = stroke_jobs_[i];
-      const Path& source = shapes_[job.source];
-      shapes_[job.out] = job.transform_first
-                             ? stroke::stroke_to_fill(stroke::transformed(source, job.space), job.style, job.device)
-                             : stroke::stroke_to_fill(source, job.style, job.device);
+    struct Task {
+      uint32_t job;
+      int64_t contour;  // -1: the whole source
+    };
+    std::vector<Task> tasks;
+    std::vector<size_t> first_task(stroke_jobs_.size() + 1);
+    for (uint32_t j = 0; j < stroke_jobs_.size(); j++) {
+      first_task[j] = tasks.size();
+      const size_t n = shapes_[stroke_jobs_[j].source].contours().size();
+      if (n <= 1)
+        tasks.push_back({j, -1});
+      else
+        for (size_t c = 0; c < n; c++) tasks.push_back({j, static_cast<int64_t>(c)});
+    }
+    first_task[stroke_jobs_.size()] = tasks.size();
+    std::vector<Path> pieces(tasks.size());
+    parallel_for(tasks.size(), 0, [&](size_t i) {
+      const StrokeJob& job = stroke_jobs_[tasks[i].job];
+      const Path& whole = shapes_[job.source];
+      const Path part = tasks[i].contour < 0 ? Path{} : whole.contour_path(static_cast<size_t>(tasks[i].contour));
+      const Path& source = tasks[i].contour < 0 ? whole : part;
+      pieces[i] = job.transform_first
+                      ? stroke::stroke_to_fill(stroke::transformed(source, job.space), job.style, job.device)
+                      : stroke::stroke_to_fill(source, job.style, job.device);
     });
+    for (size_t j = 0; j < stroke_jobs_.size(); j++) {
+      Path& out = shapes_[stroke_jobs_[j].out];
+      out = std::move(pieces[first_task[j]]);
+      for (size_t i = first_task[j] + 1; i < first_task[j + 1]; i++) out.append(pieces[i]);
+    }
     stroke_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     stroked_paths_ = stroke_jobs_.size();
     for (Op& op : ops_)
