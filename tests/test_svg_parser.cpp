@@ -1067,6 +1067,31 @@ stream F0
   CHECK(r.scene.geometries.at(0).points().at(0).y == Approx(-0.05));
 }
 
+TEST_CASE("svg stroke: ParseOptions::view gives the output's pixels", "[svg][stroke]") {
+  // The callback sees the document size and its transform decides what a
+  // pixel is: at_width(50) on a 100-unit document makes 0.5 px per unit,
+  // so a 1-unit stroke is half a pixel (widened to 2 units, opacity 0.5);
+  // at_width(400), 4 px per unit, leaves it alone.
+  const std::string doc =
+      R"~(<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 50"><line x2="40" stroke="#000"/></svg>)~";
+  double seen_w = 0, seen_h = 0;
+  mpvg::svg::ParseOptions probe;
+  probe.view = [&](double w, double h) {
+    seen_w = w;
+    seen_h = h;
+    return mpvg::Affine::scale(1, 1);
+  };
+  mpvg::svg::parse_svg_string(doc, ".", probe);
+  CHECK(seen_w == 100);
+  CHECK(seen_h == 50);
+  const auto small = mpvg::svg::parse_svg_string(doc, ".", mpvg::svg::ParseOptions::at_width(50));
+  CHECK(small.scene.paints.at(0).opacity == Approx(0.5));
+  CHECK(small.scene.geometries.at(0).points().at(0).y == Approx(-1));
+  const auto large = mpvg::svg::parse_svg_string(doc, ".", mpvg::svg::ParseOptions::at_width(400));
+  CHECK(large.scene.paints.at(0).opacity == 1);
+  CHECK(large.scene.geometries.at(0).points().at(0).y == Approx(-0.5));
+}
+
 TEST_CASE("svg stroke: clip paths and bounding boxes use fill geometry only", "[svg][stroke]") {
   // The clipPath child's stroke is not part of the clip region.
   CHECK(dump_of(R"~(<defs><clipPath id="c"><rect width="50" height="50" stroke="red" stroke-width="20"/></clipPath></defs>)~"
