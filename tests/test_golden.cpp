@@ -22,16 +22,16 @@ namespace {
 
 std::vector<uint8_t> render_golden(const std::string& svg_path, int* w, int* h) {
   // Rendered at the intrinsic size, as svg2png without size options; the
-  // strokes are prepared for that scale.
+  // strokes are prepared for that scale, with the view the render uses.
+  RenderOptions o;
   svg::ParseOptions po;
-  po.view = [](double w, double h) {
-    return Affine::scale(std::lround(w) / w, std::lround(h) / h);
+  po.view = [&o](double w, double h) {
+    o.width = static_cast<int>(std::lround(w));
+    o.height = static_cast<int>(std::lround(h));
+    o.view = Affine::scale(o.width / w, o.height / h);
+    return o.view;
   };
   const svg::ParseResult doc = svg::parse_svg_file(svg_path, po);
-  RenderOptions o;
-  o.width = static_cast<int>(std::lround(doc.scene.width));
-  o.height = static_cast<int>(std::lround(doc.scene.height));
-  o.view = Affine::scale(o.width / doc.scene.width, o.height / doc.scene.height);
   o.samples = 32;
   o.seed = 0;
   o.backend = Backend::Cpu;

@@ -778,10 +778,7 @@ class Converter {
     if (!enter(depth)) return;
     Placed pl;
     if (!place(e, kind, ctx, pl)) return;
-    const Style& st = pl.st;
-    const Affine& space = pl.space;
-    const Element* target = pl.target;
-    const ClipRef& clip = pl.clip;
+    const auto& [st, space, target, clip] = pl;
 
     const size_t start = ops_.size();
     const Context inner = child_context(st, space, false);
@@ -1076,10 +1073,7 @@ class Converter {
     if (!enter(depth)) return;
     Placed pl;
     if (!place(e, kind, ctx, pl)) return;
-    const Style& st = pl.st;
-    const Affine& space = pl.space;
-    const Element* target = pl.target;
-    const ClipRef& clip = pl.clip;
+    const auto& [st, space, target, clip] = pl;
 
     const size_t start = ops_.size();
     if (kind == Kind::Use) {
