@@ -1,6 +1,7 @@
 #include "core/scene.h"
 
 #include <cinttypes>
+#include <cmath>
 #include <cstdarg>
 #include <cstdio>
 #include <memory>
@@ -177,10 +178,57 @@ uint32_t SceneBuilder::add_geometry(Path p) {
 
 size_t SceneBuilder::depth() const { return frames_.size() - 1; }
 
+namespace {
+
+bool finite(double v) { return std::isfinite(v); }
+bool finite(Vec2 p) { return std::isfinite(p.x) && std::isfinite(p.y); }
+bool finite(const Affine& m) { return finite(m.a) && finite(m.b) && finite(m.c) && finite(m.d) && finite(m.e) && finite(m.f); }
+bool finite(const RGBA& c) { return finite(c.r) && finite(c.g) && finite(c.b) && finite(c.a); }
+
+}  // namespace
+
+uint32_t SceneBuilder::add_gradient(Gradient g) {
+  if (g.stops.empty()) throw Error("scene: gradient without stops");
+  if (!finite(g.xf) || !finite(g.p0) || !finite(g.p1) || !finite(g.focal) || !finite(g.center) ||
+      !finite(g.focal_radius) || !finite(g.radius))
+    throw Error("scene: gradient with a non-finite parameter");
+  for (size_t i = 0; i < g.stops.size(); i++) {
+    if (!finite(g.stops[i].offset) || !finite(g.stops[i].color)) throw Error("scene: gradient stop with a non-finite value");
+    if (i > 0 && g.stops[i].offset < g.stops[i - 1].offset) throw Error("scene: gradient stops out of order");
+  }
+  scene_.gradients.push_back(std::move(g));
+  return static_cast<uint32_t>(scene_.gradients.size() - 1);
+}
+
+uint32_t SceneBuilder::add_texture(Texture t) {
+  const Image* im = t.image.get();
+  if (!im || im->width <= 0 || im->height <= 0) throw Error("scene: texture without an image");
+  const size_t n = size_t(im->width) * size_t(im->height) * 4;
+  if ((im->bits == 8 && im->rgba8.size() != n) || (im->bits == 16 && im->rgba16.size() != n) ||
+      (im->bits != 8 && im->bits != 16))
+    throw Error("scene: texture image data does not match its size and depth");
+  if (!finite(t.xf) || !finite(t.tint)) throw Error("scene: texture with a non-finite parameter");
+  scene_.textures.push_back(std::move(t));
+  return static_cast<uint32_t>(scene_.textures.size() - 1);
+}
+
+uint32_t SceneBuilder::add_pattern(Pattern p) {
+  if (!p.tile || !(p.tile->width > 0) || !(p.tile->height > 0)) throw Error("scene: pattern without a tile");
+  if (!finite(p.xf) || !finite(p.tile->width) || !finite(p.tile->height))
+    throw Error("scene: pattern with a non-finite parameter");
+  scene_.patterns.push_back(std::move(p));
+  return static_cast<uint32_t>(scene_.patterns.size() - 1);
+}
+
 void SceneBuilder::fill(uint32_t geometry, const Affine& xf, FillRule rule, const Paint& paint) {
   Frame& f = frame();
   if (f.clip_context || !f.activated) throw Error("scene grammar: fill inside a clip-path");
   if (geometry >= scene_.geometries.size()) throw Error("scene: unknown geometry");
+  const size_t servers = paint.type == PaintType::Solid            ? 1
+                         : paint.type == PaintType::Texture        ? scene_.textures.size()
+                         : paint.type == PaintType::Pattern        ? scene_.patterns.size()
+                                                                   : scene_.gradients.size();
+  if (paint.index >= servers) throw Error("scene: paint refers to an unknown paint server");
   Node* n = new Node{Node::Fill, {}, {}, {}};
   pool_.push_back(n);
   n->path.geometry = geometry;
@@ -282,6 +330,9 @@ Scene SceneBuilder::finish() {
   out.height = scene_.height;
   out.geometries = std::move(scene_.geometries);
   out.paints = std::move(scene_.paints);
+  out.gradients = std::move(scene_.gradients);
+  out.textures = std::move(scene_.textures);
+  out.patterns = std::move(scene_.patterns);
   Emitter e{out};
   e.fill_list(root_->content);
   scene_ = Scene{};
@@ -302,26 +353,79 @@ void appendf(std::string& s, const char* fmt, ...) {
   if (n > 0) s.append(buf, static_cast<size_t>(n) < sizeof buf ? static_cast<size_t>(n) : sizeof buf - 1);
 }
 
-}  // namespace
+const char* paint_type_name(PaintType t) {
+  switch (t) {
+    case PaintType::Solid: return "solid";
+    case PaintType::LinearGradient: return "linear";
+    case PaintType::RadialGradient: return "radial";
+    case PaintType::Texture: return "texture";
+    case PaintType::Pattern: return "pattern";
+  }
+  return "?";
+}
 
-std::string dump(const Scene& scene) {
-  std::string s;
-  appendf(s, "scene %g %g\n", scene.width, scene.height);
+void append_matrix(std::string& s, const Affine& m) {
+  if (!m.is_identity()) appendf(s, " matrix(%g %g %g %g %g %g)", m.a, m.b, m.c, m.d, m.e, m.f);
+}
+
+void dump_into(std::string& s, const Scene& scene, const std::string& indent);
+
+void dump_servers(std::string& s, const Scene& scene, const std::string& indent) {
+  static const char* const spreads[] = {"pad", "reflect", "repeat"};
+  for (size_t i = 0; i < scene.gradients.size(); i++) {
+    const Gradient& g = scene.gradients[i];
+    appendf(s, "%sgradient %zu linear %g %g %g %g radial %g %g %g %g %g %g %s %s", indent.c_str(), i, g.p0.x, g.p0.y,
+            g.p1.x, g.p1.y, g.focal.x, g.focal.y, g.focal_radius, g.center.x, g.center.y, g.radius,
+            spreads[static_cast<int>(g.spread)], g.interpolation == ColorSpace::Srgb ? "srgb" : "linearrgb");
+    if (!g.extend_start || !g.extend_end) appendf(s, " extend %d %d", g.extend_start ? 1 : 0, g.extend_end ? 1 : 0);
+    append_matrix(s, g.xf);
+    s += "\n";
+    appendf(s, "%s  stops", indent.c_str());
+    for (const ColorStop& st : g.stops)
+      appendf(s, " %g rgba(%g,%g,%g,%g)", st.offset, st.color.r, st.color.g, st.color.b, st.color.a);
+    s += "\n";
+  }
+  static const char* const filters[] = {"nearest", "bilinear", "bicubic"};
+  static const char* const wraps[] = {"clamp", "repeat", "decal"};
+  for (size_t i = 0; i < scene.textures.size(); i++) {
+    const Texture& t = scene.textures[i];
+    appendf(s, "%stexture %zu image %dx%dx%d %s %s %s", indent.c_str(), i, t.image->width, t.image->height,
+            t.image->bits, filters[static_cast<int>(t.filter)], wraps[static_cast<int>(t.wrap_x)],
+            wraps[static_cast<int>(t.wrap_y)]);
+    if (t.tint.r != 1 || t.tint.g != 1 || t.tint.b != 1 || t.tint.a != 1)
+      appendf(s, " tint rgba(%g,%g,%g,%g)", t.tint.r, t.tint.g, t.tint.b, t.tint.a);
+    append_matrix(s, t.xf);
+    s += "\n";
+  }
+  for (size_t i = 0; i < scene.patterns.size(); i++) {
+    const Pattern& p = scene.patterns[i];
+    appendf(s, "%spattern %zu", indent.c_str(), i);
+    append_matrix(s, p.xf);
+    s += "\n";
+    dump_into(s, *p.tile, indent + "    ");
+  }
+}
+
+void dump_into(std::string& s, const Scene& scene, const std::string& indent) {
+  const char* in = indent.c_str();
+  appendf(s, "%sscene %g %g\n", in, scene.width, scene.height);
   for (size_t i = 0; i < scene.paths.size(); i++) {
     const ScenePath& sp = scene.paths[i];
-    appendf(s, "path %zu %s %s", i, sp.is_clip ? "clip" : "fill",
+    appendf(s, "%spath %zu %s %s", in, i, sp.is_clip ? "clip" : "fill",
             sp.rule == FillRule::NonZero ? "nonzero" : "evenodd");
     if (!sp.is_clip) {
       const Paint& p = scene.paints[sp.paint];
-      appendf(s, " rgba(%g,%g,%g,%g) opacity %g", p.color.r, p.color.g, p.color.b, p.color.a, p.opacity);
+      if (p.type == PaintType::Solid)
+        appendf(s, " rgba(%g,%g,%g,%g) opacity %g", p.color.r, p.color.g, p.color.b, p.color.a, p.opacity);
+      else
+        appendf(s, " %s %u opacity %g", paint_type_name(p.type), p.index, p.opacity);
     }
-    if (!sp.xf.is_identity())
-      appendf(s, " matrix(%g %g %g %g %g %g)", sp.xf.a, sp.xf.b, sp.xf.c, sp.xf.d, sp.xf.e, sp.xf.f);
+    append_matrix(s, sp.xf);
     s += "\n";
     const Path& g = scene.geometries[sp.geometry];
     for (const Path::Contour& c : g.contours()) {
       const Vec2 p0 = g.points()[c.start_point];
-      appendf(s, "  M %g %g", p0.x, p0.y);
+      appendf(s, "%s  M %g %g", in, p0.x, p0.y);
       for (uint32_t k = 0; k < c.segment_count; k++) {
         const Path::Segment& seg = g.segments()[c.first_segment + k];
         const Vec2* p = &g.points()[seg.first_point];
@@ -343,7 +447,8 @@ std::string dump(const Scene& scene) {
       s += "\n";
     }
   }
-  s += "stream";
+  dump_servers(s, scene, indent);
+  s += indent + "stream";
   for (const Element& e : scene.stream) {
     switch (e.kind) {
       case ElementKind::Push: s += " ("; break;
@@ -354,6 +459,13 @@ std::string dump(const Scene& scene) {
     }
   }
   s += "\n";
+}
+
+}  // namespace
+
+std::string dump(const Scene& scene) {
+  std::string s;
+  dump_into(s, scene, "");
   return s;
 }
 

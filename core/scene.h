@@ -16,6 +16,7 @@
 // reverses every fill* list when it finishes.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -97,14 +98,103 @@ struct RGBA {
   float r = 0, g = 0, b = 0, a = 1;
 };
 
-// Paints are evaluated per sample (sampling.h). Only solid colours exist so
-// far; gradients and textures will add kinds and an index into their tables.
-enum class PaintType : uint8_t { Solid };
+// ------------------------------------------------------------------ paints
+//
+// Every paint is evaluated per sample (core/paint.h), at the sample's
+// position, on both executors. Geometry of a paint lives in its own space;
+// its transform maps that space to scene units (not to the path's user
+// space: a paint can be placed independently of the path it fills, as PDF's
+// shadings and patterns are).
+
+enum class PaintType : uint8_t { Solid, LinearGradient, RadialGradient, Texture, Pattern };
+
+// What a colour ramp does with t outside [0, 1].
+enum class Spread : uint8_t { Pad, Reflect, Repeat };
+
+// The space colours of a ramp are interpolated in (SVG color-interpolation).
+enum class ColorSpace : uint8_t { Srgb, LinearRgb };
+
+struct ColorStop {
+  double offset = 0;  // position along the ramp, non-decreasing from stop to stop
+  RGBA color;         // straight alpha, sRGB-encoded
+};
+
+// A gradient: t from the geometry, then a colour from the ramp.
+//
+// Linear: t = 0 on the line through p0 perpendicular to p1 - p0, t = 1
+// through p1.
+//
+// Radial, the general two-point conical gradient of canvas and of PDF's
+// type-3 shadings: the circles C(t) with centre focal + t (center - focal)
+// and radius focal_radius + t (radius - focal_radius), from the start
+// (focal) circle at t = 0 to the end circle at t = 1. A point takes the
+// largest t whose circle passes through it with a radius >= 0 (and, with an
+// extend flag off, t within [0, 1]); a point no such circle reaches is not
+// painted. Any placement is allowed: the focal circle inside, on or outside
+// the end circle, focal_radius > 0, equal radii (a cylinder).
+//
+// Stops: at least one; offsets non-decreasing (equal offsets make a hard
+// step). Colours between stops are interpolated with straight alpha in
+// `interpolation`'s space; t below the first stop takes its colour, above
+// the last the last's. spread maps t outside [0, 1] first; with Pad, an
+// extend flag that is off leaves t < 0 (extend_start) or t > 1 (extend_end)
+// unpainted, as PDF's Extend array does.
+struct Gradient {
+  Affine xf;  // gradient space to scene units
+  Vec2 p0, p1;
+  Vec2 focal, center;
+  double focal_radius = 0, radius = 0;
+  std::vector<ColorStop> stops;
+  Spread spread = Spread::Pad;
+  ColorSpace interpolation = ColorSpace::Srgb;
+  bool extend_start = true, extend_end = true;
+};
+
+// An RGBA raster: straight alpha, sRGB-encoded, row-major, top row first,
+// 8 or 16 bits per channel (only the vector of that depth is used).
+struct Image {
+  int width = 0, height = 0;
+  int bits = 8;
+  std::vector<uint8_t> rgba8;
+  std::vector<uint16_t> rgba16;
+};
+
+enum class TextureFilter : uint8_t { Nearest, Bilinear, Bicubic };
+// Outside the image: the edge texels extended, the image repeated, or
+// nothing (transparent).
+enum class TextureWrap : uint8_t { Clamp, Repeat, Decal };
+
+// An image as a paint. Magnification uses `filter`; minification reads
+// pre-filtered (mip) levels chosen from the paint's footprint in the image,
+// so that it does not alias whatever the filter.
+struct Texture {
+  std::shared_ptr<const Image> image;
+  Affine xf;  // image space (pixel (i, j) covers [i, i+1) x [j, j+1)) to scene units
+  TextureFilter filter = TextureFilter::Bilinear;
+  TextureWrap wrap_x = TextureWrap::Clamp, wrap_y = TextureWrap::Clamp;
+  RGBA tint{1, 1, 1, 1};  // multiplies every texel (stencil masks: a white image tinted)
+};
+
+struct Scene;
+
+// A pattern: a tile that is itself a scene, repeated over the plane. The
+// tile is [0, tile->width) x [0, tile->height) of the tile scene's units;
+// content outside it is clipped. The tile gets its own shortcut tree and is
+// evaluated per sample at the sample's wrapped position, so a pattern stays
+// resolution independent. A tile's paints may be patterns again, nested at
+// most kMaxPatternDepth deep.
+struct Pattern {
+  std::shared_ptr<const Scene> tile;
+  Affine xf;  // tile space to scene units
+};
+
+constexpr int kMaxPatternDepth = 4;
 
 struct Paint {
   PaintType type = PaintType::Solid;
-  RGBA color;
-  float opacity = 1;  // multiplies color.a (fill-opacity × opacity)
+  RGBA color;         // Solid only
+  float opacity = 1;  // multiplies the paint, whatever its type (fill-opacity × opacity)
+  uint32_t index = 0; // gradients (LinearGradient, RadialGradient), textures or patterns of the scene
 };
 
 // One path instance of the stream: geometry, its transform to scene units,
@@ -129,6 +219,9 @@ struct Scene {
   std::vector<Path> geometries;
   std::vector<ScenePath> paths;  // indexed by Element::path; stream order
   std::vector<Paint> paints;
+  std::vector<Gradient> gradients;
+  std::vector<Texture> textures;
+  std::vector<Pattern> patterns;
   std::vector<Element> stream;   // top-most first
 
   // Number of input segments over all path instances (an instance counts its
@@ -147,6 +240,13 @@ class SceneBuilder {
   SceneBuilder& operator=(const SceneBuilder&) = delete;
 
   uint32_t add_geometry(Path p);
+
+  // Paint servers, referred to by Paint::index. Invalid ones (no stops,
+  // non-finite numbers, a missing or inconsistent image, an empty tile)
+  // throw mpvg::Error.
+  uint32_t add_gradient(Gradient g);
+  uint32_t add_texture(Texture t);
+  uint32_t add_pattern(Pattern p);
 
   // A filled path, drawn over what came before it.
   void fill(uint32_t geometry, const Affine& xf, FillRule rule, const Paint& paint);
@@ -177,8 +277,9 @@ class SceneBuilder {
   Node* root_ = nullptr;
 };
 
-// A text dump of a scene: sizes, every path with its geometry, and the
-// stream, one element a line. Parser tests compare dumps with expected text.
+// A text dump of a scene: sizes, every path with its geometry, its paint
+// servers (pattern tiles dumped inside, indented), and the stream, one
+// element a line. Parser tests compare dumps with expected text.
 std::string dump(const Scene& scene);
 
 }  // namespace mpvg
