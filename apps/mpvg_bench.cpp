@@ -104,7 +104,7 @@ int main(int argc, char** argv) {
       const EncodedScene enc = encode(doc.scene, p32.view, Gamma::Srgb);
       const EncodedScene enc_c = encode(doc.scene, pc.view, Gamma::Linear);
       const TreeParams params;
-      const PaintRecord bg{0, 0, 0, 0};
+      const PaintRecord bg = background_paint(RGBA{0, 0, 0, 0}, Gamma::Srgb);
       auto r8 = [&](gpu::GpuTimes* t) { return ctx.render_on_device(p8.integ, p8.frame, bg, t); };
       auto r32 = [&](gpu::GpuTimes* t) { return ctx.render_on_device(p32.integ, p32.frame, bg, t); };
       auto r4432 = [&](gpu::GpuTimes* t) { return ctx.render_on_device(pc.integ, pc.frame, bg, t); };

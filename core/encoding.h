@@ -1,12 +1,17 @@
 // Encoding: the host turns a Scene into the flat arrays every executor reads
 // (in the spirit of vello's scene encoding). Segments are transformed to
 // pixel space in double precision; every contour of a path is closed; paints
-// are premultiplied in the colour space integration works in.
+// become the records of core/paint.h, in the colour space integration works
+// in, with their transforms composed down to pixels; each pattern's tile
+// becomes a scene of its own, encoded in the grid its tree is built over.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/abstraction.h"
+#include "core/paint.h"
+#include "core/paint_data.h"
 #include "core/scene.h"
 #include "core/shortcut_tree.h"
 
@@ -14,21 +19,57 @@ namespace mpvg {
 
 enum class Gamma { Srgb, Linear };
 
+struct EncodedTile;
+
 struct EncodedScene {
   std::vector<InputSegment> segments;   // all paths, stream order, contours closed
   std::vector<PathRecord> paths;        // indexed by path id (stream order)
-  std::vector<PaintRecord> paints;
   // The stream with one PATH placeholder per path: delimiters are entries
   // (ENTRY_PUSH/ACTIVATE/POP) and each path is one ENTRY_SEGMENT entry whose
   // path field names it. Abstraction expands placeholders into the path's
   // abstract segments.
   std::vector<Entry> stream;
   size_t input_segment_count = 0;  // segments as given, before closing lines
+  // The scene's paints, its tiles' paints included (PathRecord::paint
+  // indexes them), and every pattern tile at every depth
+  // (PatternRecord::tree indexes them). Set on the top-level scene only.
+  std::shared_ptr<const PaintData> paint;
+  std::vector<EncodedTile> tiles;
+};
+
+// A pattern tile: its content in grid coordinates, where the tile is
+// [0, width) x [0, height), a grid of unit areas chosen about as fine as
+// the output's pixels (at least kMinTileGrid, at most kMaxTileGrid per
+// side). The grid only sets how finely the tile's tree is subdivided: the
+// tile is evaluated exactly at every sample whatever it is.
+struct EncodedTile {
+  EncodedScene scene;
+  int width = 1, height = 1;
+};
+constexpr int kMinTileGrid = 16;
+constexpr int kMaxTileGrid = 2048;
+
+// Minification (texture.h): the level of detail is log2 of the footprint of
+// an output pixel in texels (the largest singular value of the pixel-to-
+// texel map) plus this bias, and mip levels are used where it is positive.
+// With -1 the chosen level still has features of half a pixel, which the m
+// samples of every unit area resolve: images stay sharper than with a
+// whole pixel's prefilter, and nothing aliases.
+constexpr double kTextureLodBias = -1.0;
+
+struct EncodeOptions {
+  // 0: colour ramps as exact knots (the stops, with knots added where the
+  // interpolation space differs from the integration space, so that linear
+  // pieces stay within 1/4096 of the exact colours). N > 1: a lookup table
+  // of N knots evenly spaced in t (measured against the exact ramps in
+  // BENCHMARKS.md).
+  int ramp_lut = 0;
 };
 
 // view maps scene units to pixels. Throws mpvg::Error for rational cubics,
-// non-finite coordinates or more paths than entries can name.
-EncodedScene encode(const Scene& scene, const Affine& view, Gamma gamma);
+// non-finite coordinates, more paths than entries can name, or patterns
+// nested deeper than kMaxPatternDepth.
+EncodedScene encode(const Scene& scene, const Affine& view, Gamma gamma, const EncodeOptions& options = {});
 
 // Colour conversions for paints and the final image.
 float srgb_to_linear(float c);

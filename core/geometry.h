@@ -27,6 +27,17 @@ struct Affine {
   Vec2 apply_linear(Vec2 v) const { return {a * v.x + c * v.y, b * v.x + d * v.y}; }
   double det() const { return a * d - b * c; }
   bool is_identity() const { return a == 1 && b == 0 && c == 0 && d == 1 && e == 0 && f == 0; }
+  // Finite coefficients and a finite, non-zero determinant.
+  bool invertible() const {
+    const double dt = det();
+    return std::isfinite(a) && std::isfinite(b) && std::isfinite(c) && std::isfinite(d) && std::isfinite(e) &&
+           std::isfinite(f) && std::isfinite(dt) && dt != 0;
+  }
+  // The inverse; only meaningful when invertible().
+  Affine inverted() const {
+    const double dt = det();
+    return {d / dt, -b / dt, -c / dt, a / dt, (c * f - d * e) / dt, (b * e - a * f) / dt};
+  }
 
   static Affine translate(double tx, double ty) { return {1, 0, 0, 1, tx, ty}; }
   static Affine scale(double sx, double sy) { return {sx, 0, 0, sy, 0, 0}; }

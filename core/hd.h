@@ -9,7 +9,11 @@
 #if defined(__CUDACC__)
 #define MPVG_HD __host__ __device__
 #define MPVG_HD_INLINE __host__ __device__ __forceinline__
+// Kept out of line in kernels (cold, large paths such as a pattern tile's
+// evaluation, so that they do not raise the register count of the hot loop).
+#define MPVG_HD_NOINLINE __host__ __device__ __noinline__
 #else
 #define MPVG_HD
 #define MPVG_HD_INLINE inline
+#define MPVG_HD_NOINLINE
 #endif

@@ -36,7 +36,7 @@ PaintRecord background_paint(const RGBA& c, Gamma gamma) {
     g = srgb_to_linear(g);
     b = srgb_to_linear(b);
   }
-  return PaintRecord{r * a, g * a, b * a, a};
+  return PaintRecord{r * a, g * a, b * a, a, PAINT_SOLID, 0, 0, 0};
 }
 
 RenderPlan plan_render(const RenderOptions& o) {

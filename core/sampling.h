@@ -9,21 +9,41 @@
 
 #include "core/abstract_segment.h"
 #include "core/flat_clipping.h"
+#include "core/gradient.h"
 #include "core/hd.h"
+#include "core/paint.h"
 #include "core/shortcut_tree.h"
+#include "core/texture.h"
 
 namespace mpvg {
 
-struct Rgba4 {
-  float r, g, b, a;
-};
-
-// Everything a sampler reads, as flat arrays.
+// Everything a sampler reads, as flat arrays: one tree's cell streams,
+// segments and paths, and the paint tables (shared by the scene and its
+// pattern tiles; held by pointer, so that a pattern tile's inputs cost a
+// few registers, not a copy of every table pointer).
 struct SampleInputs {
   const Entry* entries;
   const AbstractSegment* segments;
   const PathRecord* paths;
-  const PaintRecord* paints;
+  const PaintTables* paint;
+};
+
+// The sampling functions are templates on two compile-time parameters:
+//   Depth: the depth of pattern nesting they run at (0: the scene itself;
+//          a pattern tile is sampled one level deeper);
+//   Kinds: which paint kinds the code handles (a PAINTS_* mask); other
+//          kinds are treated as solid, so a caller must pass a mask that
+//          covers the scene's paints (paint_kinds_of).
+// GPU samplers are specialised by the scene's paint kinds: the texture
+// lookups and above all the pattern recursion would otherwise raise the
+// register count (and cut the occupancy) of every sampler, solid colours or
+// not.
+enum : uint32_t {
+  PAINTS_SOLID = 0,
+  PAINTS_GRADIENTS = 1u << 0,
+  PAINTS_TEXTURES = 1u << 1,
+  PAINTS_PATTERNS = 1u << 2,
+  PAINTS_ALL = PAINTS_GRADIENTS | PAINTS_TEXTURES | PAINTS_PATTERNS,
 };
 
 // Winding contribution of one geometry or winding entry to sample (px, py).
@@ -38,9 +58,35 @@ MPVG_HD_INLINE int entry_winding(Entry e, const AbstractSegment* seg, float px, 
   }
 }
 
-// Paint of a fill at the sample. Only solid paints exist so far; position
-// dependent paints will be evaluated here, per sample.
-MPVG_HD_INLINE Rgba4 paint_at(const PaintRecord& p, float /*px*/, float /*py*/) { return Rgba4{p.r, p.g, p.b, p.a}; }
+// Does entry e make colours vary inside its cell? Geometry does, and so
+// does a path whose paint depends on the position. A cell without such
+// entries has one colour everywhere and is evaluated once.
+MPVG_HD_INLINE bool entry_varies(Entry e, const PathRecord* paths) {
+  if (entry_is_geometry(e)) return true;
+  return entry_kind(e) == ENTRY_WINDING && (paths[entry_path(e)].flags & PATH_VARYING) != 0;
+}
+
+template <int Depth, uint32_t Kinds>
+MPVG_HD_NOINLINE Rgba4 pattern_at(const PaintTables& t, const PatternRecord& p, float px, float py);
+
+// Premultiplied colour of paint `index` at sample (px, py), in the colour
+// space of integration.
+template <int Depth = 0, uint32_t Kinds = PAINTS_ALL>
+MPVG_HD_INLINE Rgba4 paint_at(const PaintTables& t, uint32_t index, float px, float py) {
+  const PaintRecord p = t.paints[index];
+  if constexpr ((Kinds & PAINTS_GRADIENTS) != 0) {
+    if (p.kind == PAINT_LINEAR || p.kind == PAINT_RADIAL)
+      return paint_scale(gradient_at(t.gradients[p.index], p.kind == PAINT_RADIAL, t.ramp_t, t.ramp_color, px, py),
+                         p);
+  }
+  if constexpr ((Kinds & PAINTS_TEXTURES) != 0) {
+    if (p.kind == PAINT_TEXTURE) return paint_scale(texture_at(t.textures[p.index], t.levels, t.texels, px, py), p);
+  }
+  if constexpr ((Kinds & PAINTS_PATTERNS) != 0 && Depth < kMaxPatternDepth) {
+    if (p.kind == PAINT_PATTERN) return paint_scale(pattern_at<Depth, Kinds>(t, t.patterns[p.index], px, py), p);
+  }
+  return Rgba4{p.r, p.g, p.b, p.a};
+}
 
 // Running state of one sample over a stream: the machine, the path whose
 // entries are being summed, and the colour so far. Kept explicit so that a
@@ -68,6 +114,7 @@ constexpr float kOpaqueAlpha = 1.0f - 1.0f / 65536.0f;
 
 // Closes the path being summed: inside-outside test, then blend (fill) or
 // a clip-machine transition (clip test).
+template <int Depth = 0, uint32_t Kinds = PAINTS_ALL>
 MPVG_HD_INLINE void sample_finish_path(SampleState& st, const SampleInputs& in, float px, float py) {
   if (st.path < 0) return;
   const PathRecord rec = in.paths[st.path];
@@ -77,7 +124,7 @@ MPVG_HD_INLINE void sample_finish_path(SampleState& st, const SampleInputs& in, 
     flat_clip_pass(st.clip);
     return;
   }
-  const Rgba4 p = paint_at(in.paints[rec.paint], px, py);
+  const Rgba4 p = paint_at<Depth, Kinds>(*in.paint, rec.paint, px, py);
   const float t = 1.0f - st.color.a;
   st.color.r += t * p.r;
   st.color.g += t * p.g;
@@ -92,18 +139,19 @@ MPVG_HD_INLINE const AbstractSegment* entry_segment(Entry e, const AbstractSegme
 }
 
 // Advances one sample over one entry; seg as in entry_winding.
+template <int Depth = 0, uint32_t Kinds = PAINTS_ALL>
 MPVG_HD_INLINE void sample_step(SampleState& st, const SampleInputs& in, Entry e, const AbstractSegment* seg, float px,
                                 float py) {
   if (st.done) return;
   if (entry_is_delimiter(e)) {
-    sample_finish_path(st, in, px, py);
+    sample_finish_path<Depth, Kinds>(st, in, px, py);
     if (st.done) return;
     flat_clip_delimiter(st.clip, entry_kind(e));
     return;
   }
   const int32_t path = static_cast<int32_t>(entry_path(e));
   if (path != st.path) {
-    sample_finish_path(st, in, px, py);
+    sample_finish_path<Depth, Kinds>(st, in, px, py);
     if (st.done) return;
     if (st.clip.state != FLAT_P) return;  // skipped by the clip machine
     st.path = path;
@@ -113,13 +161,14 @@ MPVG_HD_INLINE void sample_step(SampleState& st, const SampleInputs& in, Entry e
 }
 
 // Colour of sample (px, py) from the entries [begin, end) of its leaf cell.
+template <int Depth = 0, uint32_t Kinds = PAINTS_ALL>
 MPVG_HD_INLINE Rgba4 sample_cell(const SampleInputs& in, uint32_t begin, uint32_t end, float px, float py) {
   SampleState st = sample_start();
   for (uint32_t i = begin; i < end && !st.done; i++) {
     const Entry e = in.entries[i];
-    sample_step(st, in, e, entry_segment(e, in.segments), px, py);
+    sample_step<Depth, Kinds>(st, in, e, entry_segment(e, in.segments), px, py);
   }
-  sample_finish_path(st, in, px, py);
+  sample_finish_path<Depth, Kinds>(st, in, px, py);
   return st.color;
 }
 
@@ -134,6 +183,31 @@ MPVG_HD_INLINE uint32_t tree_find_leaf(const Node* nodes, uint32_t root_size, ui
     half >>= 1;
   }
   return nodes[node].leaf;
+}
+
+// A pattern at a sample: the sample's position in the tile's grid, wrapped
+// into [0, W) x [0, H), then that position evaluated in the leaf of the
+// tile's own tree that holds it (the tile's content clipped to the tile,
+// at full precision wherever the sample lands). Tiles nest at most
+// kMaxPatternDepth deep (the encoder refuses deeper nesting).
+template <int Depth, uint32_t Kinds>
+MPVG_HD_NOINLINE Rgba4 pattern_at(const PaintTables& t, const PatternRecord& p, float px, float py) {
+  if constexpr (Depth >= kMaxPatternDepth) {
+    return Rgba4{0.0f, 0.0f, 0.0f, 0.0f};
+  } else {
+    const TreeView& tv = t.tiles[p.tree];
+    float u, v;
+    affine_apply(p.m, px, py, u, v);
+    const float w = static_cast<float>(tv.width), h = static_cast<float>(tv.height);
+    u -= w * floorf(u / w);
+    v -= h * floorf(v / h);
+    // Rounding can land exactly on the far edge, which is the near one.
+    if (!(u < w)) u = 0.0f;
+    if (!(v < h)) v = 0.0f;
+    const Cell c = tv.leaves[tree_find_leaf(tv.nodes, tv.root_size, static_cast<uint32_t>(u), static_cast<uint32_t>(v))];
+    const SampleInputs in{tv.entries, tv.segments, tv.paths, &t};
+    return sample_cell<Depth + 1, Kinds>(in, c.begin, c.end, u, v);
+  }
 }
 
 }  // namespace mpvg

@@ -182,13 +182,11 @@ struct Scene;
 // content outside it is clipped. The tile gets its own shortcut tree and is
 // evaluated per sample at the sample's wrapped position, so a pattern stays
 // resolution independent. A tile's paints may be patterns again, nested at
-// most kMaxPatternDepth deep.
+// most kMaxPatternDepth deep (core/paint.h).
 struct Pattern {
   std::shared_ptr<const Scene> tile;
   Affine xf;  // tile space to scene units
 };
-
-constexpr int kMaxPatternDepth = 4;
 
 struct Paint {
   PaintType type = PaintType::Solid;

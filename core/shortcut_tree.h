@@ -114,20 +114,15 @@ static_assert(sizeof(Node) == 8, "Node is an 8-byte record shared by CPU and GPU
 enum : uint32_t {
   PATH_EVENODD = 1u << 0,
   PATH_CLIP = 1u << 1,
-  PATH_OPAQUE = 1u << 2,  // fill whose paint is opaque at every sample
+  PATH_OPAQUE = 1u << 2,   // fill whose paint is opaque at every sample
+  PATH_VARYING = 1u << 3,  // fill whose paint depends on the sample's position
 };
 
 struct PathRecord {
   uint32_t flags;
-  uint32_t paint;
+  uint32_t paint;  // fills: index into the paint table (core/paint.h)
 };
 static_assert(sizeof(PathRecord) == 8, "PathRecord is an 8-byte record shared by CPU and GPU");
-
-// Paints, premultiplied, in the colour space that integration works in.
-struct PaintRecord {
-  float r, g, b, a;
-};
-static_assert(sizeof(PaintRecord) == 16, "PaintRecord is a 16-byte record shared by CPU and GPU");
 
 MPVG_HD_INLINE bool path_inside(uint32_t path_flags, int winding) {
   return (path_flags & PATH_EVENODD) ? (winding & 1) != 0 : winding != 0;

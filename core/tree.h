@@ -3,9 +3,11 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/abstract_segment.h"
+#include "core/paint_data.h"
 #include "core/shortcut_tree.h"
 
 namespace mpvg {
@@ -30,18 +32,30 @@ struct ShortcutTree {
   int depth = 0;           // deepest level that has cells
   std::vector<AbstractSegment> segments;
   std::vector<PathRecord> paths;
-  std::vector<PaintRecord> paints;
+  std::shared_ptr<const PaintData> paint;  // shared with the tiles' trees
+  std::vector<ShortcutTree> tiles;  // pattern tiles' trees (EncodedScene::tiles), top-level tree only
+  uint32_t width = 0, height = 0;   // the grid of unit areas the tree was built over
   std::vector<Node> nodes;          // node 0 is the root
   std::vector<Cell> leaves;         // begin/end index leaf_entries
   std::vector<Entry> leaf_entries;
   std::vector<TreeLevel> levels;    // TreeParams::keep_levels only
   size_t peak_level_entries = 0;    // largest level, for memory reports
 
-  // Bytes of what sampling needs: segments, nodes, leaves and their entries.
+  // Bytes of what sampling needs: segments, nodes, leaves and their
+  // entries, paths, the tiles' trees, and the paint tables.
   size_t memory_bytes() const {
-    return segments.size() * sizeof(AbstractSegment) + nodes.size() * sizeof(Node) +
-           leaves.size() * sizeof(Cell) + leaf_entries.size() * sizeof(Entry) +
-           paths.size() * sizeof(PathRecord) + paints.size() * sizeof(PaintRecord);
+    size_t n = segments.size() * sizeof(AbstractSegment) + nodes.size() * sizeof(Node) +
+               leaves.size() * sizeof(Cell) + leaf_entries.size() * sizeof(Entry) + paths.size() * sizeof(PathRecord);
+    for (const ShortcutTree& t : tiles) n += t.memory_bytes();
+    if (paint) n += paint->bytes();
+    return n;
+  }
+
+  // The tree as a sampler reads it.
+  TreeView view() const {
+    return TreeView{nodes.data(),    leaves.data(), leaf_entries.data(), segments.data(),
+                    paths.data(),    root_size,     width,               height,
+                    0};
   }
 };
 

@@ -75,7 +75,6 @@ void Context::Impl::abstract(const EncodedScene& scene) {
   const size_t n = scene.segments.size();
   input.upload(scene.segments);
   paths.upload(scene.paths);
-  paints.upload(scene.paints);
   placeholders.upload(scene.stream);
   npaths = scene.paths.size();
   scene_depth = 0;

@@ -79,17 +79,72 @@ TreeLevel download_level(const DeviceLevel& lv) {
 
 }  // namespace
 
+void Context::Impl::upload_paints(const PaintData& p) {
+  paints.upload(p.paints);
+  gradients.upload(p.gradients);
+  ramp_t.upload(p.ramp_t);
+  ramp_color.upload(p.ramp_color);
+  textures.upload(p.textures);
+  texture_levels.upload(p.levels);
+  texels.upload(p.texels);
+  patterns.upload(p.patterns);
+}
+
+void Context::Impl::stash_tile(TileTree& t) {
+  auto copy = [](auto& dst, const auto& src, size_t n) {
+    dst.resize(n);
+    if (n) MPVG_CUDA(cudaMemcpyAsync(dst.data(), src.data(), n * sizeof(*src.data()), cudaMemcpyDeviceToDevice));
+  };
+  copy(t.segments, segments, nsegments);
+  copy(t.paths, paths, npaths);
+  copy(t.nodes, nodes, nnodes);
+  copy(t.leaves, leaves, nleaves);
+  copy(t.entries, leaf_entries, nleaf_entries);
+  t.nsegments = nsegments;
+  t.npaths = npaths;
+  t.nnodes = nnodes;
+  t.nleaves = nleaves;
+  t.nentries = nleaf_entries;
+  t.root_size = root_size;
+  t.width = static_cast<uint32_t>(width);
+  t.height = static_cast<uint32_t>(height);
+}
+
 void Context::Impl::build(const EncodedScene& scene, int w, int h, const TreeParams& params, GpuTimes* times) {
+  const size_t launches0 = launches, syncs0 = syncs, calls0 = prim.calls;
+  host_paint = scene.paint ? scene.paint : std::make_shared<const PaintData>();
+  upload_paints(*host_paint);
+  // Tiles first: the working buffers end up holding the scene's tree.
+  if (tiles.size() < scene.tiles.size()) tiles.resize(scene.tiles.size());
+  ntiles = scene.tiles.size();
+  TreeParams tile_params = params;
+  tile_params.keep_levels = false;
+  std::vector<TreeView> views;
+  for (size_t k = 0; k < ntiles; k++) {
+    const EncodedTile& tile = scene.tiles[k];
+    build_tree(tile.scene, tile.width, tile.height, tile_params, times);
+    TileTree& tt = tiles[k];
+    stash_tile(tt);
+    views.push_back(TreeView{tt.nodes.data(), tt.leaves.data(), tt.entries.data(), tt.segments.data(),
+                             tt.paths.data(), tt.root_size, tt.width, tt.height, 0});
+  }
+  tile_views.upload(views);
+  paint_view.upload(std::vector<PaintTables>{paint_tables()});
+  build_tree(scene, w, h, params, times);
+  build_launches = launches - launches0;
+  build_syncs = syncs - syncs0;
+  build_cub_calls = prim.calls - calls0;
+}
+
+void Context::Impl::build_tree(const EncodedScene& scene, int w, int h, const TreeParams& params, GpuTimes* times) {
   StageTimer timer(times != nullptr);
   GpuTimes local;
   GpuTimes& t = times ? *times : local;
   width = w;
   height = h;
   root_size = tree_root_size(w, h);
-  const size_t launches0 = launches, syncs0 = syncs, calls0 = prim.calls;
   kept_levels.clear();
   host_paths = scene.paths;
-  host_paints = scene.paints;
   peak_level_entries = 0;
 
   timer.start(&t.abstract_ms);
@@ -183,9 +238,6 @@ void Context::Impl::build(const EncodedScene& scene, int w, int h, const TreePar
     std::swap(level, child);
   }
   timer.collect();
-  build_launches = launches - launches0;
-  build_syncs = syncs - syncs0;
-  build_cub_calls = prim.calls - calls0;
 }
 
 }  // namespace mpvg::gpu

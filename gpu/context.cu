@@ -48,8 +48,24 @@ ShortcutTree Context::download_tree() const {
   t.root_size = m.root_size;
   t.depth = m.depth;
   t.segments = m.segments.download(m.nsegments);
+  t.width = static_cast<uint32_t>(m.width);
+  t.height = static_cast<uint32_t>(m.height);
   t.paths = m.host_paths;
-  t.paints = m.host_paints;
+  t.paint = m.host_paint;
+  for (size_t k = 0; k < m.ntiles; k++) {
+    const Impl::TileTree& tt = m.tiles[k];
+    ShortcutTree tile;
+    tile.root_size = tt.root_size;
+    tile.width = tt.width;
+    tile.height = tt.height;
+    tile.segments = tt.segments.download(tt.nsegments);
+    tile.paths = tt.paths.download(tt.npaths);
+    tile.nodes = tt.nodes.download(tt.nnodes);
+    tile.leaves = tt.leaves.download(tt.nleaves);
+    tile.leaf_entries = tt.entries.download(tt.nentries);
+    tile.paint = m.host_paint;
+    t.tiles.push_back(std::move(tile));
+  }
   t.nodes = m.nodes.download(m.nnodes);
   t.leaves = m.leaves.download(m.nleaves);
   t.leaf_entries = m.leaf_entries.download(m.nleaf_entries);
@@ -89,9 +105,15 @@ void Context::set_sampler_shape(const SamplerShape& shape) {
 
 size_t Context::tree_bytes() const {
   const Impl& m = *impl_;
-  return m.nsegments * sizeof(AbstractSegment) + m.nnodes * sizeof(Node) + m.nleaves * sizeof(Cell) +
-         m.nleaf_entries * sizeof(Entry) + m.host_paths.size() * sizeof(PathRecord) +
-         m.host_paints.size() * sizeof(PaintRecord);
+  size_t n = m.nsegments * sizeof(AbstractSegment) + m.nnodes * sizeof(Node) + m.nleaves * sizeof(Cell) +
+             m.nleaf_entries * sizeof(Entry) + m.host_paths.size() * sizeof(PathRecord);
+  for (size_t k = 0; k < m.ntiles; k++) {
+    const Impl::TileTree& tt = m.tiles[k];
+    n += tt.nsegments * sizeof(AbstractSegment) + tt.nnodes * sizeof(Node) + tt.nleaves * sizeof(Cell) +
+         tt.nentries * sizeof(Entry) + tt.npaths * sizeof(PathRecord);
+  }
+  if (m.host_paint) n += m.host_paint->bytes();
+  return n;
 }
 
 std::string device_name() {

@@ -6,6 +6,8 @@
 #include <utility>
 
 #include "core/abstraction.h"
+#include "core/paint.h"
+#include "core/paint_data.h"
 #include "core/scan.h"
 #include "core/shortcut_tree.h"
 #include "core/integration.h"
@@ -90,7 +92,6 @@ struct Context::Impl {
   // Scene.
   DeviceBuffer<InputSegment> input;
   DeviceBuffer<PathRecord> paths;
-  DeviceBuffer<PaintRecord> paints;
   DeviceBuffer<Entry> placeholders;      // encoding's stream, one SEGMENT placeholder per path
   DeviceBuffer<uint32_t> path_input;     // first input segment of each path (npaths + 1)
   DeviceBuffer<AbstractSegment> segments;
@@ -107,7 +108,34 @@ struct Context::Impl {
   size_t peak_level_entries = 0;
   std::vector<TreeLevel> kept_levels;  // TreeParams::keep_levels
   std::vector<PathRecord> host_paths;
-  std::vector<PaintRecord> host_paints;
+  // Paint tables, uploaded once per frame (build), and the pattern tiles'
+  // trees, built by the same stages before the scene's own and copied aside.
+  struct TileTree {
+    DeviceBuffer<AbstractSegment> segments;
+    DeviceBuffer<PathRecord> paths;
+    DeviceBuffer<Node> nodes;
+    DeviceBuffer<Cell> leaves;
+    DeviceBuffer<Entry> entries;
+    size_t nsegments = 0, npaths = 0, nnodes = 0, nleaves = 0, nentries = 0;
+    uint32_t root_size = 1, width = 0, height = 0;
+  };
+  std::vector<TileTree> tiles;
+  size_t ntiles = 0;
+  DeviceBuffer<TreeView> tile_views;
+  DeviceBuffer<PaintRecord> paints;
+  DeviceBuffer<GradientRecord> gradients;
+  DeviceBuffer<float> ramp_t;
+  DeviceBuffer<Rgba4> ramp_color;
+  DeviceBuffer<TextureRecord> textures;
+  DeviceBuffer<TextureLevel> texture_levels;
+  DeviceBuffer<Texel16> texels;
+  DeviceBuffer<PatternRecord> patterns;
+  DeviceBuffer<PaintTables> paint_view;  // one element: paint_tables(), for SampleInputs::paint
+  std::shared_ptr<const PaintData> host_paint;
+  PaintTables paint_tables() const {
+    return PaintTables{paints.data(),   gradients.data(),      ramp_t.data(), ramp_color.data(), textures.data(),
+                       texture_levels.data(), texels.data(), patterns.data(), tile_views.data()};
+  }
   // Scratch.
   DeviceBuffer<uint32_t> u32[6];
   DeviceBuffer<int32_t> i32[2];
@@ -156,7 +184,13 @@ struct Context::Impl {
   void abstract(const EncodedScene& scene);
   void subdivide(const DeviceLevel& from, DeviceLevel& to, bool root);
   int prune(DeviceLevel& lv);
+  // The whole frame's trees: paint tables uploaded, tiles built and put
+  // aside, then the scene's tree.
   void build(const EncodedScene& scene, int width, int height, const TreeParams& params, GpuTimes* times);
+  // One tree (the scene's or a tile's) into the working buffers.
+  void build_tree(const EncodedScene& scene, int width, int height, const TreeParams& params, GpuTimes* times);
+  void upload_paints(const PaintData& p);
+  void stash_tile(TileTree& t);
   void render(const Integration& integ, const IntegrationFrame& frame, const PaintRecord& background,
               GpuTimes* times);
 };

@@ -8,8 +8,9 @@
 // in the same order as on the CPU, and the pixel is written once (no
 // atomics: deterministic).
 //
-// Leaves without geometry have one colour everywhere: it is evaluated once
-// per leaf and written to their pixels by a separate fill.
+// Leaves without geometry or position-dependent paints have one colour
+// everywhere: it is evaluated once per leaf and written to their pixels by
+// a separate fill.
 //
 // Wider filters (integration.h, Fig. 11): after a group of unit areas has
 // been sampled, one thread per (unit area, covered pixel) computes the
@@ -51,7 +52,7 @@ __device__ __forceinline__ float4 composite(float r, float g, float b, float a, 
   return make_float4(r + under * bg.r, g + under * bg.g, b + under * bg.b, a + under * bg.a);
 }
 
-// Schedule: batches per leaf; uniform leaves get their colour instead.
+// Schedule: batches per leaf; uniform leaves (entry_varies) get their colour instead.
 __global__ void k_leaf_info(const Cell* leaves, size_t nleaves, const Entry* entries, SampleInputs in,
                             uint32_t root_size, int width, int height, uint32_t tile_w, uint32_t tile_h,
                             uint32_t* batches, float4* color) {
@@ -64,9 +65,10 @@ __global__ void k_leaf_info(const Cell* leaves, size_t nleaves, const Entry* ent
   const Cell c = leaves[l];
   const PixelRect r = leaf_rect(c, root_size, width, height);
   bool uniform = true;
-  for (uint32_t i = c.begin; i < c.end && uniform; i++) uniform = !entry_is_geometry(entries[i]);
+  for (uint32_t i = c.begin; i < c.end && uniform; i++) uniform = !entry_varies(entries[i], in.paths);
   if (uniform) {
-    const Rgba4 col = sample_cell(in, c.begin, c.end, float(r.x0), float(r.y0));
+    // Uniform leaves hold no position-dependent paint, patterns included.
+    const Rgba4 col = sample_cell<0, PAINTS_SOLID>(in, c.begin, c.end, float(r.x0), float(r.y0));
     color[l] = make_float4(col.r, col.g, col.b, col.a);
     batches[l] = 0;
   } else {
@@ -83,6 +85,10 @@ struct Accumulate {
   int support, class_mod, acc_w, acc_h;
 };
 
+// Kinds: the paint kinds the scene uses (sampling.h); each mask is its own
+// kernel, so that solid scenes keep the registers (and occupancy) of a
+// solid-colour sampler.
+template <uint32_t Kinds>
 __global__ void k_sample(const Cell* leaves, uint32_t nleaves, const uint32_t* batch_start, SampleInputs in,
                          const SampleOffset* pattern, int n, int chunk, int tile_w, int tile_h, uint32_t root_size,
                          int width, int height, PaintRecord bg, float4* image, Accumulate a) {
@@ -134,10 +140,10 @@ __global__ void k_sample(const Cell* leaves, uint32_t nleaves, const uint32_t* b
         if (entry_kind(e) == ENTRY_SEGMENT) ss[t] = in.segments[e.data];
       }
       __syncthreads();
-      for (uint32_t t = 0; t < cnt && !st.done; t++) sample_step(st, in, se[t], &ss[t], sx, sy);
+      for (uint32_t t = 0; t < cnt && !st.done; t++) sample_step<0, Kinds>(st, in, se[t], &ss[t], sx, sy);
       if (__syncthreads_and(st.done)) break;
     }
-    if (active) sample_finish_path(st, in, sx, sy);
+    if (active) sample_finish_path<0, Kinds>(st, in, sx, sy);
     red[tid] = make_float4(st.color.r, st.color.g, st.color.b, st.color.a);
     __syncthreads();
     if (!a.acc) {
@@ -369,7 +375,7 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
   out_width = frame.width;
   out_height = frame.height;
   image.resize(size_t(frame.width) * frame.height);
-  const SampleInputs in{leaf_entries.data(), segments.data(), paths.data(), paints.data()};
+  const SampleInputs in{leaf_entries.data(), segments.data(), paths.data(), paint_view.data()};
   Accumulate acc_args{nullptr, nullptr, integ.support, integ.class_mod, frame.acc_w, frame.acc_h};
   const size_t nacc = size_t(frame.acc_w) * frame.acc_h * 4;
   if (!direct) {
@@ -405,11 +411,19 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
     const size_t shared = sizeof(AbstractSegment) * shape.chunk + sizeof(Entry) * (shape.chunk + (shape.chunk & 1)) +
                           sizeof(float4) * threads +
                           (direct ? 0 : sizeof(unsigned long long) * 4 * (tile_w + K - 1) * (tile_h + K - 1));
-    MPVG_CUDA(cudaFuncSetAttribute(k_sample, cudaFuncAttributeMaxDynamicSharedMemorySize, static_cast<int>(shared)));
-    k_sample<<<total_batches, threads, shared>>>(leaves.data(), static_cast<uint32_t>(nleaves),
-                                                       leaf_batches.data(), in, pattern.data(), n, shape.chunk,
-                                                       tile_w, tile_h, root_size, width, height, bg, image.data(),
-                                                       acc_args);
+    auto launch = [&](auto kernel) {
+      MPVG_CUDA(cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, static_cast<int>(shared)));
+      kernel<<<total_batches, threads, shared>>>(leaves.data(), static_cast<uint32_t>(nleaves), leaf_batches.data(), in,
+                                                 pattern.data(), n, shape.chunk, tile_w, tile_h, root_size, width,
+                                                 height, bg, image.data(), acc_args);
+    };
+    const PaintData& pd = *host_paint;
+    if (!pd.patterns.empty())
+      launch(k_sample<PAINTS_ALL>);
+    else if (!pd.textures.empty())
+      launch(pd.gradients.empty() ? k_sample<PAINTS_TEXTURES> : k_sample<PAINTS_GRADIENTS | PAINTS_TEXTURES>);
+    else
+      launch(pd.gradients.empty() ? k_sample<PAINTS_SOLID> : k_sample<PAINTS_GRADIENTS>);
     launched();
   }
   const size_t nua = size_t(width) * height;

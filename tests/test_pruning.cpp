@@ -59,7 +59,7 @@ struct Recursive {
       i++;
       if (e.kind == ElementKind::Fill) {
         if (draw && inside(e.path)) {
-          const PaintRecord& p = enc.paints[enc.paths[e.path].paint];
+          const PaintRecord& p = enc.paint->paints[enc.paths[e.path].paint];
           const float t = 1.0f - color.a;
           color = Rgba4{color.r + t * p.r, color.g + t * p.g, color.b + t * p.b, color.a + t * p.a};
         }
@@ -73,15 +73,7 @@ struct Recursive {
   }
 };
 
-const Cell& leaf_at(const ShortcutTree& t, float px, float py) {
-  return t.leaves[tree_find_leaf(t.nodes.data(), t.root_size, uint32_t(px), uint32_t(py))];
-}
-
-Rgba4 tree_sample(const ShortcutTree& t, float px, float py) {
-  const Cell& c = leaf_at(t, px, py);
-  const SampleInputs in{t.leaf_entries.data(), t.segments.data(), t.paths.data(), t.paints.data()};
-  return sample_cell(in, c.begin, c.end, px, py);
-}
+Rgba4 tree_sample(const ShortcutTree& t, float px, float py) { return sample_tree_cpu(t, px, py); }
 
 }  // namespace
 

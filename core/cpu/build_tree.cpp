@@ -28,8 +28,15 @@ ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, co
   BuildTimes& t = times ? *times : local;
   ShortcutTree tree;
   tree.root_size = tree_root_size(width, height);
+  tree.width = static_cast<uint32_t>(width);
+  tree.height = static_cast<uint32_t>(height);
   tree.paths = scene.paths;
-  tree.paints = scene.paints;
+  tree.paint = scene.paint;
+  // Pattern tiles' trees: built like any other, over their grids.
+  TreeParams tile_params = params;
+  tile_params.keep_levels = false;
+  for (const EncodedTile& tile : scene.tiles)
+    tree.tiles.push_back(build_tree_cpu(tile.scene, tile.width, tile.height, tile_params, &t));
 
   auto t0 = std::chrono::steady_clock::now();
   tree.segments = abstract_cpu(scene.segments);

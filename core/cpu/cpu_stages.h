@@ -54,6 +54,10 @@ struct RenderTimes {
 ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const IntegrationFrame& frame,
                        const PaintRecord& background, int threads, RenderTimes* times = nullptr);
 
+// The colour of one sample at (px, py), straight from the tree (tests and
+// tools): premultiplied, in the integration colour space, no background.
+Rgba4 sample_tree_cpu(const ShortcutTree& tree, float px, float py);
+
 // The box filter over width x height pixels (the tree built over them).
 ImageF render_tree_cpu(const ShortcutTree& tree, int width, int height, const std::vector<SampleOffset>& pattern,
                        const PaintRecord& background, int threads, RenderTimes* times = nullptr);

@@ -49,12 +49,13 @@ std::vector<Task> schedule(const ShortcutTree& tree, int w, int h) {
   return tasks;
 }
 
-// Leaves without geometry have one colour everywhere.
+// Leaves without geometry or position-dependent paints have one colour
+// everywhere.
 std::vector<char> uniform_leaves(const ShortcutTree& tree) {
   std::vector<char> uniform(tree.leaves.size(), 1);
   for (size_t l = 0; l < tree.leaves.size(); l++)
     for (uint32_t i = tree.leaves[l].begin; i < tree.leaves[l].end && uniform[l]; i++)
-      uniform[l] = !entry_is_geometry(tree.leaf_entries[i]);
+      uniform[l] = !entry_varies(tree.leaf_entries[i], tree.paths.data());
   return uniform;
 }
 
@@ -67,6 +68,17 @@ void composite(const float* p, const PaintRecord& bg, float* out) {
 }
 
 }  // namespace
+
+Rgba4 sample_tree_cpu(const ShortcutTree& tree, float px, float py) {
+  std::vector<TreeView> tiles;
+  for (const ShortcutTree& t : tree.tiles) tiles.push_back(t.view());
+  static const PaintData kNoPaints;
+  const PaintData& paint = tree.paint ? *tree.paint : kNoPaints;
+  const PaintTables tables = paint.view(tiles.data());
+  const SampleInputs in{tree.leaf_entries.data(), tree.segments.data(), tree.paths.data(), &tables};
+  const Cell& c = tree.leaves[tree_find_leaf(tree.nodes.data(), tree.root_size, uint32_t(px), uint32_t(py))];
+  return sample_cell(in, c.begin, c.end, px, py);
+}
 
 ImageF render_tree_cpu(const ShortcutTree& tree, int width, int height, const std::vector<SampleOffset>& pattern,
                        const PaintRecord& background, int threads, RenderTimes* times) {
@@ -87,7 +99,12 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
   if (times) times->schedule_ms += ms_since(t0);
 
   t0 = std::chrono::steady_clock::now();
-  const SampleInputs in{tree.leaf_entries.data(), tree.segments.data(), tree.paths.data(), tree.paints.data()};
+  std::vector<TreeView> tiles;
+  for (const ShortcutTree& t : tree.tiles) tiles.push_back(t.view());
+  static const PaintData kNoPaints;
+  const PaintData& paint = tree.paint ? *tree.paint : kNoPaints;
+  const PaintTables tables = paint.view(tiles.data());
+  const SampleInputs in{tree.leaf_entries.data(), tree.segments.data(), tree.paths.data(), &tables};
   const int n = integ.samples;
   const bool direct = integ.support == 1 && integ.pad == 0;
   if (direct) {

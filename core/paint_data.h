@@ -1,0 +1,35 @@
+// Host storage of the paint tables (core/paint.h): what the encoder
+// produces, what the CPU sampler reads and the GPU uploads.
+#pragma once
+#include <cstddef>
+#include <vector>
+
+#include "core/paint.h"
+
+namespace mpvg {
+
+// Host copies of the paint tables (core/paint.h). PaintTables views them.
+struct PaintData {
+  std::vector<PaintRecord> paints;
+  std::vector<GradientRecord> gradients;
+  std::vector<float> ramp_t;
+  std::vector<Rgba4> ramp_color;
+  std::vector<TextureRecord> textures;
+  std::vector<TextureLevel> levels;
+  std::vector<Texel16> texels;
+  std::vector<PatternRecord> patterns;
+
+  // Pointers into these vectors; `tiles` are the tile trees' views.
+  PaintTables view(const TreeView* tiles) const {
+    return PaintTables{paints.data(),   gradients.data(), ramp_t.data(),   ramp_color.data(), textures.data(),
+                       levels.data(),   texels.data(),    patterns.data(), tiles};
+  }
+  size_t bytes() const {
+    return paints.size() * sizeof(PaintRecord) + gradients.size() * sizeof(GradientRecord) +
+           ramp_t.size() * sizeof(float) + ramp_color.size() * sizeof(Rgba4) +
+           textures.size() * sizeof(TextureRecord) + levels.size() * sizeof(TextureLevel) +
+           texels.size() * sizeof(Texel16) + patterns.size() * sizeof(PatternRecord);
+  }
+};
+
+}  // namespace mpvg
