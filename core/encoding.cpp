@@ -196,18 +196,25 @@ class Encoder {
   // coordinates to output pixels (its linear part: how large things look).
   void scene(const Scene& scene, const Affine& view, const Affine& frame_to_out, int depth, EncodedScene& out) {
     if (scene.paths.size() >= kMaxPaths) throw Error("scene has too many paths");
-    // The scene's paints first: path records need their flags.
+    // The scene's paints first: path records need their flags. Their slots
+    // are taken before any is encoded, as a pattern's tile appends paints
+    // of its own.
     const uint32_t base = static_cast<uint32_t>(paint_.paints.size());
+    paint_.paints.resize(base + scene.paints.size());
     std::vector<uint32_t> flags(scene.paints.size());
-    for (size_t i = 0; i < scene.paints.size(); i++)
-      flags[i] = paint(scene, scene.paints[i], view, frame_to_out, depth);
+    for (size_t i = 0; i < scene.paints.size(); i++) {
+      PaintRecord rec;  // paint_.paints may grow meanwhile: no reference into it
+      flags[i] = paint(scene, scene.paints[i], view, frame_to_out, depth, rec);
+      paint_.paints[base + i] = rec;
+    }
     paths(scene, view, base, flags, out);
   }
 
  private:
-  // Appends the record of paint p; returns the path flags it implies
+  // The record of paint p, into `out`; returns the path flags it implies
   // (PATH_OPAQUE, PATH_VARYING).
-  uint32_t paint(const Scene& scene, const Paint& p, const Affine& view, const Affine& frame_to_out, int depth) {
+  uint32_t paint(const Scene& scene, const Paint& p, const Affine& view, const Affine& frame_to_out, int depth,
+                 PaintRecord& out) {
     const float op = clamp01(p.opacity);
     PaintRecord rec{op, op, op, op, PAINT_SOLID, 0, 0, 0};
     uint32_t flags = 0;
@@ -255,7 +262,7 @@ class Encoder {
         }
         break;
     }
-    paint_.paints.push_back(rec);
+    out = rec;
     return flags;
   }
 
