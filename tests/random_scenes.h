@@ -1,6 +1,7 @@
 // Random scenes for tests: fills and nested clip groups over random curved
 // paths, full-cover rectangles (F1/C1 candidates in every cell), doubly
-// wound ones (F0/C0 under even-odd) and half-plane boxes.
+// wound ones (F0/C0 under even-odd) and half-plane boxes; solid paints, or
+// paints of every kind.
 #pragma once
 #include <random>
 
@@ -14,6 +15,9 @@ struct Gen {
   SceneBuilder& b;
   int max_depth;
   double size;
+  // Paints of every kind (gradients, textures, patterns; opaque or not),
+  // not only solid colours.
+  bool rich_paints = false;
 
   Path shape() {
     std::uniform_int_distribution<int> kind(0, 9);
@@ -54,6 +58,53 @@ struct Gen {
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     Paint p;
     p.color = RGBA{u(rng), u(rng), u(rng), std::bernoulli_distribution(0.5)(rng) ? 1.0f : u(rng)};
+    if (!rich_paints) return p;
+    const int kind = std::uniform_int_distribution<int>(0, 4)(rng);
+    const bool opaque = std::bernoulli_distribution(0.6)(rng);
+    std::uniform_real_distribution<double> c(0.0, size);
+    if (kind == 1 || kind == 2) {
+      Gradient g;
+      g.p0 = {c(rng), c(rng)};
+      g.p1 = {c(rng), c(rng)};
+      g.center = {c(rng), c(rng)};
+      g.radius = 5 + c(rng) / 2;
+      // Inside the end circle (the plane covered: opaque candidates) or anywhere.
+      g.focal = std::bernoulli_distribution(0.5)(rng) ? g.center : Vec2{c(rng), c(rng)};
+      for (int i = 0; i < 3; i++)
+        g.stops.push_back({0.5 * i, RGBA{u(rng), u(rng), u(rng), opaque ? 1.0f : u(rng)}});
+      g.spread = static_cast<Spread>(std::uniform_int_distribution<int>(0, 2)(rng));
+      g.interpolation = std::bernoulli_distribution(0.5)(rng) ? ColorSpace::Srgb : ColorSpace::LinearRgb;
+      p.type = kind == 1 ? PaintType::LinearGradient : PaintType::RadialGradient;
+      p.index = b.add_gradient(g);
+    } else if (kind == 3) {
+      auto im = std::make_shared<Image>();
+      im->width = std::uniform_int_distribution<int>(1, 9)(rng);
+      im->height = std::uniform_int_distribution<int>(1, 9)(rng);
+      std::uniform_int_distribution<int> byte(0, 255);
+      for (int i = 0; i < im->width * im->height; i++)
+        for (int k = 0; k < 4; k++) im->rgba8.push_back(uint8_t(k == 3 && opaque ? 255 : byte(rng)));
+      Texture t;
+      t.image = im;
+      // From minified 4x to magnified 8x, rotated.
+      const double scale = std::exp(std::uniform_real_distribution<double>(-1.4, 2.1)(rng));
+      t.xf = Affine::translate(c(rng), c(rng)) * Affine::rotate_degrees(360 * u(rng)) * Affine::scale(scale, scale);
+      t.filter = static_cast<TextureFilter>(std::uniform_int_distribution<int>(0, 2)(rng));
+      t.wrap_x = static_cast<TextureWrap>(std::uniform_int_distribution<int>(0, 2)(rng));
+      t.wrap_y = static_cast<TextureWrap>(std::uniform_int_distribution<int>(0, 2)(rng));
+      p.type = PaintType::Texture;
+      p.index = b.add_texture(t);
+    } else if (kind == 4) {
+      // A small tile of two solid shapes.
+      SceneBuilder tb(7 + 10 * u(rng), 5 + 10 * u(rng));
+      Gen inner{std::mt19937(rng()), tb, 0, 12.0};
+      tb.fill(tb.add_geometry(oracle::random_path(inner.rng, -2.0, 14.0, 1, 4)), Affine{}, inner.rule(), inner.paint());
+      tb.fill(tb.add_geometry(oracle::random_path(inner.rng, -2.0, 14.0, 2, 4)), Affine{}, inner.rule(), inner.paint());
+      Pattern pt;
+      pt.tile = std::make_shared<Scene>(tb.finish());
+      pt.xf = Affine::translate(c(rng), c(rng)) * Affine::rotate_degrees(360 * u(rng)) * Affine::scale(0.5 + u(rng), 0.5 + u(rng));
+      p.type = PaintType::Pattern;
+      p.index = b.add_pattern(pt);
+    }
     return p;
   }
 
@@ -88,9 +139,10 @@ struct Gen {
   }
 };
 
-inline Scene clip_scene(uint32_t seed, int max_depth, int size) {
+inline Scene clip_scene(uint32_t seed, int max_depth, int size, bool rich_paints = false) {
   SceneBuilder b(size, size);
   Gen g{std::mt19937(seed), b, max_depth, double(size)};
+  g.rich_paints = rich_paints;
   g.fill_list(0);
   return b.finish();
 }

@@ -33,6 +33,12 @@ std::vector<Case> cases() {
     const Scene s = random_scenes::clip_scene(seed, 3, 100);
     out.push_back({"random " + std::to_string(seed), encode(s, Affine{}, Gamma::Srgb), 100, 80});
   }
+  // Gradients, textures and patterns (tile trees built on the GPU too).
+  for (uint32_t seed = 21; seed <= 32; seed++) {
+    const Scene s = random_scenes::clip_scene(seed, 3, 100, true);
+    out.push_back({"random paints " + std::to_string(seed), encode(s, Affine{}, seed % 2 ? Gamma::Srgb : Gamma::Linear),
+                   100, 80});
+  }
   if (const char* dir = std::getenv("MPVG_BENCH_DIR")) {
     std::vector<std::filesystem::path> files;
     for (const auto& e : std::filesystem::directory_iterator(dir))
@@ -89,6 +95,15 @@ TEST_CASE("CPU and GPU build identical trees, stage by stage", "[gpu]") {
     REQUIRE(same_bytes(cpu.leaves, gpu.leaves));
     REQUIRE(same_bytes(cpu.leaf_entries, gpu.leaf_entries));
     CHECK(cpu.depth == gpu.depth);
+    REQUIRE(cpu.tiles.size() == gpu.tiles.size());
+    for (size_t k = 0; k < cpu.tiles.size(); k++) {
+      INFO("pattern tile " << k);
+      CHECK(cpu.tiles[k].root_size == gpu.tiles[k].root_size);
+      REQUIRE(same_bytes(cpu.tiles[k].segments, gpu.tiles[k].segments));
+      REQUIRE(same_bytes(cpu.tiles[k].nodes, gpu.tiles[k].nodes));
+      REQUIRE(same_bytes(cpu.tiles[k].leaves, gpu.tiles[k].leaves));
+      REQUIRE(same_bytes(cpu.tiles[k].leaf_entries, gpu.tiles[k].leaf_entries));
+    }
   }
 }
 
@@ -161,6 +176,8 @@ TEST_CASE("CPU and GPU agree within 1/255 under every preset, filter and colour 
   };
   std::vector<std::pair<std::string, Scene>> scenes;
   for (uint32_t seed = 1; seed <= 4; seed++) scenes.push_back({"random " + std::to_string(seed), random_scenes::clip_scene(seed, 3, 100)});
+  for (uint32_t seed = 41; seed <= 44; seed++)
+    scenes.push_back({"random paints " + std::to_string(seed), random_scenes::clip_scene(seed, 3, 100, true)});
   if (const char* dir = std::getenv("MPVG_BENCH_DIR"))
     for (const char* name : {"tiger.svg", "reschart.svg"}) {
       const std::string path = std::string(dir) + "/" + name;
