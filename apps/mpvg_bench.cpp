@@ -3,8 +3,14 @@
 // events after warm-up, medians over --runs repetitions; end-to-end is the
 // wall time of `svg2png --backend cuda` on the same input.
 //
-//   mpvg_bench [--runs N] [--json FILE] [--svg2png PATH] [--shapes T,I,U;...] FILE.svg...
+//   mpvg_bench [--runs N] [--json FILE] [--svg2png PATH] [--shapes T,I,U;...] [--ramp-lut N] FILE.svg...
+//
+// --ramp-lut N encodes colour ramps as lookup tables of N knots instead of
+// exact knots (EncodeOptions::ramp_lut). When an input NAME_gradients.svg
+// follows NAME.svg (scripts/make_gradient_bench.py), the ratio of their
+// render times is printed: the cost of per-sample gradients.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -59,6 +65,7 @@ std::vector<gpu::SamplerShape> parse_shapes(const std::string& s) {
 int main(int argc, char** argv) {
   int runs = 21;
   std::string json_path, svg2png = "svg2png", shapes_arg;
+  EncodeOptions encode_options;
   std::vector<std::string> files;
   for (int i = 1; i < argc; i++) {
     const std::string a = argv[i];
@@ -66,10 +73,13 @@ int main(int argc, char** argv) {
     else if (a == "--json" && i + 1 < argc) json_path = argv[++i];
     else if (a == "--svg2png" && i + 1 < argc) svg2png = argv[++i];
     else if (a == "--shapes" && i + 1 < argc) shapes_arg = argv[++i];
+    else if (a == "--ramp-lut" && i + 1 < argc) encode_options.ramp_lut = std::atoi(argv[++i]);
     else files.push_back(a);
   }
   if (files.empty()) {
-    std::fprintf(stderr, "usage: mpvg_bench [--runs N] [--json FILE] [--svg2png PATH] [--shapes T,I,U;...] FILE.svg...\n");
+    std::fprintf(stderr,
+                 "usage: mpvg_bench [--runs N] [--json FILE] [--svg2png PATH] [--shapes T,I,U;...] [--ramp-lut N] "
+                 "FILE.svg...\n");
     return 2;
   }
   try {
@@ -81,6 +91,7 @@ int main(int argc, char** argv) {
                 "paper-pre", "paper-32", "paper-44");
     gpu::Context ctx;
     std::vector<std::string> rows;
+    std::map<std::string, std::array<double, 3>> renders;  // 1x8, 1x32, 4x4x32 per input
     for (size_t fi = 0; fi < files.size(); fi++) {
       const std::string& f = files[fi];
       const std::string name = std::filesystem::path(f).stem().string();
@@ -101,8 +112,8 @@ int main(int argc, char** argv) {
       const RenderPlan p8 = plan_for(Filter::Box, PatternKind::Stratified, 8);
       const RenderPlan p32 = plan_for(Filter::Box, PatternKind::Stratified, 32);
       const RenderPlan pc = plan_for(Filter::Cardinal, PatternKind::BlueNoise, 32);
-      const EncodedScene enc = encode(doc.scene, p32.view, Gamma::Srgb);
-      const EncodedScene enc_c = encode(doc.scene, pc.view, Gamma::Linear);
+      const EncodedScene enc = encode(doc.scene, p32.view, Gamma::Srgb, encode_options);
+      const EncodedScene enc_c = encode(doc.scene, pc.view, Gamma::Linear, encode_options);
       const TreeParams params;
       const PaintRecord bg = background_paint(RGBA{0, 0, 0, 0}, Gamma::Srgb);
       auto r8 = [&](gpu::GpuTimes* t) { return ctx.render_on_device(p8.integ, p8.frame, bg, t); };
@@ -154,6 +165,14 @@ int main(int argc, char** argv) {
                     paper != kPaper.end() ? paper->second.pre : NAN, paper != kPaper.end() ? paper->second.r32 : NAN,
                     paper != kPaper.end() ? paper->second.r4432 : NAN);
       std::printf("%s\n", line);
+      renders[name] = {median(t8), median(t32), median(t4432)};
+      const size_t suffix = name.rfind("_gradients");
+      if (suffix != std::string::npos && renders.count(name.substr(0, suffix))) {
+        const auto& solid = renders[name.substr(0, suffix)];
+        const auto& grad = renders[name];
+        std::printf("    %s / %s render time: 1x8 %.3f, 1x32 %.3f, 4x4x32 %.3f\n", name.c_str(),
+                    name.substr(0, suffix).c_str(), grad[0] / solid[0], grad[1] / solid[1], grad[2] / solid[2]);
+      }
       std::printf("    build: depth %d, %zu kernel launches, %zu CUB calls, %zu host round trips\n", bc.depth,
                   bc.launches, bc.cub_calls, bc.syncs);
       std::fflush(stdout);

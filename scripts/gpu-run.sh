@@ -7,7 +7,8 @@
 # ./gpu-out): ctest.log, sanitizer logs, bench.json, bench.txt.
 #
 #   scripts/gpu-run.sh [build] [test] [sanitize] [bench] [profile]
-#   (default: the first four; profile runs Nsight Compute on the kernels)
+#   (default: the first four; profile runs Nsight Compute on the kernels;
+#   MPVG_BENCH_ARGS adds mpvg_bench options, e.g. --ramp-lut 256)
 set -uo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 deps=$root/.deps
@@ -57,7 +58,8 @@ if has profile; then
 fi
 if has bench; then
   "$build/apps/mpvg_bench" --svg2png "$build/apps/svg2png" --json "$out/bench.json" ${MPVG_BENCH_SHAPES:+--shapes "$MPVG_BENCH_SHAPES"} \
-    "$deps/bench/tiger.svg" "$deps/bench/boston.svg" "$deps/bench/hawaii.svg" "$deps/bench/reschart.svg" \
+    ${MPVG_BENCH_ARGS:-} "$deps/bench/tiger.svg" "$deps/bench/tiger_gradients.svg" "$deps/bench/boston.svg" \
+    "$deps/bench/hawaii.svg" "$deps/bench/reschart.svg" \
     | tee "$out/bench.txt" || status=1
 fi
 exit $status
