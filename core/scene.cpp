@@ -323,6 +323,134 @@ struct Emitter {
 
 }  // namespace
 
+namespace {
+
+// Replays a finished scene's stream into a builder in painter's order: fill
+// lists were reversed by finish(), clip lists kept their order.
+struct Replay {
+  const Scene& s;
+  SceneBuilder& b;
+  const Affine& xf;
+  std::vector<int64_t> geometry, gradient, texture, pattern;
+  size_t i = 0;
+
+  uint32_t geom(uint32_t g) {
+    if (geometry[g] < 0) geometry[g] = b.add_geometry(s.geometries[g]);
+    return static_cast<uint32_t>(geometry[g]);
+  }
+  Paint paint(const Paint& p) {
+    Paint out = p;
+    switch (p.type) {
+      case PaintType::Solid: break;
+      case PaintType::LinearGradient:
+      case PaintType::RadialGradient:
+        if (gradient[p.index] < 0) {
+          Gradient g = s.gradients[p.index];
+          g.xf = xf * g.xf;
+          gradient[p.index] = b.add_gradient(std::move(g));
+        }
+        out.index = static_cast<uint32_t>(gradient[p.index]);
+        break;
+      case PaintType::Texture:
+        if (texture[p.index] < 0) {
+          Texture t = s.textures[p.index];
+          t.xf = xf * t.xf;
+          texture[p.index] = b.add_texture(std::move(t));
+        }
+        out.index = static_cast<uint32_t>(texture[p.index]);
+        break;
+      case PaintType::Pattern:
+        if (pattern[p.index] < 0) {
+          Pattern pt = s.patterns[p.index];
+          pt.xf = xf * pt.xf;
+          pattern[p.index] = b.add_pattern(std::move(pt));
+        }
+        out.index = static_cast<uint32_t>(pattern[p.index]);
+        break;
+    }
+    return out;
+  }
+
+  // The items of a list, each as [first, last) element range, up to the '|'
+  // or ')' that ends it (not consumed) or the end.
+  std::vector<std::pair<size_t, size_t>> items() {
+    std::vector<std::pair<size_t, size_t>> out;
+    while (i < s.stream.size() && s.stream[i].kind != ElementKind::Pop &&
+           s.stream[i].kind != ElementKind::Activate) {
+      const size_t first = i;
+      if (s.stream[i].kind == ElementKind::Push) {
+        int depth = 0;
+        do {
+          if (s.stream[i].kind == ElementKind::Push) depth++;
+          if (s.stream[i].kind == ElementKind::Pop) depth--;
+          i++;
+        } while (depth > 0);
+      } else {
+        i++;
+      }
+      out.push_back({first, i});
+    }
+    return out;
+  }
+
+  // A group at stream position `at`: '(' clip-list '|' list ')'.
+  void group(size_t at, bool clip_context) {
+    b.push();
+    i = at + 1;
+    clip_list();
+    i++;  // '|'
+    b.activate();
+    if (clip_context)
+      clip_list();
+    else
+      fill_list();
+  }
+
+  void clip_list() {
+    for (const auto& [first, last] : items()) {
+      const size_t resume = last;
+      const Element& e = s.stream[first];
+      if (e.kind == ElementKind::Clip) {
+        const ScenePath& sp = s.paths[e.path];
+        b.clip(geom(sp.geometry), xf * sp.xf, sp.rule);
+      } else {
+        group(first, true);
+        b.pop();
+      }
+      i = resume;
+    }
+  }
+
+  void fill_list() {
+    const auto list = items();
+    const size_t end = i;
+    for (auto it = list.rbegin(); it != list.rend(); ++it) {
+      const Element& e = s.stream[it->first];
+      if (e.kind == ElementKind::Fill) {
+        const ScenePath& sp = s.paths[e.path];
+        b.fill(geom(sp.geometry), xf * sp.xf, sp.rule, paint(s.paints[sp.paint]));
+      } else {
+        group(it->first, false);
+        b.pop();
+      }
+    }
+    i = end;
+  }
+};
+
+}  // namespace
+
+void SceneBuilder::append(const Scene& other, const Affine& xf) {
+  Replay r{other,
+           *this,
+           xf,
+           std::vector<int64_t>(other.geometries.size(), -1),
+           std::vector<int64_t>(other.gradients.size(), -1),
+           std::vector<int64_t>(other.textures.size(), -1),
+           std::vector<int64_t>(other.patterns.size(), -1)};
+  r.fill_list();
+}
+
 Scene SceneBuilder::finish() {
   if (frames_.size() != 1) throw Error("scene grammar: unbalanced push/pop at the end of the scene");
   Scene out;

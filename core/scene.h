@@ -261,6 +261,12 @@ class SceneBuilder {
   // Nesting depth of open groups (0 at the top level).
   size_t depth() const;
 
+  // Appends the whole content of `other`, mapped by `xf` (other's units to
+  // ours), in a fill context: its geometry, paints and paint servers (their
+  // transforms composed with xf), clip groups and fills, in the same order.
+  // Embeds one document in another (an SVG <image> of an SVG file).
+  void append(const Scene& other, const Affine& xf);
+
   Scene finish();
 
  private:
