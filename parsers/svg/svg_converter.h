@@ -5,6 +5,7 @@
 //                     clip paths, emission into the SceneBuilder
 //   svg_style.cpp     computed style: properties, inheritance, paint values
 //   svg_strokes.cpp   strokes as fill geometry, converted in parallel
+//   svg_paint_servers.cpp  gradients and patterns as scene paints
 //
 // Content kinds that come later (<image>, text) get files of their own
 // beside these, rendered from render() as shapes are.
@@ -22,9 +23,12 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
@@ -71,17 +75,33 @@ enum class PaintLayer : uint8_t { Fill, Stroke, Markers };
 using PaintOrder = std::array<PaintLayer, 3>;
 constexpr PaintOrder kNormalPaintOrder{PaintLayer::Fill, PaintLayer::Stroke, PaintLayer::Markers};
 
+// A computed fill or stroke (SVG 2 painting.html#SpecifyingPaint). A
+// reference to a paint server is kept as such: what it paints depends on
+// the shape it is used on (its bounding box, its user space).
+struct PaintSpec {
+  enum class Kind : uint8_t { None, Color, Server };
+  Kind kind = Kind::None;
+  RGBA color;  // Color; Server: the fallback colour, when `fallback`
+  const Element* server = nullptr;  // Server: linearGradient, radialGradient or pattern
+  bool fallback = false;  // Server: a fallback colour was given (otherwise none)
+
+  static PaintSpec solid(const RGBA& c) {
+    PaintSpec p;
+    p.kind = Kind::Color;
+    p.color = c;
+    return p;
+  }
+};
+
 // Computed values of the inherited properties that the scene can express
 // (SVG 2 painting, CSS Masking 1 clip-rule; CSS Cascade 4 §7.2 inheritance).
 struct Inherited {
-  bool fill_none = false;
-  RGBA fill{0, 0, 0, 1};  // initial value: black
+  PaintSpec fill = PaintSpec::solid({0, 0, 0, 1});  // initial value: black
   FillRule fill_rule = FillRule::NonZero;
   double fill_opacity = 1;
   // Stroke properties (SVG 2 painting.html#StrokeProperties), all inherited;
   // lengths in user units.
-  bool stroke_none = true;  // initial value: none
-  RGBA stroke{0, 0, 0, 1};
+  PaintSpec stroke;  // initial value: none
   double stroke_opacity = 1;
   double stroke_width = 1;
   stroke::Join stroke_join = stroke::Join::Miter;
@@ -169,14 +189,47 @@ struct ClipRef {
   const Element* element = nullptr;
 };
 
+// A pattern tile already converted: the same pattern element used with
+// the same tile geometry, the same on-screen transform and within the same
+// patterns gives the same tile scene (patternUnits, patternContentUnits
+// and viewBox are all folded into the size and the content transform; the
+// enclosing patterns decide which recursive uses are cut).
+struct TileKey {
+  const Element* pattern;
+  std::array<double, 6> content;  // content user space to tile units
+  std::array<double, 6> device;   // tile units to output pixels
+  double width, height;
+  std::vector<const Element*> stack;  // Session::active_patterns
+  bool operator<(const TileKey& o) const;
+};
+
+// What the converters of one document share: a pattern's tile is converted
+// by a converter of its own, nested in the one that meets the pattern.
+struct Session {
+  Session(const Document& d, const ParseOptions& o, std::vector<std::string>& w)
+      : doc(d), options(o), warnings(w) {}
+
+  const Document& doc;
+  const ParseOptions& options;
+  std::vector<std::string>& warnings;
+  std::unordered_set<std::string> warned;
+  double percent_w = 100, percent_h = 100;  // the root viewport, for percentages
+  size_t instances = 0;
+  std::vector<const Element*> active;         // elements being converted (use cycles)
+  std::vector<const Element*> active_clips;   // clipPaths being expanded (clip-path cycles)
+  std::vector<const Element*> active_patterns;  // patterns whose tiles are being converted
+  std::map<TileKey, std::shared_ptr<const Scene>> tiles;
+  double stroke_seconds = 0;
+  size_t stroked_paths = 0;
+};
+
 class Converter {
  public:
-  Converter(const Document& doc, const ParseOptions& options, ParseResult& result)
-      : doc_(doc), options_(options), warnings_(result.warnings) {}
+  // `device` maps the scene's units to output pixels; `level` is the
+  // scene's pattern nesting (0 for the document, n for a tile n deep).
+  Converter(Session& s, const Affine& device, int level) : s_(s), device_(device), level_(level) {}
 
-  double stroke_seconds() const { return stroke_seconds_; }
-  size_t stroked_paths() const { return stroked_paths_; }
-
+  // The document's scene.
   Scene run();
 
  private:
@@ -190,8 +243,52 @@ class Converter {
   Style compute_style(const Element& e, const Context& ctx);
   void stroke_style(const Element& e, Inherited& inh, Style& st);
   void unsupported_reference(const Element& e, const char* name, const char* message);
-  void resolve_paint(const PaintValue& p, const RGBA& current, bool& none, RGBA& color, const std::string& what);
+  PaintSpec resolve_paint(const PaintValue& p, const RGBA& current, const std::string& what);
   Context child_context(const Style& st, const Affine& space, bool in_clip) const;
+  // The context `e` is converted in when reached from its document
+  // ancestors (for clipPaths, paint servers and their content, which
+  // inherit from where they are defined, not from where they are used).
+  Context document_context(const Element& e, bool in_clip);
+
+  // ------------------------------------------------------------ paint servers (svg_paint_servers.cpp)
+
+  // The object bounding box of a shape (its fill geometry in user space),
+  // computed on first use.
+  struct ShapeBox {
+    const std::vector<Path>& shapes;  // shapes_, which may grow meanwhile
+    uint32_t shape;
+    std::optional<Bounds> b;
+    const Bounds& get() {
+      if (!b) {
+        b.emplace();
+        add_path_bounds(shapes[shape], Affine{}, *b);
+      }
+      return *b;
+    }
+  };
+  // What a paint server yields for one use: a paint into paints_, a plain
+  // colour, nothing (an empty area or a cycle), or a failure that lets the
+  // fallback colour apply (no stops, no tile content, an invalid size, a
+  // bounding box without area).
+  struct ServerPaint {
+    enum class Kind { Paint, Color, Nothing, Failed } kind = Kind::Failed;
+    Paint paint;  // Paint: type and index
+    RGBA color;   // Color
+  };
+  // The fill or stroke `spec` of a shape with bounding box `bbox` in user
+  // space `space`, with opacity `opacity`, as an index into paints_;
+  // nullopt when it paints nothing.
+  std::optional<uint32_t> make_paint(const PaintSpec& spec, double opacity, ShapeBox& bbox, const Affine& space);
+  // A paint server and the elements its href chain leads to, in order.
+  std::vector<const Element*> href_chain(const Element& e);
+  // The font size of an element where it is defined (em lengths).
+  double font_size_of(const Element& e);
+  ServerPaint gradient_paint(const Element& g, ShapeBox& bbox, const Affine& space);
+  ServerPaint pattern_paint(const Element& p, ShapeBox& bbox, const Affine& space);
+  // Run on a tile's own converter: the children of `content` (a pattern)
+  // in a scene of width x height tile units, their user space mapped to
+  // tile units by `content_xf`.
+  Scene convert_tile(const Element& content, const Affine& content_xf, double width, double height);
 
   // ------------------------------------------------------------ references
 
@@ -227,7 +324,7 @@ class Converter {
 
   // ------------------------------------------------------------ strokes (svg_strokes.cpp)
 
-  std::optional<Op> shape_stroke(uint32_t shape, const Style& st, const Affine& space);
+  std::optional<Op> shape_stroke(uint32_t shape, const Style& st, const Affine& space, ShapeBox& bbox);
   void convert_strokes();
 
   // ------------------------------------------------------------ clip paths
@@ -255,15 +352,15 @@ class Converter {
 
   void emit(SceneBuilder& b);
 
-  const Document& doc_;
-  const ParseOptions& options_;
-  Affine device_;  // scene units to output pixels (ParseOptions::view)
-  std::vector<std::string>& warnings_;
-  std::unordered_set<std::string> warned_;
-  double percent_w_ = 100, percent_h_ = 100;
+  Session& s_;
+  Affine device_;  // scene units to output pixels
+  int level_ = 0;
 
   std::vector<Op> ops_;
   std::vector<Paint> paints_;
+  std::vector<Gradient> gradients_;  // Paint::index of gradient paints
+  std::vector<Pattern> patterns_;    // Paint::index of pattern paints
+  std::map<std::pair<const Scene*, std::array<double, 6>>, uint32_t> pattern_of_;  // patterns_ by tile and xf
   std::vector<Path> shapes_;
   // A stroke waiting for convert_strokes(): shapes_[source] stroked with
   // `style` into shapes_[out]; with transform_first (non-scaling-stroke)
@@ -277,11 +374,6 @@ class Converter {
   };
   std::vector<StrokeJob> stroke_jobs_;
   std::unordered_map<const Element*, int> shape_of_;
-  std::vector<const Element*> active_;        // elements being converted (use cycles)
-  std::vector<const Element*> active_clips_;  // clipPaths being expanded (clip-path cycles)
-  size_t instances_ = 0;
-  double stroke_seconds_ = 0;
-  size_t stroked_paths_ = 0;
 };
 
 }  // namespace mpvg::svg::detail

@@ -57,7 +57,7 @@ Kind classify(const Element& e) {
 }
 
 Scene Converter::run() {
-  const Element& root = *doc_.root;
+  const Element& root = *s_.doc.root;
   // Root viewport (SVG 2 coords.html, "The initial viewport"): width and
   // height default to 100%; percentages resolve against the viewBox size,
   // or against 100 when there is no viewBox (the size of an unsized
@@ -76,8 +76,8 @@ Scene Converter::run() {
   const double width = side("width", vb ? vb->w : 0);
   const double height = side("height", vb ? vb->h : 0);
   SceneBuilder builder(width, height);
-  device_ = options_.view ? options_.view(width, height)
-                          : Affine::scale(options_.device_scale, options_.device_scale);
+  device_ = s_.options.view ? s_.options.view(width, height)
+                            : Affine::scale(s_.options.device_scale, s_.options.device_scale);
   // A zero-sized viewport or viewBox disables rendering (SVG 2 geometry properties
   // width/height, coords.html#ViewBoxAttribute).
   if (width == 0 || height == 0 || (vb && (vb->w == 0 || vb->h == 0))) return builder.finish();
@@ -88,11 +88,11 @@ Scene Converter::run() {
     if (const std::string* a = root.attribute("preserveAspectRatio"))
       ar = parse_aspect_ratio(*a).value_or(ar);
     ctx.ctm = view_box_transform(*vb, ar, width, height);
-    percent_w_ = vb->w;
-    percent_h_ = vb->h;
+    s_.percent_w = vb->w;
+    s_.percent_h = vb->h;
   } else {
-    percent_w_ = width;
-    percent_h_ = height;
+    s_.percent_w = width;
+    s_.percent_h = height;
   }
   render(root, ctx, 0);
   convert_strokes();
@@ -101,7 +101,7 @@ Scene Converter::run() {
 }
 
 void Converter::warn(std::string msg) {
-  if (warned_.insert(msg).second) warnings_.push_back(std::move(msg));
+  if (s_.warned.insert(msg).second) s_.warnings.push_back(std::move(msg));
 }
 
 // Depth and size limits; false when the element must be skipped.
@@ -111,7 +111,7 @@ bool Converter::enter(int depth) {
          " levels (elements, use and clip-path references): deeper content ignored");
     return false;
   }
-  if (++instances_ > kMaxInstances) {
+  if (++s_.instances > kMaxInstances) {
     warn("more than " + std::to_string(kMaxInstances) +
          " element instances: the rest of the document is ignored");
     return false;
@@ -120,8 +120,8 @@ bool Converter::enter(int depth) {
 }
 
 const Element* Converter::find(const std::string& id) const {
-  const auto it = doc_.ids.find(id);
-  return it == doc_.ids.end() ? nullptr : it->second;
+  const auto it = s_.doc.ids.find(id);
+  return it == s_.doc.ids.end() ? nullptr : it->second;
 }
 
 // ------------------------------------------------------------ references
@@ -152,7 +152,7 @@ ClipRef Converter::resolve_clip(const std::string& value) {
     r.state = ClipRef::Invalid;
     return r;
   }
-  if (std::find(active_clips_.begin(), active_clips_.end(), target) != active_clips_.end()) {
+  if (std::find(s_.active_clips.begin(), s_.active_clips.end(), target) != s_.active_clips.end()) {
     warn("recursive clip-path reference ignored");
     return r;
   }
@@ -174,7 +174,7 @@ const Element* Converter::use_target(const Element& use) {
   }
   const Element* t = find(*id);
   if (!t) return nullptr;
-  if (t == &use || std::find(active_.begin(), active_.end(), t) != active_.end()) {
+  if (t == &use || std::find(s_.active.begin(), s_.active.end(), t) != s_.active.end()) {
     warn("recursive use reference ignored");
     return nullptr;
   }
@@ -203,9 +203,9 @@ Affine Converter::use_offset(const Element& use, double em) {
 // sqrt((w^2 + h^2) / 2).
 double Converter::percent_base(Axis axis) const {
   switch (axis) {
-    case Axis::X: return percent_w_;
-    case Axis::Y: return percent_h_;
-    default: return std::sqrt((percent_w_ * percent_w_ + percent_h_ * percent_h_) / 2);
+    case Axis::X: return s_.percent_w;
+    case Axis::Y: return s_.percent_h;
+    default: return std::sqrt((s_.percent_w * s_.percent_w + s_.percent_h * s_.percent_h) / 2);
   }
 }
 
@@ -340,7 +340,7 @@ void Converter::render(const Element& e, const Context& ctx, int depth) {
 
   const size_t start = ops_.size();
   const Context inner = child_context(st, space, false);
-  active_.push_back(&e);
+  s_.active.push_back(&e);
   switch (kind) {
     case Kind::Container:
       for (const auto& c : e.children) render(*c, inner, depth + 1);
@@ -348,7 +348,7 @@ void Converter::render(const Element& e, const Context& ctx, int depth) {
     case Kind::Use: render(*target, inner, depth + 1); break;
     default: shape_paint(e, st, space); break;
   }
-  active_.pop_back();
+  s_.active.pop_back();
 
   apply_opacity(start, st.opacity);
   if (clip.state == ClipRef::Valid) clip_content(start, *clip.element, space, depth);
@@ -364,19 +364,18 @@ void Converter::shape_paint(const Element& e, const Style& st, const Affine& spa
   fill.shape = static_cast<uint32_t>(shape);
   fill.xf = space;
   fill.rule = st.inh.fill_rule;
+  // Paint servers in objectBoundingBox units use the box of the fill
+  // geometry, for the stroke too (SVG 2 coords.html#BoundingBoxes).
+  ShapeBox bbox{shapes_, static_cast<uint32_t>(shape), std::nullopt};
   // A line encloses no area (SVG 2 shapes.html#LineElement): it can only
   // be stroked.
-  const bool fills = e.name != "line" && !shapes_[shape].empty() && !st.inh.fill_none && st.inh.visible &&
-                     st.inh.fill.a * st.inh.fill_opacity > 0;
-  if (fills) {
-    Paint paint;
-    paint.color = st.inh.fill;
-    paint.opacity = static_cast<float>(st.inh.fill_opacity);
-    paints_.push_back(paint);
-    fill.kind = OpKind::Fill;
-    fill.paint = static_cast<uint32_t>(paints_.size() - 1);
+  if (e.name != "line" && !shapes_[shape].empty() && st.inh.visible) {
+    if (const auto paint = make_paint(st.inh.fill, st.inh.fill_opacity, bbox, space)) {
+      fill.kind = OpKind::Fill;
+      fill.paint = *paint;
+    }
   }
-  const std::optional<Op> stroke = shape_stroke(static_cast<uint32_t>(shape), st, space);
+  const std::optional<Op> stroke = shape_stroke(static_cast<uint32_t>(shape), st, space, bbox);
   // Markers are not supported; only fill and stroke order matters.
   for (PaintLayer l : st.inh.paint_order) {
     if (l == PaintLayer::Fill) ops_.push_back(fill);
@@ -397,7 +396,7 @@ void Converter::apply_opacity(size_t start, double opacity) {
     if (op.kind != OpKind::Fill) continue;
     Paint& p = paints_[op.paint];
     p.opacity = static_cast<float>(p.opacity * opacity);
-    if (p.opacity * p.color.a > 0)
+    if (p.opacity * (p.type == PaintType::Solid ? p.color.a : 1.0f) > 0)
       fills++;
     else
       op.kind = OpKind::Bounds;
@@ -474,13 +473,7 @@ bool Converter::clip_items(const Element& cp, const Affine& space, LazyBounds& b
   if (!enter(depth)) return false;
   // Properties inherit into a clipPath from its document ancestors, not
   // from the element that references it.
-  Context ctx;
-  ctx.in_clip = true;
-  std::vector<const Element*> chain;
-  for (const Element* a = cp.parent; a; a = a->parent) chain.push_back(a);
-  for (auto it = chain.rbegin(); it != chain.rend(); ++it)
-    ctx = child_context(compute_style(**it, ctx), {}, true);
-  const Style st = compute_style(cp, ctx);
+  const Style st = compute_style(cp, document_context(cp, true));
   // An unparsable or degenerate transform invalidates the clip path (resvg).
   if (st.transform_invalid || !invertible(st.transform)) return false;
 
@@ -495,7 +488,7 @@ bool Converter::clip_items(const Element& cp, const Affine& space, LazyBounds& b
   }
   if (!invertible(base)) return false;
 
-  active_clips_.push_back(&cp);
+  s_.active_clips.push_back(&cp);
   const ClipRef nested = resolve_clip(st.clip_path);
   bool ok = nested.state != ClipRef::Invalid;
   if (ok && nested.state == ClipRef::Valid) {
@@ -510,7 +503,7 @@ bool Converter::clip_items(const Element& cp, const Affine& space, LazyBounds& b
     for (const auto& c : cp.children) clip_child(*c, inner, depth + 1);
     if (nested.state == ClipRef::Valid) ops_.push_back(Op::of(OpKind::Pop));
   }
-  active_clips_.pop_back();
+  s_.active_clips.pop_back();
   return ok;
 }
 
@@ -530,9 +523,9 @@ void Converter::clip_child(const Element& e, const Context& ctx, int depth) {
 
   const size_t start = ops_.size();
   if (kind == Kind::Use) {
-    active_.push_back(&e);
+    s_.active.push_back(&e);
     clip_child(*target, child_context(st, space, true), depth + 1);
-    active_.pop_back();
+    s_.active.pop_back();
   } else {
     const int shape = shape_index(e, st.inh.font_size);
     // A shape without segments ("M p Z") has no area to clip with.
@@ -549,6 +542,9 @@ void Converter::clip_child(const Element& e, const Context& ctx, int depth) {
 // ------------------------------------------------------------ output
 
 void Converter::emit(SceneBuilder& b) {
+  // Paint servers first, in order: Paint::index counts from 0 in each list.
+  for (Gradient& g : gradients_) b.add_gradient(std::move(g));
+  for (Pattern& p : patterns_) b.add_pattern(std::move(p));
   std::vector<int64_t> geometry(shapes_.size(), -1);
   auto geometry_of = [&](uint32_t shape) {
     if (geometry[shape] < 0) geometry[shape] = b.add_geometry(std::move(shapes_[shape]));
@@ -572,10 +568,11 @@ ParseResult parse_svg_string(std::string_view text, [[maybe_unused]] const std::
                              const ParseOptions& options) {
   const detail::Document doc = detail::parse_document(text);
   ParseResult result;
-  detail::Converter conv(doc, options, result);
+  detail::Session session(doc, options, result.warnings);
+  detail::Converter conv(session, Affine{}, 0);
   result.scene = conv.run();
-  result.stroke_seconds = conv.stroke_seconds();
-  result.stroked_paths = conv.stroked_paths();
+  result.stroke_seconds = session.stroke_seconds;
+  result.stroked_paths = session.stroked_paths;
   return result;
 }
 

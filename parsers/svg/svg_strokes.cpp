@@ -10,12 +10,12 @@ namespace mpvg::svg::detail {
 
 // The stroke of shapes_[shape] as a filled path (nonzero) with the stroke
 // paint, or nothing when it paints nothing (SVG 2 painting.html#StrokeProperties:
-// stroke none, zero width, invisible or fully transparent). The outline
-// itself is computed later, with all others, by convert_strokes().
-std::optional<Op> Converter::shape_stroke(uint32_t shape, const Style& st, const Affine& space) {
+// stroke none, zero width, invisible or fully transparent). `bbox` is the
+// shape's, for paint servers. The outline itself is computed later, with
+// all others, by convert_strokes().
+std::optional<Op> Converter::shape_stroke(uint32_t shape, const Style& st, const Affine& space, ShapeBox& bbox) {
   const Inherited& inh = st.inh;
-  if (inh.stroke_none || !inh.visible || !(inh.stroke_width > 0) || !(inh.stroke.a * inh.stroke_opacity > 0))
-    return std::nullopt;
+  if (inh.stroke.kind == PaintSpec::Kind::None || !inh.visible || !(inh.stroke_width > 0)) return std::nullopt;
   StrokeJob job;
   job.source = shape;
   job.style.join = inh.stroke_join;
@@ -42,16 +42,14 @@ std::optional<Op> Converter::shape_stroke(uint32_t shape, const Style& st, const
     job.device = device_ * space;
     op.xf = space;
   }
+  const auto paint = make_paint(inh.stroke, inh.stroke_opacity * hl.opacity, bbox, space);
+  if (!paint) return std::nullopt;
+  op.paint = *paint;
   job.style.width = hl.width;
   job.out = static_cast<uint32_t>(shapes_.size());
   shapes_.emplace_back();
   op.shape = job.out;
   stroke_jobs_.push_back(std::move(job));
-  Paint paint;
-  paint.color = inh.stroke;
-  paint.opacity = static_cast<float>(inh.stroke_opacity * hl.opacity);
-  paints_.push_back(paint);
-  op.paint = static_cast<uint32_t>(paints_.size() - 1);
   return op;
 }
 
@@ -94,8 +92,8 @@ void Converter::convert_strokes() {
     out = std::move(pieces[first_task[j]]);
     for (size_t i = first_task[j] + 1; i < first_task[j + 1]; i++) out.append(pieces[i]);
   }
-  stroke_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  stroked_paths_ = stroke_jobs_.size();
+  s_.stroke_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  s_.stroked_paths += stroke_jobs_.size();
   for (Op& op : ops_)
     if (op.kind == OpKind::Fill && op.stroke && shapes_[op.shape].empty()) op.kind = OpKind::Bounds;
 }

@@ -131,7 +131,7 @@ Style Converter::compute_style(const Element& e, const Context& ctx) {
     // Inside a clipPath only geometry counts (CSS Masking 1, the clipPath
     // element): fill is moot.
     const auto fill = property<PaintValue>(e, "fill", parse_paint);
-    if (fill.state == Prop<PaintValue>::Set) resolve_paint(fill.value, inh.color, inh.fill_none, inh.fill, "fill");
+    if (fill.state == Prop<PaintValue>::Set) inh.fill = resolve_paint(fill.value, inh.color, "fill");
     stroke_style(e, inh, st);
     unsupported_reference(e, "mask", "masks are not supported: mask ignored");
     unsupported_reference(e, "filter", "filters are not supported: filter ignored");
@@ -180,7 +180,7 @@ Style Converter::compute_style(const Element& e, const Context& ctx) {
 void Converter::stroke_style(const Element& e, Inherited& inh, Style& st) {
   const auto stroke = property<PaintValue>(e, "stroke", parse_paint);
   if (stroke.state == Prop<PaintValue>::Set)
-    resolve_paint(stroke.value, inh.color, inh.stroke_none, inh.stroke, "stroke");
+    inh.stroke = resolve_paint(stroke.value, inh.color, "stroke");
   if (const auto o = property<double>(e, "stroke-opacity", parse_alpha); o.state == Prop<double>::Set)
     inh.stroke_opacity = o.value;
   // Lengths that are neither horizontal nor vertical: percentages of the
@@ -244,45 +244,56 @@ void Converter::unsupported_reference(const Element& e, const char* name, const 
   if (v.state == Prop<std::string>::Set && !iequals(v.value, "none")) warn(message);
 }
 
-// Resolves a fill or stroke paint (SVG 2 painting.html#SpecifyingPaint)
-// into `none` and `color`; `current` is the element's color, for
-// currentColor. `what` names the property in warnings.
-void Converter::resolve_paint(const PaintValue& p, const RGBA& current, bool& none, RGBA& color, const std::string& what) {
-  auto solid = [&](const RGBA& c) {
-    none = false;
-    color = c;
-  };
+// Resolves a fill or stroke paint (SVG 2 painting.html#SpecifyingPaint);
+// `current` is the element's color, for currentColor. `what` names the
+// property in warnings. A reference to a linearGradient, radialGradient or
+// pattern stays a reference (PaintSpec::Server) with its fallback.
+PaintSpec Converter::resolve_paint(const PaintValue& p, const RGBA& current, const std::string& what) {
   switch (p.kind) {
-    case PaintValue::Kind::None: none = true; return;
-    case PaintValue::Kind::Color: solid(p.color); return;
-    case PaintValue::Kind::CurrentColor: solid(current); return;
+    case PaintValue::Kind::None: return {};
+    case PaintValue::Kind::Color: return PaintSpec::solid(p.color);
+    case PaintValue::Kind::CurrentColor: return PaintSpec::solid(current);
     case PaintValue::Kind::Context:
       warn("context-fill and context-stroke paints are not supported: " + what + " not rendered");
-      none = true;
-      return;
+      return {};
     case PaintValue::Kind::Url: break;
   }
-  const Element* target = p.url_external ? nullptr : find(p.url);
-  if (p.url_external) warn("references to other documents are not supported: " + what + " falls back");
-  if (target && !is_paint_server(target->name)) {
-    // A reference to an element that cannot paint (SVG 2 painting.html#SpecifyingPaint): the
-    // paint is not rendered, fallback or not (as resvg does).
-    none = true;
-    return;
+  // A missing or unusable paint server uses the fallback, and without one
+  // paints nothing (SVG 2 painting.html#SpecifyingPaint).
+  PaintSpec fallback;
+  if (p.fallback == PaintValue::Fallback::Color) fallback = PaintSpec::solid(p.fallback_color);
+  if (p.fallback == PaintValue::Fallback::CurrentColor) fallback = PaintSpec::solid(current);
+  if (p.url_external) {
+    warn("references to other documents are not supported: " + what + " falls back");
+    return fallback;
   }
-  const bool has_fallback =
-      p.fallback == PaintValue::Fallback::Color || p.fallback == PaintValue::Fallback::CurrentColor;
-  if (target) {
-    warn(has_fallback ? "gradients and patterns are not supported: painted with the fallback colour"
-                      : "gradients and patterns are not supported: " + what + " not rendered");
+  const Element* target = find(p.url);
+  if (!target) return fallback;
+  if (!is_paint_server(target->name)) {
+    // A reference to an element that cannot paint: the paint is not
+    // rendered, fallback or not (as resvg does).
+    return {};
   }
-  // A missing paint server uses the fallback, and without one paints
-  // nothing (SVG 2 painting.html#SpecifyingPaint).
-  switch (p.fallback) {
-    case PaintValue::Fallback::Color: solid(p.fallback_color); return;
-    case PaintValue::Fallback::CurrentColor: solid(current); return;
-    default: none = true; return;
+  if (target->name != "linearGradient" && target->name != "radialGradient" && target->name != "pattern") {
+    warn("<" + target->name + "> paint servers are not supported: " + what +
+         (fallback.kind == PaintSpec::Kind::Color ? " painted with the fallback colour" : " not rendered"));
+    return fallback;
   }
+  PaintSpec server;
+  server.kind = PaintSpec::Kind::Server;
+  server.server = target;
+  server.fallback = fallback.kind == PaintSpec::Kind::Color;
+  server.color = fallback.color;
+  return server;
+}
+
+Context Converter::document_context(const Element& e, bool in_clip) {
+  Context ctx;
+  ctx.in_clip = in_clip;
+  std::vector<const Element*> chain;
+  for (const Element* a = e.parent; a; a = a->parent) chain.push_back(a);
+  for (auto it = chain.rbegin(); it != chain.rend(); ++it) ctx = child_context(compute_style(**it, ctx), {}, in_clip);
+  return ctx;
 }
 
 Context Converter::child_context(const Style& st, const Affine& space, bool in_clip) const {
