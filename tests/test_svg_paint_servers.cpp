@@ -470,30 +470,39 @@ stream F0
   CHECK(r.warnings == std::vector<std::string>{"patterns nested more than 4 deep: the innermost are not rendered"});
 }
 
-TEST_CASE("svg patterns: tiles are shared by uses with the same box and transform", "[svg][paint][pattern]") {
+TEST_CASE("svg patterns: tiles are shared by uses with the same box and scale", "[svg][paint][pattern]") {
   // The fill and stroke of the first rect and the fill of the second share
-  // one pattern (same user space); scale(2) gets a tile of its own.
+  // one pattern (same user space). translate(7 3) needs a pattern of its
+  // own but shares the tile (strokes depend on the scale only); scale(2)
+  // gets a tile of its own.
   const auto r = parse(R"~(<pattern id="p" patternUnits="userSpaceOnUse" width="10" height="10"><rect width="5" height="5"/></pattern>)~"
                        R"~(<rect width="50" height="50" fill="url(#p)" stroke="url(#p)"/>)~"
                        R"~(<rect x="50" width="50" height="50" fill="url(#p)"/>)~"
+                       R"~(<rect width="50" height="50" fill="url(#p)" transform="translate(7 3)"/>)~"
                        R"~(<rect width="50" height="50" fill="url(#p)" transform="scale(2)"/>)~");
   CHECK(paints_of(r.scene) == R"~(scene 100 100
-path 0 fill nonzero pattern 1 opacity 1 matrix(2 0 0 2 0 0)
-path 1 fill nonzero pattern 0 opacity 1
+path 0 fill nonzero pattern 2 opacity 1 matrix(2 0 0 2 0 0)
+path 1 fill nonzero pattern 1 opacity 1 matrix(1 0 0 1 7 3)
 path 2 fill nonzero pattern 0 opacity 1
 path 3 fill nonzero pattern 0 opacity 1
+path 4 fill nonzero pattern 0 opacity 1
 pattern 0
     scene 10 10
     path 0 fill nonzero rgba(0,0,0,1) opacity 1
     stream F0
-pattern 1 matrix(2 0 0 2 0 0)
+pattern 1 matrix(1 0 0 1 7 3)
     scene 10 10
     path 0 fill nonzero rgba(0,0,0,1) opacity 1
     stream F0
-stream F0 F1 F2 F3
+pattern 2 matrix(2 0 0 2 0 0)
+    scene 10 10
+    path 0 fill nonzero rgba(0,0,0,1) opacity 1
+    stream F0
+stream F0 F1 F2 F3 F4
 )~");
-  REQUIRE(r.scene.patterns.size() == 2);
-  CHECK(r.scene.patterns[0].tile != r.scene.patterns[1].tile);
+  REQUIRE(r.scene.patterns.size() == 3);
+  CHECK(r.scene.patterns[0].tile == r.scene.patterns[1].tile);
+  CHECK(r.scene.patterns[0].tile != r.scene.patterns[2].tile);
 }
 
 TEST_CASE("svg patterns: strokes in a tile are prepared for the tile's size on screen", "[svg][paint][pattern]") {
@@ -517,4 +526,28 @@ pattern 1 matrix(10 0 0 10 0 0)
     stream F0
 stream F0 F1
 )~");
+}
+
+TEST_CASE("svg patterns: uses that multiply through nested tiles are bounded", "[svg][paint][pattern]") {
+  // A, B and C each fill 25 strips with the next pattern, D with green.
+  // The encoder encodes a tile for each use, nested ones included: C costs
+  // 25 encodings, B 25 x 26 = 650, and A's uses of B 651 each, so A's tile
+  // keeps 15 of them (9765 encodings) under the budget of 10000.
+  std::string body;
+  const char* const names[] = {"A", "B", "C", "D"};
+  for (int level = 0; level < 4; level++) {
+    body += std::string("<pattern id=\"") + names[level] + "\" patternUnits=\"userSpaceOnUse\" width=\"25\" height=\"10\">";
+    const std::string fill = level < 3 ? std::string("url(#") + names[level + 1] + ")" : "green";
+    for (int i = 0; i < 25; i++) body += "<rect x=\"" + std::to_string(i) + "\" width=\"1\" height=\"10\" fill=\"" + fill + "\"/>";
+    body += "</pattern>";
+  }
+  body += R"~(<rect width="100" height="100" fill="url(#A)"/>)~";
+  const auto r = parse(body);
+  REQUIRE(r.scene.patterns.size() == 1);
+  const mpvg::Scene& a = *r.scene.patterns[0].tile;
+  size_t uses = 0;
+  for (const mpvg::Paint& p : a.paints) uses += p.type == mpvg::PaintType::Pattern ? 1 : 0;
+  CHECK(uses == 15);
+  CHECK(r.warnings ==
+        std::vector<std::string>{"patterns would need more than 10000 tile encodings: further pattern uses are not rendered"});
 }

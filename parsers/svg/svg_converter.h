@@ -48,6 +48,10 @@ constexpr int kMaxDepth = 256;
 // Element instances (after use expansion) converted before giving up, so
 // that exponentially nested use references stay bounded.
 constexpr size_t kMaxInstances = 1'000'000;
+// Pattern tile encodings a scene may imply (core/encoding.h encodes a tile
+// once per paint that uses it, so nested patterns multiply): about 40 KB
+// and 0.1 ms each for small tiles.
+constexpr size_t kMaxTileEncodings = 10'000;
 
 enum class OpKind : uint8_t { Push, Activate, Pop, Fill, Clip, Bounds };
 
@@ -190,17 +194,25 @@ struct ClipRef {
 };
 
 // A pattern tile already converted: the same pattern element used with
-// the same tile geometry, the same on-screen transform and within the same
+// the same tile geometry, the same on-screen scale and within the same
 // patterns gives the same tile scene (patternUnits, patternContentUnits
-// and viewBox are all folded into the size and the content transform; the
-// enclosing patterns decide which recursive uses are cut).
+// and viewBox are all folded into the size and the content transform;
+// strokes depend on the linear part of the tile's transform to pixels
+// only; the enclosing patterns decide which recursive uses are cut).
 struct TileKey {
   const Element* pattern;
   std::array<double, 6> content;  // content user space to tile units
-  std::array<double, 6> device;   // tile units to output pixels
+  std::array<double, 4> device;   // linear part of tile units to output pixels
   double width, height;
   std::vector<const Element*> stack;  // Session::active_patterns
   bool operator<(const TileKey& o) const;
+};
+
+// A converted tile: its scene (null when it paints nothing) and the tile
+// encodings that one use of it costs the encoder, nested tiles included.
+struct Tile {
+  std::shared_ptr<const Scene> scene;
+  size_t encodings = 0;
 };
 
 // What the converters of one document share: a pattern's tile is converted
@@ -218,7 +230,7 @@ struct Session {
   std::vector<const Element*> active;         // elements being converted (use cycles)
   std::vector<const Element*> active_clips;   // clipPaths being expanded (clip-path cycles)
   std::vector<const Element*> active_patterns;  // patterns whose tiles are being converted
-  std::map<TileKey, std::shared_ptr<const Scene>> tiles;
+  std::map<TileKey, Tile> tiles;
   double stroke_seconds = 0;
   size_t stroked_paths = 0;
 };
@@ -355,6 +367,7 @@ class Converter {
   Session& s_;
   Affine device_;  // scene units to output pixels
   int level_ = 0;
+  size_t tile_encodings_ = 0;  // tile encodings this scene's pattern paints imply
 
   std::vector<Op> ops_;
   std::vector<Paint> paints_;

@@ -389,25 +389,41 @@ Converter::ServerPaint Converter::pattern_paint(const Element& p, ShapeBox& bbox
   // overflow on a pattern (SVG 1.1 §13.3 leaves overflow=visible
   // undefined): the tile clips its content, as resvg does.
   const Affine tile_device = device_ * xf;
-  const TileKey key{&p, coefficients(content_xf), coefficients(tile_device), w, h, s_.active_patterns};
-  std::shared_ptr<const Scene> tile;
-  if (const auto it = s_.tiles.find(key); it != s_.tiles.end()) {
-    tile = it->second;
-  } else {
+  const TileKey key{&p,
+                    coefficients(content_xf),
+                    {tile_device.a, tile_device.b, tile_device.c, tile_device.d},
+                    w,
+                    h,
+                    s_.active_patterns};
+  auto found = s_.tiles.find(key);
+  if (found == s_.tiles.end()) {
     s_.active_patterns.push_back(&p);
     Converter tc(s_, tile_device, level_ + 1);
     Scene scene = tc.convert_tile(*content, content_xf, w, h);
     s_.active_patterns.pop_back();
+    Tile t;
     const bool fills =
         std::any_of(scene.paths.begin(), scene.paths.end(), [](const ScenePath& sp) { return !sp.is_clip; });
-    if (fills) tile = std::make_shared<const Scene>(std::move(scene));
-    s_.tiles.emplace(key, tile);
+    if (fills) t.scene = std::make_shared<const Scene>(std::move(scene));
+    t.encodings = tc.tile_encodings_;
+    found = s_.tiles.emplace(key, std::move(t)).first;
   }
+  const Tile& tile = found->second;
   // Content that paints nothing: the fallback applies, as in resvg.
-  if (!tile) return out;
-  const auto [it, added] =
-      pattern_of_.emplace(std::make_pair(tile.get(), coefficients(xf)), static_cast<uint32_t>(patterns_.size()));
-  if (added) patterns_.push_back(Pattern{tile, xf});
+  if (!tile.scene) return out;
+  // The encoder encodes a tile for every paint that uses it, nested tiles
+  // included: uses multiply from level to level. Past the budget, further
+  // uses are not rendered rather than exhausting memory.
+  if (tile_encodings_ + 1 + tile.encodings > kMaxTileEncodings) {
+    warn("patterns would need more than " + std::to_string(kMaxTileEncodings) +
+         " tile encodings: further pattern uses are not rendered");
+    out.kind = ServerPaint::Kind::Nothing;
+    return out;
+  }
+  tile_encodings_ += 1 + tile.encodings;
+  const auto [it, added] = pattern_of_.emplace(std::make_pair(tile.scene.get(), coefficients(xf)),
+                                               static_cast<uint32_t>(patterns_.size()));
+  if (added) patterns_.push_back(Pattern{tile.scene, xf});
   out.kind = ServerPaint::Kind::Paint;
   out.paint.type = PaintType::Pattern;
   out.paint.index = it->second;
