@@ -110,6 +110,15 @@ gradient 1 linear 0 0 1 0 radial 0 0 0 0 0 0 pad srgb
   stops 0 rgba(1,0,0,1) 1 rgba(0,0,1,1)
 stream F0 F1
 )~");
+  // An invalid fx is ignored: the default, cx.
+  CHECK(paints_of(R"~(<radialGradient id="r" cx="0.3" fx="bogus">)~" + std::string(kStops) +
+                  R"~(</radialGradient><rect width="1" height="1" fill="url(#r)"/>)~") ==
+        R"~(scene 100 100
+path 0 fill nonzero radial 0 opacity 1
+gradient 0 linear 0 0 0 0 radial 0.3 0.5 0 0.3 0.5 0.5 pad srgb
+  stops 0 rgba(1,0,0,1) 1 rgba(0,0,1,1)
+stream F0
+)~");
 }
 
 TEST_CASE("svg gradients: href inherits shared attributes from either kind, geometry from the same kind", "[svg][paint]") {

@@ -227,7 +227,8 @@ Converter::ServerPaint Converter::gradient_paint(const Element& g, ShapeBox& bbo
       break;
     }
   }
-  // No stops: painted as if `none` (SVG 1.1 §13.2.4); one stop: its colour.
+  // No stops: painted as `none` (SVG 1.1 §13.2.4), or with the fallback
+  // colour as resvg does; one stop: its colour.
   if (!holder) return out;
   std::vector<ColorStop> stops = gradient_stops(*holder);
   auto solid = [&](const RGBA& c) {
@@ -262,8 +263,7 @@ Converter::ServerPaint Converter::gradient_paint(const Element& g, ShapeBox& bbo
     // core's gradient is the two-point conical one of SVG 2 and canvas: a
     // focal point outside the end circle is not moved onto it (SVG 1.1's
     // correction); the gradient is then a cone, as resvg draws it.
-    gr.focal = {attr("fx", true) ? coord("fx", Axis::X, {}) : gr.center.x,
-                attr("fy", true) ? coord("fy", Axis::Y, {}) : gr.center.y};
+    gr.focal = {coord("fx", Axis::X, {gr.center.x, Unit::None}), coord("fy", Axis::Y, {gr.center.y, Unit::None})};
     gr.focal_radius = coord("fr", Axis::Diagonal, {0, Unit::None});
     if (gr.focal_radius < 0) {
       warn("negative fr on <radialGradient>: taken as 0");
