@@ -93,6 +93,28 @@ stream F0 F1 F2
 )~");
 }
 
+TEST_CASE("svg gradients: coinciding circles, and a focal circle larger than the end circle", "[svg][paint]") {
+  // a: fr = r with the same centre. SVG 2 draws nothing; resvg and Blink
+  // draw the limit of nearly coinciding circles: with pad, the first stop
+  // inside and the last outside (a step at t = 1). b: the same with
+  // reflect: nothing, not the fallback. c: fr 0.7 > r 0.5 is an ordinary
+  // two-point conical gradient.
+  CHECK(paints_of(R"~(<radialGradient id="a" fr="0.5"><stop offset="0" stop-color="red"/>)~"
+                  R"~(<stop offset="0.5" stop-color="lime"/><stop offset="1" stop-color="blue"/></radialGradient>)~"
+                  R"~(<radialGradient id="b" href="#a" spreadMethod="reflect"/><radialGradient id="c" href="#a" fr="0.7"/>)~"
+                  R"~(<rect width="1" height="1" fill="url(#a)"/><rect width="2" height="2" fill="url(#b) red"/>)~"
+                  R"~(<rect width="3" height="3" fill="url(#c)"/>)~") ==
+        R"~(scene 100 100
+path 0 fill nonzero radial 1 opacity 1
+path 1 fill nonzero radial 0 opacity 1
+gradient 0 linear 0 0 0 0 radial 0.5 0.5 0 0.5 0.5 0.5 pad srgb
+  stops 0 rgba(1,0,0,1) 1 rgba(1,0,0,1) 1 rgba(0,0,1,1)
+gradient 1 linear 0 0 0 0 radial 0.5 0.5 0.7 0.5 0.5 0.5 pad srgb matrix(3 0 0 3 0 0)
+  stops 0 rgba(1,0,0,1) 0.5 rgba(0,1,0,1) 1 rgba(0,0,1,1)
+stream F0 F1
+)~");
+}
+
 TEST_CASE("svg gradients: fx and fy default to the resolved cx and cy; spreadMethod", "[svg][paint]") {
   // fx from the template, cx from the referencing gradient; an invalid
   // spreadMethod is pad.

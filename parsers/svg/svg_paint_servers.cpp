@@ -250,6 +250,7 @@ Converter::ServerPaint Converter::gradient_paint(const Element& g, ShapeBox& bbo
     if (obb && l.unit == Unit::Percent) return l.value / 100;
     return to_user(l, axis, em);
   };
+  const Spread spread = parse_spread(attr("spreadMethod", false));
   Gradient gr;
   if (radial) {
     const double r = coord("r", Axis::Diagonal, {50, Unit::Percent});
@@ -268,6 +269,18 @@ Converter::ServerPaint Converter::gradient_paint(const Element& g, ShapeBox& bbo
     if (gr.focal_radius < 0) {
       warn("negative fr on <radialGradient>: taken as 0");
       gr.focal_radius = 0;
+    }
+    if (gr.focal.x == gr.center.x && gr.focal.y == gr.center.y && gr.focal_radius == gr.radius) {
+      // The two circles coincide. SVG 2 (pservers.html#RadialGradientNotes)
+      // draws nothing; resvg and Blink (Skia) draw the limit of nearly
+      // coincident circles: with pad, the first stop inside the circle and
+      // the last outside; with the other spreads, nothing.
+      if (spread != Spread::Pad) {
+        out.kind = ServerPaint::Kind::Nothing;
+        return out;
+      }
+      gr.focal_radius = 0;
+      stops = {{0, stops.front().color}, {1, stops.front().color}, {1, stops.back().color}};
     }
   } else {
     gr.p0 = {coord("x1", Axis::X, {0, Unit::Percent}), coord("y1", Axis::Y, {0, Unit::Percent})};
@@ -293,7 +306,7 @@ Converter::ServerPaint Converter::gradient_paint(const Element& g, ShapeBox& bbo
     return out;
   }
   gr.stops = std::move(stops);
-  gr.spread = parse_spread(attr("spreadMethod", false));
+  gr.spread = spread;
   gr.interpolation = color_interpolation(g);
   gradients_.push_back(std::move(gr));
   out.kind = ServerPaint::Kind::Paint;
