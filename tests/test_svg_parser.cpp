@@ -495,11 +495,12 @@ stream F0 F1
 }
 
 TEST_CASE("svg style: paint servers fall back", "[svg][style][paint]") {
-  // Document order: gradient with a fallback colour; gradient alone (not
-  // rendered); missing element with a fallback; missing without; reference
-  // to a non-paint-server (not rendered despite the fallback); quoted IRI
-  // with a currentColor fallback.
-  const auto r = parse(R"~(<linearGradient id="lg"><stop offset="0" stop-color="red"/></linearGradient>)~"
+  // Document order: gradient with a fallback colour (the gradient paints);
+  // gradient alone; missing element with a fallback; missing without (not
+  // rendered); reference to a non-paint-server (not rendered despite the
+  // fallback); quoted IRI with a currentColor fallback (the gradient).
+  // tests/test_svg_paint_servers.cpp covers the paint servers themselves.
+  const auto r = parse(R"~(<linearGradient id="lg"><stop offset="0" stop-color="red"/><stop offset="1" stop-color="blue"/></linearGradient>)~"
                        R"~(<rect id="a" width="1" height="1" fill="url(#lg) green"/>)~"
                        R"~(<rect width="2" height="2" fill="url(#lg)"/>)~"
                        R"~(<rect width="3" height="3" fill="url(#missing) #00f"/>)~"
@@ -507,17 +508,23 @@ TEST_CASE("svg style: paint servers fall back", "[svg][style][paint]") {
                        R"~(<rect width="5" height="5" fill="url(#a) red"/>)~"
                        R"~(<rect width="6" height="6" color="olive" fill="url( '#lg' ) currentColor"/>)~");
   CHECK(mpvg::dump(r.scene) == R"~(scene 100 100
-path 0 fill nonzero rgba(0.501961,0.501961,0,1) opacity 1
+path 0 fill nonzero linear 2 opacity 1
   M 0 0 L 6 0 L 6 6 L 0 6 L 0 0 Z
 path 1 fill nonzero rgba(0,0,1,1) opacity 1
   M 0 0 L 3 0 L 3 3 L 0 3 L 0 0 Z
-path 2 fill nonzero rgba(0,0.501961,0,1) opacity 1
+path 2 fill nonzero linear 1 opacity 1
+  M 0 0 L 2 0 L 2 2 L 0 2 L 0 0 Z
+path 3 fill nonzero linear 0 opacity 1
   M 0 0 L 1 0 L 1 1 L 0 1 L 0 0 Z
-stream F0 F1 F2
+gradient 0 linear 0 0 1 0 radial 0 0 0 0 0 0 pad srgb
+  stops 0 rgba(1,0,0,1) 1 rgba(0,0,1,1)
+gradient 1 linear 0 0 1 0 radial 0 0 0 0 0 0 pad srgb matrix(2 0 0 2 0 0)
+  stops 0 rgba(1,0,0,1) 1 rgba(0,0,1,1)
+gradient 2 linear 0 0 1 0 radial 0 0 0 0 0 0 pad srgb matrix(6 0 0 6 0 0)
+  stops 0 rgba(1,0,0,1) 1 rgba(0,0,1,1)
+stream F0 F1 F2 F3
 )~");
-  CHECK(r.warnings ==
-        std::vector<std::string>{"gradients and patterns are not supported: painted with the fallback colour",
-                                 "gradients and patterns are not supported: fill not rendered"});
+  CHECK(r.warnings.empty());
 }
 
 // ------------------------------------------------------------------ structure
@@ -1114,7 +1121,8 @@ stream ( C0 | F1 F2 )
 )~");
 }
 
-TEST_CASE("svg stroke: paint servers and unsupported paints warn as for fills", "[svg][stroke][paint]") {
+TEST_CASE("svg stroke: paint servers fall back and unsupported paints warn as for fills", "[svg][stroke][paint]") {
+  // The gradient has no stops: it cannot paint, the fallback applies.
   const auto r = parse(R"~(<linearGradient id="lg"/>)~"
                        R"~(<rect width="5" height="5" stroke="url(#lg)"/>)~"
                        R"~(<rect width="5" height="5" stroke="url(#lg) #00f" fill="none"/>)~"
@@ -1124,9 +1132,7 @@ TEST_CASE("svg stroke: paint servers and unsupported paints warn as for fills", 
   // Three black fills and the fallback-blue stroke.
   CHECK(r.scene.paths.size() == 5);
   CHECK(r.scene.paints.at(r.scene.paths.at(3).paint).color.b == 1);
-  CHECK(r.warnings == std::vector<std::string>{"gradients and patterns are not supported: stroke not rendered",
-                                               "gradients and patterns are not supported: painted with the fallback colour",
-                                               "context-fill and context-stroke paints are not supported: stroke not rendered",
+  CHECK(r.warnings == std::vector<std::string>{"context-fill and context-stroke paints are not supported: stroke not rendered",
                                                "markers are not supported: marker ignored"});
 }
 

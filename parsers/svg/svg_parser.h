@@ -17,10 +17,20 @@
 // above or below the fill as paint-order says; they are not part of clip
 // paths or bounding boxes.
 //
+// Paint servers, for fills and strokes: linearGradient and radialGradient
+// (gradientUnits, gradientTransform, spreadMethod, fx/fy/fr as the
+// two-point conical gradient of SVG 2, stops with stop-color and
+// stop-opacity, color-interpolation) and pattern (patternUnits,
+// patternContentUnits, viewBox, preserveAspectRatio, patternTransform;
+// tiles are scenes of their own, nested up to kMaxPatternDepth), with href
+// templates, and fallback colours where a server cannot paint. Each use is
+// resolved against the shape's bounding box and user space.
+//
 // Not supported (warned about, and rendered approximately or not at all):
-// text, images, gradients and patterns (the paint's fallback colour is
-// used), markers, masks, filters, nested <svg>, symbol, switch, <style>
-// sheets, and group opacity (multiplied into each descendant's paint).
+// text, images, meshgradient and hatch paint servers (the fallback colour
+// is used), paint servers in other documents, markers, masks, filters,
+// nested <svg>, symbol, switch, <style> sheets, and group opacity
+// (multiplied into each descendant's paint).
 #pragma once
 #include <functional>
 #include <string>

@@ -1,0 +1,392 @@
+// The SVG document to Scene converter, shared by the files that implement
+// it (internal to the SVG frontend):
+//
+//   svg_parser.cpp    entry points, the document walk, shapes and use,
+//                     clip paths, emission into the SceneBuilder
+//   svg_style.cpp     computed style: properties, inheritance, paint values
+//   svg_strokes.cpp   strokes as fill geometry, converted in parallel
+//   svg_paint_servers.cpp  gradients and patterns as scene paints
+//
+// Content kinds that come later (<image>, text) get files of their own
+// beside these, rendered from render() as shapes are.
+//
+// The conversion walks the element tree once, in document order, and writes
+// a flat list of operations that mirrors the SceneBuilder calls (push,
+// activate, pop, fill, clip). The list exists because a clip group's clip
+// items come before its content in the stream, yet clipPathUnits=
+// "objectBoundingBox" needs the content's bounding box: an element's content
+// is converted first, and its clip prefix is then inserted in front of it.
+// Bounds-only operations keep the geometry of shapes that paint nothing
+// (fill="none", visibility="hidden", opacity 0), which still counts for
+// bounding boxes (SVG 2 coords.html#BoundingBoxes), and are dropped when the
+// scene is built.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <tuple>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "core/scene.h"
+#include "parsers/svg/svg_dom.h"
+#include "parsers/svg/svg_geometry.h"
+#include "parsers/svg/svg_parser.h"
+#include "parsers/svg/svg_values.h"
+#include "stroker/stroker.h"
+
+namespace mpvg::svg::detail {
+
+// Nesting of elements plus use and clip-path indirections. tinyxml2 already
+// limits the XML depth; references can chain further.
+constexpr int kMaxDepth = 256;
+// Element instances (after use expansion) converted before giving up, so
+// that exponentially nested use references stay bounded.
+constexpr size_t kMaxInstances = 1'000'000;
+// Pattern tile encodings a scene may imply (core/encoding.h encodes a tile
+// once per paint that uses it, so nested patterns multiply): about 40 KB
+// and 0.1 ms each for small tiles.
+constexpr size_t kMaxTileEncodings = 10'000;
+
+enum class OpKind : uint8_t { Push, Activate, Pop, Fill, Clip, Bounds };
+
+struct Op {
+  OpKind kind = OpKind::Bounds;
+  FillRule rule = FillRule::NonZero;
+  uint32_t shape = 0;  // Fill, Clip, Bounds: index into Converter::shapes_
+  uint32_t paint = 0;  // Fill: index into Converter::paints_
+  Affine xf;           // Fill, Clip, Bounds: user space to scene
+  // Fill: the geometry is a stroke converted to fill geometry. Strokes are
+  // not part of an element's object bounding box (SVG 2
+  // coords.html#BoundingBoxes), so bounds skip them.
+  bool stroke = false;
+
+  static Op of(OpKind k) {
+    Op op;
+    op.kind = k;
+    return op;
+  }
+};
+
+// paint-order (SVG 2 painting.html#PaintOrder): the order in which fill,
+// stroke and markers are painted.
+enum class PaintLayer : uint8_t { Fill, Stroke, Markers };
+using PaintOrder = std::array<PaintLayer, 3>;
+constexpr PaintOrder kNormalPaintOrder{PaintLayer::Fill, PaintLayer::Stroke, PaintLayer::Markers};
+
+// A computed fill or stroke (SVG 2 painting.html#SpecifyingPaint). A
+// reference to a paint server is kept as such: what it paints depends on
+// the shape it is used on (its bounding box, its user space).
+struct PaintSpec {
+  enum class Kind : uint8_t { None, Color, Server };
+  Kind kind = Kind::None;
+  RGBA color;  // Color; Server: the fallback colour, when `fallback`
+  const Element* server = nullptr;  // Server: linearGradient, radialGradient or pattern
+  bool fallback = false;  // Server: a fallback colour was given (otherwise none)
+
+  static PaintSpec solid(const RGBA& c) {
+    PaintSpec p;
+    p.kind = Kind::Color;
+    p.color = c;
+    return p;
+  }
+};
+
+// Computed values of the inherited properties that the scene can express
+// (SVG 2 painting, CSS Masking 1 clip-rule; CSS Cascade 4 §7.2 inheritance).
+struct Inherited {
+  PaintSpec fill = PaintSpec::solid({0, 0, 0, 1});  // initial value: black
+  FillRule fill_rule = FillRule::NonZero;
+  double fill_opacity = 1;
+  // Stroke properties (SVG 2 painting.html#StrokeProperties), all inherited;
+  // lengths in user units.
+  PaintSpec stroke;  // initial value: none
+  double stroke_opacity = 1;
+  double stroke_width = 1;
+  stroke::Join stroke_join = stroke::Join::Miter;
+  stroke::Cap stroke_cap = stroke::Cap::Butt;
+  double stroke_miterlimit = 4;
+  std::vector<double> stroke_dasharray;  // empty: none
+  double stroke_dashoffset = 0;
+  PaintOrder paint_order = kNormalPaintOrder;
+  // font-size in user units (CSS Fonts 4; medium = 16px): em and ex lengths.
+  double font_size = 16;
+  FillRule clip_rule = FillRule::NonZero;
+  bool visible = true;
+  RGBA color{0, 0, 0, 1};
+};
+
+// What an element is converted in: its parent's computed style and user space.
+struct Context {
+  Inherited inh;
+  Affine ctm;  // the parent's user space to scene units
+  // The parent's values of non-inherited properties, for the keyword
+  // "inherit" (CSS Cascade 4 §7.3).
+  double parent_opacity = 1;
+  std::string parent_clip_path;
+  bool parent_display_none = false;
+  bool in_clip = false;  // converting the content of a clipPath
+};
+
+struct Style {
+  Inherited inh;
+  double opacity = 1;
+  std::string clip_path;  // specified value; empty or "none" for no clipping
+  bool display_none = false;
+  Affine transform;
+  bool transform_invalid = false;  // the transform attribute did not parse
+  bool non_scaling_stroke = false;  // vector-effect (not inherited)
+};
+
+// A property's value on one element.
+template <class T>
+struct Prop {
+  enum State { Unset, Inherit, Set } state = Unset;
+  T value{};
+};
+
+// The value of property `name` on `e`. Declarations of the style attribute
+// win over the presentation attribute (SVG 2 styling.html#PresentationAttributes:
+// they count as author style sheet rules of specificity 0, before all others); a
+// later declaration wins over an earlier one; a declaration or attribute
+// whose value does not parse is ignored (CSS Syntax 3: invalid declarations are dropped), so the
+// next candidate applies.
+template <class T, class Parse>
+Prop<T> property(const Element& e, std::string_view name, Parse parse) {
+  Prop<T> p;
+  auto accept = [&](const std::string& text) {
+    if (iequals(trim(text), "inherit")) {
+      p.state = Prop<T>::Inherit;
+      return true;
+    }
+    std::optional<T> v = parse(text);
+    if (!v) return false;
+    p.state = Prop<T>::Set;
+    p.value = std::move(*v);
+    return true;
+  };
+  for (auto it = e.declarations.rbegin(); it != e.declarations.rend(); ++it)
+    if (it->first == name && accept(it->second)) return p;
+  if (const std::string* a = e.attribute(name)) accept(*a);
+  return p;
+}
+
+// A keyword value, lower-cased; nullopt unless the value is one word.
+std::optional<std::string> parse_keyword(std::string_view s);
+
+bool invertible(const Affine& m);
+Affine inverse(const Affine& m);
+bool same(const Affine& l, const Affine& r);
+
+enum class Kind { Container, Shape, Use, Unsupported, Ignored };
+
+Kind classify(const Element& e);
+
+// A clip-path value resolved to its target.
+struct ClipRef {
+  enum State { None, Valid, Invalid } state = None;
+  const Element* element = nullptr;
+};
+
+// A pattern tile already converted: the same pattern element used with
+// the same tile geometry, the same on-screen scale and within the same
+// patterns gives the same tile scene (patternUnits, patternContentUnits
+// and viewBox are all folded into the size and the content transform;
+// strokes depend on the linear part of the tile's transform to pixels
+// only; the enclosing patterns decide which recursive uses are cut).
+struct TileKey {
+  const Element* pattern;
+  std::array<double, 6> content;  // content user space to tile units
+  std::array<double, 4> device;   // linear part of tile units to output pixels
+  double width, height;
+  std::vector<const Element*> stack;  // Session::active_patterns
+  bool operator<(const TileKey& o) const;
+};
+
+// A converted tile: its scene (null when it paints nothing) and the tile
+// encodings that one use of it costs the encoder, nested tiles included.
+struct Tile {
+  std::shared_ptr<const Scene> scene;
+  size_t encodings = 0;
+};
+
+// What the converters of one document share: a pattern's tile is converted
+// by a converter of its own, nested in the one that meets the pattern.
+struct Session {
+  Session(const Document& d, const ParseOptions& o, std::vector<std::string>& w)
+      : doc(d), options(o), warnings(w) {}
+
+  const Document& doc;
+  const ParseOptions& options;
+  std::vector<std::string>& warnings;
+  std::unordered_set<std::string> warned;
+  double percent_w = 100, percent_h = 100;  // the root viewport, for percentages
+  size_t instances = 0;
+  std::vector<const Element*> active;         // elements being converted (use cycles)
+  std::vector<const Element*> active_clips;   // clipPaths being expanded (clip-path cycles)
+  std::vector<const Element*> active_patterns;  // patterns whose tiles are being converted
+  std::map<TileKey, Tile> tiles;
+  double stroke_seconds = 0;
+  size_t stroked_paths = 0;
+};
+
+class Converter {
+ public:
+  // `device` maps the scene's units to output pixels; `level` is the
+  // scene's pattern nesting (0 for the document, n for a tile n deep).
+  Converter(Session& s, const Affine& device, int level) : s_(s), device_(device), level_(level) {}
+
+  // The document's scene.
+  Scene run();
+
+ private:
+  void warn(std::string msg);
+  // Depth and size limits; false when the element must be skipped.
+  bool enter(int depth);
+  const Element* find(const std::string& id) const;
+
+  // ------------------------------------------------------------ style (svg_style.cpp)
+
+  Style compute_style(const Element& e, const Context& ctx);
+  void stroke_style(const Element& e, Inherited& inh, Style& st);
+  void unsupported_reference(const Element& e, const char* name, const char* message);
+  PaintSpec resolve_paint(const PaintValue& p, const RGBA& current, const std::string& what);
+  Context child_context(const Style& st, const Affine& space, bool in_clip) const;
+  // The context `e` is converted in when reached from its document
+  // ancestors (for clipPaths, paint servers and their content, which
+  // inherit from where they are defined, not from where they are used).
+  Context document_context(const Element& e, bool in_clip);
+
+  // ------------------------------------------------------------ paint servers (svg_paint_servers.cpp)
+
+  // The object bounding box of a shape (its fill geometry in user space),
+  // computed on first use.
+  struct ShapeBox {
+    const std::vector<Path>& shapes;  // shapes_, which may grow meanwhile
+    uint32_t shape;
+    std::optional<Bounds> b;
+    const Bounds& get() {
+      if (!b) {
+        b.emplace();
+        add_path_bounds(shapes[shape], Affine{}, *b);
+      }
+      return *b;
+    }
+  };
+  // What a paint server yields for one use: a paint into paints_, a plain
+  // colour, nothing (an empty area or a cycle), or a failure that lets the
+  // fallback colour apply (no stops, no tile content, an invalid size, a
+  // bounding box without area).
+  struct ServerPaint {
+    enum class Kind { Paint, Color, Nothing, Failed } kind = Kind::Failed;
+    Paint paint;  // Paint: type and index
+    RGBA color;   // Color
+  };
+  // The fill or stroke `spec` of a shape with bounding box `bbox` in user
+  // space `space`, with opacity `opacity`, as an index into paints_;
+  // nullopt when it paints nothing.
+  std::optional<uint32_t> make_paint(const PaintSpec& spec, double opacity, ShapeBox& bbox, const Affine& space);
+  // A paint server and the elements its href chain leads to, in order.
+  std::vector<const Element*> href_chain(const Element& e);
+  // The font size of an element where it is defined (em lengths).
+  double font_size_of(const Element& e);
+  ServerPaint gradient_paint(const Element& g, ShapeBox& bbox, const Affine& space);
+  ServerPaint pattern_paint(const Element& p, ShapeBox& bbox, const Affine& space);
+  // Run on a tile's own converter: the children of `content` (a pattern)
+  // in a scene of width x height tile units, their user space mapped to
+  // tile units by `content_xf`.
+  Scene convert_tile(const Element& content, const Affine& content_xf, double width, double height);
+
+  // ------------------------------------------------------------ references
+
+  ClipRef resolve_clip(const std::string& value);
+  const Element* use_target(const Element& use);
+  Affine use_offset(const Element& use, double em);
+
+  // ------------------------------------------------------------ geometry
+
+  enum class Axis { X, Y, Diagonal };
+
+  double percent_base(Axis axis) const;
+  double to_user(const Length& l, Axis axis, double em) const;
+  double length(const Element& e, const char* name, Axis axis, double def, double em) const;
+  std::optional<double> auto_length(const Element& e, const char* name, Axis axis, double em) const;
+  int shape_index(const Element& e, double em);
+  std::optional<Path> build_shape(const Element& e, double em) const;
+
+  // ------------------------------------------------------------ rendering
+
+  // What rendering an element (or a clipPath child) needs, resolved once:
+  // its style, the space its content lives in, a use's target, its clip.
+  struct Placed {
+    Style st;
+    Affine space;
+    const Element* target = nullptr;
+    ClipRef clip;
+  };
+  bool place(const Element& e, Kind kind, const Context& ctx, Placed& out);
+  void render(const Element& e, const Context& ctx, int depth);
+  void shape_paint(const Element& e, const Style& st, const Affine& space);
+  void apply_opacity(size_t start, double opacity);
+
+  // ------------------------------------------------------------ strokes (svg_strokes.cpp)
+
+  std::optional<Op> shape_stroke(uint32_t shape, const Style& st, const Affine& space, ShapeBox& bbox);
+  void convert_strokes();
+
+  // ------------------------------------------------------------ clip paths
+
+  template <class F>
+  void for_each_content(size_t begin, size_t end, F f) const;
+  Bounds content_bounds(size_t begin, size_t end, const Affine& space) const;
+
+  // The object bounding box of a clipped element, computed on first use.
+  struct LazyBounds {
+    const Converter& c;
+    size_t begin, end;
+    Affine space;
+    std::optional<Bounds> b;
+    const Bounds& get() {
+      if (!b) b = c.content_bounds(begin, end, space);
+      return *b;
+    }
+  };
+  void clip_content(size_t start, const Element& cp, const Affine& space, int depth);
+  bool clip_items(const Element& cp, const Affine& space, LazyBounds& bbox, int depth);
+  void clip_child(const Element& e, const Context& ctx, int depth);
+
+  // ------------------------------------------------------------ output
+
+  void emit(SceneBuilder& b);
+
+  Session& s_;
+  Affine device_;  // scene units to output pixels
+  int level_ = 0;
+  size_t tile_encodings_ = 0;  // tile encodings this scene's pattern paints imply
+
+  std::vector<Op> ops_;
+  std::vector<Paint> paints_;
+  std::vector<Gradient> gradients_;  // Paint::index of gradient paints
+  std::vector<Pattern> patterns_;    // Paint::index of pattern paints
+  std::map<std::pair<const Scene*, std::array<double, 6>>, uint32_t> pattern_of_;  // patterns_ by tile and xf
+  std::vector<Path> shapes_;
+  // A stroke waiting for convert_strokes(): shapes_[source] stroked with
+  // `style` into shapes_[out]; with transform_first (non-scaling-stroke)
+  // the source is mapped by `space` first. `device` maps the stroked
+  // geometry to output pixels.
+  struct StrokeJob {
+    uint32_t source = 0, out = 0;
+    stroke::Style style;
+    Affine device, space;
+    bool transform_first = false;
+  };
+  std::vector<StrokeJob> stroke_jobs_;
+  std::unordered_map<const Element*, int> shape_of_;
+};
+
+}  // namespace mpvg::svg::detail

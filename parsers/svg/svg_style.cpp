@@ -1,0 +1,310 @@
+// Computed style (CSS Cascade 4 as SVG 2 styling.html uses it): properties
+// from presentation attributes and style declarations, inheritance, and the
+// fill and stroke paint values.
+#include <algorithm>
+#include <cmath>
+
+#include "parsers/svg/svg_converter.h"
+
+namespace mpvg::svg::detail {
+
+namespace {
+
+std::optional<FillRule> parse_fill_rule(std::string_view s) {
+  s = trim(s);
+  if (iequals(s, "nonzero")) return FillRule::NonZero;
+  if (iequals(s, "evenodd")) return FillRule::EvenOdd;
+  return std::nullopt;
+}
+
+// <dasharray> = [ <length> | <percentage> ]# with commas and/or white space
+// between values (SVG 2 painting.html#StrokeDasharrayProperty), or none.
+// A negative value invalidates the whole list.
+template <class ToUser>
+std::optional<std::vector<double>> parse_dasharray(std::string_view v, ToUser to_user) {
+  v = trim(v);
+  std::vector<double> out;
+  if (iequals(v, "none")) return out;
+  while (!v.empty()) {
+    size_t n = 0;
+    while (n < v.size() && v[n] != ',' && !is_ws(v[n])) n++;
+    const auto l = to_user(v.substr(0, n));
+    if (!l || *l < 0) return std::nullopt;
+    out.push_back(*l);
+    v = trim(v.substr(n));
+    if (!v.empty() && v.front() == ',') {
+      v = trim(v.substr(1));
+      if (v.empty()) return std::nullopt;
+    }
+  }
+  if (out.empty()) return std::nullopt;
+  return out;
+}
+
+// font-size (CSS Fonts 4 §2.5): an absolute-size keyword (scaled from
+// medium = 16px), larger / smaller (a factor of 1.2), or a non-negative
+// length or percentage, em, ex and % relative to the parent's size.
+std::optional<double> parse_font_size(std::string_view v, double parent) {
+  v = trim(v);
+  static const struct {
+    const char* name;
+    double scale;
+  } sizes[] = {{"xx-small", 3.0 / 5}, {"x-small", 3.0 / 4}, {"small", 8.0 / 9}, {"medium", 1},
+               {"large", 6.0 / 5},    {"x-large", 3.0 / 2}, {"xx-large", 2},      {"xxx-large", 3}};
+  for (const auto& k : sizes)
+    if (iequals(v, k.name)) return 16 * k.scale;
+  if (iequals(v, "larger")) return parent * 1.2;
+  if (iequals(v, "smaller")) return parent / 1.2;
+  const auto l = parse_length(v);
+  if (!l || l->value < 0) return std::nullopt;
+  switch (l->unit) {
+    case Unit::Em: return l->value * parent;
+    case Unit::Ex: return l->value * parent / 2;
+    default: return length_to_px(*l, parent);  // % of the parent's size too
+  }
+}
+
+// paint-order: normal | [ fill || stroke || markers ]; the layers left out
+// follow in their normal order (SVG 2 painting.html#PaintOrder).
+std::optional<PaintOrder> parse_paint_order(std::string_view v) {
+  v = trim(v);
+  if (iequals(v, "normal")) return kNormalPaintOrder;
+  Scanner s(v);
+  std::vector<PaintLayer> given;
+  while (!s.at_end()) {
+    const std::string_view w = s.word();
+    PaintLayer l;
+    if (iequals(w, "fill"))
+      l = PaintLayer::Fill;
+    else if (iequals(w, "stroke"))
+      l = PaintLayer::Stroke;
+    else if (iequals(w, "markers"))
+      l = PaintLayer::Markers;
+    else
+      return std::nullopt;
+    if (std::find(given.begin(), given.end(), l) != given.end()) return std::nullopt;
+    given.push_back(l);
+    s.skip_ws();
+  }
+  if (given.empty()) return std::nullopt;
+  for (PaintLayer l : kNormalPaintOrder)
+    if (std::find(given.begin(), given.end(), l) == given.end()) given.push_back(l);
+  return PaintOrder{given[0], given[1], given[2]};
+}
+
+bool is_paint_server(const std::string& name) {
+  return name == "linearGradient" || name == "radialGradient" || name == "pattern" ||
+         name == "meshgradient" || name == "hatch" || name == "solidcolor";
+}
+
+}  // namespace
+
+std::optional<std::string> parse_keyword(std::string_view s) {
+  s = trim(s);
+  Scanner sc(s);
+  if (s.empty() || sc.word().size() != s.size()) return std::nullopt;
+  std::string k(s);
+  std::transform(k.begin(), k.end(), k.begin(),
+                 [](char c) { return (c >= 'A' && c <= 'Z') ? char(c - 'A' + 'a') : c; });
+  return k;
+}
+
+Style Converter::compute_style(const Element& e, const Context& ctx) {
+  Style st;
+  st.inh = ctx.inh;
+  Inherited& inh = st.inh;
+
+  // color first: currentColor in fill refers to this element's color.
+  const auto color = property<RGBA>(e, "color", [&](std::string_view v) -> std::optional<RGBA> {
+    if (iequals(trim(v), "currentColor")) return ctx.inh.color;  // CSS Color 4: acts as inherit
+    return parse_color(v);
+  });
+  if (color.state == Prop<RGBA>::Set) inh.color = color.value;
+  // font-size before any length: em units refer to it. Relative values
+  // (em, ex, %, larger, smaller) are relative to the parent's font size.
+  const double parent_em = ctx.inh.font_size;
+  const auto font_size = property<double>(
+      e, "font-size", [&](std::string_view v) -> std::optional<double> { return parse_font_size(v, parent_em); });
+  if (font_size.state == Prop<double>::Set) inh.font_size = font_size.value;
+
+  if (!ctx.in_clip) {
+    // Inside a clipPath only geometry counts (CSS Masking 1, the clipPath
+    // element): fill is moot.
+    const auto fill = property<PaintValue>(e, "fill", parse_paint);
+    if (fill.state == Prop<PaintValue>::Set) inh.fill = resolve_paint(fill.value, inh.color, "fill");
+    stroke_style(e, inh, st);
+    unsupported_reference(e, "mask", "masks are not supported: mask ignored");
+    unsupported_reference(e, "filter", "filters are not supported: filter ignored");
+    for (const char* m : {"marker-start", "marker-mid", "marker-end"})
+      unsupported_reference(e, m, "markers are not supported: marker ignored");
+  }
+  if (const auto r = property<FillRule>(e, "fill-rule", parse_fill_rule); r.state == Prop<FillRule>::Set)
+    inh.fill_rule = r.value;
+  if (const auto o = property<double>(e, "fill-opacity", parse_alpha); o.state == Prop<double>::Set)
+    inh.fill_opacity = o.value;
+  if (const auto r = property<FillRule>(e, "clip-rule", parse_fill_rule); r.state == Prop<FillRule>::Set)
+    inh.clip_rule = r.value;
+  const auto vis =
+      property<std::string>(e, "visibility", [](std::string_view v) -> std::optional<std::string> {
+        auto k = parse_keyword(v);
+        if (k && (*k == "visible" || *k == "hidden" || *k == "collapse")) return k;
+        return std::nullopt;
+      });
+  if (vis.state == Prop<std::string>::Set) inh.visible = vis.value == "visible";
+
+  // Non-inherited properties.
+  const auto opacity = property<double>(e, "opacity", parse_alpha);
+  st.opacity = opacity.state == Prop<double>::Set       ? opacity.value
+               : opacity.state == Prop<double>::Inherit ? ctx.parent_opacity
+                                                        : 1.0;
+  const auto display = property<std::string>(e, "display", parse_keyword);
+  st.display_none = display.state == Prop<std::string>::Set       ? display.value == "none"
+                    : display.state == Prop<std::string>::Inherit ? ctx.parent_display_none
+                                                                  : false;
+  const auto clip = property<std::string>(
+      e, "clip-path", [](std::string_view v) { return std::optional<std::string>(std::string(trim(v))); });
+  st.clip_path = clip.state == Prop<std::string>::Set       ? clip.value
+                 : clip.state == Prop<std::string>::Inherit ? ctx.parent_clip_path
+                                                            : std::string();
+  // transform is a presentation attribute in SVG 2 (CSS Transforms 1); an unparsable
+  // value is ignored like any invalid declaration.
+  const auto xf = property<Affine>(e, "transform", parse_transform);
+  if (xf.state == Prop<Affine>::Set) st.transform = xf.value;
+  st.transform_invalid = xf.state == Prop<Affine>::Unset && (e.attribute("transform") != nullptr);
+  return st;
+}
+
+// The stroke properties of `e` (SVG 2 painting.html#StrokeProperties),
+// over the inherited values in `inh`. Invalid values are ignored like any
+// invalid declaration: a negative width or dash, a miter limit below 1.
+void Converter::stroke_style(const Element& e, Inherited& inh, Style& st) {
+  const auto stroke = property<PaintValue>(e, "stroke", parse_paint);
+  if (stroke.state == Prop<PaintValue>::Set)
+    inh.stroke = resolve_paint(stroke.value, inh.color, "stroke");
+  if (const auto o = property<double>(e, "stroke-opacity", parse_alpha); o.state == Prop<double>::Set)
+    inh.stroke_opacity = o.value;
+  // Lengths that are neither horizontal nor vertical: percentages of the
+  // normalised viewport diagonal (SVG 2 coords.html#Units).
+  auto user_length = [&](std::string_view v) -> std::optional<double> {
+    const auto l = parse_length(v);
+    if (!l) return std::nullopt;
+    return to_user(*l, Axis::Diagonal, inh.font_size);
+  };
+  const auto width = property<double>(e, "stroke-width", [&](std::string_view v) -> std::optional<double> {
+    const auto w = user_length(v);
+    if (!w || *w < 0) return std::nullopt;
+    return w;
+  });
+  if (width.state == Prop<double>::Set) inh.stroke_width = width.value;
+  const auto join = property<stroke::Join>(e, "stroke-linejoin", [](std::string_view v) {
+    std::optional<stroke::Join> none;
+    const auto k = parse_keyword(v);
+    if (!k) return none;
+    if (*k == "miter") return std::optional(stroke::Join::Miter);
+    if (*k == "miter-clip") return std::optional(stroke::Join::MiterClip);
+    if (*k == "round") return std::optional(stroke::Join::Round);
+    if (*k == "bevel") return std::optional(stroke::Join::Bevel);
+    if (*k == "arcs") return std::optional(stroke::Join::Arcs);
+    return none;
+  });
+  if (join.state == Prop<stroke::Join>::Set) inh.stroke_join = join.value;
+  const auto cap = property<stroke::Cap>(e, "stroke-linecap", [](std::string_view v) -> std::optional<stroke::Cap> {
+    const auto k = parse_keyword(v);
+    if (!k) return std::nullopt;
+    if (*k == "butt") return stroke::Cap::Butt;
+    if (*k == "round") return stroke::Cap::Round;
+    if (*k == "square") return stroke::Cap::Square;
+    return std::nullopt;
+  });
+  if (cap.state == Prop<stroke::Cap>::Set) inh.stroke_cap = cap.value;
+  // A <number> of at least 1 (SVG 2 painting.html#StrokeMiterlimitProperty); "5mm" is not one.
+  const auto ml = property<double>(e, "stroke-miterlimit", [](std::string_view v) -> std::optional<double> {
+    const auto n = parse_number(v);
+    if (!n || *n < 1) return std::nullopt;
+    return n;
+  });
+  if (ml.state == Prop<double>::Set) inh.stroke_miterlimit = ml.value;
+  const auto dashes = property<std::vector<double>>(e, "stroke-dasharray", [&](std::string_view v) {
+    return parse_dasharray(v, user_length);
+  });
+  if (dashes.state == Prop<std::vector<double>>::Set) inh.stroke_dasharray = dashes.value;
+  if (const auto o = property<double>(e, "stroke-dashoffset", user_length); o.state == Prop<double>::Set)
+    inh.stroke_dashoffset = o.value;
+  if (const auto po = property<PaintOrder>(e, "paint-order", parse_paint_order); po.state == Prop<PaintOrder>::Set)
+    inh.paint_order = po.value;
+  // vector-effect is not inherited (SVG 2 coords.html#VectorEffects); of its values only
+  // non-scaling-stroke concerns what we draw.
+  const auto ve = property<std::string>(e, "vector-effect", parse_keyword);
+  st.non_scaling_stroke = ve.state == Prop<std::string>::Set && ve.value == "non-scaling-stroke";
+}
+
+void Converter::unsupported_reference(const Element& e, const char* name, const char* message) {
+  const auto v = property<std::string>(
+      e, name, [](std::string_view t) { return std::optional<std::string>(std::string(trim(t))); });
+  if (v.state == Prop<std::string>::Set && !iequals(v.value, "none")) warn(message);
+}
+
+// Resolves a fill or stroke paint (SVG 2 painting.html#SpecifyingPaint);
+// `current` is the element's color, for currentColor. `what` names the
+// property in warnings. A reference to a linearGradient, radialGradient or
+// pattern stays a reference (PaintSpec::Server) with its fallback.
+PaintSpec Converter::resolve_paint(const PaintValue& p, const RGBA& current, const std::string& what) {
+  switch (p.kind) {
+    case PaintValue::Kind::None: return {};
+    case PaintValue::Kind::Color: return PaintSpec::solid(p.color);
+    case PaintValue::Kind::CurrentColor: return PaintSpec::solid(current);
+    case PaintValue::Kind::Context:
+      warn("context-fill and context-stroke paints are not supported: " + what + " not rendered");
+      return {};
+    case PaintValue::Kind::Url: break;
+  }
+  // A missing or unusable paint server uses the fallback, and without one
+  // paints nothing (SVG 2 painting.html#SpecifyingPaint).
+  PaintSpec fallback;
+  if (p.fallback == PaintValue::Fallback::Color) fallback = PaintSpec::solid(p.fallback_color);
+  if (p.fallback == PaintValue::Fallback::CurrentColor) fallback = PaintSpec::solid(current);
+  if (p.url_external) {
+    warn("references to other documents are not supported: " + what + " falls back");
+    return fallback;
+  }
+  const Element* target = find(p.url);
+  if (!target) return fallback;
+  if (!is_paint_server(target->name)) {
+    // A reference to an element that cannot paint: the paint is not
+    // rendered, fallback or not (as resvg does).
+    return {};
+  }
+  if (target->name != "linearGradient" && target->name != "radialGradient" && target->name != "pattern") {
+    warn("<" + target->name + "> paint servers are not supported: " + what +
+         (fallback.kind == PaintSpec::Kind::Color ? " painted with the fallback colour" : " not rendered"));
+    return fallback;
+  }
+  PaintSpec server;
+  server.kind = PaintSpec::Kind::Server;
+  server.server = target;
+  server.fallback = fallback.kind == PaintSpec::Kind::Color;
+  server.color = fallback.color;
+  return server;
+}
+
+Context Converter::document_context(const Element& e, bool in_clip) {
+  Context ctx;
+  ctx.in_clip = in_clip;
+  std::vector<const Element*> chain;
+  for (const Element* a = e.parent; a; a = a->parent) chain.push_back(a);
+  for (auto it = chain.rbegin(); it != chain.rend(); ++it) ctx = child_context(compute_style(**it, ctx), {}, in_clip);
+  return ctx;
+}
+
+Context Converter::child_context(const Style& st, const Affine& space, bool in_clip) const {
+  Context c;
+  c.inh = st.inh;
+  c.ctm = space;
+  c.parent_opacity = st.opacity;
+  c.parent_clip_path = st.clip_path;
+  c.parent_display_none = st.display_none;
+  c.in_clip = in_clip;
+  return c;
+}
+
+}  // namespace mpvg::svg::detail
