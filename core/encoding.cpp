@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <map>
+#include <tuple>
 #include <unordered_map>
 
 #include "core/error.h"
@@ -295,9 +297,11 @@ class Encoder {
       // Tangent circles within float precision: the degenerate case proper.
       if (std::fabs(a) < 1e-6) a = 0;
       gr.a = static_cast<float>(a);
-      // The circles sweep the whole plane when the start circle lies in
-      // the end circle (as t goes to -r0 / dr and to infinity).
-      covers = std::hypot(cd.x, cd.y) + g.focal_radius <= g.radius * (1 + 1e-9) && g.focal_radius >= 0;
+      // The circles sweep the whole plane when the start circle lies
+      // strictly inside the end circle (as t goes to -r0 / dr and to
+      // infinity): |cd| < r - fr, i.e. a < 0. Internally tangent circles
+      // (a snapped to 0 above) sweep only a half plane.
+      covers = a < 0 && g.radius > g.focal_radius && g.focal_radius >= 0;
     } else {
       const Vec2 d = g.p1 - g.p0;
       const double l2 = d.x * d.x + d.y * d.y;
@@ -388,15 +392,26 @@ class Encoder {
     const int gw = grid(tile.width * std::hypot(to_out.a, to_out.b));
     const int gh = grid(tile.height * std::hypot(to_out.c, to_out.d));
     const Affine grid_view = Affine::scale(gw / tile.width, gh / tile.height);
+    const Affine tile_to_out = to_out * linear_part(grid_view).inverted();
     PatternRecord pr{};
     pr.m = to_float(grid_view * to_frame.inverted());
-    pr.tree = static_cast<uint32_t>(tiles_.size());
-    tiles_.emplace_back();
-    tiles_.back().width = gw;
-    tiles_.back().height = gh;
-    EncodedScene enc;
-    scene(tile, grid_view, to_out * linear_part(grid_view).inverted(), depth + 1, enc);
-    tiles_[pr.tree].scene = std::move(enc);  // tiles_ may have grown meanwhile
+    // A tile encoded for the same grid, output scale and depth is shared:
+    // its encoding depends on nothing else, and a tile used by many
+    // patterns (or by a pattern nested in itself through several levels)
+    // is otherwise encoded once per use.
+    const TileKey key{&tile, gw, gh, depth, tile_to_out.a, tile_to_out.b, tile_to_out.c, tile_to_out.d};
+    if (auto it = tile_index_.find(key); it != tile_index_.end()) {
+      pr.tree = it->second;
+    } else {
+      pr.tree = static_cast<uint32_t>(tiles_.size());
+      tiles_.emplace_back();
+      tiles_.back().width = gw;
+      tiles_.back().height = gh;
+      EncodedScene enc;
+      scene(tile, grid_view, tile_to_out, depth + 1, enc);
+      tiles_[pr.tree].scene = std::move(enc);  // tiles_ may have grown meanwhile
+      tile_index_.emplace(key, pr.tree);
+    }
     rec.kind = PAINT_PATTERN;
     rec.index = static_cast<uint32_t>(paint_.patterns.size());
     paint_.patterns.push_back(pr);
@@ -539,6 +554,9 @@ class Encoder {
   PaintData& paint_;
   std::vector<EncodedTile>& tiles_;
   std::unordered_map<const Image*, std::unique_ptr<ImageEntry>> images_;
+  // Encoded tiles by what their encoding depends on.
+  using TileKey = std::tuple<const Scene*, int, int, int, double, double, double, double>;
+  std::map<TileKey, uint32_t> tile_index_;
   std::vector<std::pair<uint32_t, ImageEntry*>> texture_images_;
 };
 

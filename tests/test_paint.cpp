@@ -326,6 +326,30 @@ TEST_CASE("degenerate gradients paint nothing, single stops paint one colour", "
   CHECK(same.at(90, 50).a == 0);
 }
 
+TEST_CASE("radial gradients mark paths opaque only when their circles sweep the whole plane", "[paint][gradient]") {
+  // Opaque stops; the start circle strictly inside the end circle sweeps
+  // everything, internally tangent circles (the focal point on the end
+  // circle) only a half plane, which must not occlude what lies beneath.
+  auto opaque = [](Vec2 focal, double focal_radius) {
+    Gradient g;
+    g.stops = {{0, RGBA{1, 0, 0, 1}}, {1, RGBA{0, 0, 1, 1}}};
+    g.center = {70, 50};
+    g.radius = 40;
+    g.focal = focal;
+    g.focal_radius = focal_radius;
+    Paint p;
+    p.type = PaintType::RadialGradient;
+    return (encode(one_rect(100, p, {g}), Affine{}, Gamma::Srgb).paths[0].flags & PATH_OPAQUE) != 0;
+  };
+  CHECK(opaque({70, 50}, 0));
+  CHECK(opaque({40, 50}, 0));
+  CHECK(opaque({60, 50}, 20));
+  CHECK_FALSE(opaque({30, 50}, 0));   // on the end circle
+  CHECK_FALSE(opaque({50, 50}, 20));  // tangent from inside, with a focal radius
+  CHECK_FALSE(opaque({20, 50}, 0));   // outside
+  CHECK_FALSE(opaque({70, 50}, 40));  // equal circles
+}
+
 TEST_CASE("ramps: exact knots stay within 1/4096, lookup tables are an option", "[paint][gradient]") {
   // Interpolated in sRGB, integrated in linear light: the encoder adds knots.
   Gradient g;
@@ -693,6 +717,34 @@ TEST_CASE("a pattern through its tile tree equals its content tiled as clipped g
       CHECK(enc.tiles.size() == 2);
     }
   }
+}
+
+TEST_CASE("a tile is encoded once per scale it is drawn at, however many paints use it", "[paint][pattern]") {
+  const std::shared_ptr<Scene> tile = tile_scene(nullptr);
+  SceneBuilder b(96, 96);
+  b.fill(b.add_geometry(rect(0, 0, 96, 96)), Affine{}, FillRule::NonZero, solid(1, 1, 0.8f));
+  // Three patterns differing only by translation share a tile; a fourth at
+  // another scale needs its own.
+  const Affine base = Affine::rotate_degrees(15) * Affine::scale(1.5, 1.5);
+  const Affine placements[] = {base, Affine::translate(3.25, 1) * base, Affine::translate(-7, 2.5) * base,
+                               Affine::scale(0.5, 0.5) * base};
+  for (int i = 0; i < 4; i++) {
+    Paint p;
+    p.type = PaintType::Pattern;
+    p.index = b.add_pattern(Pattern{tile, placements[i]});
+    b.fill(b.add_geometry(rect(24 * i, 0, 24 * i + 20, 96)), Affine{}, FillRule::NonZero, p);
+  }
+  const Scene with_patterns = b.finish();
+  CHECK(encode(with_patterns, Affine{}, Gamma::Srgb).tiles.size() == 2);
+  CHECK(encode(with_patterns, Affine::scale(2, 2), Gamma::Srgb).tiles.size() == 2);
+  // Each use still samples its tile at its own placement.
+  SceneBuilder e(96, 96);
+  add_explicit(e, with_patterns, Affine{}, 96);
+  const ImageF a = render_box(with_patterns, 96), x = render_box(e.finish(), 96);
+  int off = 0;
+  for (size_t i = 0; i < a.rgba.size(); i++) off += std::fabs(a.rgba[i] - x.rgba[i]) > 1.0 / 255;
+  INFO("channels off by more than 1/255: " << off);
+  CHECK(off <= 4);
 }
 
 TEST_CASE("patterns nested deeper than the limit are an error", "[paint][pattern]") {

@@ -424,9 +424,10 @@ Converter::ServerPaint Converter::pattern_paint(const Element& p, ShapeBox& bbox
   const Tile& tile = found->second;
   // Content that paints nothing: the fallback applies, as in resvg.
   if (!tile.scene) return out;
-  // The encoder encodes a tile for every paint that uses it, nested tiles
-  // included: uses multiply from level to level. Past the budget, further
-  // uses are not rendered rather than exhausting memory.
+  // The encoder encodes a tile once per output scale it is used at, nested
+  // tiles included: uses at distinct scales multiply from level to level.
+  // The count here (every use) bounds that from above. Past the budget,
+  // further uses are not rendered rather than exhausting memory.
   if (tile_encodings_ + 1 + tile.encodings > kMaxTileEncodings) {
     warn("patterns would need more than " + std::to_string(kMaxTileEncodings) +
          " tile encodings: further pattern uses are not rendered");
