@@ -6,12 +6,14 @@
 //   acc += (1 - acc.a) * paint.
 #pragma once
 #include <cstdint>
+#include <type_traits>
 
 #include "core/abstract_segment.h"
 #include "core/flat_clipping.h"
 #include "core/gradient.h"
 #include "core/hd.h"
 #include "core/paint.h"
+#include "core/paint_data.h"
 #include "core/shortcut_tree.h"
 #include "core/texture.h"
 
@@ -33,11 +35,12 @@ struct SampleInputs {
 //          a pattern tile is sampled one level deeper);
 //   Kinds: which paint kinds the code handles (a PAINTS_* mask); other
 //          kinds are treated as solid, so a caller must pass a mask that
-//          covers the scene's paints (paint_kinds_of).
-// GPU samplers are specialised by the scene's paint kinds: the texture
-// lookups and above all the pattern recursion would otherwise raise the
-// register count (and cut the occupancy) of every sampler, solid colours or
-// not.
+//          covers the scene's paints (sampler_kinds).
+// Both executors specialise their samplers by the scene's paint kinds
+// (with_sampler_kinds): the texture lookups and above all the pattern
+// recursion would otherwise raise the register count (and cut the
+// occupancy) of every GPU sampler, and slow the CPU's by a third, solid
+// colours or not.
 enum : uint32_t {
   PAINTS_SOLID = 0,
   PAINTS_GRADIENTS = 1u << 0,
@@ -45,6 +48,31 @@ enum : uint32_t {
   PAINTS_PATTERNS = 1u << 2,
   PAINTS_ALL = PAINTS_GRADIENTS | PAINTS_TEXTURES | PAINTS_PATTERNS,
 };
+
+// The specialisation a scene's paint tables need: the smallest of those
+// compiled (solid; gradients; textures; gradients and textures; all) that
+// covers them. Patterns take all kinds, as their tiles may use any.
+inline uint32_t sampler_kinds(const PaintData& p) {
+  if (!p.patterns.empty()) return PAINTS_ALL;
+  uint32_t k = PAINTS_SOLID;
+  if (!p.gradients.empty()) k |= PAINTS_GRADIENTS;
+  if (!p.textures.empty()) k |= PAINTS_TEXTURES;
+  return k;
+}
+
+// Calls f(std::integral_constant<uint32_t, K>{}) for the compiled
+// specialisation K equal to `kinds` (one of sampler_kinds' results).
+template <class F>
+decltype(auto) with_sampler_kinds(uint32_t kinds, F&& f) {
+  switch (kinds) {
+    case PAINTS_SOLID: return f(std::integral_constant<uint32_t, PAINTS_SOLID>{});
+    case PAINTS_GRADIENTS: return f(std::integral_constant<uint32_t, PAINTS_GRADIENTS>{});
+    case PAINTS_TEXTURES: return f(std::integral_constant<uint32_t, PAINTS_TEXTURES>{});
+    case PAINTS_GRADIENTS | PAINTS_TEXTURES:
+      return f(std::integral_constant<uint32_t, PAINTS_GRADIENTS | PAINTS_TEXTURES>{});
+    default: return f(std::integral_constant<uint32_t, PAINTS_ALL>{});
+  }
+}
 
 // Winding contribution of one geometry or winding entry to sample (px, py).
 // seg is the entry's abstract segment (SEGMENT entries only): the CPU reads

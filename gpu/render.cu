@@ -417,13 +417,7 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
                                                  pattern.data(), n, shape.chunk, tile_w, tile_h, root_size, width,
                                                  height, bg, image.data(), acc_args);
     };
-    const PaintData& pd = *host_paint;
-    if (!pd.patterns.empty())
-      launch(k_sample<PAINTS_ALL>);
-    else if (!pd.textures.empty())
-      launch(pd.gradients.empty() ? k_sample<PAINTS_TEXTURES> : k_sample<PAINTS_GRADIENTS | PAINTS_TEXTURES>);
-    else
-      launch(pd.gradients.empty() ? k_sample<PAINTS_SOLID> : k_sample<PAINTS_GRADIENTS>);
+    with_sampler_kinds(sampler_kinds(*host_paint), [&](auto kinds) { launch(k_sample<decltype(kinds)::value>); });
     launched();
   }
   const size_t nua = size_t(width) * height;

@@ -105,117 +105,124 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
   const PaintData& paint = tree.paint ? *tree.paint : kNoPaints;
   const PaintTables tables = paint.view(tiles.data());
   const SampleInputs in{tree.leaf_entries.data(), tree.segments.data(), tree.paths.data(), &tables};
-  const int n = integ.samples;
-  const bool direct = integ.support == 1 && integ.pad == 0;
-  if (direct) {
-    // Box filter: each unit area is its pixel.
-    const float w = box_weight(n);
+  // Uniform leaves hold solid paints only (entry_varies); the rest is
+  // sampled by the specialisation the scene's paints need.
+  return with_sampler_kinds(sampler_kinds(paint), [&](auto kinds) {
+    constexpr uint32_t Kinds = decltype(kinds)::value;
+    const int n = integ.samples;
+    const bool direct = integ.support == 1 && integ.pad == 0;
+    if (direct) {
+      // Box filter: each unit area is its pixel.
+      const float w = box_weight(n);
+      parallel_for(tasks.size(), threads, [&](size_t ti) {
+        const Task& task = tasks[ti];
+        const Cell& c = tree.leaves[task.leaf];
+        if (uniform[task.leaf]) {
+          const Rgba4 col = sample_cell<0, PAINTS_SOLID>(in, c.begin, c.end, float(task.x0), float(task.y0));
+          const float p[4] = {col.r, col.g, col.b, col.a};
+          for (uint32_t y = task.y0; y < task.y1; y++)
+            for (uint32_t x = task.x0; x < task.x1; x++)
+              composite(p, background, &img.rgba[(size_t(y) * size_t(frame.width) + x) * 4]);
+          return;
+        }
+        for (uint32_t y = task.y0; y < task.y1; y++) {
+          for (uint32_t x = task.x0; x < task.x1; x++) {
+            float acc[4] = {0, 0, 0, 0};
+            for (int k = 0; k < n; k++) {
+              const Rgba4 col =
+                  sample_cell<0, Kinds>(in, c.begin, c.end, float(x) + pattern[k].x, float(y) + pattern[k].y);
+              acc[0] += col.r;
+              acc[1] += col.g;
+              acc[2] += col.b;
+              acc[3] += col.a;
+            }
+            const float p[4] = {acc[0] * w, acc[1] * w, acc[2] * w, acc[3] * w};
+            composite(p, background, &img.rgba[(size_t(y) * size_t(frame.width) + x) * 4]);
+          }
+        }
+      });
+      if (times) times->sample_ms += ms_since(t0);
+      return img;
+    }
+
+    // Shared samples: every unit area sends K x K weighted sums. Unit areas
+    // of uniform leaves are gathered in the normalisation instead (as on the
+    // GPU): their flat colours go to ua_color.
+    const int K = integ.support, T = K * K;
+    std::vector<std::atomic<long long>> acc(size_t(frame.acc_w) * frame.acc_h * 4);
+    for (auto& a : acc) a.store(0, std::memory_order_relaxed);
+    std::vector<Rgba4> ua_color(size_t(frame.ua_w) * frame.ua_h, Rgba4{0, 0, 0, -1});
     parallel_for(tasks.size(), threads, [&](size_t ti) {
       const Task& task = tasks[ti];
       const Cell& c = tree.leaves[task.leaf];
       if (uniform[task.leaf]) {
-        const Rgba4 col = sample_cell(in, c.begin, c.end, float(task.x0), float(task.y0));
-        const float p[4] = {col.r, col.g, col.b, col.a};
-        for (uint32_t y = task.y0; y < task.y1; y++)
-          for (uint32_t x = task.x0; x < task.x1; x++)
-            composite(p, background, &img.rgba[(size_t(y) * size_t(frame.width) + x) * 4]);
+        const Rgba4 flat = sample_cell<0, PAINTS_SOLID>(in, c.begin, c.end, float(task.x0), float(task.y0));
+        for (uint32_t uy = task.y0; uy < task.y1; uy++)
+          for (uint32_t ux = task.x0; ux < task.x1; ux++) ua_color[size_t(uy) * frame.ua_w + ux] = flat;
         return;
       }
-      for (uint32_t y = task.y0; y < task.y1; y++) {
-        for (uint32_t x = task.x0; x < task.x1; x++) {
-          float acc[4] = {0, 0, 0, 0};
-          for (int k = 0; k < n; k++) {
-            const Rgba4 col = sample_cell(in, c.begin, c.end, float(x) + pattern[k].x, float(y) + pattern[k].y);
-            acc[0] += col.r;
-            acc[1] += col.g;
-            acc[2] += col.b;
-            acc[3] += col.a;
+      std::vector<Rgba4> col(static_cast<size_t>(n));
+      std::vector<float> sums(size_t(T) * 4);
+      static_assert(sizeof(Rgba4) == 4 * sizeof(float), "Rgba4 is four floats");
+      for (uint32_t uy = task.y0; uy < task.y1; uy++) {
+        for (uint32_t ux = task.x0; ux < task.x1; ux++) {
+          const int cls = unit_area_class(ux, uy, integ.class_mod);
+          const SampleOffset* o = &integ.offsets[size_t(cls) * n];
+          for (int i = 0; i < n; i++)
+            col[i] = sample_cell<0, Kinds>(in, c.begin, c.end, float(ux) + o[i].x, float(uy) + o[i].y);
+          integrate_unit_area_all(integ.weights.data() + size_t(cls) * n * T, T, n, &col[0].r, sums.data());
+          for (int ey = 0; ey < K; ey++) {
+            const int ay = static_cast<int>(uy) - ey;
+            if (ay < 0 || ay >= frame.acc_h) continue;
+            for (int ex = 0; ex < K; ex++) {
+              const int ax = static_cast<int>(ux) - ex;
+              if (ax < 0 || ax >= frame.acc_w) continue;
+              const float* s = &sums[size_t(ey * K + ex) * 4];
+              std::atomic<long long>* a = &acc[(size_t(ay) * frame.acc_w + ax) * 4];
+              for (int ch = 0; ch < 4; ch++) a[ch].fetch_add(to_fixed(s[ch]), std::memory_order_relaxed);
+            }
           }
-          const float p[4] = {acc[0] * w, acc[1] * w, acc[2] * w, acc[3] * w};
-          composite(p, background, &img.rgba[(size_t(y) * size_t(frame.width) + x) * 4]);
         }
       }
     });
+    // Normalise (adding the uniform unit areas), prefilter rows then columns,
+    // clamp, crop, composite.
+    std::vector<float> buf(acc.size());
+    parallel_for(size_t(frame.acc_h), threads, [&](size_t ay) {
+      for (int ax = 0; ax < frame.acc_w; ax++) {
+        const size_t px = ay * size_t(frame.acc_w) + ax;
+        long long sum[4];
+        for (int ch = 0; ch < 4; ch++) sum[ch] = acc[px * 4 + ch].load(std::memory_order_relaxed);
+        for (int e = 0; e < T; e++) {
+          const uint32_t ux = uint32_t(ax + e % K), uy = uint32_t(ay + e / K);
+          const Rgba4& u = ua_color[size_t(uy) * frame.ua_w + ux];
+          if (u.a < 0.0f) continue;
+          float s[4];
+          integrate_unit_area(nullptr, 0, integ.weight_sums[unit_area_class(ux, uy, integ.class_mod) * T + e], 0, true,
+                              &u.r, nullptr, s);
+          for (int ch = 0; ch < 4; ch++) sum[ch] += to_fixed(s[ch]);
+        }
+        const double norm = kFixedScale * integ.totals[unit_area_class(uint32_t(ax), uint32_t(ay), integ.class_mod)];
+        for (int ch = 0; ch < 4; ch++) buf[px * 4 + ch] = fixed_to_float(sum[ch], norm);
+      }
+    });
+    if (integ.prefilter) {
+      parallel_for(size_t(frame.acc_h), threads,
+                   [&](size_t y) { cardinal_prefilter_line(&buf[y * frame.acc_w * 4], frame.acc_w, 4); });
+      parallel_for(size_t(frame.acc_w), threads,
+                   [&](size_t x) { cardinal_prefilter_line(&buf[x * 4], frame.acc_h, frame.acc_w * 4); });
+    }
+    for (int y = 0; y < frame.height; y++)
+      for (int x = 0; x < frame.width; x++) {
+        float p[4];
+        const float* q = &buf[((size_t(y) + integ.pad) * frame.acc_w + x + integ.pad) * 4];
+        std::copy(q, q + 4, p);
+        clamp_premultiplied(p);
+        composite(p, background, &img.rgba[(size_t(y) * frame.width + x) * 4]);
+      }
     if (times) times->sample_ms += ms_since(t0);
     return img;
-  }
-
-  // Shared samples: every unit area sends K x K weighted sums. Unit areas
-  // of uniform leaves are gathered in the normalisation instead (as on the
-  // GPU): their flat colours go to ua_color.
-  const int K = integ.support, T = K * K;
-  std::vector<std::atomic<long long>> acc(size_t(frame.acc_w) * frame.acc_h * 4);
-  for (auto& a : acc) a.store(0, std::memory_order_relaxed);
-  std::vector<Rgba4> ua_color(size_t(frame.ua_w) * frame.ua_h, Rgba4{0, 0, 0, -1});
-  parallel_for(tasks.size(), threads, [&](size_t ti) {
-    const Task& task = tasks[ti];
-    const Cell& c = tree.leaves[task.leaf];
-    if (uniform[task.leaf]) {
-      const Rgba4 flat = sample_cell(in, c.begin, c.end, float(task.x0), float(task.y0));
-      for (uint32_t uy = task.y0; uy < task.y1; uy++)
-        for (uint32_t ux = task.x0; ux < task.x1; ux++) ua_color[size_t(uy) * frame.ua_w + ux] = flat;
-      return;
-    }
-    std::vector<Rgba4> col(static_cast<size_t>(n));
-    std::vector<float> sums(size_t(T) * 4);
-    static_assert(sizeof(Rgba4) == 4 * sizeof(float), "Rgba4 is four floats");
-    for (uint32_t uy = task.y0; uy < task.y1; uy++) {
-      for (uint32_t ux = task.x0; ux < task.x1; ux++) {
-        const int cls = unit_area_class(ux, uy, integ.class_mod);
-        const SampleOffset* o = &integ.offsets[size_t(cls) * n];
-        for (int i = 0; i < n; i++) col[i] = sample_cell(in, c.begin, c.end, float(ux) + o[i].x, float(uy) + o[i].y);
-        integrate_unit_area_all(integ.weights.data() + size_t(cls) * n * T, T, n, &col[0].r, sums.data());
-        for (int ey = 0; ey < K; ey++) {
-          const int ay = static_cast<int>(uy) - ey;
-          if (ay < 0 || ay >= frame.acc_h) continue;
-          for (int ex = 0; ex < K; ex++) {
-            const int ax = static_cast<int>(ux) - ex;
-            if (ax < 0 || ax >= frame.acc_w) continue;
-            const float* s = &sums[size_t(ey * K + ex) * 4];
-            std::atomic<long long>* a = &acc[(size_t(ay) * frame.acc_w + ax) * 4];
-            for (int ch = 0; ch < 4; ch++) a[ch].fetch_add(to_fixed(s[ch]), std::memory_order_relaxed);
-          }
-        }
-      }
-    }
   });
-  // Normalise (adding the uniform unit areas), prefilter rows then columns,
-  // clamp, crop, composite.
-  std::vector<float> buf(acc.size());
-  parallel_for(size_t(frame.acc_h), threads, [&](size_t ay) {
-    for (int ax = 0; ax < frame.acc_w; ax++) {
-      const size_t px = ay * size_t(frame.acc_w) + ax;
-      long long sum[4];
-      for (int ch = 0; ch < 4; ch++) sum[ch] = acc[px * 4 + ch].load(std::memory_order_relaxed);
-      for (int e = 0; e < T; e++) {
-        const uint32_t ux = uint32_t(ax + e % K), uy = uint32_t(ay + e / K);
-        const Rgba4& u = ua_color[size_t(uy) * frame.ua_w + ux];
-        if (u.a < 0.0f) continue;
-        float s[4];
-        integrate_unit_area(nullptr, 0, integ.weight_sums[unit_area_class(ux, uy, integ.class_mod) * T + e], 0, true,
-                            &u.r, nullptr, s);
-        for (int ch = 0; ch < 4; ch++) sum[ch] += to_fixed(s[ch]);
-      }
-      const double norm = kFixedScale * integ.totals[unit_area_class(uint32_t(ax), uint32_t(ay), integ.class_mod)];
-      for (int ch = 0; ch < 4; ch++) buf[px * 4 + ch] = fixed_to_float(sum[ch], norm);
-    }
-  });
-  if (integ.prefilter) {
-    parallel_for(size_t(frame.acc_h), threads,
-                 [&](size_t y) { cardinal_prefilter_line(&buf[y * frame.acc_w * 4], frame.acc_w, 4); });
-    parallel_for(size_t(frame.acc_w), threads,
-                 [&](size_t x) { cardinal_prefilter_line(&buf[x * 4], frame.acc_h, frame.acc_w * 4); });
-  }
-  for (int y = 0; y < frame.height; y++)
-    for (int x = 0; x < frame.width; x++) {
-      float p[4];
-      const float* q = &buf[((size_t(y) + integ.pad) * frame.acc_w + x + integ.pad) * 4];
-      std::copy(q, q + 4, p);
-      clamp_premultiplied(p);
-      composite(p, background, &img.rgba[(size_t(y) * frame.width + x) * 4]);
-    }
-  if (times) times->sample_ms += ms_since(t0);
-  return img;
 }
 
 }  // namespace mpvg
