@@ -6,6 +6,7 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -265,4 +266,107 @@ TEST_CASE("sniff_image: signatures first, then the media type", "[svg][resources
   CHECK(sniff_image(bytes_of("...."), "IMAGE/PNG") == ImageKind::Png);
   CHECK(sniff_image(bytes_of("...."), "text/plain") == ImageKind::Unknown);
   CHECK(sniff_image({}, "") == ImageKind::Unknown);
+}
+
+// ------------------------------------------------------------------ decoding
+
+namespace {
+
+std::vector<uint8_t> read_bytes(const std::string& name) {
+  std::ifstream f(fs::path(MPVG_SOURCE_DIR) / "testdata" / "images" / name, std::ios::binary);
+  REQUIRE(f);
+  return std::vector<uint8_t>((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+}
+
+std::shared_ptr<Image> decode(const std::string& name) {
+  std::string why;
+  auto im = decode_raster(read_bytes(name), &why);
+  INFO(name << ": " << why);
+  REQUIRE(im);
+  return im;
+}
+
+bool has_oiio() { return image_decoder_library().rfind("OpenImageIO", 0) == 0; }
+
+}  // namespace
+
+TEST_CASE("decode: 8-bit RGBA PNG keeps straight alpha", "[svg][resources][decode]") {
+  const auto im = decode("rgba8.png");
+  CHECK(im->width == 2);
+  CHECK(im->height == 2);
+  CHECK(im->bits == 8);
+  CHECK(im->rgba8 == std::vector<uint8_t>{255, 0, 0, 255, 0, 255, 0, 128, 0, 0, 255, 64, 255, 255, 255, 0});
+}
+
+TEST_CASE("decode: palette PNG with tRNS, greyscale with and without alpha", "[svg][resources][decode]") {
+  const auto p = decode("palette_trns.png");
+  CHECK(p->width == 3);
+  CHECK(p->height == 2);
+  CHECK(p->bits == 8);
+  CHECK(p->rgba8 == std::vector<uint8_t>{255, 0, 0, 255, 0, 255, 0, 128, 0, 0, 255, 0,  //
+                                         0, 0, 255, 0, 0, 255, 0, 128, 255, 0, 0, 255});
+  CHECK(decode("grey.png")->rgba8 == std::vector<uint8_t>{0, 0, 0, 255, 200, 200, 200, 255});
+  CHECK(decode("grey_alpha.png")->rgba8 == std::vector<uint8_t>{50, 50, 50, 255, 200, 200, 200, 100});
+}
+
+TEST_CASE("decode: 16-bit PNGs give 16-bit images", "[svg][resources][decode]") {
+  const auto c = decode("rgba16.png");
+  CHECK(c->bits == 16);
+  CHECK(c->rgba8.empty());
+  CHECK(c->rgba16 == std::vector<uint16_t>{0x1234, 0x5678, 0x9abc, 0xffff, 0xfedc, 0xba98, 0x7654, 0x8000});
+  const auto g = decode("grey16.png");
+  CHECK(g->bits == 16);
+  CHECK(g->rgba16 == std::vector<uint16_t>{0x0102, 0x0102, 0x0102, 0xffff, 0xf0e0, 0xf0e0, 0xf0e0, 0xffff});
+}
+
+TEST_CASE("decode: JPEG (RGB, grey, CMYK), GIF and WebP with OpenImageIO", "[svg][resources][decode]") {
+  std::string why;
+  if (!has_oiio()) {
+    CHECK_FALSE(decode_raster(read_bytes("rgb.jpg"), &why));
+    CHECK(why == "JPEG images need OpenImageIO (built with MPVG_IMAGE_IO=png)");
+    CHECK_FALSE(decode_raster(read_bytes("rgb.gif"), &why));
+    CHECK_FALSE(decode_raster(read_bytes("rgba.webp"), &why));
+    return;
+  }
+  auto near = [](const Image& im, size_t pixel, std::array<int, 4> want, int tol) {
+    for (int c = 0; c < 4; c++) {
+      INFO("pixel " << pixel << " channel " << c);
+      CHECK(std::abs(int(im.rgba8[pixel * 4 + c]) - want[c]) <= tol);
+    }
+  };
+  const auto rgb = decode("rgb.jpg");
+  CHECK(rgb->width == 8);
+  CHECK(rgb->bits == 8);
+  for (size_t i = 0; i < 64; i += 9) near(*rgb, i, {200, 100, 50, 255}, 2);
+  const auto grey = decode("grey.jpg");
+  for (size_t i = 0; i < 64; i += 9) near(*grey, i, {128, 128, 128, 255}, 1);
+  // CMYK comes out as RGB (full magenta and yellow: red).
+  const auto cmyk = decode("cmyk.jpg");
+  for (size_t i = 0; i < 64; i += 9) near(*cmyk, i, {255, 0, 0, 255}, 2);
+  const auto gif = decode("rgb.gif");
+  CHECK(gif->rgba8 == std::vector<uint8_t>{255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 0, 0, 0, 0});
+  // WebP's decoder premultiplies; straight alpha comes back within rounding.
+  const auto webp = decode("rgba.webp");
+  near(*webp, 0, {255, 0, 0, 255}, 0);
+  near(*webp, 1, {0, 255, 0, 128}, 1);
+  near(*webp, 2, {0, 0, 255, 64}, 2);
+  near(*webp, 3, {200, 100, 50, 200}, 1);
+}
+
+TEST_CASE("decode: size limits, broken and unknown data", "[svg][resources][decode]") {
+  std::string why;
+  CHECK_FALSE(decode_raster(read_bytes("rgba8.png"), &why, 3));
+  CHECK(why == "image of 2x2 pixels is over the limit of 3 pixels");
+  CHECK(decode_raster(read_bytes("rgba8.png"), &why, 4));
+  std::vector<uint8_t> cut = read_bytes("rgba8.png");
+  cut.resize(cut.size() / 2);
+  CHECK_FALSE(decode_raster(cut, &why));
+  CHECK(why.rfind("cannot decode the ", 0) == 0);
+  CHECK_FALSE(decode_raster(bytes_of("<svg/>"), &why));
+  CHECK(why == "not a PNG, JPEG, GIF or WebP image");
+  CHECK_FALSE(decode_raster({}, &why));
+  if (has_oiio()) {
+    CHECK_FALSE(decode_raster(read_bytes("rgb.jpg"), &why, 63));
+    CHECK(why == "image of 8x8 pixels is over the limit of 63 pixels");
+  }
 }
