@@ -19,7 +19,10 @@ namespace mpvg::svg::detail {
 
 namespace {
 
+// OpenImageIO's messages can span lines (one per error met): joined.
 std::shared_ptr<Image> fail(std::string* why, std::string msg) {
+  while (!msg.empty() && (msg.back() == '\n' || msg.back() == ' ')) msg.pop_back();
+  for (size_t i; (i = msg.find('\n')) != std::string::npos;) msg.replace(i, 1, "; ");
   if (why) *why = std::move(msg);
   return nullptr;
 }
@@ -67,10 +70,19 @@ std::shared_ptr<Image> decode_raster(const std::vector<uint8_t>& bytes, std::str
   auto in = OIIO::ImageInput::create(format, false, &config, proxy);
   if (!in) return fail(why, std::string("no ") + format + " reader in OpenImageIO: " + OIIO::geterror());
   in->set_ioproxy(proxy);
+  // A failure: every message the reader holds is taken, as OpenImageIO
+  // prints those left behind when the reader is destroyed.
+  auto failed = [&]() {
+    std::string msg = in->geterror();
+    in->close();
+    const std::string more = in->geterror();
+    in.reset();
+    OIIO::geterror();
+    return fail(why, std::string("cannot decode the ") + format + " image: " + (msg.empty() ? more : msg));
+  };
   OIIO::ImageSpec spec;
   // The name only tells the reader what to report; the bytes come from `mem`.
-  if (!in->open(std::string("image.") + format, spec, config))
-    return fail(why, std::string("cannot decode the ") + format + " image: " + in->geterror());
+  if (!in->open(std::string("image.") + format, spec, config)) return failed();
   if (spec.width <= 0 || spec.height <= 0 || spec.depth != 1)
     return fail(why, std::string("the ") + format + " image has no pixels");
   const size_t pixels = size_t(spec.width) * size_t(spec.height);
@@ -90,14 +102,12 @@ std::shared_ptr<Image> decode_raster(const std::vector<uint8_t>& bytes, std::str
   // for 16-bit sources.
   if (spec.format == OIIO::TypeDesc::UINT16) {
     std::vector<uint16_t> raw(pixels * nc);
-    if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::UINT16, raw.data()))
-      return fail(why, std::string("cannot decode the ") + format + " image: " + in->geterror());
+    if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::UINT16, raw.data())) return failed();
     image->bits = 16;
     image->rgba16 = to_rgba<uint16_t>(raw, pixels, nc, associated, 65535);
   } else {
     std::vector<uint8_t> raw(pixels * nc);
-    if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::UINT8, raw.data()))
-      return fail(why, std::string("cannot decode the ") + format + " image: " + in->geterror());
+    if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::UINT8, raw.data())) return failed();
     image->bits = 8;
     image->rgba8 = to_rgba<uint8_t>(raw, pixels, nc, associated, 255);
   }

@@ -189,7 +189,7 @@ std::optional<Resource> local_file(const std::string& href, std::string_view pat
   // the full real path, whose symbolic links may lead elsewhere.
   std::error_code ec;
   const fs::path weak = fs::weakly_canonical(p, ec);
-  const std::string outside = "'" + href + "' lies outside the folders the document may read (see --allow-read)";
+  const std::string outside = "'" + href + "' lies outside the folders the document may read";
   if (ec || !inside_any(weak, dirs)) return refuse(why, outside);
   const fs::path real = fs::canonical(weak, ec);
   if (ec) return refuse(why, "cannot read '" + href + "': " + ec.message());
