@@ -207,7 +207,7 @@ TEST_CASE("svg image: refused, missing and broken images warn and draw nothing",
       {"missing.png", "cannot read 'missing.png': "},
       {"data:image/png;base64,iVBORw0KGgo=", "'data:image/png;base64,...': cannot decode the"},
       {"data:text/plain,hello", "'data:text/plain,...' is not a PNG, JPEG, GIF, WebP or SVG image"},
-      {"data:image/svg+xml,%3Csvg", "<image> 'data:image/svg+xml,...' not rendered: XML parse error"},
+      {"data:image/svg+xml,%3Csvg", "<image> not rendered: 'data:image/svg+xml,...': XML parse error"},
       {"data:image/svg+xml,%3Chtml/%3E", "not rendered: "},
       {"data:;base64,!!!", "invalid base64"},
   };
@@ -328,4 +328,22 @@ TEST_CASE("svg image: SVG images nest at most 8 deep", "[svg][image]") {
 TEST_CASE("svg image: nested documents pass their warnings on", "[svg][image]") {
   const auto r = parse(R"~(<image href="data:image/svg+xml,%3Csvg xmlns='http://www.w3.org/2000/svg' width='5' height='5'%3E%3Ctext/%3E%3C/svg%3E"/>)~");
   CHECK(r.warnings == std::vector<std::string>{"<text> elements are not supported: ignored"});
+}
+
+TEST_CASE("svg image: embedded documents add a bounded number of segments", "[svg][image]") {
+  // A document of one 200000-segment path (200001 with the closing line
+  // of the fill), drawn 60 times through use (3 x 4 x 5): each embedding
+  // copies it, so 49 fit in 10 million segments and the rest are not
+  // rendered.
+  std::string d = "M0 0";
+  for (int i = 0; i < 100000; i++) d += "h1v1";
+  std::string inner = "<svg xmlns='http://www.w3.org/2000/svg' width='10' height='10'><path d='" + d + "'/></svg>";
+  std::string uri;
+  for (char c : inner) uri += c == '<' ? std::string("%3C") : c == '>' ? std::string("%3E") : std::string(1, c);
+  const auto r = parse("<defs><image id='i' width='10' height='10' href=\"data:image/svg+xml," + uri +
+                       "\"/><g id='a'><use href='#i'/><use href='#i'/><use href='#i'/></g>"
+                       "<g id='b'><use href='#a'/><use href='#a'/><use href='#a'/><use href='#a'/></g></defs>"
+                       "<use href='#b'/><use href='#b'/><use href='#b'/><use href='#b'/><use href='#b'/>");
+  CHECK(fills_of(r.scene) == 49);
+  CHECK(has_warning_with(r, "embedded SVG documents would add more than 10000000 segments"));
 }

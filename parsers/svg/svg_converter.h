@@ -61,6 +61,11 @@ constexpr size_t kMaxTileEncodings = 10'000;
 // SVG documents embedded by <image> inside one another, the document
 // itself not counted.
 constexpr int kMaxImageDepth = 8;
+// Segments that embedded SVG documents may add to a document, nested ones
+// included: every embedding copies the embedded scene's geometry
+// (SceneBuilder::append), so many images of a large document would
+// otherwise multiply it without bound.
+constexpr size_t kMaxEmbeddedSegments = 10'000'000;
 
 // Append: a whole scene (an SVG document of an <image>) replayed into the
 // stream (SceneBuilder::append).
@@ -230,11 +235,11 @@ struct Tile {
   size_t encodings = 0;
 };
 
-// An <image>'s href loaded: a decoded raster image or the text of an SVG
+// An <image>'s href loaded: a decoded raster image or a parsed SVG
 // document, or why neither could be had.
 struct LoadedImage {
   std::shared_ptr<const Image> raster;
-  std::shared_ptr<const std::string> svg;  // inflated when it was svgz
+  std::shared_ptr<const Document> svg;  // inflated first when it was svgz
   std::string path;   // the file's canonical path; "" for data: URIs
   std::string error;  // one line; non-empty when nothing can be drawn
 };
@@ -272,6 +277,9 @@ struct Session {
   // enclose it, itself included (a document embedding itself).
   int image_depth = 0;
   std::vector<std::string> documents;
+  // Segments appended by embedded documents so far, in the whole tree of
+  // documents (kMaxEmbeddedSegments).
+  size_t embedded_segments = 0;
   std::shared_ptr<ImageCache> images = std::make_shared<ImageCache>();
 };
 

@@ -81,7 +81,8 @@ const LoadedImage& Converter::load_image(const std::string& href) {
     li.error = why;
   } else {
     li.path = r->path;
-    switch (sniff_image(r->bytes, r->mime)) {
+    const ImageKind kind = sniff_image(r->bytes, r->mime);
+    switch (kind) {
       case ImageKind::Png:
       case ImageKind::Jpeg:
       case ImageKind::Gif:
@@ -89,13 +90,25 @@ const LoadedImage& Converter::load_image(const std::string& href) {
         li.raster = decode_raster(r->bytes, &why);
         if (!li.raster) li.error = in_quotes(shown_href(href)) + ": " + why;
         break;
-      case ImageKind::Svg: li.svg = std::make_shared<const std::string>(r->bytes.begin(), r->bytes.end()); break;
-      case ImageKind::Svgz:
-        if (auto text = gunzip(r->bytes, &why))
-          li.svg = std::make_shared<const std::string>(std::move(*text));
+      case ImageKind::Svg:
+      case ImageKind::Svgz: {
+        // Parsed once, however often it is drawn.
+        std::optional<std::string> text;
+        if (kind == ImageKind::Svgz)
+          text = gunzip(r->bytes, &why);
         else
+          text.emplace(r->bytes.begin(), r->bytes.end());
+        if (!text) {
           li.error = in_quotes(shown_href(href)) + ": " + why;
+          break;
+        }
+        try {
+          li.svg = std::make_shared<const Document>(parse_document(*text));
+        } catch (const Error& err) {
+          li.error = in_quotes(shown_href(href)) + ": " + err.what();
+        }
         break;
+      }
       case ImageKind::Unknown:
         li.error = in_quotes(shown_href(href)) + " is not a PNG, JPEG, GIF, WebP or SVG image";
         break;
@@ -212,7 +225,7 @@ std::optional<Converter::Embedded> Converter::embed_document(const LoadedImage& 
   Embedded out;
   std::vector<std::string> warnings;
   try {
-    const Document doc = parse_document(*li.svg);
+    const Document& doc = *li.svg;
     // The document's strokes are prepared for the scale its scene units
     // end up at in our output pixels, known once its size is.
     ParseOptions options = s_.options;
@@ -232,9 +245,19 @@ std::optional<Converter::Embedded> Converter::embed_document(const LoadedImage& 
     session.images = s_.images;
     // One budget of element instances for the whole document tree.
     session.instances = s_.instances;
+    session.embedded_segments = s_.embedded_segments;
     Converter conv(session, Affine{}, level_);
     out.scene = conv.run();
     s_.instances = session.instances;
+    // What this embedding adds, the documents it embeds in turn included
+    // (they are part of its scene).
+    const size_t segments = out.scene.segment_count();
+    if (s_.embedded_segments + segments > kMaxEmbeddedSegments) {
+      warn("embedded SVG documents would add more than " + std::to_string(kMaxEmbeddedSegments) +
+           " segments: further ones are not rendered");
+      return std::nullopt;
+    }
+    s_.embedded_segments += segments;
     s_.stroke_seconds += session.stroke_seconds;
     s_.stroked_paths += session.stroked_paths;
     tile_encodings_ += conv.tile_encodings_;
