@@ -21,6 +21,10 @@
 // most kMaxImageDepth deep, and an <image> of a document that is already
 // being embedded is cut: a document that shows itself draws one copy of
 // itself, as browsers (which load nothing for an SVG image) and resvg do.
+// A resource is read, decoded or parsed once per document tree
+// (ImageCache); every drawing of an SVG document is converted anew (its
+// strokes depend on its scale) and copied into the scene, under the
+// shared budgets of element instances and kMaxEmbeddedSegments.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -249,6 +253,10 @@ std::optional<Converter::Embedded> Converter::embed_document(const LoadedImage& 
     Converter conv(session, Affine{}, level_);
     out.scene = conv.run();
     s_.instances = session.instances;
+    s_.stroke_seconds += session.stroke_seconds;
+    s_.stroked_paths += session.stroked_paths;
+    for (std::string& w : warnings) warn(std::move(w));
+    if (!sized) return std::nullopt;
     // What this embedding adds, the documents it embeds in turn included
     // (they are part of its scene).
     const size_t segments = out.scene.segment_count();
@@ -258,11 +266,7 @@ std::optional<Converter::Embedded> Converter::embed_document(const LoadedImage& 
       return std::nullopt;
     }
     s_.embedded_segments += segments;
-    s_.stroke_seconds += session.stroke_seconds;
-    s_.stroked_paths += session.stroked_paths;
     tile_encodings_ += conv.tile_encodings_;
-    for (std::string& w : warnings) warn(std::move(w));
-    if (!sized) return std::nullopt;
   } catch (const Error& err) {
     for (std::string& w : warnings) warn(std::move(w));
     warn("<image> " + in_quotes(shown) + " not rendered: " + err.what());
