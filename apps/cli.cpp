@@ -37,6 +37,11 @@ void usage(const char* program, const char* kind) {
       "      --seed N              sample pattern seed (default 0)\n"
       "      --gamma G             linear (integrate in linear light; default) or srgb\n"
       "                            (integrate sRGB values, as most renderers do)\n"
+      "Input:\n"
+      "      --allow-read DIR      let the document read files (images) in DIR's tree;\n"
+      "                            repeatable. Only the document's own folder tree\n"
+      "                            (the current directory's for '-') is readable\n"
+      "                            otherwise; network URLs are never loaded\n"
       "Execution:\n"
       "      --backend B           auto, cpu or cuda (default auto: cuda when a device\n"
       "                            exists, else cpu)\n"
@@ -142,6 +147,10 @@ bool parse(int argc, char** argv, const char* program, const char* kind, Options
       else if (b == "cpu") o.backend = Backend::Cpu;
       else if (b == "cuda") o.backend = Backend::Cuda;
       else throw UsageError{"unknown backend '" + b + "' (auto, cpu or cuda)"};
+    } else if (a == "--allow-read") {
+      const std::string d = value();
+      if (d.empty()) throw UsageError{"--allow-read needs a folder"};
+      o.allow_read.push_back(d);
     } else if (a == "--stats") {
       o.stats = true;
     } else if (a == "-q" || a == "--quiet") {

@@ -26,6 +26,9 @@ struct Options {
   int bits = 8;
   bool stats = false;
   bool quiet = false;
+  // --allow-read: folders whose files the document may read (images)
+  // besides its own folder tree.
+  std::vector<std::string> allow_read;
   std::vector<std::string> positional;
   std::string output;  // -o; else the second positional argument
 };

@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   try {
     // Strokes are converted for the output's pixels (tolerance, hairlines).
     svg::ParseOptions parse_options;
+    parse_options.allowed_dirs = opt.allow_read;
     parse_options.view = [&opt](double w, double h) {
       int width, height;
       Affine view;

@@ -72,5 +72,24 @@ check "unwritable output: exit 1" test "$rc" = 1
 "$bin" --help > "$tmp/help.txt"; rc=$?
 check "--help: exit 0 with usage" test "$rc" = 0 -a -s "$tmp/help.txt"
 
+# Images: the document's folder tree is readable, other folders only with
+# --allow-read; standard input reads relative to the current directory.
+mkdir -p "$tmp/doc" "$tmp/pics"
+cp "$src/testdata/images/rgba8.png" "$tmp/pics/"
+printf '<svg xmlns="http://www.w3.org/2000/svg" width="8" height="8"><image width="8" height="8" href="../pics/rgba8.png"/></svg>' > "$tmp/doc/img.svg"
+err=$("$bin" "$tmp/doc/img.svg" "$tmp/img1.png" 2>&1); rc=$?
+check "image outside the document's folder: a warning, still exit 0" test "$rc" = 0
+check "image outside the document's folder: says why" grep -q "outside the folders the document may read" <<<"$err"
+err=$("$bin" --allow-read "$tmp/pics" "$tmp/doc/img.svg" "$tmp/img2.png" 2>&1); rc=$?
+check "--allow-read opens the folder" test "$rc" = 0 -a -z "$(grep -v note: <<<"$err")"
+check "--allow-read: the image is drawn" differ "$tmp/img1.png" "$tmp/img2.png"
+(cd "$tmp/doc" && "$bin" -q - "$tmp/img3.png" < "$tmp/doc/img.svg")
+check "stdin: only the current directory's tree is read" cmp -s "$tmp/img1.png" "$tmp/img3.png"
+printf '<svg xmlns="http://www.w3.org/2000/svg" width="8" height="8"><image width="8" height="8" href="rgba8.png"/></svg>' > "$tmp/here.svg"
+(cd "$tmp/pics" && "$bin" -q - "$tmp/img4.png" < "$tmp/here.svg")
+check "stdin: images in the current directory are read" cmp -s "$tmp/img2.png" "$tmp/img4.png"
+"$bin" --help | grep -q -- "--allow-read DIR"
+check "--help documents --allow-read" test $? = 0
+
 echo "$fails failed"
 test "$fails" = 0

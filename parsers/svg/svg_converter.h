@@ -6,9 +6,13 @@
 //   svg_style.cpp     computed style: properties, inheritance, paint values
 //   svg_strokes.cpp   strokes as fill geometry, converted in parallel
 //   svg_paint_servers.cpp  gradients and patterns as scene paints
+//   svg_image.cpp     <image>: rasters as texture paints, SVG documents
+//                     converted on their own and appended as vectors
+//   svg_resources.cpp hrefs to bytes, gzip, image signatures (decoding in
+//                     svg_image_decode_oiio.cpp or svg_image_decode_png.cpp)
 //
-// Content kinds that come later (<image>, text) get files of their own
-// beside these, rendered from render() as shapes are.
+// Content kinds that come later (text) get files of their own beside
+// these, rendered from render() as shapes are.
 //
 // The conversion walks the element tree once, in document order, and writes
 // a flat list of operations that mirrors the SceneBuilder calls (push,
@@ -23,6 +27,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -37,6 +42,7 @@
 #include "parsers/svg/svg_dom.h"
 #include "parsers/svg/svg_geometry.h"
 #include "parsers/svg/svg_parser.h"
+#include "parsers/svg/svg_resources.h"
 #include "parsers/svg/svg_values.h"
 #include "stroker/stroker.h"
 
@@ -52,15 +58,26 @@ constexpr size_t kMaxInstances = 1'000'000;
 // once per paint that uses it, so nested patterns multiply): about 40 KB
 // and 0.1 ms each for small tiles.
 constexpr size_t kMaxTileEncodings = 10'000;
+// SVG documents embedded by <image> inside one another, the document
+// itself not counted.
+constexpr int kMaxImageDepth = 8;
+// Segments that embedded SVG documents may add to a document, nested ones
+// included: every embedding copies the embedded scene's geometry
+// (SceneBuilder::append), so many images of a large document would
+// otherwise multiply it without bound.
+constexpr size_t kMaxEmbeddedSegments = 10'000'000;
 
-enum class OpKind : uint8_t { Push, Activate, Pop, Fill, Clip, Bounds };
+// Append: a whole scene (an SVG document of an <image>) replayed into the
+// stream (SceneBuilder::append).
+enum class OpKind : uint8_t { Push, Activate, Pop, Fill, Clip, Bounds, Append };
 
 struct Op {
   OpKind kind = OpKind::Bounds;
   FillRule rule = FillRule::NonZero;
   uint32_t shape = 0;  // Fill, Clip, Bounds: index into Converter::shapes_
   uint32_t paint = 0;  // Fill: index into Converter::paints_
-  Affine xf;           // Fill, Clip, Bounds: user space to scene
+  uint32_t scene = 0;  // Append: index into Converter::embedded_
+  Affine xf;           // Fill, Clip, Bounds: user space to scene; Append: the scene's units to ours
   // Fill: the geometry is a stroke converted to fill geometry. Strokes are
   // not part of an element's object bounding box (SVG 2
   // coords.html#BoundingBoxes), so bounds skip them.
@@ -119,6 +136,9 @@ struct Inherited {
   FillRule clip_rule = FillRule::NonZero;
   bool visible = true;
   RGBA color{0, 0, 0, 1};
+  // image-rendering (CSS Images 3, SVG 2 painting.html#ImageRendering) as
+  // the filter of raster images: auto is bicubic, as in resvg.
+  TextureFilter image_rendering = TextureFilter::Bicubic;
 };
 
 // What an element is converted in: its parent's computed style and user space.
@@ -183,7 +203,7 @@ bool invertible(const Affine& m);
 Affine inverse(const Affine& m);
 bool same(const Affine& l, const Affine& r);
 
-enum class Kind { Container, Shape, Use, Unsupported, Ignored };
+enum class Kind { Container, Shape, Use, Image, Unsupported, Ignored };
 
 Kind classify(const Element& e);
 
@@ -215,8 +235,23 @@ struct Tile {
   size_t encodings = 0;
 };
 
+// An <image>'s href loaded: a decoded raster image or a parsed SVG
+// document, or why neither could be had.
+struct LoadedImage {
+  std::shared_ptr<const Image> raster;
+  std::shared_ptr<const Document> svg;  // inflated first when it was svgz
+  std::string path;   // the file's canonical path; "" for data: URIs
+  std::string error;  // one line; non-empty when nothing can be drawn
+};
+
+// Loaded images by (base folder, href), shared by a document and the
+// documents it embeds: a resource is read and decoded once, and its uses
+// share one Image (the encoder builds one mip chain per Image).
+using ImageCache = std::map<std::pair<std::string, std::string>, LoadedImage>;
+
 // What the converters of one document share: a pattern's tile is converted
 // by a converter of its own, nested in the one that meets the pattern.
+// An SVG document embedded by <image> gets a session of its own.
 struct Session {
   Session(const Document& d, const ParseOptions& o, std::vector<std::string>& w)
       : doc(d), options(o), warnings(w) {}
@@ -233,6 +268,19 @@ struct Session {
   std::map<TileKey, Tile> tiles;
   double stroke_seconds = 0;
   size_t stroked_paths = 0;
+  // Where relative hrefs resolve (the document's folder) and the folders
+  // that may be read (svg_resources.h); the first is the document's own.
+  std::string base_dir = ".";
+  std::vector<std::string> allowed_dirs;
+  // For documents embedded by <image>: how deep this one is (0 for the
+  // document itself), and the real paths of the embedded documents that
+  // enclose it, itself included (a document embedding itself).
+  int image_depth = 0;
+  std::vector<std::string> documents;
+  // Segments appended by embedded documents so far, in the whole tree of
+  // documents (kMaxEmbeddedSegments).
+  size_t embedded_segments = 0;
+  std::shared_ptr<ImageCache> images = std::make_shared<ImageCache>();
 };
 
 class Converter {
@@ -301,6 +349,23 @@ class Converter {
   // in a scene of width x height tile units, their user space mapped to
   // tile units by `content_xf`.
   Scene convert_tile(const Element& content, const Affine& content_xf, double width, double height);
+
+  // ------------------------------------------------------------ images (svg_image.cpp)
+
+  void image(const Element& e, const Style& st, const Affine& space);
+  const LoadedImage& load_image(const std::string& href);
+  // The drawing of an embedded SVG document: its scene, the <image>'s
+  // viewport for the document's size, and where the document's units go
+  // in the <image>'s user space; nullopt when it draws nothing.
+  struct Embedded {
+    Scene scene;
+    ViewBox viewport;
+    Affine place;
+  };
+  std::optional<Embedded> embed_document(const LoadedImage& li, const std::string& shown,
+                                         const std::function<ViewBox(double, double)>& viewport,
+                                         const AspectRatio& ar, const Affine& space);
+  uint32_t rect_shape(const ViewBox& r);
 
   // ------------------------------------------------------------ references
 
@@ -373,6 +438,8 @@ class Converter {
   std::vector<Paint> paints_;
   std::vector<Gradient> gradients_;  // Paint::index of gradient paints
   std::vector<Pattern> patterns_;    // Paint::index of pattern paints
+  std::vector<Texture> textures_;    // Paint::index of texture paints
+  std::vector<Scene> embedded_;      // Op::scene of Append operations
   std::map<std::pair<const Scene*, std::array<double, 6>>, uint32_t> pattern_of_;  // patterns_ by tile and xf
   std::vector<Path> shapes_;
   // A stroke waiting for convert_strokes(): shapes_[source] stroked with

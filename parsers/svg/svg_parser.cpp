@@ -49,7 +49,8 @@ Kind classify(const Element& e) {
       n == "polygon")
     return Kind::Shape;
   if (n == "use") return Kind::Use;
-  if (n == "text" || n == "image" || n == "switch" || n == "foreignObject" || n == "style")
+  if (n == "image") return Kind::Image;
+  if (n == "text" || n == "switch" || n == "foreignObject" || n == "style")
     return Kind::Unsupported;
   // defs, clipPath, symbol, gradients, patterns, masks, filters, markers,
   // metadata, animation...: never rendered directly.
@@ -346,6 +347,7 @@ void Converter::render(const Element& e, const Context& ctx, int depth) {
       for (const auto& c : e.children) render(*c, inner, depth + 1);
       break;
     case Kind::Use: render(*target, inner, depth + 1); break;
+    case Kind::Image: image(e, st, space); break;
     default: shape_paint(e, st, space); break;
   }
   s_.active.pop_back();
@@ -383,16 +385,22 @@ void Converter::shape_paint(const Element& e, const Style& st, const Affine& spa
   }
 }
 
-// Element opacity multiplies into the paints below it. For one shape that
-// is exact; for a group it is not (SVG 2 render.html
-// #ObjectAndGroupOpacityProperties composites the group as a whole, so
-// overlapping children do not show through each other), which the scene
-// cannot express yet.
+// Element opacity multiplies into the paints below it, those of embedded
+// documents included. For one shape that is exact; for a group it is not
+// (SVG 2 render.html #ObjectAndGroupOpacityProperties composites the group
+// as a whole, so overlapping children do not show through each other),
+// which the scene cannot express yet.
 void Converter::apply_opacity(size_t start, double opacity) {
   if (opacity >= 1) return;
   size_t fills = 0;
   for (size_t i = start; i < ops_.size(); i++) {
     Op& op = ops_[i];
+    if (op.kind == OpKind::Append) {
+      Scene& sc = embedded_[op.scene];
+      for (Paint& p : sc.paints) p.opacity = static_cast<float>(p.opacity * opacity);
+      for (const ScenePath& sp : sc.paths) fills += sp.is_clip ? 0 : 1;
+      continue;
+    }
     if (op.kind != OpKind::Fill) continue;
     Paint& p = paints_[op.paint];
     p.opacity = static_cast<float>(p.opacity * opacity);
@@ -435,7 +443,8 @@ Bounds Converter::content_bounds(size_t begin, size_t end, const Affine& space) 
   Bounds b;
   const Affine inv = inverse(space);
   for_each_content(begin, end, [&](const Op& op) {
-    if (op.stroke) return;
+    // An embedded document's box is its <image>'s, a Bounds operation.
+    if (op.stroke || op.kind == OpKind::Append) return;
     add_path_bounds(shapes_[op.shape], same(op.xf, space) ? Affine{} : inv * op.xf, b);
   });
   return b;
@@ -545,6 +554,7 @@ void Converter::emit(SceneBuilder& b) {
   // Paint servers first, in order: Paint::index counts from 0 in each list.
   for (Gradient& g : gradients_) b.add_gradient(std::move(g));
   for (Pattern& p : patterns_) b.add_pattern(std::move(p));
+  for (Texture& t : textures_) b.add_texture(std::move(t));
   std::vector<int64_t> geometry(shapes_.size(), -1);
   auto geometry_of = [&](uint32_t shape) {
     if (geometry[shape] < 0) geometry[shape] = b.add_geometry(std::move(shapes_[shape]));
@@ -557,6 +567,7 @@ void Converter::emit(SceneBuilder& b) {
       case OpKind::Pop: b.pop(); break;
       case OpKind::Fill: b.fill(geometry_of(op.shape), op.xf, op.rule, paints_[op.paint]); break;
       case OpKind::Clip: b.clip(geometry_of(op.shape), op.xf, op.rule); break;
+      case OpKind::Append: b.append(embedded_[op.scene], op.xf); break;
       case OpKind::Bounds: break;
     }
   }
@@ -564,11 +575,13 @@ void Converter::emit(SceneBuilder& b) {
 
 }  // namespace detail
 
-ParseResult parse_svg_string(std::string_view text, [[maybe_unused]] const std::string& base_dir,
-                             const ParseOptions& options) {
+ParseResult parse_svg_string(std::string_view text, const std::string& base_dir, const ParseOptions& options) {
   const detail::Document doc = detail::parse_document(text);
   ParseResult result;
   detail::Session session(doc, options, result.warnings);
+  session.base_dir = base_dir.empty() ? std::string(".") : base_dir;
+  session.allowed_dirs.push_back(session.base_dir);
+  session.allowed_dirs.insert(session.allowed_dirs.end(), options.allowed_dirs.begin(), options.allowed_dirs.end());
   detail::Converter conv(session, Affine{}, 0);
   result.scene = conv.run();
   result.stroke_seconds = session.stroke_seconds;

@@ -26,8 +26,15 @@
 // templates, and fallback colours where a server cannot paint. Each use is
 // resolved against the shape's bounding box and user space.
 //
+// image: PNG, JPEG, GIF (first frame) and WebP images as texture paints
+// (x, y, width, height with auto sizes, preserveAspectRatio,
+// image-rendering), and SVG and SVGZ documents converted and embedded as
+// vectors; from data: URIs, and from local files inside the folders the
+// document may read (its own folder's tree and ParseOptions::allowed_dirs),
+// never from the network (svg_resources.h).
+//
 // Not supported (warned about, and rendered approximately or not at all):
-// text, images, meshgradient and hatch paint servers (the fallback colour
+// text, meshgradient and hatch paint servers (the fallback colour
 // is used), paint servers in other documents, markers, masks, filters,
 // nested <svg>, symbol, switch, <style> sheets, and group opacity
 // (multiplied into each descendant's paint).
@@ -66,18 +73,26 @@ struct ParseOptions {
   std::function<Affine(double width, double height)> view;
   double device_scale = 2;
 
+  // Folders whose files <image> may read besides the document's own
+  // folder tree (which is always allowed): relative hrefs, absolute paths
+  // and file: URLs are read only when their real path lies inside one of
+  // these trees. Network URLs are never loaded.
+  std::vector<std::string> allowed_dirs;
+
   // Options for rendering at `pixels` wide, the height rounded to keep the
   // aspect ratio (as svg2png -w does).
   static ParseOptions at_width(int pixels);
 };
 
-// Reads and parses a file; "-" reads standard input. Throws mpvg::Error with
+// Reads and parses a file; "-" reads standard input (relative references
+// then resolve against the current directory). Throws mpvg::Error with
 // a one-line message: "cannot read 'PATH': <reason>", "XML parse error at
 // line N: ...", or a message naming a non-SVG root or an invalid root size.
 ParseResult parse_svg_file(const std::string& path, const ParseOptions& options = {});
 
 // Parses SVG text. base_dir is where relative references of the document
-// resolve (the document's directory); no external resource is loaded yet.
+// resolve (the document's directory); its tree may be read, as may
+// options.allowed_dirs.
 ParseResult parse_svg_string(std::string_view text, const std::string& base_dir = ".",
                              const ParseOptions& options = {});
 

@@ -92,6 +92,17 @@ std::optional<PaintOrder> parse_paint_order(std::string_view v) {
   return PaintOrder{given[0], given[1], given[2]};
 }
 
+// image-rendering (CSS Images 3 and SVG 1.1's keywords), as resvg maps
+// them to filters.
+std::optional<TextureFilter> parse_image_rendering(std::string_view v) {
+  const auto k = parse_keyword(v);
+  if (!k) return std::nullopt;
+  if (*k == "auto" || *k == "optimizequality" || *k == "high-quality") return TextureFilter::Bicubic;
+  if (*k == "smooth") return TextureFilter::Bilinear;
+  if (*k == "optimizespeed" || *k == "crisp-edges" || *k == "pixelated") return TextureFilter::Nearest;
+  return std::nullopt;
+}
+
 bool is_paint_server(const std::string& name) {
   return name == "linearGradient" || name == "radialGradient" || name == "pattern" ||
          name == "meshgradient" || name == "hatch" || name == "solidcolor";
@@ -151,6 +162,9 @@ Style Converter::compute_style(const Element& e, const Context& ctx) {
         return std::nullopt;
       });
   if (vis.state == Prop<std::string>::Set) inh.visible = vis.value == "visible";
+  if (const auto ir = property<TextureFilter>(e, "image-rendering", parse_image_rendering);
+      ir.state == Prop<TextureFilter>::Set)
+    inh.image_rendering = ir.value;
 
   // Non-inherited properties.
   const auto opacity = property<double>(e, "opacity", parse_alpha);
