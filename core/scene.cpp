@@ -338,34 +338,29 @@ struct Replay {
     if (geometry[g] < 0) geometry[g] = b.add_geometry(s.geometries[g]);
     return static_cast<uint32_t>(geometry[g]);
   }
+  // A paint server of s, mapped by xf and added to b on first use.
+  template <class Server, class Add>
+  uint32_t server(std::vector<int64_t>& added, const std::vector<Server>& from, uint32_t index, Add add) {
+    if (added[index] < 0) {
+      Server v = from[index];
+      v.xf = xf * v.xf;
+      added[index] = add(std::move(v));
+    }
+    return static_cast<uint32_t>(added[index]);
+  }
   Paint paint(const Paint& p) {
     Paint out = p;
     switch (p.type) {
       case PaintType::Solid: break;
       case PaintType::LinearGradient:
       case PaintType::RadialGradient:
-        if (gradient[p.index] < 0) {
-          Gradient g = s.gradients[p.index];
-          g.xf = xf * g.xf;
-          gradient[p.index] = b.add_gradient(std::move(g));
-        }
-        out.index = static_cast<uint32_t>(gradient[p.index]);
+        out.index = server(gradient, s.gradients, p.index, [&](Gradient g) { return b.add_gradient(std::move(g)); });
         break;
       case PaintType::Texture:
-        if (texture[p.index] < 0) {
-          Texture t = s.textures[p.index];
-          t.xf = xf * t.xf;
-          texture[p.index] = b.add_texture(std::move(t));
-        }
-        out.index = static_cast<uint32_t>(texture[p.index]);
+        out.index = server(texture, s.textures, p.index, [&](Texture t) { return b.add_texture(std::move(t)); });
         break;
       case PaintType::Pattern:
-        if (pattern[p.index] < 0) {
-          Pattern pt = s.patterns[p.index];
-          pt.xf = xf * pt.xf;
-          pattern[p.index] = b.add_pattern(std::move(pt));
-        }
-        out.index = static_cast<uint32_t>(pattern[p.index]);
+        out.index = server(pattern, s.patterns, p.index, [&](Pattern t) { return b.add_pattern(std::move(t)); });
         break;
     }
     return out;

@@ -67,15 +67,31 @@ void composite(const float* p, const PaintRecord& bg, float* out) {
   out[3] = p[3] + under * bg.a;
 }
 
+// A tree's paint tables as the sampler reads them: views of the tables and
+// of the pattern tiles' trees (not copyable: tables points into tiles).
+struct TreePaint {
+  explicit TreePaint(const ShortcutTree& tree) : data(tree.paint ? *tree.paint : no_paints()) {
+    for (const ShortcutTree& t : tree.tiles) tiles.push_back(t.view());
+    tables = data.view(tiles.data());
+  }
+  TreePaint(const TreePaint&) = delete;
+  TreePaint& operator=(const TreePaint&) = delete;
+
+  static const PaintData& no_paints() {
+    static const PaintData none;
+    return none;
+  }
+
+  const PaintData& data;
+  std::vector<TreeView> tiles;
+  PaintTables tables;
+};
+
 }  // namespace
 
 Rgba4 sample_tree_cpu(const ShortcutTree& tree, float px, float py) {
-  std::vector<TreeView> tiles;
-  for (const ShortcutTree& t : tree.tiles) tiles.push_back(t.view());
-  static const PaintData kNoPaints;
-  const PaintData& paint = tree.paint ? *tree.paint : kNoPaints;
-  const PaintTables tables = paint.view(tiles.data());
-  const SampleInputs in{tree.leaf_entries.data(), tree.segments.data(), tree.paths.data(), &tables};
+  const TreePaint paint(tree);
+  const SampleInputs in{tree.leaf_entries.data(), tree.segments.data(), tree.paths.data(), &paint.tables};
   const Cell& c = tree.leaves[tree_find_leaf(tree.nodes.data(), tree.root_size, uint32_t(px), uint32_t(py))];
   return sample_cell(in, c.begin, c.end, px, py);
 }
@@ -99,15 +115,11 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
   if (times) times->schedule_ms += ms_since(t0);
 
   t0 = std::chrono::steady_clock::now();
-  std::vector<TreeView> tiles;
-  for (const ShortcutTree& t : tree.tiles) tiles.push_back(t.view());
-  static const PaintData kNoPaints;
-  const PaintData& paint = tree.paint ? *tree.paint : kNoPaints;
-  const PaintTables tables = paint.view(tiles.data());
-  const SampleInputs in{tree.leaf_entries.data(), tree.segments.data(), tree.paths.data(), &tables};
+  const TreePaint paint(tree);
+  const SampleInputs in{tree.leaf_entries.data(), tree.segments.data(), tree.paths.data(), &paint.tables};
   // Uniform leaves hold solid paints only (entry_varies); the rest is
   // sampled by the specialisation the scene's paints need.
-  return with_sampler_kinds(sampler_kinds(paint), [&](auto kinds) {
+  return with_sampler_kinds(sampler_kinds(paint.data), [&](auto kinds) {
     constexpr uint32_t Kinds = decltype(kinds)::value;
     const int n = integ.samples;
     const bool direct = integ.support == 1 && integ.pad == 0;
