@@ -1,0 +1,161 @@
+// Blend modes of W3C Compositing and Blending Level 1 (§5, §9), per sample,
+// on premultiplied colours: the groundwork of transparency groups (issue
+// 10), shared by both executors like every per-element decision.
+//
+// With backdrop Cb (alpha ab) and source Cs (alpha as), both premultiplied,
+// source-over with blending is (Compositing §5.8 / §9.1.4):
+//   co = (1 - ab) cs + (1 - as) cb + as ab B(Cb / ab, Cs / as)
+//   ao = as + ab (1 - as)
+// where B works on straight colours in [0, 1]. Normal blending (B = Cs)
+// reduces it to plain source-over. The sampler composites front to back
+// ("under"), which only normal blending allows; a blended group is
+// composited onto its backdrop once its content is known.
+#pragma once
+#include <cmath>
+#include <cstdint>
+
+#include "core/hd.h"
+#include "core/paint.h"
+
+namespace mpvg {
+
+enum BlendMode : uint32_t {
+  BLEND_NORMAL = 0,
+  BLEND_MULTIPLY,
+  BLEND_SCREEN,
+  BLEND_OVERLAY,
+  BLEND_DARKEN,
+  BLEND_LIGHTEN,
+  BLEND_COLOR_DODGE,
+  BLEND_COLOR_BURN,
+  BLEND_HARD_LIGHT,
+  BLEND_SOFT_LIGHT,
+  BLEND_DIFFERENCE,
+  BLEND_EXCLUSION,
+  // Non-separable: the three channels together.
+  BLEND_HUE,
+  BLEND_SATURATION,
+  BLEND_COLOR,
+  BLEND_LUMINOSITY,
+  BLEND_MODE_COUNT
+};
+
+MPVG_HD_INLINE bool blend_separable(uint32_t mode) { return mode < BLEND_HUE; }
+
+MPVG_HD_INLINE float blend_min(float a, float b) { return a < b ? a : b; }
+MPVG_HD_INLINE float blend_max(float a, float b) { return a > b ? a : b; }
+
+// B(cb, cs) of a separable mode, straight channel values in [0, 1].
+MPVG_HD_INLINE float blend_channel(uint32_t mode, float cb, float cs) {
+  switch (mode) {
+    case BLEND_MULTIPLY: return cb * cs;
+    case BLEND_SCREEN: return cb + cs - cb * cs;
+    case BLEND_OVERLAY:  // hard-light with the layers swapped
+      return cb <= 0.5f ? cs * 2.0f * cb : 1.0f - (1.0f - cs) * (1.0f - (2.0f * cb - 1.0f));
+    case BLEND_DARKEN: return blend_min(cb, cs);
+    case BLEND_LIGHTEN: return blend_max(cb, cs);
+    case BLEND_COLOR_DODGE:
+      if (cb <= 0.0f) return 0.0f;
+      if (cs >= 1.0f) return 1.0f;
+      return blend_min(1.0f, cb / (1.0f - cs));
+    case BLEND_COLOR_BURN:
+      if (cb >= 1.0f) return 1.0f;
+      if (cs <= 0.0f) return 0.0f;
+      return 1.0f - blend_min(1.0f, (1.0f - cb) / cs);
+    case BLEND_HARD_LIGHT:
+      return cs <= 0.5f ? cb * 2.0f * cs : 1.0f - (1.0f - cb) * (1.0f - (2.0f * cs - 1.0f));
+    case BLEND_SOFT_LIGHT: {
+      if (cs <= 0.5f) return cb - (1.0f - 2.0f * cs) * cb * (1.0f - cb);
+      const float d = cb <= 0.25f ? ((16.0f * cb - 12.0f) * cb + 4.0f) * cb : sqrtf(cb);
+      return cb + (2.0f * cs - 1.0f) * (d - cb);
+    }
+    case BLEND_DIFFERENCE: return cb > cs ? cb - cs : cs - cb;
+    case BLEND_EXCLUSION: return cb + cs - 2.0f * cb * cs;
+    default: return cs;  // normal
+  }
+}
+
+// The non-separable helpers of §9.2, on straight RGB.
+struct Rgb3 {
+  float r, g, b;
+};
+
+MPVG_HD_INLINE float blend_lum(Rgb3 c) { return 0.3f * c.r + 0.59f * c.g + 0.11f * c.b; }
+
+MPVG_HD_INLINE Rgb3 blend_clip_color(Rgb3 c) {
+  const float l = blend_lum(c);
+  const float n = blend_min(c.r, blend_min(c.g, c.b));
+  const float x = blend_max(c.r, blend_max(c.g, c.b));
+  if (n < 0.0f) {
+    const float s = l - n > 0.0f ? l / (l - n) : 0.0f;
+    c = Rgb3{l + (c.r - l) * s, l + (c.g - l) * s, l + (c.b - l) * s};
+  }
+  if (x > 1.0f) {
+    const float s = x - l > 0.0f ? (1.0f - l) / (x - l) : 0.0f;
+    c = Rgb3{l + (c.r - l) * s, l + (c.g - l) * s, l + (c.b - l) * s};
+  }
+  return c;
+}
+
+MPVG_HD_INLINE Rgb3 blend_set_lum(Rgb3 c, float l) {
+  const float d = l - blend_lum(c);
+  return blend_clip_color(Rgb3{c.r + d, c.g + d, c.b + d});
+}
+
+MPVG_HD_INLINE float blend_sat(Rgb3 c) {
+  return blend_max(c.r, blend_max(c.g, c.b)) - blend_min(c.r, blend_min(c.g, c.b));
+}
+
+// The spec's SetSat: the largest channel becomes s, the smallest 0, the
+// middle one keeps its relative place; a grey stays black.
+MPVG_HD_INLINE Rgb3 blend_set_sat(Rgb3 c, float s) {
+  float* ch[3] = {&c.r, &c.g, &c.b};
+  // Sort the three pointers by value: max, mid, min.
+  int hi = 0, lo = 0;
+  for (int i = 1; i < 3; i++) {
+    if (*ch[i] > *ch[hi]) hi = i;
+    if (*ch[i] < *ch[lo]) lo = i;
+  }
+  if (hi == lo) return Rgb3{0.0f, 0.0f, 0.0f};
+  const int mid = 3 - hi - lo;
+  const float range = *ch[hi] - *ch[lo];
+  *ch[mid] = range > 0.0f ? (*ch[mid] - *ch[lo]) * s / range : 0.0f;
+  *ch[hi] = s;
+  *ch[lo] = 0.0f;
+  return c;
+}
+
+// B(Cb, Cs) of a non-separable mode, straight colours.
+MPVG_HD_INLINE Rgb3 blend_nonseparable(uint32_t mode, Rgb3 cb, Rgb3 cs) {
+  switch (mode) {
+    case BLEND_HUE: return blend_set_lum(blend_set_sat(cs, blend_sat(cb)), blend_lum(cb));
+    case BLEND_SATURATION: return blend_set_lum(blend_set_sat(cb, blend_sat(cs)), blend_lum(cb));
+    case BLEND_COLOR: return blend_set_lum(cs, blend_lum(cb));
+    case BLEND_LUMINOSITY: return blend_set_lum(cb, blend_lum(cs));
+    default: return cs;
+  }
+}
+
+// Source `s` over backdrop `b` with blend mode `mode`, both premultiplied.
+MPVG_HD_INLINE Rgba4 blend_over(uint32_t mode, Rgba4 b, Rgba4 s) {
+  const float as = s.a, ab = b.a;
+  const float ao = as + ab * (1.0f - as);
+  if (mode == BLEND_NORMAL || as <= 0.0f || ab <= 0.0f) {
+    // B only matters where both are present.
+    return Rgba4{s.r + (1.0f - as) * b.r, s.g + (1.0f - as) * b.g, s.b + (1.0f - as) * b.b, ao};
+  }
+  auto unit = [](float v) { return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v); };
+  const Rgb3 cb{unit(b.r / ab), unit(b.g / ab), unit(b.b / ab)};
+  const Rgb3 cs{unit(s.r / as), unit(s.g / as), unit(s.b / as)};
+  Rgb3 m;
+  if (blend_separable(mode)) {
+    m = Rgb3{blend_channel(mode, cb.r, cs.r), blend_channel(mode, cb.g, cs.g), blend_channel(mode, cb.b, cs.b)};
+  } else {
+    m = blend_nonseparable(mode, cb, cs);
+  }
+  const float both = as * ab;
+  return Rgba4{(1.0f - ab) * s.r + (1.0f - as) * b.r + both * m.r, (1.0f - ab) * s.g + (1.0f - as) * b.g + both * m.g,
+               (1.0f - ab) * s.b + (1.0f - as) * b.b + both * m.b, ao};
+}
+
+}  // namespace mpvg
