@@ -45,13 +45,17 @@ MPVG_HD_INLINE bool blend_separable(uint32_t mode) { return mode < BLEND_HUE; }
 MPVG_HD_INLINE float blend_min(float a, float b) { return a < b ? a : b; }
 MPVG_HD_INLINE float blend_max(float a, float b) { return a > b ? a : b; }
 
+// Hard light: multiply by 2 cs below one half, screen with 2 cs - 1 above.
+MPVG_HD_INLINE float blend_hard_light(float cb, float cs) {
+  return cs <= 0.5f ? cb * 2.0f * cs : 1.0f - (1.0f - cb) * (1.0f - (2.0f * cs - 1.0f));
+}
+
 // B(cb, cs) of a separable mode, straight channel values in [0, 1].
 MPVG_HD_INLINE float blend_channel(uint32_t mode, float cb, float cs) {
   switch (mode) {
     case BLEND_MULTIPLY: return cb * cs;
     case BLEND_SCREEN: return cb + cs - cb * cs;
-    case BLEND_OVERLAY:  // hard-light with the layers swapped
-      return cb <= 0.5f ? cs * 2.0f * cb : 1.0f - (1.0f - cs) * (1.0f - (2.0f * cb - 1.0f));
+    case BLEND_OVERLAY: return blend_hard_light(cs, cb);  // the layers swapped
     case BLEND_DARKEN: return blend_min(cb, cs);
     case BLEND_LIGHTEN: return blend_max(cb, cs);
     case BLEND_COLOR_DODGE:
@@ -62,8 +66,7 @@ MPVG_HD_INLINE float blend_channel(uint32_t mode, float cb, float cs) {
       if (cb >= 1.0f) return 1.0f;
       if (cs <= 0.0f) return 0.0f;
       return 1.0f - blend_min(1.0f, (1.0f - cb) / cs);
-    case BLEND_HARD_LIGHT:
-      return cs <= 0.5f ? cb * 2.0f * cs : 1.0f - (1.0f - cb) * (1.0f - (2.0f * cs - 1.0f));
+    case BLEND_HARD_LIGHT: return blend_hard_light(cb, cs);
     case BLEND_SOFT_LIGHT: {
       if (cs <= 0.5f) return cb - (1.0f - 2.0f * cs) * cb * (1.0f - cb);
       const float d = cb <= 0.25f ? ((16.0f * cb - 12.0f) * cb + 4.0f) * cb : sqrtf(cb);

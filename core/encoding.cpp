@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <string>
 #include <map>
+#include <string>
 #include <tuple>
 #include <unordered_map>
 

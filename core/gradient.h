@@ -108,8 +108,8 @@ MPVG_HD_INLINE Rgba4 ramp_at(const GradientRecord& g, const float* kt, const Rgb
 // Premultiplied colour of gradient g at pixel (px, py); transparent where
 // nothing is painted. Out of line in kernels: the gradient sampler drops from
 // 75 to 62 registers and tiger_gradients renders 4 % faster (BENCHMARKS.md).
-MPVG_HD_NOINLINE inline Rgba4 gradient_at(const GradientRecord& g, bool radial, const float* kt, const Rgba4* kc, float px,
-                                 float py) {
+MPVG_HD_NOINLINE inline Rgba4 gradient_at(const GradientRecord& g, bool radial, const float* kt, const Rgba4* kc,
+                                          float px, float py) {
   float u, v, t;
   affine_apply(g.m, px, py, u, v);
   if (radial) {
