@@ -11,6 +11,7 @@
 
 #include "parsers/svg/svg_parser.h"
 #include "tests/catch.h"
+#include "tests/svg_test_util.h"
 
 namespace fs = std::filesystem;
 
@@ -20,27 +21,14 @@ std::string images_dir() { return (fs::path(MPVG_SOURCE_DIR) / "testdata" / "ima
 
 mpvg::svg::ParseResult parse(const std::string& body, const std::string& base = images_dir(),
                              const mpvg::svg::ParseOptions& options = {}) {
-  return mpvg::svg::parse_svg_string(
-      "<svg xmlns=\"http://www.w3.org/2000/svg\" xmlns:xlink=\"http://www.w3.org/1999/xlink\" "
-      "viewBox=\"0 0 100 100\">" +
-          body + "</svg>",
-      base, options);
+  return mpvg::svg::parse_svg_string(svg_test::document(body), base, options);
 }
 
 std::string dump_of(const std::string& body) { return mpvg::dump(parse(body).scene); }
 
 // The lines of a dump that start with `prefix` (after any indentation).
 std::string lines_of(const std::string& dump, const std::string& prefix) {
-  std::string out;
-  size_t pos = 0;
-  while (pos < dump.size()) {
-    const size_t end = dump.find('\n', pos);
-    const std::string line = dump.substr(pos, end - pos + 1);
-    const size_t first = line.find_first_not_of(' ');
-    if (first != std::string::npos && line.compare(first, prefix.size(), prefix) == 0) out += line;
-    pos = end + 1;
-  }
-  return out;
+  return svg_test::dump_lines(dump, [&](std::string_view text, size_t) { return text.rfind(prefix, 0) == 0; });
 }
 
 // The texture line and the drawn rectangle of a document with one image.

@@ -7,29 +7,18 @@
 
 #include "parsers/svg/svg_parser.h"
 #include "tests/catch.h"
+#include "tests/svg_test_util.h"
 
 namespace {
 
 mpvg::svg::ParseResult parse(const std::string& body) {
-  return mpvg::svg::parse_svg_string(
-      "<svg xmlns=\"http://www.w3.org/2000/svg\" xmlns:xlink=\"http://www.w3.org/1999/xlink\" "
-      "viewBox=\"0 0 100 100\">" +
-      body + "</svg>");
+  return mpvg::svg::parse_svg_string(svg_test::document(body));
 }
 
 // The dump without geometry lines, at any nesting depth.
 std::string paints_of(const mpvg::Scene& scene) {
-  const std::string full = mpvg::dump(scene);
-  std::string out;
-  size_t pos = 0;
-  while (pos < full.size()) {
-    const size_t end = full.find('\n', pos);
-    const std::string line = full.substr(pos, end - pos + 1);
-    const size_t first = line.find_first_not_of(' ');
-    if (line.compare(first, 2, "M ") != 0) out += line;
-    pos = end + 1;
-  }
-  return out;
+  return svg_test::dump_lines(mpvg::dump(scene),
+                              [](std::string_view text, size_t) { return text.rfind("M ", 0) != 0; });
 }
 
 std::string paints_of(const std::string& body) { return paints_of(parse(body).scene); }

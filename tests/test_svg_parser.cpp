@@ -12,6 +12,7 @@
 #include "parsers/svg/svg_parser.h"
 #include "stroker/stroker.h"
 #include "tests/catch.h"
+#include "tests/svg_test_util.h"
 
 namespace {
 
@@ -20,9 +21,7 @@ const char* const kDefaultRoot = "viewBox=\"0 0 100 100\"";
 // Parses `body` inside <svg ...root attributes...> with the SVG and XLink
 // namespaces declared.
 mpvg::svg::ParseResult parse(const std::string& body, const std::string& root = kDefaultRoot) {
-  return mpvg::svg::parse_svg_string(
-      "<svg xmlns=\"http://www.w3.org/2000/svg\" xmlns:xlink=\"http://www.w3.org/1999/xlink\" " + root + ">" +
-      body + "</svg>");
+  return mpvg::svg::parse_svg_string(svg_test::document(body, root));
 }
 
 std::string dump_of(const std::string& body, const std::string& root = kDefaultRoot) {
@@ -31,16 +30,7 @@ std::string dump_of(const std::string& body, const std::string& root = kDefaultR
 
 // The dump without the geometry lines (those starting with two spaces).
 std::string headers_of(const std::string& body, const std::string& root = kDefaultRoot) {
-  const std::string full = dump_of(body, root);
-  std::string out;
-  size_t pos = 0;
-  while (pos < full.size()) {
-    const size_t end = full.find('\n', pos);
-    const std::string line = full.substr(pos, end - pos + 1);
-    if (line.rfind("  ", 0) != 0) out += line;
-    pos = end + 1;
-  }
-  return out;
+  return svg_test::without_geometry(dump_of(body, root));
 }
 
 // The message of the mpvg::Error that parsing `text` throws.
@@ -722,14 +712,7 @@ TEST_CASE("svg clip-path: nested clip paths", "[svg][clip]") {
       R"~(<clipPath id="u"><use href="#r" x="3" clip-path="url(#c)"/></clipPath>)~"
       R"~(<rect width="2" height="2" clip-path="url(#self)"/>)~"
       R"~(<rect width="3" height="3" clip-path="url(#u)"/>)~");
-  const std::string d = mpvg::dump(r.scene);
-  std::string headers;
-  for (size_t pos = 0; pos < d.size();) {
-    const size_t end = d.find('\n', pos);
-    if (d.compare(pos, 2, "  ") != 0) headers += d.substr(pos, end - pos + 1);
-    pos = end + 1;
-  }
-  CHECK(headers == R"~(scene 100 100
+  CHECK(svg_test::without_geometry(mpvg::dump(r.scene)) == R"~(scene 100 100
 path 0 clip nonzero matrix(20 0 0 20 4 1)
 path 1 clip nonzero matrix(1 0 0 1 104 1)
 path 2 clip nonzero matrix(10 0 0 10 4 1)
