@@ -1,4 +1,4 @@
-// PNG input and output for the command-line tools and tests. The product
+// PNG output for the command-line tools and tests. The product
 // writes through OpenImageIO; builds configured with MPVG_IMAGE_IO=png (the
 // GPU benchmark host, which cannot carry OpenImageIO) use libpng directly.
 #pragma once
@@ -12,9 +12,6 @@ namespace mpvg {
 // standard output. Throws mpvg::Error.
 void write_png_rgba8(const std::string& path, int width, int height, const std::vector<uint8_t>& rgba);
 void write_png_rgba16(const std::string& path, int width, int height, const std::vector<uint16_t>& rgba);
-
-// Reads any PNG as straight-alpha RGBA, 8 bits. Throws mpvg::Error.
-std::vector<uint8_t> read_png_rgba8(const std::string& path, int* width, int* height);
 
 // Which library does the work ("OpenImageIO 2.4.7" or "libpng 1.6.39").
 std::string image_io_library();

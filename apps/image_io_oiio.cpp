@@ -44,31 +44,6 @@ void write_png_rgba16(const std::string& path, int width, int height, const std:
   write_png(path, width, height, rgba, OIIO::TypeDesc::UINT16);
 }
 
-std::vector<uint8_t> read_png_rgba8(const std::string& path, int* width, int* height) {
-  // Keep PNG's straight alpha as stored (OpenImageIO premultiplies otherwise).
-  OIIO::ImageSpec config;
-  config.attribute("oiio:UnassociatedAlpha", 1);
-  auto in = OIIO::ImageInput::open(path, &config);
-  if (!in) throw Error("cannot read '" + path + "': " + OIIO::geterror());
-  OIIO::ImageSpec spec = in->spec();
-  const int nc = spec.nchannels;
-  std::vector<uint8_t> raw(size_t(spec.width) * spec.height * nc);
-  if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::UINT8, raw.data()))
-    throw Error("cannot read '" + path + "': " + in->geterror());
-  std::vector<uint8_t> rgba(size_t(spec.width) * spec.height * 4);
-  for (size_t i = 0; i < size_t(spec.width) * spec.height; i++) {
-    const uint8_t* p = &raw[i * nc];
-    uint8_t* q = &rgba[i * 4];
-    q[0] = p[0];
-    q[1] = nc >= 3 ? p[1] : p[0];
-    q[2] = nc >= 3 ? p[2] : p[0];
-    q[3] = nc == 4 ? p[3] : (nc == 2 ? p[1] : 255);
-  }
-  *width = spec.width;
-  *height = spec.height;
-  return rgba;
-}
-
 std::string image_io_library() { return "OpenImageIO " OIIO_VERSION_STRING; }
 
 }  // namespace mpvg

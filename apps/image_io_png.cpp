@@ -54,19 +54,6 @@ void write_png_rgba16(const std::string& path, int width, int height, const std:
   write(path, width, height, rgba.data(), true);
 }
 
-std::vector<uint8_t> read_png_rgba8(const std::string& path, int* width, int* height) {
-  png_image img{};
-  img.version = PNG_IMAGE_VERSION;
-  if (!png_image_begin_read_from_file(&img, path.c_str())) throw Error("cannot read '" + path + "': " + img.message);
-  img.format = PNG_FORMAT_RGBA;
-  std::vector<uint8_t> rgba(PNG_IMAGE_SIZE(img));
-  if (!png_image_finish_read(&img, nullptr, rgba.data(), 0, nullptr))
-    throw Error("cannot read '" + path + "': " + img.message);
-  *width = static_cast<int>(img.width);
-  *height = static_cast<int>(img.height);
-  return rgba;
-}
-
 std::string image_io_library() { return std::string("libpng ") + PNG_LIBPNG_VER_STRING; }
 
 }  // namespace mpvg
