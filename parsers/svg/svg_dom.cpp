@@ -15,8 +15,6 @@ namespace {
 constexpr std::string_view kSvgNs = "http://www.w3.org/2000/svg";
 constexpr std::string_view kXlinkNs = "http://www.w3.org/1999/xlink";
 
-char lower(char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }
-
 // In-scope namespace declarations (Namespaces in XML 1.0 §6, "Applying Namespaces"): a stack of
 // (prefix, uri); "" is the default namespace. Later entries shadow earlier.
 class NamespaceScope {
@@ -143,7 +141,7 @@ std::vector<std::pair<std::string, std::string>> parse_style_attribute(std::stri
     const size_t colon = d.find(':');
     if (colon == std::string_view::npos) return;
     std::string name(trim(d.substr(0, colon)));
-    std::transform(name.begin(), name.end(), name.begin(), lower);
+    std::transform(name.begin(), name.end(), name.begin(), ascii_lower);
     std::string_view value = trim(d.substr(colon + 1));
     // "!important" only changes precedence between style sheets, which we
     // do not have; within one declaration block it is noise.

@@ -22,6 +22,17 @@ constexpr double kMaxNumber = 1e9;
 // XML whitespace (XML 1.0 §2.3 S), which is also SVG's wsp.
 inline bool is_ws(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f'; }
 
+// ASCII lower case (names and keywords are ASCII; no locale applies).
+inline char ascii_lower(char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }
+
+// The value of a hexadecimal digit, or -1.
+inline int hex_value(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  c = ascii_lower(c);
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  return -1;
+}
+
 std::string_view trim(std::string_view s);
 bool iequals(std::string_view a, std::string_view b);
 
