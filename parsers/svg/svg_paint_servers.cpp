@@ -59,20 +59,29 @@ Spread parse_spread(const std::string* v) {
   return Spread::Pad;
 }
 
-// The computed value of `color` on e: inherited, currentColor in it means
-// the parent's (CSS Color 4 §4.4), initially black.
-RGBA computed_color(const Element& e) {
+// The computed value on e of an inherited property: `initial` at the root,
+// then each element's own value from the top down. parse(text, inherited)
+// sees the value inherited from the parent.
+template <class T, class Parse>
+T inherited_property(const Element& e, const char* name, T initial, Parse parse) {
   std::vector<const Element*> chain;
   for (const Element* a = &e; a; a = a->parent) chain.push_back(a);
-  RGBA c{0, 0, 0, 1};
+  T value = initial;
   for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
-    const auto p = property<RGBA>(**it, "color", [&](std::string_view v) -> std::optional<RGBA> {
-      if (iequals(trim(v), "currentColor")) return c;
-      return parse_color(v);
-    });
-    if (p.state == Prop<RGBA>::Set) c = p.value;
+    const auto p = property<T>(**it, name, [&](std::string_view v) { return parse(v, value); });
+    if (p.state == Prop<T>::Set) value = p.value;
   }
-  return c;
+  return value;
+}
+
+// The computed value of `color` on e: currentColor in it means the
+// parent's (CSS Color 4 §4.4), initially black.
+RGBA computed_color(const Element& e) {
+  return inherited_property<RGBA>(e, "color", RGBA{0, 0, 0, 1},
+                                  [](std::string_view v, const RGBA& parent) -> std::optional<RGBA> {
+                                    if (iequals(trim(v), "currentColor")) return parent;
+                                    return parse_color(v);
+                                  });
 }
 
 // stop-color and stop-opacity are not inherited (SVG 1.1 §13.2.4, SVG 2
@@ -124,19 +133,13 @@ std::vector<ColorStop> gradient_stops(const Element& g) {
 // color-interpolation (SVG 1.1 §11.7.1, inherited): auto and sRGB
 // interpolate sRGB-encoded values, linearRGB linear-light ones.
 ColorSpace color_interpolation(const Element& e) {
-  std::vector<const Element*> chain;
-  for (const Element* a = &e; a; a = a->parent) chain.push_back(a);
-  ColorSpace cs = ColorSpace::Srgb;
-  for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
-    const auto p = property<ColorSpace>(**it, "color-interpolation", [](std::string_view v) -> std::optional<ColorSpace> {
-      const auto k = parse_keyword(v);
-      if (k && (*k == "auto" || *k == "srgb")) return ColorSpace::Srgb;
-      if (k && *k == "linearrgb") return ColorSpace::LinearRgb;
-      return std::nullopt;
-    });
-    if (p.state == Prop<ColorSpace>::Set) cs = p.value;
-  }
-  return cs;
+  return inherited_property<ColorSpace>(e, "color-interpolation", ColorSpace::Srgb,
+                                        [](std::string_view v, ColorSpace) -> std::optional<ColorSpace> {
+                                          const auto k = parse_keyword(v);
+                                          if (k && (*k == "auto" || *k == "srgb")) return ColorSpace::Srgb;
+                                          if (k && *k == "linearrgb") return ColorSpace::LinearRgb;
+                                          return std::nullopt;
+                                        });
 }
 
 std::array<double, 6> coefficients(const Affine& m) { return {m.a, m.b, m.c, m.d, m.e, m.f}; }
