@@ -199,8 +199,6 @@ Prop<T> property(const Element& e, std::string_view name, Parse parse) {
 // A keyword value, lower-cased; nullopt unless the value is one word.
 std::optional<std::string> parse_keyword(std::string_view s);
 
-bool invertible(const Affine& m);
-Affine inverse(const Affine& m);
 bool same(const Affine& l, const Affine& r);
 
 enum class Kind { Container, Shape, Use, Image, Unsupported, Ignored };

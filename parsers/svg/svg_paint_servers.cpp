@@ -304,7 +304,7 @@ Converter::ServerPaint Converter::gradient_paint(const Element& g, ShapeBox& bbo
   if (const std::string* a = attr("gradientTransform", false)) gt = parse_transform(*a).value_or(Affine{});
   gr.xf = space * units * gt;
   // A degenerate transform: the gradient covers no area.
-  if (!invertible(gr.xf)) {
+  if (!gr.xf.invertible()) {
     out.kind = ServerPaint::Kind::Nothing;
     return out;
   }
@@ -383,7 +383,7 @@ Converter::ServerPaint Converter::pattern_paint(const Element& p, ShapeBox& bbox
   const Affine content_xf = vb            ? view_box_transform(*vb, ar, w, h)
                             : content_obb ? Affine::scale(b.width(), b.height())
                                           : Affine{};
-  if (!invertible(xf) || !invertible(content_xf)) {
+  if (!xf.invertible() || !content_xf.invertible()) {
     out.kind = ServerPaint::Kind::Nothing;
     return out;
   }

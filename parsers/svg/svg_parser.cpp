@@ -18,24 +18,6 @@ namespace mpvg::svg {
 
 namespace detail {
 
-bool invertible(const Affine& m) {
-  const double v[6] = {m.a, m.b, m.c, m.d, m.e, m.f};
-  for (double x : v)
-    if (!std::isfinite(x)) return false;
-  const double det = m.det();
-  return std::isfinite(det) && det != 0;
-}
-
-Affine inverse(const Affine& m) {
-  const double det = m.det();
-  return {m.d / det,
-          -m.b / det,
-          -m.c / det,
-          m.a / det,
-          (m.c * m.f - m.d * m.e) / det,
-          (m.b * m.e - m.a * m.f) / det};
-}
-
 bool same(const Affine& l, const Affine& r) {
   return l.a == r.a && l.b == r.b && l.c == r.c && l.d == r.d && l.e == r.e && l.f == r.f;
 }
@@ -316,7 +298,7 @@ bool Converter::place(const Element& e, Kind kind, const Context& ctx, Placed& o
     out.space = out.space * use_offset(e, out.st.inh.font_size);
   }
   // A non-invertible transform makes everything degenerate: nothing shows.
-  if (!invertible(out.space)) return false;
+  if (!out.space.invertible()) return false;
   out.clip = resolve_clip(out.st.clip_path);
   return out.clip.state != ClipRef::Invalid;
 }
@@ -441,7 +423,7 @@ void Converter::for_each_content(size_t begin, size_t end, F f) const {
 // space `space`.
 Bounds Converter::content_bounds(size_t begin, size_t end, const Affine& space) const {
   Bounds b;
-  const Affine inv = inverse(space);
+  const Affine inv = space.inverted();
   for_each_content(begin, end, [&](const Op& op) {
     // An embedded document's box is its <image>'s, a Bounds operation.
     if (op.stroke || op.kind == OpKind::Append) return;
@@ -484,7 +466,7 @@ bool Converter::clip_items(const Element& cp, const Affine& space, LazyBounds& b
   // from the element that references it.
   const Style st = compute_style(cp, document_context(cp, true));
   // An unparsable or degenerate transform invalidates the clip path (resvg).
-  if (st.transform_invalid || !invertible(st.transform)) return false;
+  if (st.transform_invalid || !st.transform.invertible()) return false;
 
   Affine base = space * st.transform;
   const std::string* units = cp.attribute("clipPathUnits");
@@ -495,7 +477,7 @@ bool Converter::clip_items(const Element& cp, const Affine& space, LazyBounds& b
     if (b.empty() || !(b.width() > 0) || !(b.height() > 0)) return false;
     base = base * Affine{b.width(), 0, 0, b.height(), b.x0, b.y0};
   }
-  if (!invertible(base)) return false;
+  if (!base.invertible()) return false;
 
   s_.active_clips.push_back(&cp);
   const ClipRef nested = resolve_clip(st.clip_path);
