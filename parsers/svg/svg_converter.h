@@ -377,6 +377,11 @@ class Converter {
 
   double percent_base(Axis axis) const;
   double to_user(const Length& l, Axis axis, double em) const;
+  // A length attribute of a paint server (`def` when absent or invalid):
+  // with objectBoundingBox units (obb) a percentage is a fraction of the
+  // box like a plain number; with userSpaceOnUse, of the viewport (SVG 1.1
+  // §13.2.2, §13.3).
+  double server_length(const std::string* text, Length def, Axis axis, double em, bool obb) const;
   double length(const Element& e, const char* name, Axis axis, double def, double em) const;
   std::optional<double> auto_length(const Element& e, const char* name, Axis axis, double em) const;
   int shape_index(const Element& e, double em);

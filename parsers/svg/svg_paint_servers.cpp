@@ -28,6 +28,26 @@ namespace mpvg::svg::detail {
 namespace {
 
 bool is_gradient(const Element& e) { return e.name == "linearGradient" || e.name == "radialGradient"; }
+bool is_pattern(const Element& e) { return e.name == "pattern"; }
+
+// The first element of a paint server's href chain for which `has` holds,
+// looking no further than the elements `member` accepts; nullptr if none.
+template <class Member, class Has>
+const Element* first_in_chain(const std::vector<const Element*>& chain, Member member, Has has) {
+  for (const Element* l : chain) {
+    if (!member(*l)) break;
+    if (has(*l)) return l;
+  }
+  return nullptr;
+}
+
+// The attribute `name` of the first element of the chain (as in
+// first_in_chain) that has it.
+template <class Member>
+const std::string* chain_attribute(const std::vector<const Element*>& chain, Member member, const char* name) {
+  const Element* l = first_in_chain(chain, member, [&](const Element& e) { return e.attribute(name) != nullptr; });
+  return l ? l->attribute(name) : nullptr;
+}
 
 bool has_child(const Element& e, std::string_view name) {
   return std::any_of(e.children.begin(), e.children.end(), [&](const auto& c) { return c->name == name; });
@@ -175,6 +195,14 @@ std::vector<const Element*> Converter::href_chain(const Element& e) {
   return chain;
 }
 
+double Converter::server_length(const std::string* text, Length def, Axis axis, double em, bool obb) const {
+  Length l = def;
+  if (text)
+    if (const auto v = parse_length(*text)) l = *v;
+  if (obb && l.unit == Unit::Percent) return l.value / 100;
+  return to_user(l, axis, em);
+}
+
 double Converter::font_size_of(const Element& e) {
   return compute_style(e, document_context(e, true)).inh.font_size;
 }
@@ -214,22 +242,12 @@ Converter::ServerPaint Converter::gradient_paint(const Element& g, ShapeBox& bbo
   const bool radial = g.name == "radialGradient";
   // The element of the chain an attribute comes from; `geometry` for the
   // attributes of one kind of gradient only.
-  auto attr = [&](const char* name, bool geometry) -> const std::string* {
-    for (const Element* l : chain) {
-      if (!is_gradient(*l) || (geometry && l->name != g.name)) break;
-      if (const std::string* a = l->attribute(name)) return a;
-    }
-    return nullptr;
+  auto attr = [&](const char* name, bool geometry) {
+    return chain_attribute(
+        chain, [&](const Element& l) { return is_gradient(l) && (!geometry || l.name == g.name); }, name);
   };
   ServerPaint out;  // Failed
-  const Element* holder = nullptr;
-  for (const Element* l : chain) {
-    if (!is_gradient(*l)) break;
-    if (has_child(*l, "stop")) {
-      holder = l;
-      break;
-    }
-  }
+  const Element* holder = first_in_chain(chain, is_gradient, [](const Element& l) { return has_child(l, "stop"); });
   // No stops: painted as `none` (SVG 1.1 §13.2.4), or with the fallback
   // colour as resvg does; one stop: its colour.
   if (!holder) return out;
@@ -243,15 +261,8 @@ Converter::ServerPaint Converter::gradient_paint(const Element& g, ShapeBox& bbo
 
   const bool obb = bounding_box_units(attr("gradientUnits", false), true);
   const double em = font_size_of(g);
-  // A coordinate: with objectBoundingBox units percentages are fractions of
-  // the box like plain numbers; with userSpaceOnUse they are of the
-  // viewport (SVG 1.1 §13.2.2).
   auto coord = [&](const char* name, Axis axis, Length def) {
-    Length l = def;
-    if (const std::string* a = attr(name, true))
-      if (const auto v = parse_length(*a)) l = *v;
-    if (obb && l.unit == Unit::Percent) return l.value / 100;
-    return to_user(l, axis, em);
+    return server_length(attr(name, true), def, axis, em, obb);
   };
   const Spread spread = parse_spread(attr("spreadMethod", false));
   Gradient gr;
@@ -320,22 +331,9 @@ Converter::ServerPaint Converter::gradient_paint(const Element& g, ShapeBox& bbo
 
 Converter::ServerPaint Converter::pattern_paint(const Element& p, ShapeBox& bbox, const Affine& space) {
   const std::vector<const Element*> chain = href_chain(p);
-  auto attr = [&](const char* name) -> const std::string* {
-    for (const Element* l : chain) {
-      if (l->name != "pattern") break;
-      if (const std::string* a = l->attribute(name)) return a;
-    }
-    return nullptr;
-  };
+  auto attr = [&](const char* name) { return chain_attribute(chain, is_pattern, name); };
   ServerPaint out;  // Failed
-  const Element* content = nullptr;
-  for (const Element* l : chain) {
-    if (l->name != "pattern") break;
-    if (has_content(*l)) {
-      content = l;
-      break;
-    }
-  }
+  const Element* content = first_in_chain(chain, is_pattern, has_content);
   if (!content) return out;
 
   const bool obb = bounding_box_units(attr("patternUnits"), true);
@@ -357,13 +355,7 @@ Converter::ServerPaint Converter::pattern_paint(const Element& p, ShapeBox& bbox
     if (b.empty() || !(b.width() > 0) || !(b.height() > 0)) return out;
   }
   const double em = font_size_of(p);
-  auto len = [&](const char* name, Axis axis) {
-    Length l;
-    if (const std::string* a = attr(name))
-      if (const auto v = parse_length(*a)) l = *v;
-    if (obb && l.unit == Unit::Percent) return l.value / 100;
-    return to_user(l, axis, em);
-  };
+  auto len = [&](const char* name, Axis axis) { return server_length(attr(name), Length{}, axis, em, obb); };
   double x = len("x", Axis::X), y = len("y", Axis::Y), w = len("width", Axis::X), h = len("height", Axis::Y);
   if (obb) {
     x = b.x0 + x * b.width();
