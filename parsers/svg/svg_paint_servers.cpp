@@ -181,7 +181,8 @@ std::vector<const Element*> Converter::href_chain(const Element& e) {
     if (!href) break;
     const auto id = parse_iri_fragment(*href);
     if (!id) {
-      if (!trim(*href).empty()) warn("references to other documents are not supported: <" + last.name + "> href ignored");
+      if (!trim(*href).empty())
+        warn("references to other documents are not supported: <" + last.name + "> href ignored");
       break;
     }
     const Element* t = find(*id);
