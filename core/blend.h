@@ -19,7 +19,7 @@
 
 namespace mpvg {
 
-enum BlendMode : uint32_t {
+enum BlendModeCode : uint32_t {  // Scene's BlendMode (core/scene.h), same order
   BLEND_NORMAL = 0,
   BLEND_MULTIPLY,
   BLEND_SCREEN,

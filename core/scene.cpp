@@ -1,5 +1,6 @@
 #include "core/scene.h"
 
+#include <algorithm>
 #include <cinttypes>
 #include <cmath>
 #include <cstdarg>
@@ -7,6 +8,7 @@
 #include <memory>
 
 #include "core/error.h"
+#include "core/group.h"
 
 namespace mpvg {
 
@@ -145,10 +147,14 @@ size_t Scene::segment_count() const {
 // ---------------------------------------------------------------- builder
 
 struct SceneBuilder::Node {
-  enum Kind { Fill, Clip, Group } kind;
+  // Clip: a clip group '(' clip_items '|' content ')'. Transparency: a
+  // group '{' mask? content '}' (mask: another Transparency node).
+  enum Kind { Fill, Clip, ClipGroup, Transparency } kind;
   ScenePath path;                   // Fill and Clip leaves
-  std::vector<Node*> clip_items;    // Group: before '|'
-  std::vector<Node*> content;       // Group: after '|'
+  std::vector<Node*> clip_items;    // ClipGroup: before '|'
+  std::vector<Node*> content;       // ClipGroup: after '|'; Transparency: its fill list
+  uint32_t group = 0;               // Transparency: index into the scene's groups
+  Node* mask = nullptr;             // Transparency: its mask, if any
 };
 
 struct SceneBuilder::Frame {
@@ -160,7 +166,7 @@ struct SceneBuilder::Frame {
 SceneBuilder::SceneBuilder(double width, double height) {
   scene_.width = width;
   scene_.height = height;
-  root_ = new Node{Node::Group, {}, {}, {}};
+  root_ = new Node{Node::ClipGroup, {}, {}, {}};
   pool_.push_back(root_);
   frames_.push_back({root_, false, true});
 }
@@ -257,7 +263,7 @@ void SceneBuilder::clip(uint32_t geometry, const Affine& xf, FillRule rule) {
 void SceneBuilder::push() {
   Frame& f = frame();
   const bool in_clip_section = !f.activated;
-  Node* n = new Node{Node::Group, {}, {}, {}};
+  Node* n = new Node{Node::ClipGroup, {}, {}, {}};
   pool_.push_back(n);
   const bool clip_context = in_clip_section || f.clip_context;
   (in_clip_section ? f.group->clip_items : f.group->content).push_back(n);
@@ -271,12 +277,105 @@ void SceneBuilder::activate() {
 }
 
 void SceneBuilder::pop() {
-  if (frames_.size() == 1) throw Error("scene grammar: pop without a matching push");
+  if (frames_.size() == 1 || frame().group->kind != Node::ClipGroup)
+    throw Error("scene grammar: pop without a matching push");
   if (!frame().activated) throw Error("scene grammar: pop before activate");
   frames_.pop_back();
 }
 
+size_t SceneBuilder::group_depth() const {
+  size_t n = 0;
+  for (const Frame& f : frames_) n += f.group->kind == Node::Transparency ? 1 : 0;
+  return n;
+}
+
+void SceneBuilder::begin_group(const Group& g) {
+  Frame& f = frame();
+  if (f.clip_context || !f.activated) throw Error("scene grammar: group inside a clip-path");
+  if (!std::isfinite(g.opacity) || !finite(g.backdrop) || !std::isfinite(g.luminance[0]) ||
+      !std::isfinite(g.luminance[1]) || !std::isfinite(g.luminance[2]))
+    throw Error("scene: group with a non-finite parameter");
+  if (static_cast<unsigned>(g.blend) > static_cast<unsigned>(BlendMode::Luminosity) ||
+      static_cast<unsigned>(g.mask) > static_cast<unsigned>(MaskType::Alpha))
+    throw Error("scene: group with an unknown blend mode or mask type");
+  if (group_depth() >= static_cast<size_t>(kMaxGroupDepth))
+    throw Error("scene: groups and masks nested more than " + std::to_string(kMaxGroupDepth) + " deep");
+  Node* n = new Node{Node::Transparency, {}, {}, {}};
+  pool_.push_back(n);
+  n->group = static_cast<uint32_t>(scene_.groups.size());
+  scene_.groups.push_back(g);
+  scene_.groups.back().back_to_front = false;
+  if (g.mask != MaskType::None) {
+    Node* owner = f.group;
+    if (owner->kind != Node::Transparency || owner->mask || !owner->content.empty())
+      throw Error("scene grammar: a mask must be the first content of a group");
+    owner->mask = n;
+  } else {
+    f.group->content.push_back(n);
+  }
+  frames_.push_back({n, false, true});
+}
+
+void SceneBuilder::end_group() {
+  if (frames_.size() == 1 || frame().group->kind != Node::Transparency)
+    throw Error("scene grammar: end_group without a matching begin_group");
+  frames_.pop_back();
+}
+
 namespace {
+
+// Groups at finish(): which fill lists must run back to front, and which
+// groups change nothing.
+template <class Node>
+struct GroupAnalysis {
+  std::vector<Group>& groups;
+
+  // Does a child group need its backdrop when composited (a blend mode, or
+  // non-isolated content that blends)?
+  bool needs_backdrop(const Node* n) const {
+    const Group& g = groups[n->group];
+    return g.blend != BlendMode::Normal || (!g.isolated && g.back_to_front);
+  }
+  // Does anything in a fill list (clip groups' content included) meet its
+  // backdrop?
+  bool blends(const std::vector<Node*>& items) const {
+    for (const Node* n : items) {
+      if (n->kind == Node::ClipGroup && blends(n->content)) return true;
+      if (n->kind == Node::Transparency && needs_backdrop(n)) return true;
+    }
+    return false;
+  }
+  bool no_op(const Node* n) const {
+    const Group& g = groups[n->group];
+    return g.opacity == 1 && g.blend == BlendMode::Normal && !n->mask && !g.knockout &&
+           (!g.isolated || !g.back_to_front);
+  }
+  // Settles every group below the list (children first), then dissolves the
+  // list's no-op groups into it (unless the list is a knockout group's).
+  void list(std::vector<Node*>& items, bool knockout) {
+    std::vector<Node*> out;
+    for (Node* n : items) {
+      if (n->kind == Node::ClipGroup) list(n->content, knockout);
+      if (n->kind != Node::Transparency) {
+        out.push_back(n);
+        continue;
+      }
+      group(n);
+      if (!knockout && no_op(n))
+        out.insert(out.end(), n->content.begin(), n->content.end());
+      else
+        out.push_back(n);
+    }
+    items.swap(out);
+  }
+  void group(Node* n) {
+    if (n->mask) group(n->mask);
+    Group& g = groups[n->group];
+    list(n->content, g.knockout);
+    g.back_to_front = blends(n->content) && !(g.knockout && g.isolated);
+    if (!g.back_to_front) g.isolated = true;  // nothing inside sees the backdrop
+  }
+};
 
 struct Emitter {
   Scene& scene;
@@ -285,7 +384,7 @@ struct Emitter {
     scene.paths.push_back(p);
     scene.stream.push_back({kind, static_cast<uint32_t>(scene.paths.size() - 1)});
   }
-  void mark(ElementKind kind) { scene.stream.push_back({kind, 0}); }
+  void mark(ElementKind kind, uint32_t index = 0) { scene.stream.push_back({kind, index}); }
 
   template <class Node>
   void clip_list(const std::vector<Node*>& items) {
@@ -304,22 +403,44 @@ struct Emitter {
   }
 
   template <class Node>
-  void fill_list(const std::vector<Node*>& items) {
-    // Painter's order in, top-most first out.
-    for (auto it = items.rbegin(); it != items.rend(); ++it) {
-      const Node* n = *it;
-      if (n->kind == Node::Fill) {
-        path(n->path, ElementKind::Fill);
+  void group(const Node* n) {
+    mark(ElementKind::BeginGroup, n->group);
+    if (n->mask) group(n->mask);
+    fill_list(n->content, scene.groups[n->group].back_to_front);
+    mark(ElementKind::EndGroup, n->group);
+  }
+
+  // Painter's order in; top-most first out, unless the list runs back to
+  // front.
+  template <class Node>
+  void fill_list(const std::vector<Node*>& items, bool back_to_front) {
+    const size_t n = items.size();
+    for (size_t k = 0; k < n; k++) {
+      const Node* it = items[back_to_front ? k : n - 1 - k];
+      if (it->kind == Node::Fill) {
+        path(it->path, ElementKind::Fill);
+      } else if (it->kind == Node::Transparency) {
+        group(it);
       } else {
         mark(ElementKind::Push);
-        clip_list(n->clip_items);
+        clip_list(it->clip_items);
         mark(ElementKind::Activate);
-        fill_list(n->content);
+        fill_list(it->content, back_to_front);
         mark(ElementKind::Pop);
       }
     }
   }
 };
+
+// Deepest nesting of groups in a stream.
+int group_nesting(const std::vector<Element>& stream) {
+  int d = 0, most = 0;
+  for (const Element& e : stream) {
+    if (e.kind == ElementKind::BeginGroup) most = std::max(most, ++d);
+    if (e.kind == ElementKind::EndGroup) d--;
+  }
+  return most;
+}
 
 }  // namespace
 
@@ -371,13 +492,14 @@ struct Replay {
   std::vector<std::pair<size_t, size_t>> items() {
     std::vector<std::pair<size_t, size_t>> out;
     while (i < s.stream.size() && s.stream[i].kind != ElementKind::Pop &&
-           s.stream[i].kind != ElementKind::Activate) {
+           s.stream[i].kind != ElementKind::Activate && s.stream[i].kind != ElementKind::EndGroup) {
       const size_t first = i;
-      if (s.stream[i].kind == ElementKind::Push) {
+      if (s.stream[i].kind == ElementKind::Push || s.stream[i].kind == ElementKind::BeginGroup) {
         int depth = 0;
         do {
-          if (s.stream[i].kind == ElementKind::Push) depth++;
-          if (s.stream[i].kind == ElementKind::Pop) depth--;
+          const ElementKind k = s.stream[i].kind;
+          if (k == ElementKind::Push || k == ElementKind::BeginGroup) depth++;
+          if (k == ElementKind::Pop || k == ElementKind::EndGroup) depth--;
           i++;
         } while (depth > 0);
       } else {
@@ -389,7 +511,7 @@ struct Replay {
   }
 
   // A group at stream position `at`: '(' clip-list '|' list ')'.
-  void group(size_t at, bool clip_context) {
+  void group(size_t at, bool clip_context, bool back_to_front = false) {
     b.push();
     i = at + 1;
     clip_list();
@@ -398,7 +520,7 @@ struct Replay {
     if (clip_context)
       clip_list();
     else
-      fill_list();
+      fill_list(back_to_front);
   }
 
   void clip_list() {
@@ -416,16 +538,48 @@ struct Replay {
     }
   }
 
-  void fill_list() {
+  // A transparency group at stream position `at`: '{' mask? list '}'.
+  void transparency(size_t at) {
+    const Group& g = s.groups[s.stream[at].path];
+    b.begin_group(g);
+    i = at + 1;
+    if (i < s.stream.size() && s.stream[i].kind == ElementKind::BeginGroup &&
+        s.groups[s.stream[i].path].mask != MaskType::None) {
+      const size_t first = i;
+      items_one();
+      const size_t resume = i;
+      transparency(first);
+      i = resume;
+    }
+    fill_list(g.back_to_front);
+    b.end_group();
+  }
+  // Skips one item at i.
+  void items_one() {
+    int depth = 0;
+    do {
+      const ElementKind k = s.stream[i].kind;
+      if (k == ElementKind::Push || k == ElementKind::BeginGroup) depth++;
+      if (k == ElementKind::Pop || k == ElementKind::EndGroup) depth--;
+      i++;
+    } while (depth > 0);
+  }
+
+  // A fill list, stored top-most first or (back_to_front) in painter's order.
+  void fill_list(bool back_to_front = false) {
     const auto list = items();
     const size_t end = i;
-    for (auto it = list.rbegin(); it != list.rend(); ++it) {
-      const Element& e = s.stream[it->first];
+    const size_t n = list.size();
+    for (size_t k = 0; k < n; k++) {
+      const auto& item = list[back_to_front ? k : n - 1 - k];
+      const Element& e = s.stream[item.first];
       if (e.kind == ElementKind::Fill) {
         const ScenePath& sp = s.paths[e.path];
         b.fill(geom(sp.geometry), xf * sp.xf, sp.rule, paint(s.paints[sp.paint]));
+      } else if (e.kind == ElementKind::BeginGroup) {
+        transparency(item.first);
       } else {
-        group(it->first, false);
+        group(item.first, false, back_to_front);
         b.pop();
       }
     }
@@ -447,7 +601,7 @@ void SceneBuilder::append(const Scene& other, const Affine& xf) {
 }
 
 Scene SceneBuilder::finish() {
-  if (frames_.size() != 1) throw Error("scene grammar: unbalanced push/pop at the end of the scene");
+  if (frames_.size() != 1) throw Error("scene grammar: unbalanced push/pop or groups at the end of the scene");
   Scene out;
   out.width = scene_.width;
   out.height = scene_.height;
@@ -456,8 +610,25 @@ Scene SceneBuilder::finish() {
   out.gradients = std::move(scene_.gradients);
   out.textures = std::move(scene_.textures);
   out.patterns = std::move(scene_.patterns);
+  out.groups = std::move(scene_.groups);
+  GroupAnalysis<Node> analysis{out.groups};
+  analysis.list(root_->content, false);
+  if (analysis.blends(root_->content)) {
+    // The top level meets its backdrop: it runs back to front inside an
+    // isolated group, so that everything outside groups stays front to back.
+    Node* wrap = new Node{Node::Transparency, {}, {}, {}};
+    pool_.push_back(wrap);
+    wrap->group = static_cast<uint32_t>(out.groups.size());
+    out.groups.push_back(Group{});
+    wrap->content.swap(root_->content);
+    analysis.group(wrap);
+    root_->content.push_back(wrap);
+  }
   Emitter e{out};
-  e.fill_list(root_->content);
+  e.fill_list(root_->content, false);
+  if (group_nesting(out.stream) > kMaxGroupDepth)
+    throw Error("scene: groups and masks nested more than " + std::to_string(kMaxGroupDepth) +
+                " deep (with the group around a top level that blends)");
   scene_ = Scene{};
   return out;
 }
@@ -529,6 +700,31 @@ void dump_servers(std::string& s, const Scene& scene, const std::string& indent)
   }
 }
 
+const char* blend_mode_name(BlendMode m) {
+  static const char* const names[] = {"normal",      "multiply",   "screen",     "overlay",    "darken",
+                                      "lighten",     "color-dodge", "color-burn", "hard-light", "soft-light",
+                                      "difference",  "exclusion",  "hue",        "saturation", "color",
+                                      "luminosity"};
+  return names[static_cast<int>(m)];
+}
+
+void dump_groups(std::string& s, const Scene& scene, const std::string& indent) {
+  for (size_t i = 0; i < scene.groups.size(); i++) {
+    const Group& g = scene.groups[i];
+    appendf(s, "%sgroup %zu opacity %g %s%s%s", indent.c_str(), i, g.opacity, blend_mode_name(g.blend),
+            g.isolated ? "" : " non-isolated", g.knockout ? " knockout" : "");
+    if (g.mask == MaskType::Alpha) s += " mask alpha";
+    if (g.mask == MaskType::Luminance) {
+      appendf(s, " mask luminance %g %g %g %s", g.luminance[0], g.luminance[1], g.luminance[2],
+              g.luminance_space == ColorSpace::Srgb ? "srgb" : "linearrgb");
+      if (g.backdrop.a != 0)
+        appendf(s, " backdrop rgba(%g,%g,%g,%g)", g.backdrop.r, g.backdrop.g, g.backdrop.b, g.backdrop.a);
+    }
+    if (g.back_to_front) s += " back-to-front";
+    s += "\n";
+  }
+}
+
 void dump_into(std::string& s, const Scene& scene, const std::string& indent) {
   const char* in = indent.c_str();
   appendf(s, "%sscene %g %g\n", in, scene.width, scene.height);
@@ -571,6 +767,7 @@ void dump_into(std::string& s, const Scene& scene, const std::string& indent) {
     }
   }
   dump_servers(s, scene, indent);
+  dump_groups(s, scene, indent);
   s += indent + "stream";
   for (const Element& e : scene.stream) {
     switch (e.kind) {
@@ -579,6 +776,8 @@ void dump_into(std::string& s, const Scene& scene, const std::string& indent) {
       case ElementKind::Pop: s += " )"; break;
       case ElementKind::Fill: appendf(s, " F%u", e.path); break;
       case ElementKind::Clip: appendf(s, " C%u", e.path); break;
+      case ElementKind::BeginGroup: appendf(s, " {%u", e.path); break;
+      case ElementKind::EndGroup: s += " }"; break;
     }
   }
   s += "\n";

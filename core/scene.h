@@ -3,17 +3,27 @@
 // A scene is a stream of elements described by the grammar
 //
 //   scene     -> fill*                        (the dummy root push/pop is implicit)
-//   fill      -> F | ( clip-path* | fill* )
+//   fill      -> F | ( clip-path* | fill* ) | { mask? fill* }
+//   mask      -> { fill* }                    (a group whose Group::mask is set)
 //   clip-path -> C | ( clip-path* | clip-path* )
 //
 // where F is a filled path, C a clip test, and '(' '|' ')' are push, activate
 // and pop. A clip-path area is the union of the clip-paths before its '|';
-// nesting is intersection. Internally the stream is stored top-most first,
-// so that samples can be blended front to back and stop once opaque.
+// nesting is intersection. '{' '}' begin and end a transparency group
+// (core/group.h): its content is composited on its own, then the result,
+// times its opacity and its mask, onto what lies below it with its blend
+// mode. A mask is a group whose result becomes a coverage value (luminance
+// or alpha) that multiplies the group it is the first content of.
+//
+// The stream is stored top-most first, so that samples can be blended front
+// to back and stop once opaque; only the fill lists of groups that must be
+// evaluated back to front (blend modes other than normal meet their
+// backdrop there, Group::back_to_front) are stored in painter's order.
 //
 // Frontends never write the stream directly: they use SceneBuilder, which
-// takes content in painter's (back-to-front) order, checks the grammar, and
-// reverses every fill* list when it finishes.
+// takes content in painter's (back-to-front) order, checks the grammar,
+// decides which groups run back to front, and reverses every other fill*
+// list when it finishes.
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -205,11 +215,50 @@ struct ScenePath {
   uint32_t paint = 0;  // fills only
 };
 
-enum class ElementKind : uint8_t { Push, Activate, Pop, Fill, Clip };
+// ----------------------------------------------------- groups and masks
+
+// W3C Compositing and Blending Level 1's blend modes, in core/blend.h's order.
+enum class BlendMode : uint8_t {
+  Normal, Multiply, Screen, Overlay, Darken, Lighten, ColorDodge, ColorBurn,
+  HardLight, SoftLight, Difference, Exclusion, Hue, Saturation, Color, Luminosity,
+};
+
+enum class MaskType : uint8_t { None, Luminance, Alpha };
+
+// A transparency group (PDF 32000-1 §11.4; SVG's group opacity, masks,
+// mix-blend-mode and isolation). Every sample's shape is 0 or 1, so a
+// group covers a sample where one of its fills does (a mask that is 0
+// there takes that away).
+struct Group {
+  float opacity = 1;                    // multiplies the group's result once
+  BlendMode blend = BlendMode::Normal;  // how the result meets its backdrop
+  // Isolated: the content is composited onto transparency; otherwise onto
+  // the group's backdrop, whose contribution is removed afterwards (PDF
+  // §11.4.8). The difference shows only through blend modes inside.
+  bool isolated = true;
+  // Knockout: each element is composited onto the group's initial backdrop
+  // and replaces the elements below it where it covers the sample.
+  bool knockout = false;
+  // A mask (set only on a group that is the first content of another):
+  // Luminance takes luminance[] . rgb of the content composited over
+  // `backdrop` (PDF /BC; SVG: transparent), rgb sRGB-encoded or linear as
+  // `luminance_space` says; Alpha takes its alpha. The value, times the
+  // mask's opacity, multiplies the group the mask belongs to.
+  MaskType mask = MaskType::None;
+  float luminance[3] = {0.2125f, 0.7154f, 0.0721f};
+  RGBA backdrop{0, 0, 0, 0};
+  ColorSpace luminance_space = ColorSpace::Srgb;
+  // Set by SceneBuilder::finish: the group's fill list is stored (and
+  // evaluated) back to front, because a blend mode in it needs its
+  // backdrop. Ignored on input.
+  bool back_to_front = false;
+};
+
+enum class ElementKind : uint8_t { Push, Activate, Pop, Fill, Clip, BeginGroup, EndGroup };
 
 struct Element {
   ElementKind kind;
-  uint32_t path;  // Fill and Clip: index into Scene::paths
+  uint32_t path;  // Fill and Clip: index into Scene::paths; BeginGroup, EndGroup: into Scene::groups
 };
 
 struct Scene {
@@ -220,7 +269,8 @@ struct Scene {
   std::vector<Gradient> gradients;
   std::vector<Texture> textures;
   std::vector<Pattern> patterns;
-  std::vector<Element> stream;   // top-most first
+  std::vector<Group> groups;
+  std::vector<Element> stream;   // top-most first (see the grammar above)
 
   // Number of input segments over all path instances (an instance counts its
   // geometry again), plus the closing lines that fills add.
@@ -258,8 +308,25 @@ class SceneBuilder {
   void activate();
   void pop();
 
-  // Nesting depth of open groups (0 at the top level).
+  // Nesting depth of open clip groups and transparency groups (0 at the
+  // top level).
   size_t depth() const;
+
+  // begin_group(): a transparency group, in a fill context, whose content
+  // follows until end_group(). A group whose Group::mask is set is a mask:
+  // it may only be the first content of another group, and holds fills.
+  // Transparency groups and masks nest at most kMaxGroupDepth deep
+  // (core/group.h; a scene whose top level needs a back-to-front group
+  // gets one around it, which counts too); deeper nesting, a non-finite
+  // opacity or a misplaced mask throw mpvg::Error.
+  //
+  // finish() dissolves groups that change nothing (opacity 1, normal
+  // blending, no mask, not knockout, in a parent that is not knockout, and
+  // isolated only where nothing inside blends), marks non-isolated groups
+  // whose content does not blend as isolated (the same result), and sets
+  // Group::back_to_front.
+  void begin_group(const Group& g);
+  void end_group();
 
   // Appends the whole content of `other`, mapped by `xf` (other's units to
   // ours), in a fill context: its geometry, paints and paint servers (their
@@ -274,6 +341,7 @@ class SceneBuilder {
   struct Frame;
   Node* current();
   Frame& frame();
+  size_t group_depth() const;
 
   Scene scene_;
   std::vector<Node*> pool_;
