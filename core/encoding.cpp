@@ -209,10 +209,48 @@ class Encoder {
       flags[i] = paint(scene, scene.paints[i], view, frame_to_out, depth, rec);
       paint_.paints[base + i] = rec;
     }
-    paths(scene, view, base, flags, out);
+    paths(scene, view, base, flags, groups(scene), out);
   }
 
  private:
+  // The scene's group records, appended to the table (their GROUP_IN_*
+  // flags come from the stream, in paths()); returns the first's index.
+  uint32_t groups(const Scene& scene) {
+    const uint32_t base = static_cast<uint32_t>(paint_.groups.size());
+    for (const Group& g : scene.groups) {
+      GroupRecord r{};
+      r.opacity = clamp01(g.opacity);
+      r.blend = static_cast<uint32_t>(g.blend);
+      if (!g.isolated && g.back_to_front) r.flags |= GROUP_BACKDROP;
+      if (g.mask == MaskType::Alpha) r.flags |= GROUP_MASK_ALPHA;
+      if (g.mask == MaskType::Luminance) {
+        r.flags |= GROUP_MASK_LUMINANCE;
+        const bool linear_space = g.luminance_space == ColorSpace::LinearRgb;
+        if (gamma_ == Gamma::Linear && !linear_space) r.flags |= GROUP_LUMINANCE_ENCODE;
+        if (gamma_ == Gamma::Srgb && linear_space) r.flags |= GROUP_LUMINANCE_DECODE;
+        for (int k = 0; k < 3; k++) r.lum[k] = g.luminance[k];
+        const float a = clamp01(g.backdrop.a);
+        const Rgba4 c = out_color(g.backdrop);
+        r.backdrop = Rgba4{c.r * a, c.g * a, c.b * a, a};
+      }
+      paint_.groups.push_back(r);
+    }
+    return base;
+  }
+
+  // The entry of a group delimiter; `in` are the flags of the list the
+  // group is in (GROUP_IN_*), recorded on its begin.
+  Entry group_entry(const Element& e, uint32_t group_base, uint32_t in) {
+    const uint32_t id = group_base + e.path;
+    GroupRecord& r = paint_.groups[id];
+    uint32_t bits = e.kind == ElementKind::EndGroup ? GROUP_ENTRY_END : 0u;
+    if (r.flags & (GROUP_MASK_ALPHA | GROUP_MASK_LUMINANCE)) {
+      bits |= GROUP_ENTRY_MASK;
+      if (mask_value(r, Rgba4{0.0f, 0.0f, 0.0f, 0.0f}) == 0.0f) bits |= GROUP_ENTRY_EMPTY_HIDES;
+    }
+    if (e.kind == ElementKind::BeginGroup) r.flags |= in;
+    return make_entry(ENTRY_GROUP, bits, id);
+  }
   // The record of paint p, into `out`; returns the path flags it implies
   // (PATH_OPAQUE, PATH_VARYING).
   uint32_t paint(const Scene& scene, const Paint& p, const Affine& view, const Affine& frame_to_out, int depth,
@@ -419,13 +457,28 @@ class Encoder {
   }
 
   void paths(const Scene& scene, const Affine& view, uint32_t paint_base, const std::vector<uint32_t>& paint_flags,
-             EncodedScene& out) {
+             uint32_t group_base, EncodedScene& out) {
     out.paths.resize(scene.paths.size());
+    // How the innermost open group's list composites (GROUP_IN_* of its
+    // children); the top level runs front to back.
+    std::vector<uint32_t> lists{0u};
     for (const Element& e : scene.stream) {
       switch (e.kind) {
         case ElementKind::Push: out.stream.push_back(make_entry(ENTRY_PUSH, 0, 0)); continue;
         case ElementKind::Activate: out.stream.push_back(make_entry(ENTRY_ACTIVATE, 0, 0)); continue;
         case ElementKind::Pop: out.stream.push_back(make_entry(ENTRY_POP, 0, 0)); continue;
+        case ElementKind::BeginGroup: {
+          out.stream.push_back(group_entry(e, group_base, lists.back()));
+          const Group& g = scene.groups[e.path];
+          if (lists.size() > static_cast<size_t>(kMaxGroupDepth))
+            throw Error("groups and masks nested more than " + std::to_string(kMaxGroupDepth) + " deep");
+          lists.push_back((g.back_to_front ? GROUP_IN_BACK_TO_FRONT : 0u) | (g.knockout ? GROUP_IN_KNOCKOUT : 0u));
+          continue;
+        }
+        case ElementKind::EndGroup:
+          lists.pop_back();
+          out.stream.push_back(group_entry(e, group_base, 0));
+          continue;
         default: break;
       }
       const uint32_t id = e.path;
@@ -435,6 +488,8 @@ class Encoder {
       if (!sp.is_clip) {
         rec.paint = paint_base + sp.paint;
         rec.flags |= paint_flags[sp.paint];
+        if (lists.back() & GROUP_IN_BACK_TO_FRONT) rec.flags |= PATH_BACK_TO_FRONT;
+        if (lists.back() & GROUP_IN_KNOCKOUT) rec.flags |= PATH_KNOCKOUT;
       }
       out.stream.push_back(make_entry(ENTRY_SEGMENT, id, 0));
 

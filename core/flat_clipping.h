@@ -18,7 +18,13 @@
 //                                      SA '|' : u-1
 //
 // Here d counts the '(' seen and not yet closed, so '(' and its ')' are at
-// the same depth and everything between them deeper. c1 and f1 are a clip
+// the same depth and everything between them deeper.
+//
+// Transparency groups (core/group.h) add a fourth state, SG (skipping the
+// rest of a group's list: it can change no more), entered by the sampler
+// with s = the depth inside the group, and left at the group's '}' (group
+// delimiters count in d like '(' and ')'; sampling.h handles them). SG
+// takes the clip delimiters as SA does, without leaving at ')'. c1 and f1 are a clip
 // test and a fill that the current sample passes. A sample whose colour
 // became opaque stops early (the transition to S with s = 0 of the paper,
 // taken to its end).
@@ -30,7 +36,7 @@
 
 namespace mpvg {
 
-enum FlatClipState : uint32_t { FLAT_P = 0, FLAT_S = 1, FLAT_SA = 2 };
+enum FlatClipState : uint32_t { FLAT_P = 0, FLAT_S = 1, FLAT_SA = 2, FLAT_SG = 3 };
 
 struct FlatClip {
   uint32_t state;

@@ -144,7 +144,10 @@ struct TreeView {
   uint32_t root_size, width, height, pad;
 };
 
-// Every paint table, as pointers into host or device memory.
+struct GroupRecord;  // core/group.h
+
+// Every paint table, and the group table, as pointers into host or device
+// memory.
 struct PaintTables {
   const PaintRecord* paints;
   const GradientRecord* gradients;
@@ -155,6 +158,7 @@ struct PaintTables {
   const Texel16* texels;
   const PatternRecord* patterns;
   const TreeView* tiles;
+  const GroupRecord* groups;  // transparency groups and masks, the tiles' included
 };
 
 // The paint multiplied by a record's factor.

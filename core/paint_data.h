@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "core/group.h"
 #include "core/paint.h"
 
 namespace mpvg {
@@ -18,17 +19,19 @@ struct PaintData {
   std::vector<TextureLevel> levels;
   std::vector<Texel16> texels;
   std::vector<PatternRecord> patterns;
+  std::vector<GroupRecord> groups;
 
   // Pointers into these vectors; `tiles` are the tile trees' views.
   PaintTables view(const TreeView* tiles) const {
-    return PaintTables{paints.data(),   gradients.data(), ramp_t.data(),   ramp_color.data(), textures.data(),
-                       levels.data(),   texels.data(),    patterns.data(), tiles};
+    return PaintTables{paints.data(), gradients.data(), ramp_t.data(),   ramp_color.data(), textures.data(),
+                       levels.data(), texels.data(),    patterns.data(), tiles,             groups.data()};
   }
   size_t bytes() const {
     return paints.size() * sizeof(PaintRecord) + gradients.size() * sizeof(GradientRecord) +
            ramp_t.size() * sizeof(float) + ramp_color.size() * sizeof(Rgba4) +
            textures.size() * sizeof(TextureRecord) + levels.size() * sizeof(TextureLevel) +
-           texels.size() * sizeof(Texel16) + patterns.size() * sizeof(PatternRecord);
+           texels.size() * sizeof(Texel16) + patterns.size() * sizeof(PatternRecord) +
+           groups.size() * sizeof(GroupRecord);
   }
 };
 

@@ -3,15 +3,27 @@
 //
 // Terminals in a cell: F0/C0, a fill/clip path that fails every sample of
 // the cell, and F1/C1, one that passes every sample (F1 also with an opaque
-// paint). The tree is tight, so these are the paths reduced to a single
-// winding entry: the fill rule of that winding decides (rule 12/13 paths
-// with no entry at all never reach a cell). Rules, with A, B, C well-formed
-// streams:
+// paint, or any paint in a knockout group, where covering is enough). The
+// tree is tight, so these are the paths reduced to a single winding entry:
+// the fill rule of that winding decides (rule 12/13 paths with no entry at
+// all never reach a cell). Rules, with A, B, C well-formed streams:
 //   (12) F0 -> e            (13) C0 -> e
-//   (14) (A | B F1 C) -> (A | B F1)        also at the top level: F1 C -> F1
+//   (14) (A | B F1 C) -> (A | B F1)        also at the top level: F1 C -> F1,
+//        and in a group's list: {M? B F1 C} -> {M? B F1}; an F1 occludes
+//        only within its list, so a group's opacity or blend mode still
+//        applies to what it covers
+//   (14') in a list stored back to front (core/group.h), F1 is on top of
+//        what precedes it: (A | B F1 C) -> (A | F1 C), {M? B F1 C} -> {M? F1 C},
+//        at the top level B F1 C -> F1 C
 //   (15) ( | A ) -> e       (16) (A | ) -> e
 //   (17) (A C1 B | C) -> C
 //   (18) (A | B C1 C) -> (A | C1)
+//   (19) {M?} -> e          an empty group leaves its backdrop unchanged
+//   (20) {{} B} -> e        where the mask's emptiness makes it 0 (alpha
+//                           masks; luminance masks over a backdrop of
+//                           luminance 0): the group it masks is invisible
+// M is the group's mask, a group itself ('{' and '}' open and close like
+// '(' and ')').
 // Rule 18 is applied by the first C1 of the content section only: two C1s
 // each erasing the other would leave (A | ), which is wrong (the paper's
 // rule 19 fails for the same kind of reason). The first C1 is found by a
@@ -29,6 +41,7 @@
 #pragma once
 #include <cstdint>
 
+#include "core/group.h"
 #include "core/hd.h"
 #include "core/scan.h"
 #include "core/shortcut_tree.h"
@@ -42,12 +55,13 @@ enum : uint32_t {
   TERM_F1 = 2,
   TERM_C0 = 3,
   TERM_C1 = 4,
+  TERM_F1_BACK = 5,  // F1 in a list stored back to front (rule 14')
 };
 
 // Depth scan input for element i.
 MPVG_HD_INLINE int32_t prune_depth_delta(const Entry* entries, uint32_t i) {
-  int32_t d = entry_kind(entries[i]) == ENTRY_PUSH ? 1 : 0;
-  if (i > 0 && entry_kind(entries[i - 1]) == ENTRY_POP) d -= 1;
+  int32_t d = entry_opens(entries[i]) ? 1 : 0;
+  if (i > 0 && entry_closes(entries[i - 1])) d -= 1;
   return d;
 }
 
@@ -67,7 +81,13 @@ MPVG_HD_INLINE uint32_t prune_classify(const Entry* entries, uint32_t i, uint32_
   const bool inside = path_inside(rec.flags, static_cast<int32_t>(e.data));
   if (rec.flags & PATH_CLIP) return inside ? TERM_C1 : TERM_C0;
   if (!inside) return TERM_F0;
-  return (rec.flags & PATH_OPAQUE) ? TERM_F1 : TERM_NONE;
+  if (!(rec.flags & (PATH_OPAQUE | PATH_KNOCKOUT))) return TERM_NONE;
+  return (rec.flags & PATH_BACK_TO_FRONT) ? TERM_F1_BACK : TERM_F1;
+}
+
+// Is element k a mask's '{'?
+MPVG_HD_INLINE bool prune_is_mask_begin(const Entry* entries, uint32_t k) {
+  return entry_is_group_begin(entries[k]) && (entries[k].head & GROUP_ENTRY_MASK) != 0;
 }
 
 // Links of one element, filled by the link scans. For elements at depth 0
@@ -86,11 +106,19 @@ MPVG_HD_INLINE bool prune_c1_in_content(const PruneLinks& l, uint32_t i) {
   return i > l.bar[o];
 }
 
+// First element of the fill list that the '(' or '{' at o holds: after
+// the '|' of a clip group, after the mask of a masked group.
+MPVG_HD_INLINE uint32_t prune_list_start(const Entry* entries, const PruneLinks& l, uint32_t o) {
+  if (entry_kind(entries[o]) == ENTRY_PUSH) return l.bar[o] + 1;
+  return prune_is_mask_begin(entries, o + 1) ? l.close[o + 1] + 1 : o + 1;
+}
+
 // The marks of element i. add(index, delta) accumulates into the
-// elimination array (atomically on the GPU). cell_end is the end of i's cell.
+// elimination array (atomically on the GPU). [cell_begin, cell_end) is i's
+// cell.
 template <class Add>
 MPVG_HD_INLINE void prune_mark(const Entry* entries, const uint32_t* term, const PruneLinks& l, uint32_t i,
-                               uint32_t cell_end, Add&& add) {
+                               uint32_t cell_begin, uint32_t cell_end, Add&& add) {
   const uint32_t t = term[i];
   const uint32_t kind = entry_kind(entries[i]);
   if (t == TERM_F0 || t == TERM_C0) {  // rules 12, 13
@@ -103,6 +131,14 @@ MPVG_HD_INLINE void prune_mark(const Entry* entries, const uint32_t* term, const
     if (i + 1 < stop) {
       add(i + 1, 1);
       add(stop, -1);
+    }
+    return;
+  }
+  if (t == TERM_F1_BACK) {  // rule 14': everything before F1 in its list
+    const uint32_t start = l.depth[i] > 0 ? prune_list_start(entries, l, l.open[i]) : cell_begin;
+    if (start < i) {
+      add(start, 1);
+      add(i, -1);
     }
     return;
   }
@@ -130,6 +166,19 @@ MPVG_HD_INLINE void prune_mark(const Entry* entries, const uint32_t* term, const
   if (kind == ENTRY_ACTIVATE && entry_kind(entries[i + 1]) == ENTRY_POP) {  // rule 16
     add(l.open[i], 1);
     add(i + 2, -1);
+    return;
+  }
+  if (entry_is_group_end(entries[i])) {
+    const uint32_t o = l.open[i];
+    if (!(entries[i].head & GROUP_ENTRY_MASK)) {
+      if (prune_list_start(entries, l, o) == i) {  // rule 19
+        add(o, 1);
+        add(i + 1, -1);
+      }
+    } else if (o + 1 == i && (entries[i].head & GROUP_ENTRY_EMPTY_HIDES)) {  // rule 20
+      add(o - 1, 1);
+      add(l.close[o - 1] + 1, -1);
+    }
   }
 }
 

@@ -4,13 +4,21 @@
 // decides inside/outside, and the flat-clipping machine decides what the
 // result means. Paints are premultiplied; blending is "under":
 //   acc += (1 - acc.a) * paint.
+// Transparency groups and masks (core/group.h) keep the colours of the
+// lists that enclose the sample's position in the stream on a small stack;
+// a group's list runs front to back like the top level, or back to front
+// (blending "over", with blend modes) where the builder stored it so. A
+// list that can change no more (opaque front to back, a mask of 0) is
+// skipped to its group's end by the clip machine's fourth state, SG.
 #pragma once
 #include <cstdint>
 #include <type_traits>
 
 #include "core/abstract_segment.h"
+#include "core/blend.h"
 #include "core/flat_clipping.h"
 #include "core/gradient.h"
+#include "core/group.h"
 #include "core/hd.h"
 #include "core/paint.h"
 #include "core/paint_data.h"
@@ -33,9 +41,10 @@ struct SampleInputs {
 // The sampling functions are templates on two compile-time parameters:
 //   Depth: the depth of pattern nesting they run at (0: the scene itself;
 //          a pattern tile is sampled one level deeper);
-//   Kinds: which paint kinds the code handles (a PAINTS_* mask); other
-//          kinds are treated as solid, so a caller must pass a mask that
-//          covers the scene's paints (sampler_kinds).
+//   Kinds: which paint kinds the code handles (a PAINTS_* mask), and
+//          whether it handles groups (SAMPLE_GROUPS); other kinds are
+//          treated as solid, so a caller must pass a mask that covers the
+//          scene's paints and groups (sampler_kinds).
 // Both executors specialise their samplers by the scene's paint kinds
 // (with_sampler_kinds): the texture lookups and above all the pattern
 // recursion would otherwise raise the register count (and cut the
@@ -47,17 +56,22 @@ enum : uint32_t {
   PAINTS_TEXTURES = 1u << 1,
   PAINTS_PATTERNS = 1u << 2,
   PAINTS_ALL = PAINTS_GRADIENTS | PAINTS_TEXTURES | PAINTS_PATTERNS,
+  SAMPLE_GROUPS = 1u << 3,  // transparency groups and masks: the per-sample stack
+  SAMPLE_ALL = PAINTS_ALL | SAMPLE_GROUPS,
 };
 
-// The specialisation a scene's paint tables need: the smallest of those
-// compiled (solid; gradients; textures; gradients and textures; all) that
-// covers them. Patterns take all kinds, as their tiles may use any.
+// The specialisation a scene's tables need: the smallest of those compiled
+// (solid; gradients; textures; gradients and textures; all; and with
+// groups: solid; gradients and textures; all) that covers them. Patterns
+// take all kinds, as their tiles may use any.
 inline uint32_t sampler_kinds(const PaintData& p) {
-  if (!p.patterns.empty()) return PAINTS_ALL;
+  const uint32_t groups = p.groups.empty() ? 0u : SAMPLE_GROUPS;
+  if (!p.patterns.empty()) return PAINTS_ALL | groups;
   uint32_t k = PAINTS_SOLID;
   if (!p.gradients.empty()) k |= PAINTS_GRADIENTS;
   if (!p.textures.empty()) k |= PAINTS_TEXTURES;
-  return k;
+  if (groups && k != PAINTS_SOLID) k = PAINTS_GRADIENTS | PAINTS_TEXTURES;
+  return k | groups;
 }
 
 // Calls f(std::integral_constant<uint32_t, K>{}) for the compiled
@@ -70,9 +84,18 @@ decltype(auto) with_sampler_kinds(uint32_t kinds, F&& f) {
     case PAINTS_TEXTURES: return f(std::integral_constant<uint32_t, PAINTS_TEXTURES>{});
     case PAINTS_GRADIENTS | PAINTS_TEXTURES:
       return f(std::integral_constant<uint32_t, PAINTS_GRADIENTS | PAINTS_TEXTURES>{});
-    default: return f(std::integral_constant<uint32_t, PAINTS_ALL>{});
+    case PAINTS_ALL: return f(std::integral_constant<uint32_t, PAINTS_ALL>{});
+    case SAMPLE_GROUPS: return f(std::integral_constant<uint32_t, SAMPLE_GROUPS>{});
+    case SAMPLE_GROUPS | PAINTS_GRADIENTS | PAINTS_TEXTURES:
+      return f(std::integral_constant<uint32_t, SAMPLE_GROUPS | PAINTS_GRADIENTS | PAINTS_TEXTURES>{});
+    default: return f(std::integral_constant<uint32_t, SAMPLE_ALL>{});
   }
 }
+
+// The specialisation for leaves whose colour is the same everywhere: solid
+// paints only, groups as the scene has them.
+template <uint32_t Kinds>
+constexpr uint32_t kUniformKinds = PAINTS_SOLID | (Kinds & SAMPLE_GROUPS);
 
 // Winding contribution of one geometry or winding entry to sample (px, py).
 // seg is the entry's abstract segment (SEGMENT entries only): the CPU reads
@@ -99,7 +122,7 @@ MPVG_HD_NOINLINE Rgba4 pattern_at(const PaintTables& t, const PatternRecord& p, 
 
 // Premultiplied colour of paint `index` at sample (px, py), in the colour
 // space of integration.
-template <int Depth = 0, uint32_t Kinds = PAINTS_ALL>
+template <int Depth = 0, uint32_t Kinds = SAMPLE_ALL>
 MPVG_HD_INLINE Rgba4 paint_at(const PaintTables& t, uint32_t index, float px, float py) {
   const PaintRecord p = t.paints[index];
   if constexpr ((Kinds & PAINTS_GRADIENTS) != 0) {
@@ -116,34 +139,185 @@ MPVG_HD_INLINE Rgba4 paint_at(const PaintTables& t, uint32_t index, float px, fl
   return Rgba4{p.r, p.g, p.b, p.a};
 }
 
+// One open group on a sample's stack.
+struct GroupFrame {
+  Rgba4 saved;      // the enclosing list's colour when the group began
+  float mask;       // product of the group's mask values so far
+  float alpha_g;    // the enclosing list's group alpha
+  int32_t d;        // the clip machine's depth inside the group
+  uint32_t group;   // record index << 1 | the enclosing list's covered bit
+};
+
+// The stack of a sampler that handles groups; nothing otherwise.
+template <bool On>
+struct GroupStack {
+  int32_t depth;  // open groups
+  float alpha_g;  // union of the alphas composited into the innermost list
+  bool covered;   // something in the innermost list covers the sample
+  GroupFrame frames[kMaxGroupDepth];
+};
+template <>
+struct GroupStack<false> {};
+
 // Running state of one sample over a stream: the machine, the path whose
-// entries are being summed, and the colour so far. Kept explicit so that a
-// GPU block can advance many samples chunk by chunk over one cell.
+// entries are being summed, the colour so far (of the innermost open
+// group's list), and the enclosing lists'. Kept explicit so that a GPU
+// block can advance many samples chunk by chunk over one cell.
+template <uint32_t Kinds>
 struct SampleState {
   FlatClip clip;
   int32_t path;  // path being summed, or -1
   int32_t winding;
   Rgba4 color;
-  bool done;  // opaque: nothing behind can show
+  bool done;  // nothing further in the stream can change the colour
+  GroupStack<(Kinds & SAMPLE_GROUPS) != 0> groups;
 };
 
-MPVG_HD_INLINE SampleState sample_start() {
-  SampleState st;
+template <uint32_t Kinds>
+MPVG_HD_INLINE SampleState<Kinds> sample_start() {
+  SampleState<Kinds> st;
   st.clip = flat_clip_start();
   st.path = -1;
   st.winding = 0;
   st.color = Rgba4{0.0f, 0.0f, 0.0f, 0.0f};
   st.done = false;
+  if constexpr ((Kinds & SAMPLE_GROUPS) != 0) {
+    st.groups.depth = 0;
+    st.groups.alpha_g = 0.0f;
+    st.groups.covered = false;
+  }
   return st;
 }
 
 // Colour of a sample counts as opaque from here on.
 constexpr float kOpaqueAlpha = 1.0f - 1.0f / 65536.0f;
 
+// Nothing more in the innermost list can change its colour: skip to its
+// group's end (state SG), or, at the top level, stop.
+template <uint32_t Kinds>
+MPVG_HD_INLINE void sample_close_list(SampleState<Kinds>& st) {
+  if constexpr ((Kinds & SAMPLE_GROUPS) != 0) {
+    if (st.groups.depth > 0) {
+      st.clip.state = FLAT_SG;
+      st.clip.s = st.groups.frames[st.groups.depth - 1].d;
+      return;
+    }
+  }
+  st.done = true;
+}
+
+// The backdrop of the open group in frame k: the enclosing list's colour,
+// or, in a knockout list, that list's initial backdrop (transparent unless
+// the knockout group is non-isolated itself).
+template <uint32_t Kinds>
+MPVG_HD_INLINE Rgba4 group_backdrop(const SampleState<Kinds>& st, const GroupRecord* groups, int32_t k) {
+  const Rgba4 none{0.0f, 0.0f, 0.0f, 0.0f};
+  if constexpr ((Kinds & SAMPLE_GROUPS) != 0) {
+    for (; k >= 0; k--) {
+      if (!(groups[st.groups.frames[k].group >> 1].flags & GROUP_IN_KNOCKOUT)) return st.groups.frames[k].saved;
+      if (k == 0 || !(groups[st.groups.frames[k - 1].group >> 1].flags & GROUP_BACKDROP)) return none;
+    }
+  }
+  return none;
+}
+
+// Composites an element's colour p (premultiplied) into the innermost list:
+// under it front to back, over it with `blend` back to front; in a
+// knockout list p replaces what the list holds, composited onto the list's
+// initial backdrop.
+template <uint32_t Kinds>
+MPVG_HD_INLINE void sample_composite(SampleState<Kinds>& st, const GroupRecord* groups, Rgba4 p, bool back,
+                                     bool knockout, uint32_t blend) {
+  if constexpr ((Kinds & SAMPLE_GROUPS) != 0) {
+    st.groups.covered = true;
+    if (knockout) {
+      if (!back) {
+        st.color = p;
+        sample_close_list(st);
+        return;
+      }
+      const int32_t k = st.groups.depth - 1;
+      const bool from_backdrop = (groups[st.groups.frames[k].group >> 1].flags & GROUP_BACKDROP) != 0;
+      st.color = blend_over(blend, from_backdrop ? group_backdrop(st, groups, k) : Rgba4{0.0f, 0.0f, 0.0f, 0.0f}, p);
+      st.groups.alpha_g = p.a;
+      return;
+    }
+    if (back) {
+      st.color = blend_over(blend, st.color, p);
+      st.groups.alpha_g = alpha_union(st.groups.alpha_g, p.a);
+      return;
+    }
+  }
+  st.color = rgba_under(st.color, p);
+  if (st.color.a >= kOpaqueAlpha) sample_close_list(st);
+}
+
+// '{': the enclosing list's colour goes on the stack; the group starts from
+// transparency, or from its backdrop if it is non-isolated and blends.
+template <uint32_t Kinds>
+MPVG_HD_INLINE void sample_group_begin(SampleState<Kinds>& st, const GroupRecord* groups, uint32_t id) {
+  if constexpr ((Kinds & SAMPLE_GROUPS) != 0) {
+    auto& G = st.groups;
+    GroupFrame& f = G.frames[G.depth];
+    f.saved = st.color;
+    f.mask = 1.0f;
+    f.alpha_g = G.alpha_g;
+    f.d = st.clip.d;
+    f.group = (id << 1) | (G.covered ? 1u : 0u);
+    G.depth++;
+    st.color = (groups[id].flags & GROUP_BACKDROP) ? group_backdrop(st, groups, G.depth - 1)
+                                                    : Rgba4{0.0f, 0.0f, 0.0f, 0.0f};
+    G.alpha_g = 0.0f;
+    G.covered = false;
+  }
+}
+
+// '}': the group's result (its backdrop removed if it started from it),
+// times its mask, becomes a mask value for the group it masks, or, times
+// its opacity, an element of the enclosing list.
+template <uint32_t Kinds>
+MPVG_HD_INLINE void sample_group_end(SampleState<Kinds>& st, const GroupRecord* groups) {
+  if constexpr ((Kinds & SAMPLE_GROUPS) != 0) {
+    auto& G = st.groups;
+    const GroupFrame f = G.frames[G.depth - 1];
+    const GroupRecord& r = groups[f.group >> 1];
+    Rgba4 res = st.color;
+    if (r.flags & GROUP_BACKDROP) res = group_remove_backdrop(res, group_backdrop(st, groups, G.depth - 1), G.alpha_g);
+    const bool covered = G.covered;
+    G.depth--;
+    st.color = f.saved;
+    G.alpha_g = f.alpha_g;
+    G.covered = (f.group & 1u) != 0;
+    if (r.flags & (GROUP_MASK_LUMINANCE | GROUP_MASK_ALPHA)) {
+      const float m = mask_value(r, rgba_scale(res, f.mask)) * r.opacity;
+      G.frames[G.depth - 1].mask *= m;
+      if (!(m > 0.0f)) sample_close_list(st);  // the masked group shows nothing here
+      return;
+    }
+    if (!covered) return;
+    sample_composite(st, groups, rgba_scale(res, r.opacity * f.mask), (r.flags & GROUP_IN_BACK_TO_FRONT) != 0,
+                     (r.flags & GROUP_IN_KNOCKOUT) != 0, r.blend);
+  }
+}
+
+// A group delimiter: on the stack where the machine processes, counted in
+// the depth where it skips (state SG ends at the end of its group).
+template <uint32_t Kinds>
+MPVG_HD_INLINE void sample_group_delimiter(SampleState<Kinds>& st, const GroupRecord* groups, Entry e) {
+  if (entry_is_group_begin(e)) {
+    st.clip.d++;
+    if (st.clip.state == FLAT_P) sample_group_begin(st, groups, e.data);
+    return;
+  }
+  if (st.clip.state == FLAT_SG && st.clip.d == st.clip.s) st.clip.state = FLAT_P;
+  if (st.clip.state == FLAT_P) sample_group_end(st, groups);
+  st.clip.d--;
+}
+
 // Closes the path being summed: inside-outside test, then blend (fill) or
 // a clip-machine transition (clip test).
-template <int Depth = 0, uint32_t Kinds = PAINTS_ALL>
-MPVG_HD_INLINE void sample_finish_path(SampleState& st, const SampleInputs& in, float px, float py) {
+template <int Depth = 0, uint32_t Kinds = SAMPLE_ALL>
+MPVG_HD_INLINE void sample_finish_path(SampleState<Kinds>& st, const SampleInputs& in, float px, float py) {
   if (st.path < 0) return;
   const PathRecord rec = in.paths[st.path];
   st.path = -1;
@@ -153,12 +327,8 @@ MPVG_HD_INLINE void sample_finish_path(SampleState& st, const SampleInputs& in, 
     return;
   }
   const Rgba4 p = paint_at<Depth, Kinds>(*in.paint, rec.paint, px, py);
-  const float t = 1.0f - st.color.a;
-  st.color.r += t * p.r;
-  st.color.g += t * p.g;
-  st.color.b += t * p.b;
-  st.color.a += t * p.a;
-  if (st.color.a >= kOpaqueAlpha) st.done = true;
+  sample_composite(st, in.paint->groups, p, (rec.flags & PATH_BACK_TO_FRONT) != 0, (rec.flags & PATH_KNOCKOUT) != 0,
+                   BLEND_NORMAL);
 }
 
 // The segment a SEGMENT entry refers to, or null for other entries.
@@ -167,13 +337,19 @@ MPVG_HD_INLINE const AbstractSegment* entry_segment(Entry e, const AbstractSegme
 }
 
 // Advances one sample over one entry; seg as in entry_winding.
-template <int Depth = 0, uint32_t Kinds = PAINTS_ALL>
-MPVG_HD_INLINE void sample_step(SampleState& st, const SampleInputs& in, Entry e, const AbstractSegment* seg, float px,
-                                float py) {
+template <int Depth = 0, uint32_t Kinds = SAMPLE_ALL>
+MPVG_HD_INLINE void sample_step(SampleState<Kinds>& st, const SampleInputs& in, Entry e, const AbstractSegment* seg,
+                                float px, float py) {
   if (st.done) return;
   if (entry_is_delimiter(e)) {
     sample_finish_path<Depth, Kinds>(st, in, px, py);
     if (st.done) return;
+    if constexpr ((Kinds & SAMPLE_GROUPS) != 0) {
+      if (entry_kind(e) == ENTRY_GROUP) {
+        sample_group_delimiter(st, in.paint->groups, e);
+        return;
+      }
+    }
     flat_clip_delimiter(st.clip, entry_kind(e));
     return;
   }
@@ -189,9 +365,9 @@ MPVG_HD_INLINE void sample_step(SampleState& st, const SampleInputs& in, Entry e
 }
 
 // Colour of sample (px, py) from the entries [begin, end) of its leaf cell.
-template <int Depth = 0, uint32_t Kinds = PAINTS_ALL>
+template <int Depth = 0, uint32_t Kinds = SAMPLE_ALL>
 MPVG_HD_INLINE Rgba4 sample_cell(const SampleInputs& in, uint32_t begin, uint32_t end, float px, float py) {
-  SampleState st = sample_start();
+  SampleState<Kinds> st = sample_start<Kinds>();
   for (uint32_t i = begin; i < end && !st.done; i++) {
     const Entry e = in.entries[i];
     sample_step<Depth, Kinds>(st, in, e, entry_segment(e, in.segments), px, py);

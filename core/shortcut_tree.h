@@ -19,6 +19,8 @@
 //         SHORTCUT_UP / SHORTCUT_DOWN: float bits of the shortcut's y
 //         WINDING: signed winding increment
 //         PUSH / ACTIVATE / POP: 0 (the path field is 0 too)
+//         GROUP: the group's record (core/group.h); the path field holds
+//                GROUP_ENTRY_* bits: begin or end, mask, ...
 //
 // Shortcut segments (§4): vertical half-lines to the right of the cell, from
 // height y up to +infinity. SHORTCUT_UP adds +1 to the winding of every
@@ -40,6 +42,7 @@ enum EntryKind : uint32_t {
   ENTRY_PUSH = 4,
   ENTRY_ACTIVATE = 5,
   ENTRY_POP = 6,
+  ENTRY_GROUP = 7,  // a transparency group's or mask's begin or end ('{' '}')
 };
 
 constexpr uint32_t kEntryKindShift = 29;
@@ -72,6 +75,12 @@ MPVG_HD_INLINE uint32_t float_bits(float f) {
   memcpy(&u, &f, sizeof u);
   return u;
 }
+// Group entries: the path field's bits (core/group.h, GROUP_ENTRY_*).
+MPVG_HD_INLINE bool entry_is_group_begin(Entry e) { return entry_kind(e) == ENTRY_GROUP && !(e.head & 1u); }
+MPVG_HD_INLINE bool entry_is_group_end(Entry e) { return entry_kind(e) == ENTRY_GROUP && (e.head & 1u); }
+// Does the entry open ('(' or '{') or close (')' or '}') a nesting level?
+MPVG_HD_INLINE bool entry_opens(Entry e) { return entry_kind(e) == ENTRY_PUSH || entry_is_group_begin(e); }
+MPVG_HD_INLINE bool entry_closes(Entry e) { return entry_kind(e) == ENTRY_POP || entry_is_group_end(e); }
 MPVG_HD_INLINE bool operator==(Entry a, Entry b) { return a.head == b.head && a.data == b.data; }
 
 // Do entries a and b (adjacent in one cell) belong to the same path run?
@@ -116,6 +125,10 @@ enum : uint32_t {
   PATH_CLIP = 1u << 1,
   PATH_OPAQUE = 1u << 2,   // fill whose paint is opaque at every sample
   PATH_VARYING = 1u << 3,  // fill whose paint depends on the sample's position
+  // Fill in a list that runs back to front (a group's whose blend modes
+  // need their backdrop; core/group.h): it goes over the colour so far.
+  PATH_BACK_TO_FRONT = 1u << 4,
+  PATH_KNOCKOUT = 1u << 5,  // fill in a knockout group's list
 };
 
 struct PathRecord {

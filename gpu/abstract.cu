@@ -80,8 +80,8 @@ void Context::Impl::abstract(const EncodedScene& scene) {
   scene_depth = 0;
   int32_t d = 0;
   for (const Entry& e : scene.stream) {
-    if (entry_kind(e) == ENTRY_PUSH) scene_depth = std::max(scene_depth, ++d);
-    if (entry_kind(e) == ENTRY_POP) d--;
+    if (entry_opens(e)) scene_depth = std::max(scene_depth, ++d);
+    if (entry_closes(e)) d--;
   }
   // First input segment of each path; segments come grouped by path.
   std::vector<uint32_t> first(npaths + 1, 0);

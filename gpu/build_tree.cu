@@ -88,6 +88,7 @@ void Context::Impl::upload_paints(const PaintData& p) {
   texture_levels.upload(p.levels);
   texels.upload(p.texels);
   patterns.upload(p.patterns);
+  groups.upload(p.groups);
 }
 
 void Context::Impl::stash_tile(TileTree& t) {

@@ -96,7 +96,7 @@ struct Context::Impl {
   DeviceBuffer<uint32_t> path_input;     // first input segment of each path (npaths + 1)
   DeviceBuffer<AbstractSegment> segments;
   size_t npaths = 0, nsegments = 0;
-  int32_t scene_depth = 0;  // deepest clip nesting of the scene
+  int32_t scene_depth = 0;  // deepest nesting of clip groups and transparency groups in the scene
   // Tree under construction and built.
   DeviceLevel level, parent, child;
   DeviceBuffer<Node> nodes;
@@ -130,11 +130,13 @@ struct Context::Impl {
   DeviceBuffer<TextureLevel> texture_levels;
   DeviceBuffer<Texel16> texels;
   DeviceBuffer<PatternRecord> patterns;
+  DeviceBuffer<GroupRecord> groups;
   DeviceBuffer<PaintTables> paint_view;  // one element: paint_tables(), for SampleInputs::paint
   std::shared_ptr<const PaintData> host_paint;
   PaintTables paint_tables() const {
     return PaintTables{paints.data(),   gradients.data(),      ramp_t.data(), ramp_color.data(), textures.data(),
-                       texture_levels.data(), texels.data(), patterns.data(), tile_views.data()};
+                       texture_levels.data(), texels.data(), patterns.data(), tile_views.data(),
+                       groups.data()};
   }
   // Scratch.
   DeviceBuffer<uint32_t> u32[6];

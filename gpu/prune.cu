@@ -20,7 +20,7 @@ __global__ void k_depth_delta(const Entry* e, size_t n, int32_t* depth) {
 
 __global__ void k_link_init(const Entry* e, const int32_t* depth, size_t n, int32_t d, Segmented<uint32_t>* link) {
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
-  if (i < n) link[i] = Segmented<uint32_t>{1u, (entry_kind(e[i]) == ENTRY_PUSH && depth[i] == d) ? 1u : 0u};
+  if (i < n) link[i] = Segmented<uint32_t>{1u, (entry_opens(e[i]) && depth[i] == d) ? 1u : 0u};
 }
 
 __global__ void k_link_apply(const Entry* e, const int32_t* depth, size_t n, int32_t d,
@@ -31,7 +31,7 @@ __global__ void k_link_apply(const Entry* e, const int32_t* depth, size_t n, int
   open[i] = o;
   const uint32_t k = entry_kind(e[i]);
   if (k == ENTRY_ACTIVATE) bar[o] = static_cast<uint32_t>(i);
-  if (k == ENTRY_POP) close[o] = static_cast<uint32_t>(i);
+  if (entry_closes(e[i])) close[o] = static_cast<uint32_t>(i);
 }
 
 __global__ void k_classify(const Entry* e, const uint32_t* entry_cell, size_t n, const Cell* cells,
@@ -53,7 +53,8 @@ __global__ void k_mark(const Entry* e, const uint32_t* entry_cell, size_t n, con
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
   if (i >= n) return;
   auto add = [elim](uint32_t at, int32_t v) { atomicAdd(&elim[at], v); };
-  prune_mark(e, term, links, static_cast<uint32_t>(i), cells[entry_cell[i]].end, add);
+  const Cell c = cells[entry_cell[i]];
+  prune_mark(e, term, links, static_cast<uint32_t>(i), c.begin, c.end, add);
 }
 
 // An element survives when its elimination count is not positive.
@@ -80,11 +81,11 @@ __global__ void k_cells_remap(Cell* cells, size_t ncells, const uint32_t* kpos) 
 }  // namespace
 
 int Context::Impl::prune(DeviceLevel& lv) {
-  // Without clip groups only rules 12 and 14 (at the top level) apply; they
-  // depend on nothing another elimination can change, so one round reaches
-  // the fixpoint, and there is no depth to scan. With clip groups, the
-  // scene's nesting depth bounds every cell's: no read-back is needed to
-  // know how many link scans to run.
+  // Without clip groups or transparency groups only rules 12 and 14 (at the
+  // top level) apply; they depend on nothing another elimination can
+  // change, so one round reaches the fixpoint, and there is no depth to
+  // scan. With groups, the scene's nesting depth bounds every cell's: no
+  // read-back is needed to know how many link scans to run.
   int rounds = 0;
   for (;;) {
     const size_t n = lv.nentries;

@@ -52,7 +52,9 @@ __device__ __forceinline__ float4 composite(float r, float g, float b, float a, 
   return make_float4(r + under * bg.r, g + under * bg.g, b + under * bg.b, a + under * bg.a);
 }
 
-// Schedule: batches per leaf; uniform leaves (entry_varies) get their colour instead.
+// Schedule: batches per leaf; uniform leaves (entry_varies) get their colour
+// instead. Kinds: kUniformKinds of the scene's (groups or not).
+template <uint32_t Kinds>
 __global__ void k_leaf_info(const Cell* leaves, size_t nleaves, const Entry* entries, SampleInputs in,
                             uint32_t root_size, int width, int height, uint32_t tile_w, uint32_t tile_h,
                             uint32_t* batches, float4* color) {
@@ -68,7 +70,7 @@ __global__ void k_leaf_info(const Cell* leaves, size_t nleaves, const Entry* ent
   for (uint32_t i = c.begin; i < c.end && uniform; i++) uniform = !entry_varies(entries[i], in.paths);
   if (uniform) {
     // Uniform leaves hold no position-dependent paint, patterns included.
-    const Rgba4 col = sample_cell<0, PAINTS_SOLID>(in, c.begin, c.end, float(r.x0), float(r.y0));
+    const Rgba4 col = sample_cell<0, Kinds>(in, c.begin, c.end, float(r.x0), float(r.y0));
     color[l] = make_float4(col.r, col.g, col.b, col.a);
     batches[l] = 0;
   } else {
@@ -129,7 +131,7 @@ __global__ void k_sample(const Cell* leaves, uint32_t nleaves, const uint32_t* b
     const uint32_t x = ox + (active ? pix % tw : 0), y = oy + (active ? pix / tw : 0);
     const SampleOffset o = pattern[unit_area_class(x, y, a.class_mod) * n + k];  // the class's pattern
     const float sx = float(x) + o.x, sy = float(y) + o.y;
-    SampleState st = sample_start();
+    SampleState<Kinds> st = sample_start<Kinds>();
     st.done = !active;
     for (uint32_t base = c.begin; base < c.end; base += chunk) {
       const uint32_t cnt = min(static_cast<uint32_t>(chunk), c.end - base);
@@ -397,9 +399,11 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
   leaf_batches.resize(nleaves + 1);
   leaf_color.resize(nleaves + 1);
   uint32_t* nb = (u32[0].resize(nleaves + 1), u32[0].data());
-  k_leaf_info<<<grid_for(nleaves + 1, kBlock), kBlock>>>(leaves.data(), nleaves, leaf_entries.data(), in, root_size,
-                                                         width, height, static_cast<uint32_t>(tile_w),
-                                                         static_cast<uint32_t>(tile_h), nb, leaf_color.data());
+  const uint32_t kinds = sampler_kinds(*host_paint);
+  auto leaf_info = (kinds & SAMPLE_GROUPS) ? k_leaf_info<SAMPLE_GROUPS> : k_leaf_info<PAINTS_SOLID>;
+  leaf_info<<<grid_for(nleaves + 1, kBlock), kBlock>>>(leaves.data(), nleaves, leaf_entries.data(), in, root_size, width,
+                                                       height, static_cast<uint32_t>(tile_w),
+                                                       static_cast<uint32_t>(tile_h), nb, leaf_color.data());
   launched();
   prim.exclusive_sum(nb, leaf_batches.data(), nleaves + 1);
   const uint32_t total_batches = read_u32(leaf_batches.data() + nleaves);
@@ -417,7 +421,7 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
                                                  pattern.data(), n, shape.chunk, tile_w, tile_h, root_size, width,
                                                  height, bg, image.data(), acc_args);
     };
-    with_sampler_kinds(sampler_kinds(*host_paint), [&](auto kinds) { launch(k_sample<decltype(kinds)::value>); });
+    with_sampler_kinds(kinds, [&](auto k) { launch(k_sample<decltype(k)::value>); });
     launched();
   }
   const size_t nua = size_t(width) * height;

@@ -31,7 +31,7 @@ bool prune_round(TreeLevel& level, const std::vector<PathRecord>& paths) {
   std::vector<LinkSeg> link(n);
   for (int32_t d = 1; d <= max_depth; d++) {
     for (size_t i = 0; i < n; i++)
-      link[i] = LinkSeg{1u, (entry_kind(e[i]) == ENTRY_PUSH && depth[i] == d) ? 1u : 0u};
+      link[i] = LinkSeg{1u, (entry_opens(e[i]) && depth[i] == d) ? 1u : 0u};
     std::inclusive_scan(link.begin(), link.end(), link.begin(), SegmentedSum<uint32_t>{});
     for (size_t i = 0; i < n; i++) {
       if (depth[i] != d) continue;
@@ -39,7 +39,7 @@ bool prune_round(TreeLevel& level, const std::vector<PathRecord>& paths) {
       open[i] = o;
       const uint32_t k = entry_kind(e[i]);
       if (k == ENTRY_ACTIVATE) bar[o] = static_cast<uint32_t>(i);
-      if (k == ENTRY_POP) close[o] = static_cast<uint32_t>(i);
+      if (entry_closes(e[i])) close[o] = static_cast<uint32_t>(i);
     }
   }
 
@@ -59,7 +59,8 @@ bool prune_round(TreeLevel& level, const std::vector<PathRecord>& paths) {
   std::vector<int32_t> elim(n + 1, 0);
   auto add = [&](uint32_t at, int32_t v) { elim[at] += v; };
   for (size_t i = 0; i < n; i++)
-    prune_mark(e, term.data(), links, static_cast<uint32_t>(i), level.cells[cell_of[i]].end, add);
+    prune_mark(e, term.data(), links, static_cast<uint32_t>(i), level.cells[cell_of[i]].begin,
+               level.cells[cell_of[i]].end, add);
 
   // Sweep.
   std::inclusive_scan(elim.begin(), elim.end(), elim.begin());

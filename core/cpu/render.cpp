@@ -130,7 +130,7 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
         const Task& task = tasks[ti];
         const Cell& c = tree.leaves[task.leaf];
         if (uniform[task.leaf]) {
-          const Rgba4 col = sample_cell<0, PAINTS_SOLID>(in, c.begin, c.end, float(task.x0), float(task.y0));
+          const Rgba4 col = sample_cell<0, kUniformKinds<Kinds>>(in, c.begin, c.end, float(task.x0), float(task.y0));
           const float p[4] = {col.r, col.g, col.b, col.a};
           for (uint32_t y = task.y0; y < task.y1; y++)
             for (uint32_t x = task.x0; x < task.x1; x++)
@@ -168,7 +168,8 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
       const Task& task = tasks[ti];
       const Cell& c = tree.leaves[task.leaf];
       if (uniform[task.leaf]) {
-        const Rgba4 flat = sample_cell<0, PAINTS_SOLID>(in, c.begin, c.end, float(task.x0), float(task.y0));
+        const Rgba4 flat =
+            sample_cell<0, kUniformKinds<Kinds>>(in, c.begin, c.end, float(task.x0), float(task.y0));
         for (uint32_t uy = task.y0; uy < task.y1; uy++)
           for (uint32_t ux = task.x0; ux < task.x1; ux++) ua_color[size_t(uy) * frame.ua_w + ux] = flat;
         return;
