@@ -7,8 +7,10 @@
 //
 // --ramp-lut N encodes colour ramps as lookup tables of N knots instead of
 // exact knots (EncodeOptions::ramp_lut). When an input NAME_gradients.svg
-// follows NAME.svg (scripts/make_gradient_bench.py), the ratio of their
-// render times is printed: the cost of per-sample gradients.
+// (scripts/make_gradient_bench.py) or NAME_groups.svg
+// (scripts/make_group_bench.py) follows NAME.svg, the ratio of their render
+// times is printed: the cost of per-sample gradients, or of nested groups
+// and masks against the same scene flattened.
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -166,7 +168,8 @@ int main(int argc, char** argv) {
                     paper != kPaper.end() ? paper->second.r4432 : NAN);
       std::printf("%s\n", line);
       renders[name] = {median(t8), median(t32), median(t4432)};
-      const size_t suffix = name.rfind("_gradients");
+      size_t suffix = name.rfind("_gradients");
+      if (suffix == std::string::npos) suffix = name.rfind("_groups");
       if (suffix != std::string::npos && renders.count(name.substr(0, suffix))) {
         const auto& solid = renders[name.substr(0, suffix)];
         const auto& grad = renders[name];

@@ -58,7 +58,7 @@ if has profile; then
 fi
 if has bench; then
   "$build/apps/mpvg_bench" --svg2png "$build/apps/svg2png" --json "$out/bench.json" ${MPVG_BENCH_SHAPES:+--shapes "$MPVG_BENCH_SHAPES"} \
-    ${MPVG_BENCH_ARGS:-} "$deps/bench/tiger.svg" "$deps/bench/tiger_gradients.svg" "$deps/bench/boston.svg" \
+    ${MPVG_BENCH_ARGS:-} "$deps/bench/tiger.svg" "$deps/bench/tiger_gradients.svg" "$deps/bench/tiger_groups.svg" "$deps/bench/boston.svg" \
     "$deps/bench/hawaii.svg" "$deps/bench/reschart.svg" \
     | tee "$out/bench.txt" || status=1
 fi

@@ -54,3 +54,161 @@ gradient 0 linear 0 0 10 0 radial 0 0 0 0 0 0 pad srgb matrix(1 0 0 1 5 7)
 stream ( C0 | F1 )
 )");
 }
+
+namespace {
+
+Path square(double x0, double y0, double s) {
+  Path p;
+  p.move_to({x0, y0});
+  p.line_to({x0 + s, y0});
+  p.line_to({x0 + s, y0 + s});
+  p.line_to({x0, y0 + s});
+  p.close();
+  return p;
+}
+
+void fill_square(SceneBuilder& b, double x0, float r) {
+  Paint p;
+  p.color = RGBA{r, 0, 0, 1};
+  b.fill(b.add_geometry(square(x0, 0, 4)), Affine{}, FillRule::NonZero, p);
+}
+
+// The stream line of a dump.
+std::string stream_of(const Scene& s) {
+  const std::string d = dump(s);
+  return d.substr(d.rfind("stream"));
+}
+
+}  // namespace
+
+TEST_CASE("groups: lists run front to back unless a blend mode needs its backdrop", "[scene][groups]") {
+  SceneBuilder b(10, 10);
+  fill_square(b, 0, 0.1f);
+  Group g;
+  g.opacity = 0.5f;
+  b.begin_group(g);
+  fill_square(b, 1, 0.2f);
+  fill_square(b, 2, 0.3f);
+  b.end_group();
+  fill_square(b, 3, 0.4f);
+  const Scene s = b.finish();
+  // Top-most first everywhere: F0 is the last square, the group's list reversed too.
+  CHECK(stream_of(s) == "stream F0 {0 F1 F2 } F3\n");
+  CHECK_FALSE(s.groups[0].back_to_front);
+  CHECK(s.paints[s.paths[1].paint].color.r == 0.3f);
+}
+
+TEST_CASE("groups: a blend mode makes its list back to front; the top level is wrapped", "[scene][groups]") {
+  SceneBuilder b(10, 10);
+  fill_square(b, 0, 0.1f);
+  Group outer;
+  outer.opacity = 0.5f;
+  b.begin_group(outer);
+  fill_square(b, 1, 0.2f);
+  Group multiply;
+  multiply.blend = BlendMode::Multiply;
+  b.begin_group(multiply);
+  fill_square(b, 2, 0.3f);
+  fill_square(b, 3, 0.4f);
+  b.end_group();
+  b.end_group();
+  const Scene s = b.finish();
+  // outer's list runs back to front (painter's order: F0 then the multiply
+  // group); the multiply group's own list is front to back. The top level
+  // does not blend: no wrapper.
+  CHECK(stream_of(s) == "stream {0 F0 {1 F1 F2 } } F3\n");
+  CHECK(s.groups[0].back_to_front);
+  CHECK_FALSE(s.groups[1].back_to_front);
+
+  SceneBuilder top(10, 10);
+  fill_square(top, 0, 0.1f);
+  top.begin_group(multiply);
+  fill_square(top, 1, 0.2f);
+  top.end_group();
+  const Scene t = top.finish();
+  REQUIRE(t.groups.size() == 2);
+  CHECK(stream_of(t) == "stream {1 F0 {0 F1 } }\n");
+  CHECK(t.groups[1].back_to_front);
+  CHECK(t.groups[1].blend == BlendMode::Normal);
+}
+
+TEST_CASE("groups: no-op groups are dissolved, non-isolated ones that do not blend become isolated",
+          "[scene][groups]") {
+  SceneBuilder b(10, 10);
+  Group noop;
+  b.begin_group(noop);
+  fill_square(b, 0, 0.1f);
+  Group faded;
+  faded.opacity = 0.5f;
+  faded.isolated = false;
+  b.begin_group(faded);
+  fill_square(b, 1, 0.2f);
+  b.end_group();
+  b.end_group();
+  Group knockout;
+  knockout.knockout = true;
+  b.begin_group(knockout);
+  b.begin_group(noop);  // kept: its fills would knock each other out if dissolved
+  fill_square(b, 2, 0.3f);
+  fill_square(b, 3, 0.4f);
+  b.end_group();
+  b.end_group();
+  const Scene s = b.finish();
+  CHECK(stream_of(s) == "stream {2 {3 F0 F1 } } {1 F2 } F3\n");
+  CHECK(s.groups[1].isolated);
+}
+
+TEST_CASE("groups: masks come first, nesting is limited, misuse is an error", "[scene][groups]") {
+  SceneBuilder b(10, 10);
+  Group g;
+  b.begin_group(g);
+  Group m;
+  m.mask = MaskType::Alpha;
+  b.begin_group(m);
+  fill_square(b, 0, 1.0f);
+  b.end_group();
+  fill_square(b, 1, 0.2f);
+  fill_square(b, 2, 0.3f);
+  CHECK_THROWS_WITH(b.begin_group(m), Catch::Contains("first content"));
+  b.end_group();
+  const Scene s = b.finish();
+  CHECK(stream_of(s) == "stream {0 {1 F0 } F1 F2 }\n");
+
+  SceneBuilder deep(10, 10);
+  for (int i = 0; i < 16; i++) deep.begin_group(g);
+  CHECK_THROWS_WITH(deep.begin_group(g), Catch::Contains("nested more than 16 deep"));
+
+  SceneBuilder clip(10, 10);
+  clip.push();
+  CHECK_THROWS_WITH(clip.begin_group(g), Catch::Contains("inside a clip-path"));
+  SceneBuilder bad(10, 10);
+  CHECK_THROWS_WITH(bad.end_group(), Catch::Contains("without a matching begin_group"));
+  bad.begin_group(g);
+  CHECK_THROWS_WITH(bad.pop(), Catch::Contains("pop without a matching push"));
+  CHECK_THROWS_WITH(bad.finish(), Catch::Contains("unbalanced"));
+}
+
+TEST_CASE("groups: append replays groups and masks in the same order", "[scene][groups]") {
+  SceneBuilder b(10, 10);
+  fill_square(b, 0, 0.1f);
+  Group outer;
+  outer.opacity = 0.5f;
+  b.begin_group(outer);
+  Group m;
+  m.mask = MaskType::Luminance;
+  b.begin_group(m);
+  fill_square(b, 1, 1.0f);
+  b.end_group();
+  fill_square(b, 2, 0.2f);
+  Group screen;
+  screen.blend = BlendMode::Screen;
+  b.begin_group(screen);
+  fill_square(b, 3, 0.3f);
+  b.end_group();
+  b.end_group();
+  const Scene s = b.finish();
+  SceneBuilder c(10, 10);
+  c.append(s, Affine{});
+  const Scene copy = c.finish();
+  CHECK(dump(copy) == dump(s));
+}
