@@ -700,14 +700,6 @@ void dump_servers(std::string& s, const Scene& scene, const std::string& indent)
   }
 }
 
-const char* blend_mode_name(BlendMode m) {
-  static const char* const names[] = {"normal",      "multiply",   "screen",     "overlay",    "darken",
-                                      "lighten",     "color-dodge", "color-burn", "hard-light", "soft-light",
-                                      "difference",  "exclusion",  "hue",        "saturation", "color",
-                                      "luminosity"};
-  return names[static_cast<int>(m)];
-}
-
 void dump_groups(std::string& s, const Scene& scene, const std::string& indent) {
   for (size_t i = 0; i < scene.groups.size(); i++) {
     const Group& g = scene.groups[i];
@@ -784,6 +776,14 @@ void dump_into(std::string& s, const Scene& scene, const std::string& indent) {
 }
 
 }  // namespace
+
+const char* blend_mode_name(BlendMode m) {
+  static const char* const names[] = {"normal",      "multiply",   "screen",     "overlay",    "darken",
+                                      "lighten",     "color-dodge", "color-burn", "hard-light", "soft-light",
+                                      "difference",  "exclusion",  "hue",        "saturation", "color",
+                                      "luminosity"};
+  return names[static_cast<int>(m)];
+}
 
 std::string dump(const Scene& scene) {
   std::string s;

@@ -223,6 +223,9 @@ enum class BlendMode : uint8_t {
   HardLight, SoftLight, Difference, Exclusion, Hue, Saturation, Color, Luminosity,
 };
 
+// The mode's CSS keyword ("normal", "color-dodge", ...).
+const char* blend_mode_name(BlendMode m);
+
 enum class MaskType : uint8_t { None, Luminance, Alpha };
 
 // A transparency group (PDF 32000-1 §11.4; SVG's group opacity, masks,

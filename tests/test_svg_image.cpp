@@ -263,9 +263,11 @@ TEST_CASE("svg image: SVG documents take auto sizes, slice and none, opacity", "
   // slice in a square: scale 4, 80 x 40 from x = -20, clipped to the viewport.
   const std::string s =
       dump_of(R"~(<image width="40" height="40" preserveAspectRatio="xMidYMid slice" opacity="0.5" href="nested/inner.svg"/>)~");
+  // Opacity on an embedded document is one group around it.
   CHECK(lines_of(s, "path") == "path 0 clip nonzero\n"
-                               "path 1 fill nonzero texture 0 opacity 0.5 matrix(4 0 0 4 -20 0)\n"
-                               "path 2 fill nonzero rgba(0,0,1,1) opacity 0.5 matrix(4 0 0 4 -20 0)\n");
+                               "path 1 fill nonzero texture 0 opacity 1 matrix(4 0 0 4 -20 0)\n"
+                               "path 2 fill nonzero rgba(0,0,1,1) opacity 1 matrix(4 0 0 4 -20 0)\n");
+  CHECK(lines_of(s, "group") == "group 0 opacity 0.5 normal\n");
   CHECK(lines_of(s, "M 0 0 L 40") == "  M 0 0 L 40 0 L 40 40 L 0 40 L 0 0 Z\n");
   CHECK(lines_of(dump_of(R"~(<image width="40" height="40" preserveAspectRatio="none" href="nested/inner.svg"/>)~"),
                  "path 2") == "path 2 fill nonzero rgba(0,0,1,1) opacity 1 matrix(2 0 0 4 0 0)\n");

@@ -6,6 +6,8 @@
 //   svg_style.cpp     computed style: properties, inheritance, paint values
 //   svg_strokes.cpp   strokes as fill geometry, converted in parallel
 //   svg_paint_servers.cpp  gradients and patterns as scene paints
+//   svg_masks.cpp     group opacity, mix-blend-mode, isolation and masks as
+//                     transparency groups
 //   svg_image.cpp     <image>: rasters as texture paints, SVG documents
 //                     converted on their own and appended as vectors
 //   svg_resources.cpp hrefs to bytes, gzip, image signatures (decoding in
@@ -68,15 +70,16 @@ constexpr int kMaxImageDepth = 8;
 constexpr size_t kMaxEmbeddedSegments = 10'000'000;
 
 // Append: a whole scene (an SVG document of an <image>) replayed into the
-// stream (SceneBuilder::append).
-enum class OpKind : uint8_t { Push, Activate, Pop, Fill, Clip, Bounds, Append };
+// stream (SceneBuilder::append). GroupBegin, GroupEnd: a transparency group
+// or a mask (SceneBuilder::begin_group, end_group).
+enum class OpKind : uint8_t { Push, Activate, Pop, Fill, Clip, Bounds, Append, GroupBegin, GroupEnd };
 
 struct Op {
   OpKind kind = OpKind::Bounds;
   FillRule rule = FillRule::NonZero;
   uint32_t shape = 0;  // Fill, Clip, Bounds: index into Converter::shapes_
   uint32_t paint = 0;  // Fill: index into Converter::paints_
-  uint32_t scene = 0;  // Append: index into Converter::embedded_
+  uint32_t scene = 0;  // Append: index into Converter::embedded_; GroupBegin: into Converter::groups_
   Affine xf;           // Fill, Clip, Bounds: user space to scene; Append: the scene's units to ours
   // Fill: the geometry is a stroke converted to fill geometry. Strokes are
   // not part of an element's object bounding box (SVG 2
@@ -149,6 +152,7 @@ struct Context {
   // "inherit" (CSS Cascade 4 §7.3).
   double parent_opacity = 1;
   std::string parent_clip_path;
+  std::string parent_mask;
   bool parent_display_none = false;
   bool in_clip = false;  // converting the content of a clipPath
 };
@@ -157,6 +161,9 @@ struct Style {
   Inherited inh;
   double opacity = 1;
   std::string clip_path;  // specified value; empty or "none" for no clipping
+  std::string mask;       // specified value; empty or "none" for no mask
+  BlendMode blend = BlendMode::Normal;  // mix-blend-mode
+  bool isolate = false;                 // isolation: isolate
   bool display_none = false;
   Affine transform;
   bool transform_invalid = false;  // the transform attribute did not parse
@@ -205,11 +212,12 @@ enum class Kind { Container, Shape, Use, Image, Unsupported, Ignored };
 
 Kind classify(const Element& e);
 
-// A clip-path value resolved to its target.
+// A clip-path or mask value resolved to its target.
 struct ClipRef {
   enum State { None, Valid, Invalid } state = None;
   const Element* element = nullptr;
 };
+using MaskRef = ClipRef;
 
 // A pattern tile already converted: the same pattern element used with
 // the same tile geometry, the same on-screen scale and within the same
@@ -262,6 +270,7 @@ struct Session {
   size_t instances = 0;
   std::vector<const Element*> active;         // elements being converted (use cycles)
   std::vector<const Element*> active_clips;   // clipPaths being expanded (clip-path cycles)
+  std::vector<const Element*> active_masks;   // masks being converted (mask cycles)
   std::vector<const Element*> active_patterns;  // patterns whose tiles are being converted
   std::map<TileKey, Tile> tiles;
   double stroke_seconds = 0;
@@ -400,7 +409,15 @@ class Converter {
   bool place(const Element& e, Kind kind, const Context& ctx, Placed& out);
   void render(const Element& e, const Context& ctx, int depth);
   void shape_paint(const Element& e, const Style& st, const Affine& space);
-  void apply_opacity(size_t start, double opacity);
+
+  // ------------------------------------------------------------ groups and masks (svg_masks.cpp)
+
+  MaskRef resolve_mask(const std::string& value);
+  bool group_content(size_t start, const Style& st, const Affine& space, int depth);
+  void hide_content(size_t start);
+  bool fold_opacity(size_t start, double opacity);
+  struct LazyBounds;
+  bool mask_ops(const Element& mask, const Affine& space, LazyBounds& bbox, int depth);
 
   // ------------------------------------------------------------ strokes (svg_strokes.cpp)
 
@@ -443,6 +460,7 @@ class Converter {
   std::vector<Pattern> patterns_;    // Paint::index of pattern paints
   std::vector<Texture> textures_;    // Paint::index of texture paints
   std::vector<Scene> embedded_;      // Op::scene of Append operations
+  std::vector<Group> groups_;        // Op::scene of GroupBegin operations
   std::map<std::pair<const Scene*, std::array<double, 6>>, uint32_t> pattern_of_;  // patterns_ by tile and xf
   std::vector<Path> shapes_;
   // A stroke waiting for convert_strokes(): shapes_[source] stroked with
@@ -458,5 +476,39 @@ class Converter {
   std::vector<StrokeJob> stroke_jobs_;
   std::unordered_map<const Element*, int> shape_of_;
 };
+
+// Calls f for every operation of ops_[begin, end) that is content: not in
+// a clip group's clip section, not in a mask.
+template <class F>
+void Converter::for_each_content(size_t begin, size_t end, F f) const {
+  std::vector<bool> in_clip_section;  // one per open group
+  std::vector<bool> is_mask;          // one per open transparency group
+  int open_clip_sections = 0, open_masks = 0;
+  for (size_t i = begin; i < end; i++) {
+    const Op& op = ops_[i];
+    switch (op.kind) {
+      case OpKind::GroupBegin:
+        is_mask.push_back(groups_[op.scene].mask != MaskType::None);
+        open_masks += is_mask.back() ? 1 : 0;
+        break;
+      case OpKind::GroupEnd:
+        open_masks -= is_mask.back() ? 1 : 0;
+        is_mask.pop_back();
+        break;
+      case OpKind::Push:
+        in_clip_section.push_back(true);
+        open_clip_sections++;
+        break;
+      case OpKind::Activate:
+        in_clip_section.back() = false;
+        open_clip_sections--;
+        break;
+      case OpKind::Pop: in_clip_section.pop_back(); break;
+      default:
+        if (open_clip_sections == 0 && open_masks == 0) f(op);
+        break;
+    }
+  }
+}
 
 }  // namespace mpvg::svg::detail

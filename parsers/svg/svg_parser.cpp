@@ -334,7 +334,8 @@ void Converter::render(const Element& e, const Context& ctx, int depth) {
   }
   s_.active.pop_back();
 
-  apply_opacity(start, st.opacity);
+  // CSS Masking 1 §1 and Compositing 1 §3: clip, mask, opacity, then blending.
+  if (!group_content(start, st, space, depth)) return;
   if (clip.state == ClipRef::Valid) clip_content(start, *clip.element, space, depth);
 }
 
@@ -367,57 +368,7 @@ void Converter::shape_paint(const Element& e, const Style& st, const Affine& spa
   }
 }
 
-// Element opacity multiplies into the paints below it, those of embedded
-// documents included. For one shape that is exact; for a group it is not
-// (SVG 2 render.html #ObjectAndGroupOpacityProperties composites the group
-// as a whole, so overlapping children do not show through each other),
-// which the scene cannot express yet.
-void Converter::apply_opacity(size_t start, double opacity) {
-  if (opacity >= 1) return;
-  size_t fills = 0;
-  for (size_t i = start; i < ops_.size(); i++) {
-    Op& op = ops_[i];
-    if (op.kind == OpKind::Append) {
-      Scene& sc = embedded_[op.scene];
-      for (Paint& p : sc.paints) p.opacity = static_cast<float>(p.opacity * opacity);
-      for (const ScenePath& sp : sc.paths) fills += sp.is_clip ? 0 : 1;
-      continue;
-    }
-    if (op.kind != OpKind::Fill) continue;
-    Paint& p = paints_[op.paint];
-    p.opacity = static_cast<float>(p.opacity * opacity);
-    if (p.opacity * (p.type == PaintType::Solid ? p.color.a : 1.0f) > 0)
-      fills++;
-    else
-      op.kind = OpKind::Bounds;
-  }
-  if (fills > 1) warn("group opacity applied per shape");
-}
-
 // ------------------------------------------------------------ clip paths
-
-template <class F>
-void Converter::for_each_content(size_t begin, size_t end, F f) const {
-  std::vector<bool> in_clip_section;  // one per open group
-  int open_clip_sections = 0;
-  for (size_t i = begin; i < end; i++) {
-    const Op& op = ops_[i];
-    switch (op.kind) {
-      case OpKind::Push:
-        in_clip_section.push_back(true);
-        open_clip_sections++;
-        break;
-      case OpKind::Activate:
-        in_clip_section.back() = false;
-        open_clip_sections--;
-        break;
-      case OpKind::Pop: in_clip_section.pop_back(); break;
-      default:
-        if (open_clip_sections == 0) f(op);
-        break;
-    }
-  }
-}
 
 // The tight bounding box of the content in ops_[begin, end), in the user
 // space `space`.
@@ -550,6 +501,8 @@ void Converter::emit(SceneBuilder& b) {
       case OpKind::Fill: b.fill(geometry_of(op.shape), op.xf, op.rule, paints_[op.paint]); break;
       case OpKind::Clip: b.clip(geometry_of(op.shape), op.xf, op.rule); break;
       case OpKind::Append: b.append(embedded_[op.scene], op.xf); break;
+      case OpKind::GroupBegin: b.begin_group(groups_[op.scene]); break;
+      case OpKind::GroupEnd: b.end_group(); break;
       case OpKind::Bounds: break;
     }
   }

@@ -180,6 +180,19 @@ Style Converter::compute_style(const Element& e, const Context& ctx) {
   st.clip_path = clip.state == Prop<std::string>::Set       ? clip.value
                  : clip.state == Prop<std::string>::Inherit ? ctx.parent_clip_path
                                                             : std::string();
+  const auto mask = property<std::string>(
+      e, "mask", [](std::string_view v) { return std::optional<std::string>(std::string(trim(v))); });
+  st.mask = mask.state == Prop<std::string>::Set       ? mask.value
+            : mask.state == Prop<std::string>::Inherit ? ctx.parent_mask
+                                                       : std::string();
+  if (const auto b = property<BlendMode>(e, "mix-blend-mode", parse_blend_mode); b.state == Prop<BlendMode>::Set)
+    st.blend = b.value;
+  const auto iso = property<std::string>(e, "isolation", [](std::string_view v) {
+    auto k = parse_keyword(v);
+    if (k && (*k == "auto" || *k == "isolate")) return k;
+    return std::optional<std::string>();
+  });
+  st.isolate = iso.state == Prop<std::string>::Set && iso.value == "isolate";
   // transform is a presentation attribute in SVG 2 (CSS Transforms 1); an unparsable
   // value is ignored like any invalid declaration.
   const auto xf = property<Affine>(e, "transform", parse_transform);
@@ -316,6 +329,7 @@ Context Converter::child_context(const Style& st, const Affine& space, bool in_c
   c.ctm = space;
   c.parent_opacity = st.opacity;
   c.parent_clip_path = st.clip_path;
+  c.parent_mask = st.mask;
   c.parent_display_none = st.display_none;
   c.in_clip = in_clip;
   return c;

@@ -396,6 +396,12 @@ std::optional<PaintValue> parse_paint(std::string_view text) {
   return p;
 }
 
+std::optional<BlendMode> parse_blend_mode(std::string_view s) {
+  for (int i = 0; i <= static_cast<int>(BlendMode::Luminosity); i++)
+    if (iequals(trim(s), blend_mode_name(static_cast<BlendMode>(i)))) return static_cast<BlendMode>(i);
+  return std::nullopt;
+}
+
 std::optional<double> parse_alpha(std::string_view text) {
   Scanner s(trim(text));
   const auto v = s.number();

@@ -127,6 +127,10 @@ std::optional<std::string> parse_iri_fragment(std::string_view s);
 // (CSS Color 4 <alpha-value>).
 std::optional<double> parse_alpha(std::string_view s);
 
+// mix-blend-mode (Compositing and Blending 1): one of the 16 blend-mode
+// keywords; anything else (plus-lighter, plus-darker, invalid) is nullopt.
+std::optional<BlendMode> parse_blend_mode(std::string_view s);
+
 struct ViewBox {
   double x = 0, y = 0, w = 0, h = 0;
 };
