@@ -82,8 +82,10 @@ MPVG_HD_INLINE Rgba4 rgba_under(Rgba4 acc, Rgba4 p) {
   return Rgba4{acc.r + t * p.r, acc.g + t * p.g, acc.b + t * p.b, acc.a + t * p.a};
 }
 
-// Union of two alphas (the alpha of one over the other).
-MPVG_HD_INLINE float alpha_union(float a, float b) { return a + b - a * b; }
+// Union of two alphas (the alpha of one over the other); exactly 1 when
+// either is, so that an opaque element hides what came before it to the
+// last bit (pruning rule 14' relies on it).
+MPVG_HD_INLINE float alpha_union(float a, float b) { return 1.0f - (1.0f - a) * (1.0f - b); }
 
 // A non-isolated group's result: its composite less the backdrop's share.
 MPVG_HD_INLINE Rgba4 group_remove_backdrop(Rgba4 composite, Rgba4 backdrop, float alpha_g) {

@@ -21,7 +21,10 @@
 //   (19) {M?} -> e          an empty group leaves its backdrop unchanged
 //   (20) {{} B} -> e        where the mask's emptiness makes it 0 (alpha
 //                           masks; luminance masks over a backdrop of
-//                           luminance 0): the group it masks is invisible
+//                           luminance 0): the group it masks is invisible;
+//                           when that group is a mask itself, only B goes:
+//                           {{} B} -> {{}}, as the outer mask's value is
+//                           then its backdrop's, not 1
 // M is the group's mask, a group itself ('{' and '}' open and close like
 // '(' and ')').
 // Rule 18 is applied by the first C1 of the content section only: two C1s
@@ -176,8 +179,16 @@ MPVG_HD_INLINE void prune_mark(const Entry* entries, const uint32_t* term, const
         add(i + 1, -1);
       }
     } else if (o + 1 == i && (entries[i].head & GROUP_ENTRY_EMPTY_HIDES)) {  // rule 20
-      add(o - 1, 1);
-      add(l.close[o - 1] + 1, -1);
+      const uint32_t p = o - 1;  // the group this mask belongs to
+      if (!(entries[p].head & GROUP_ENTRY_MASK)) {
+        add(p, 1);
+        add(l.close[p] + 1, -1);
+      } else if (i + 1 < l.close[p]) {
+        // A mask of a mask: the outer mask's content goes, the outer mask
+        // stays (its value is then its backdrop's).
+        add(i + 1, 1);
+        add(l.close[p], -1);
+      }
     }
   }
 }

@@ -8,86 +8,14 @@
 
 #include "core/blend.h"
 #include "tests/catch.h"
+#include "tests/reference_compositor.h"
 
 using namespace mpvg;
 
 namespace {
 
-using D3 = std::array<double, 3>;
-
-double lum(const D3& c) { return 0.3 * c[0] + 0.59 * c[1] + 0.11 * c[2]; }
-
-D3 clip_color(D3 c) {
-  const double l = lum(c);
-  const double n = std::min({c[0], c[1], c[2]}), x = std::max({c[0], c[1], c[2]});
-  if (n < 0)
-    for (double& v : c) v = l + (v - l) * l / (l - n);
-  if (x > 1)
-    for (double& v : c) v = l + (v - l) * (1 - l) / (x - l);
-  return c;
-}
-
-D3 set_lum(const D3& c, double l) {
-  const double d = l - lum(c);
-  return clip_color({c[0] + d, c[1] + d, c[2] + d});
-}
-
-double sat(const D3& c) { return std::max({c[0], c[1], c[2]}) - std::min({c[0], c[1], c[2]}); }
-
-D3 set_sat(const D3& c, double s) {
-  // The spec's pseudocode on sorted channel indices.
-  std::array<int, 3> i{0, 1, 2};
-  std::sort(i.begin(), i.end(), [&](int a, int b) { return c[a] > c[b]; });
-  D3 out{};
-  if (c[i[0]] > c[i[2]]) {
-    out[i[1]] = (c[i[1]] - c[i[2]]) * s / (c[i[0]] - c[i[2]]);
-    out[i[0]] = s;
-  }
-  out[i[2]] = 0;
-  return out;
-}
-
-double ref_channel(uint32_t mode, double cb, double cs) {
-  switch (mode) {
-    case BLEND_MULTIPLY: return cb * cs;
-    case BLEND_SCREEN: return cb + cs - cb * cs;
-    case BLEND_OVERLAY: return ref_channel(BLEND_HARD_LIGHT, cs, cb);
-    case BLEND_DARKEN: return std::min(cb, cs);
-    case BLEND_LIGHTEN: return std::max(cb, cs);
-    case BLEND_COLOR_DODGE: return cb == 0 ? 0 : cs == 1 ? 1 : std::min(1.0, cb / (1 - cs));
-    case BLEND_COLOR_BURN: return cb == 1 ? 1 : cs == 0 ? 0 : 1 - std::min(1.0, (1 - cb) / cs);
-    case BLEND_HARD_LIGHT: return cs <= 0.5 ? ref_channel(BLEND_MULTIPLY, cb, 2 * cs) : ref_channel(BLEND_SCREEN, cb, 2 * cs - 1);
-    case BLEND_SOFT_LIGHT: {
-      if (cs <= 0.5) return cb - (1 - 2 * cs) * cb * (1 - cb);
-      const double d = cb <= 0.25 ? ((16 * cb - 12) * cb + 4) * cb : std::sqrt(cb);
-      return cb + (2 * cs - 1) * (d - cb);
-    }
-    case BLEND_DIFFERENCE: return std::fabs(cb - cs);
-    case BLEND_EXCLUSION: return cb + cs - 2 * cb * cs;
-    default: return cs;
-  }
-}
-
-D3 ref_blend(uint32_t mode, const D3& cb, const D3& cs) {
-  switch (mode) {
-    case BLEND_HUE: return set_lum(set_sat(cs, sat(cb)), lum(cb));
-    case BLEND_SATURATION: return set_lum(set_sat(cb, sat(cs)), lum(cb));
-    case BLEND_COLOR: return set_lum(cs, lum(cb));
-    case BLEND_LUMINOSITY: return set_lum(cb, lum(cs));
-    default: return {ref_channel(mode, cb[0], cs[0]), ref_channel(mode, cb[1], cs[1]), ref_channel(mode, cb[2], cs[2])};
-  }
-}
-
-// Premultiplied source over premultiplied backdrop (§5.8 with §9.1.4).
 std::array<double, 4> ref_over(uint32_t mode, const Rgba4& b, const Rgba4& s) {
-  const double as = s.a, ab = b.a;
-  D3 m{};
-  if (as > 0 && ab > 0) m = ref_blend(mode, {b.r / ab, b.g / ab, b.b / ab}, {s.r / as, s.g / as, s.b / as});
-  const double sp[3] = {s.r, s.g, s.b}, bp[3] = {b.r, b.g, b.b};
-  std::array<double, 4> o{};
-  for (int k = 0; k < 3; k++) o[k] = (1 - ab) * sp[k] + (1 - as) * bp[k] + as * ab * m[k];
-  o[3] = as + ab * (1 - as);
-  return o;
+  return reference::over(mode, {b.r, b.g, b.b, b.a}, {s.r, s.g, s.b, s.a});
 }
 
 Rgba4 random_color(std::mt19937& rng, bool opaque) {

@@ -1,5 +1,6 @@
 // CPU vs GPU, stage by stage (CTest label "gpu"; reported as skipped where
-// no CUDA device exists): abstract segments equal, every tree level equal
+// no CUDA device exists), on random scenes of clip groups, paints of every
+// kind, and transparency groups and masks: abstract segments equal, every tree level equal
 // entry for entry, leaves and nodes equal, images within 1/255, and GPU
 // images bit-identical from run to run and across sampler shapes.
 //
@@ -15,6 +16,7 @@
 #include "gpu/gpu_backend.h"
 #include "parsers/svg/svg_parser.h"
 #include "tests/catch.h"
+#include "tests/random_groups.h"
 #include "tests/random_scenes.h"
 
 using namespace mpvg;
@@ -38,6 +40,12 @@ std::vector<Case> cases() {
     const Scene s = random_scenes::clip_scene(seed, 3, 100, true);
     out.push_back({"random paints " + std::to_string(seed), encode(s, Affine{}, seed % 2 ? Gamma::Srgb : Gamma::Linear),
                    100, 80});
+  }
+  // Nested transparency groups and masks (every blend mode, knockout,
+  // non-isolated groups, masks on masks).
+  for (uint32_t seed = 41; seed <= 52; seed++) {
+    const Scene s = random_groups::group_scene(seed, 4, 100).scene;
+    out.push_back({"random groups " + std::to_string(seed), encode(s, Affine{}, Gamma::Srgb), 100, 80});
   }
   if (const char* dir = std::getenv("MPVG_BENCH_DIR")) {
     std::vector<std::filesystem::path> files;

@@ -1,0 +1,240 @@
+// A reference compositor for tests, deliberately simple and independent of
+// core/'s sampler: a scene described as a tree (fills, clip groups,
+// transparency groups with masks) is rendered at a set of points by
+// allocating one buffer per group, filling it with the group's content in
+// painter's order, and compositing it onto its parent's buffer, all in
+// double precision, as PDF 32000-1 §11.4 and W3C Compositing and Blending
+// Level 1 describe it, with a shape of 0 or 1 at every point:
+//   - isolated groups start transparent; non-isolated ones start from their
+//     backdrop, and at the end its contribution is removed:
+//     result = composite - (1 - alpha_g) backdrop, alpha_g the union of the
+//     elements' alphas;
+//   - in a knockout group every element is composited onto the group's
+//     initial backdrop and replaces what came before where it covers; a
+//     group covers where one of its fills does and its mask is not 0;
+//   - a group's result times its opacity and its mask value is blended
+//     onto its parent with its blend mode (source-over with B(Cb, Cs));
+//   - a mask is a group evaluated on its own: its result (times its own
+//     mask) over its backdrop colour gives the luminance (weights . rgb of
+//     the premultiplied colour) or the alpha, times its opacity, clamped to
+//     [0, 1].
+// The blend functions are the specification's, transcribed in double.
+#pragma once
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "core/blend.h"
+#include "core/scene.h"
+
+namespace mpvg::reference {
+
+using D3 = std::array<double, 3>;
+using D4 = std::array<double, 4>;  // premultiplied r, g, b, a
+
+inline double lum(const D3& c) { return 0.3 * c[0] + 0.59 * c[1] + 0.11 * c[2]; }
+
+inline D3 clip_color(D3 c) {
+  const double l = lum(c);
+  const double n = std::min({c[0], c[1], c[2]}), x = std::max({c[0], c[1], c[2]});
+  if (n < 0)
+    for (double& v : c) v = l + (v - l) * l / (l - n);
+  if (x > 1)
+    for (double& v : c) v = l + (v - l) * (1 - l) / (x - l);
+  return c;
+}
+
+inline D3 set_lum(const D3& c, double l) {
+  const double d = l - lum(c);
+  return clip_color({c[0] + d, c[1] + d, c[2] + d});
+}
+
+inline double sat(const D3& c) { return std::max({c[0], c[1], c[2]}) - std::min({c[0], c[1], c[2]}); }
+
+inline D3 set_sat(const D3& c, double s) {
+  // The spec's pseudocode on sorted channel indices.
+  std::array<int, 3> i{0, 1, 2};
+  std::sort(i.begin(), i.end(), [&](int a, int b) { return c[a] > c[b]; });
+  D3 out{};
+  if (c[i[0]] > c[i[2]]) {
+    out[i[1]] = (c[i[1]] - c[i[2]]) * s / (c[i[0]] - c[i[2]]);
+    out[i[0]] = s;
+  }
+  out[i[2]] = 0;
+  return out;
+}
+
+inline double channel(uint32_t mode, double cb, double cs) {
+  switch (mode) {
+    case BLEND_MULTIPLY: return cb * cs;
+    case BLEND_SCREEN: return cb + cs - cb * cs;
+    case BLEND_OVERLAY: return channel(BLEND_HARD_LIGHT, cs, cb);
+    case BLEND_DARKEN: return std::min(cb, cs);
+    case BLEND_LIGHTEN: return std::max(cb, cs);
+    case BLEND_COLOR_DODGE: return cb == 0 ? 0 : cs == 1 ? 1 : std::min(1.0, cb / (1 - cs));
+    case BLEND_COLOR_BURN: return cb == 1 ? 1 : cs == 0 ? 0 : 1 - std::min(1.0, (1 - cb) / cs);
+    case BLEND_HARD_LIGHT: return cs <= 0.5 ? channel(BLEND_MULTIPLY, cb, 2 * cs) : channel(BLEND_SCREEN, cb, 2 * cs - 1);
+    case BLEND_SOFT_LIGHT: {
+      if (cs <= 0.5) return cb - (1 - 2 * cs) * cb * (1 - cb);
+      const double d = cb <= 0.25 ? ((16 * cb - 12) * cb + 4) * cb : std::sqrt(cb);
+      return cb + (2 * cs - 1) * (d - cb);
+    }
+    case BLEND_DIFFERENCE: return std::fabs(cb - cs);
+    case BLEND_EXCLUSION: return cb + cs - 2 * cb * cs;
+    default: return cs;
+  }
+}
+
+inline D3 blend(uint32_t mode, const D3& cb, const D3& cs) {
+  switch (mode) {
+    case BLEND_HUE: return set_lum(set_sat(cs, sat(cb)), lum(cb));
+    case BLEND_SATURATION: return set_lum(set_sat(cb, sat(cs)), lum(cb));
+    case BLEND_COLOR: return set_lum(cs, lum(cb));
+    case BLEND_LUMINOSITY: return set_lum(cb, lum(cs));
+    default: return {channel(mode, cb[0], cs[0]), channel(mode, cb[1], cs[1]), channel(mode, cb[2], cs[2])};
+  }
+}
+
+// Premultiplied source s over premultiplied backdrop b (§5.8 with §9.1.4).
+inline D4 over(uint32_t mode, const D4& b, const D4& s) {
+  const double as = s[3], ab = b[3];
+  D3 m{};
+  auto straight = [](const D4& c) {
+    D3 o{};
+    for (int k = 0; k < 3; k++) o[k] = std::clamp(c[k] / c[3], 0.0, 1.0);
+    return o;
+  };
+  if (as > 0 && ab > 0) m = blend(mode, straight(b), straight(s));
+  D4 o{};
+  for (int k = 0; k < 3; k++) o[k] = (1 - ab) * s[k] + (1 - as) * b[k] + as * ab * m[k];
+  o[3] = as + ab * (1 - as);
+  return o;
+}
+
+// ------------------------------------------------------------ scenes
+
+// A scene as a tree. Fills name their geometry by the index SceneBuilder
+// gave it (so that a test can find each fill's winding number); clip
+// groups hold a union of clip paths (and nested clip-path groups are left
+// to the clip tests of test_pruning.cpp).
+struct Node {
+  enum Kind { Fill, ClipGroup, Transparency } kind = Fill;
+  uint32_t geometry = 0;           // Fill
+  FillRule rule = FillRule::NonZero;
+  RGBA color;                      // Fill: straight, sRGB-encoded
+  std::vector<std::pair<uint32_t, FillRule>> clips;  // ClipGroup: union of these paths
+  Group group;                     // Transparency
+  std::unique_ptr<Node> mask;      // Transparency: its mask (a Transparency node), or null
+  std::vector<std::unique_ptr<Node>> children;  // painter's order
+};
+
+// Is geometry g (with rule r) inside at point p? Provided by the test.
+struct Inside {
+  virtual bool operator()(size_t point, uint32_t geometry, FillRule rule) const = 0;
+  virtual ~Inside() = default;
+};
+
+// Renders `root` (an isolated group) at `points` points; inside(i, g, r)
+// tells whether point i is inside geometry g.
+class Compositor {
+ public:
+  Compositor(size_t points, const Inside& inside) : n_(points), inside_(inside) {}
+
+  std::vector<D4> render(const Node& root) {
+    std::vector<bool> all(n_, true), shape;
+    return group(root, std::vector<D4>(n_, D4{}), all, shape);
+  }
+
+ private:
+  using Buffer = std::vector<D4>;
+
+  // The result of group `g` (a Transparency node) over `backdrop`, at the
+  // points where `live` (points outside the clips around it need nothing);
+  // `shape` receives where it covers.
+  Buffer group(const Node& g, const Buffer& backdrop, const std::vector<bool>& live, std::vector<bool>& shape) {
+    const Group& p = g.group;
+    Buffer buf = p.isolated ? Buffer(n_, D4{}) : backdrop;  // one buffer per group
+    const Buffer initial = buf;
+    std::vector<double> alpha_g(n_, 0.0);
+    shape.assign(n_, false);
+    list(g.children, live, p.knockout, initial, buf, alpha_g, shape);
+    if (!p.isolated)
+      for (size_t i = 0; i < n_; i++)
+        for (int k = 0; k < 4; k++) buf[i][k] = k == 3 ? alpha_g[i] : buf[i][k] - (1 - alpha_g[i]) * backdrop[i][k];
+    return buf;
+  }
+
+  // The fill list `items` into `buf` at the points where `live`.
+  void list(const std::vector<std::unique_ptr<Node>>& items, const std::vector<bool>& live, bool knockout,
+            const Buffer& initial, Buffer& buf, std::vector<double>& alpha_g, std::vector<bool>& shape) {
+    for (const auto& item : items) {
+      if (item->kind == Node::ClipGroup) {
+        std::vector<bool> inner(n_, false);
+        for (size_t i = 0; i < n_; i++)
+          for (const auto& [geo, rule] : item->clips) inner[i] = inner[i] || (live[i] && inside_(i, geo, rule));
+        list(item->children, inner, knockout, initial, buf, alpha_g, shape);
+        continue;
+      }
+      Buffer src(n_, D4{});
+      std::vector<bool> covers(n_, false);
+      uint32_t mode = BLEND_NORMAL;
+      if (item->kind == Node::Fill) {
+        const double a = item->color.a;
+        for (size_t i = 0; i < n_; i++) {
+          covers[i] = live[i] && inside_(i, item->geometry, item->rule);
+          src[i] = D4{item->color.r * a, item->color.g * a, item->color.b * a, a};
+        }
+      } else {
+        mode = static_cast<uint32_t>(item->group.blend);
+        const std::vector<double> m = mask(item->mask.get(), live);
+        src = group(*item, knockout ? initial : buf, live, covers);
+        for (size_t i = 0; i < n_; i++) {
+          covers[i] = covers[i] && live[i] && m[i] > 0;
+          for (double& c : src[i]) c *= item->group.opacity * m[i];
+        }
+      }
+      for (size_t i = 0; i < n_; i++) {
+        if (!covers[i]) continue;
+        shape[i] = true;
+        if (knockout) {
+          buf[i] = over(mode, initial[i], src[i]);
+          alpha_g[i] = src[i][3];
+        } else {
+          buf[i] = over(mode, buf[i], src[i]);
+          alpha_g[i] = alpha_g[i] + src[i][3] - alpha_g[i] * src[i][3];
+        }
+      }
+    }
+  }
+
+  // The values of mask `m` (1 everywhere without one).
+  std::vector<double> mask(const Node* m, const std::vector<bool>& live) {
+    std::vector<double> v(n_, 1.0);
+    if (!m) return v;
+    const std::vector<double> own = mask(m->mask.get(), live);
+    std::vector<bool> shape;
+    const Buffer r = group(*m, Buffer(n_, D4{}), live, shape);
+    const Group& g = m->group;
+    const double ba = g.backdrop.a;
+    const D4 bc{g.backdrop.r * ba, g.backdrop.g * ba, g.backdrop.b * ba, ba};
+    for (size_t i = 0; i < n_; i++) {
+      D4 c = r[i];
+      for (double& x : c) x *= own[i];
+      double value = c[3];
+      if (g.mask == MaskType::Luminance) {
+        for (int k = 0; k < 4; k++) c[k] += (1 - r[i][3] * own[i]) * bc[k];
+        value = g.luminance[0] * c[0] + g.luminance[1] * c[1] + g.luminance[2] * c[2];
+      }
+      v[i] = std::clamp(value, 0.0, 1.0) * g.opacity;
+    }
+    return v;
+  }
+
+  size_t n_;
+  const Inside& inside_;
+};
+
+}  // namespace mpvg::reference

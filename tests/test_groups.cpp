@@ -1,0 +1,281 @@
+// Transparency groups and masks (core/group.h) on the CPU pipeline against
+// the reference compositor (a buffer per group, double precision), pruned
+// against unpruned trees, and values worked out by hand.
+#include <array>
+#include <cmath>
+#include <map>
+#include <random>
+
+#include "core/cpu/cpu_stages.h"
+#include "core/encoding.h"
+#include "core/renderer.h"
+#include "tests/catch.h"
+#include "tests/oracle.h"
+#include "tests/random_groups.h"
+
+using namespace mpvg;
+
+namespace {
+
+constexpr int kSize = 48;
+
+// Inside tests from brute-force winding numbers at a set of points.
+struct BruteInside : reference::Inside {
+  std::vector<std::vector<int>> windings;  // per point, per path
+  std::map<uint32_t, uint32_t> path_of;    // geometry -> path id
+  bool operator()(size_t point, uint32_t geometry, FillRule rule) const override {
+    const int w = windings[point][path_of.at(geometry)];
+    return rule == FillRule::EvenOdd ? (w & 1) != 0 : w != 0;
+  }
+};
+
+struct Probe {
+  std::vector<std::pair<float, float>> points;
+  BruteInside inside;
+};
+
+// Random points away from every curve (within 1e-3 a point's side is not
+// decided in double, let alone in float), with their windings.
+Probe probe(const Scene& scene, const EncodedScene& enc, uint32_t seed, int count) {
+  const oracle::Windings brute(enc.segments, scene.paths.size());
+  Probe p;
+  for (uint32_t id = 0; id < scene.paths.size(); id++) p.inside.path_of[scene.paths[id].geometry] = id;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> coord(0.0f, float(kSize));
+  for (int n = 0; n < count; n++) {
+    const float px = coord(rng), py = coord(rng);
+    auto w = brute.at(px, py, 1e-3);
+    if (!w) continue;
+    p.points.push_back({px, py});
+    p.inside.windings.push_back(std::move(*w));
+  }
+  return p;
+}
+
+TreeParams params(bool prune) {
+  TreeParams t;
+  t.min_segments = 4;
+  t.prune = prune;
+  return t;
+}
+
+}  // namespace
+
+TEST_CASE("groups and masks agree with the reference compositor", "[groups]") {
+  // Float against double: a colour goes through a few dozen compositing
+  // steps of a few roundings each (about 3e-7 is what 120 scenes show);
+  // color-dodge and color-burn divide by 1 - cs and cs, which could
+  // magnify float error near 1 and 0, clamped to [0, 1].
+  constexpr double kTolerance = 1e-5;
+  size_t compared = 0, groups = 0;
+  double worst = 0;
+  for (uint32_t seed = 1; seed <= 120; seed++) {
+    const random_groups::GroupScene gs = random_groups::group_scene(seed, 4, kSize);
+    groups += gs.scene.groups.size();
+    const EncodedScene enc = encode(gs.scene, Affine{}, Gamma::Srgb);
+    const ShortcutTree tree = build_tree_cpu(enc, kSize, kSize, params(true));
+    const Probe p = probe(gs.scene, enc, seed * 7, 60);
+    reference::Compositor ref(p.points.size(), p.inside);
+    const std::vector<reference::D4> want = ref.render(gs.root);
+    for (size_t i = 0; i < p.points.size(); i++) {
+      const Rgba4 got = sample_tree_cpu(tree, p.points[i].first, p.points[i].second);
+      const double g[4] = {got.r, got.g, got.b, got.a};
+      INFO("seed " << seed << " point (" << p.points[i].first << ", " << p.points[i].second << ")\n"
+                   << dump(gs.scene));
+      for (int k = 0; k < 4; k++) {
+        worst = std::max(worst, std::fabs(g[k] - want[i][k]));
+        REQUIRE(std::fabs(g[k] - want[i][k]) < kTolerance);
+      }
+      compared++;
+    }
+  }
+  INFO("worst difference from the reference " << worst << " over " << compared << " samples");
+  CHECK(groups > 300);
+  CHECK(compared > 5000);
+}
+
+TEST_CASE("groups: pruned and unpruned trees give identical samples", "[groups][prune]") {
+  size_t compared = 0, pruned = 0, unpruned = 0;
+  for (uint32_t seed = 200; seed < 280; seed++) {
+    const random_groups::GroupScene gs = random_groups::group_scene(seed, 4, kSize);
+    const EncodedScene enc = encode(gs.scene, Affine{}, Gamma::Srgb);
+    for (int max_depth : {0, 3, -1}) {
+      TreeParams on = params(true), off = params(false);
+      on.max_depth = off.max_depth = max_depth;
+      const ShortcutTree a = build_tree_cpu(enc, kSize, kSize, on);
+      const ShortcutTree b = build_tree_cpu(enc, kSize, kSize, off);
+      if (max_depth == -1) {
+        pruned += a.leaf_entries.size();
+        unpruned += b.leaf_entries.size();
+      }
+      const Probe p = probe(gs.scene, enc, seed, 40);
+      for (const auto& [px, py] : p.points) {
+        const Rgba4 x = sample_tree_cpu(a, px, py), y = sample_tree_cpu(b, px, py);
+        INFO("seed " << seed << " depth " << max_depth << " point (" << px << ", " << py << ")");
+        REQUIRE(x.r == y.r);
+        REQUIRE(x.g == y.g);
+        REQUIRE(x.b == y.b);
+        REQUIRE(x.a == y.a);
+        compared++;
+      }
+    }
+  }
+  INFO("leaf entries: " << pruned << " pruned vs " << unpruned << " unpruned");
+  CHECK(compared > 5000);
+  CHECK(pruned * 10 < unpruned * 9);
+}
+
+namespace {
+
+Path box(double x0, double y0, double x1, double y1) {
+  Path p;
+  p.move_to({x0, y0});
+  p.line_to({x1, y0});
+  p.line_to({x1, y1});
+  p.line_to({x0, y1});
+  p.close();
+  return p;
+}
+
+void fill_box(SceneBuilder& b, double x0, double y0, double x1, double y1, RGBA c) {
+  Paint p;
+  p.color = c;
+  b.fill(b.add_geometry(box(x0, y0, x1, y1)), Affine{}, FillRule::NonZero, p);
+}
+
+// Premultiplied colours of a 40 x 40 render with one sample per pixel: the
+// squares here cover whole pixels, so where in its pixel the sample falls
+// does not matter.
+struct Rendered {
+  ImageF im;
+  explicit Rendered(const Scene& s) {
+    RenderOptions o;
+    o.width = o.height = 40;
+    o.samples = 1;
+    o.backend = Backend::Cpu;
+    im = render_cpu(s, o);
+  }
+  std::array<float, 4> at(int x, int y) const {
+    const float* p = &im.rgba[(size_t(y) * 40 + x) * 4];
+    return {p[0], p[1], p[2], p[3]};
+  }
+};
+
+void check_pixel(const Rendered& r, int x, int y, std::array<float, 4> want) {
+  const auto got = r.at(x, y);
+  INFO("pixel (" << x << ", " << y << ") " << got[0] << " " << got[1] << " " << got[2] << " " << got[3]);
+  for (int k = 0; k < 4; k++) CHECK(got[k] == Approx(want[k]).margin(1e-5));
+}
+
+}  // namespace
+
+TEST_CASE("groups by hand: opacity once, blend modes, isolation, knockout", "[groups]") {
+  {  // Two opaque squares in a 50 % group: 50 % in the overlap too, not 75 %.
+    SceneBuilder b(40, 40);
+    Group g;
+    g.opacity = 0.5f;
+    b.begin_group(g);
+    fill_box(b, 0, 0, 25, 25, {1, 0, 0, 1});
+    fill_box(b, 15, 15, 40, 40, {0, 0, 1, 1});
+    b.end_group();
+    const Rendered r(b.finish());
+    check_pixel(r, 5, 5, {0.5f, 0, 0, 0.5f});
+    check_pixel(r, 20, 20, {0, 0, 0.5f, 0.5f});
+    check_pixel(r, 5, 35, {0, 0, 0, 0});
+  }
+  {  // Multiply: yellow x cyan = green where they meet; the backdrop elsewhere.
+    SceneBuilder b(40, 40);
+    fill_box(b, 0, 0, 40, 40, {1, 1, 0, 1});
+    Group g;
+    g.blend = BlendMode::Multiply;
+    b.begin_group(g);
+    fill_box(b, 10, 10, 30, 30, {0, 1, 1, 1});
+    b.end_group();
+    const Rendered r(b.finish());
+    check_pixel(r, 5, 5, {1, 1, 0, 1});
+    check_pixel(r, 20, 20, {0, 1, 0, 1});
+  }
+  {  // A multiply child sees grey through a non-isolated group, nothing through an isolated one.
+    for (bool isolated : {true, false}) {
+      SceneBuilder b(40, 40);
+      fill_box(b, 0, 0, 40, 40, {0.5f, 0.5f, 0.5f, 1});
+      Group g;
+      g.isolated = isolated;
+      g.opacity = 0.999f;  // a group that stays one
+      b.begin_group(g);
+      Group m;
+      m.blend = BlendMode::Multiply;
+      b.begin_group(m);
+      fill_box(b, 0, 0, 40, 40, {1, 0, 0, 1});
+      b.end_group();
+      b.end_group();
+      const Rendered r(b.finish());
+      // Non-isolated: red x grey = (0.5, 0, 0) over grey. Isolated: red alone in
+      // the group (multiply onto transparency is the source), then over grey.
+      const float k = 0.999f;
+      if (isolated)
+        check_pixel(r, 20, 20, {k * 1 + (1 - k) * 0.5f, (1 - k) * 0.5f, (1 - k) * 0.5f, 1});
+      else
+        check_pixel(r, 20, 20, {0.5f, (1 - k) * 0.5f, (1 - k) * 0.5f, 1});
+    }
+  }
+  {  // Knockout: the top square replaces the bottom one where they meet, even translucent.
+    SceneBuilder b(40, 40);
+    Group g;
+    g.knockout = true;
+    b.begin_group(g);
+    fill_box(b, 0, 0, 25, 25, {1, 0, 0, 1});
+    fill_box(b, 15, 15, 40, 40, {0, 0, 1, 0.5f});
+    b.end_group();
+    const Rendered r(b.finish());
+    check_pixel(r, 5, 5, {1, 0, 0, 1});
+    check_pixel(r, 20, 20, {0, 0, 0.5f, 0.5f});
+  }
+}
+
+TEST_CASE("masks by hand: luminance, alpha, backdrop, mask on mask, empty masks", "[groups]") {
+  auto masked = [](MaskType type, RGBA backdrop, bool nested, bool empty) {
+    SceneBuilder b(40, 40);
+    Group g;
+    b.begin_group(g);
+    Group m;
+    m.mask = type;
+    m.backdrop = backdrop;
+    b.begin_group(m);
+    if (nested) {  // the mask's own alpha mask: only its left half
+      Group n;
+      n.mask = MaskType::Alpha;
+      b.begin_group(n);
+      fill_box(b, 0, 0, 20, 40, {0, 0, 0, 1});
+      b.end_group();
+    }
+    if (!empty) {
+      fill_box(b, 0, 0, 40, 20, {1, 1, 1, 1});       // white, top
+      fill_box(b, 0, 20, 40, 40, {1, 1, 1, 0.5f});   // half-transparent white, bottom
+    }
+    b.end_group();
+    fill_box(b, 0, 0, 40, 40, {0, 1, 0, 1});
+    b.end_group();
+    return Rendered(b.finish());
+  };
+  const RGBA none{0, 0, 0, 0};
+  {
+    const Rendered r = masked(MaskType::Luminance, none, false, false);
+    check_pixel(r, 30, 5, {0, 1, 0, 1});
+    check_pixel(r, 30, 30, {0, 0.5f, 0, 0.5f});
+  }
+  {  // Alpha ignores colour; a luminance mask over an opaque grey backdrop sees grey where it is empty.
+    const Rendered a = masked(MaskType::Alpha, none, false, false);
+    check_pixel(a, 30, 30, {0, 0.5f, 0, 0.5f});
+    const Rendered g = masked(MaskType::Luminance, {0.5f, 0.5f, 0.5f, 1}, false, true);
+    check_pixel(g, 30, 30, {0, 0.5f, 0, 0.5f});
+    const Rendered e = masked(MaskType::Luminance, none, false, true);
+    check_pixel(e, 30, 30, {0, 0, 0, 0});
+  }
+  {  // The mask's own mask keeps only its left half.
+    const Rendered r = masked(MaskType::Luminance, none, true, false);
+    check_pixel(r, 5, 5, {0, 1, 0, 1});
+    check_pixel(r, 30, 5, {0, 0, 0, 0});
+    check_pixel(r, 5, 30, {0, 0.5f, 0, 0.5f});
+  }
+}
