@@ -144,7 +144,6 @@ Style Converter::compute_style(const Element& e, const Context& ctx) {
     const auto fill = property<PaintValue>(e, "fill", parse_paint);
     if (fill.state == Prop<PaintValue>::Set) inh.fill = resolve_paint(fill.value, inh.color, "fill");
     stroke_style(e, inh, st);
-    unsupported_reference(e, "mask", "masks are not supported: mask ignored");
     unsupported_reference(e, "filter", "filters are not supported: filter ignored");
     for (const char* m : {"marker-start", "marker-mid", "marker-end"})
       unsupported_reference(e, m, "markers are not supported: marker ignored");
