@@ -271,6 +271,10 @@ struct Session {
   std::vector<const Element*> active;         // elements being converted (use cycles)
   std::vector<const Element*> active_clips;   // clipPaths being expanded (clip-path cycles)
   std::vector<const Element*> active_masks;   // masks being converted (mask cycles)
+  // Elements whose mask reference is recursive (Converter::cut_recursive_masks),
+  // decided on the first mask reference met.
+  std::unordered_set<const Element*> cut_masks;
+  bool masks_checked = false;
   std::vector<const Element*> active_patterns;  // patterns whose tiles are being converted
   std::map<TileKey, Tile> tiles;
   double stroke_seconds = 0;
@@ -377,6 +381,8 @@ class Converter {
   // ------------------------------------------------------------ references
 
   ClipRef resolve_clip(const std::string& value);
+  ClipRef resolve_reference(const std::string& value, const std::string& property, const std::string& element_name,
+                            const std::vector<const Element*>& active);
   const Element* use_target(const Element& use);
   Affine use_offset(const Element& use, double em);
 
@@ -412,8 +418,10 @@ class Converter {
 
   // ------------------------------------------------------------ groups and masks (svg_masks.cpp)
 
-  MaskRef resolve_mask(const std::string& value);
-  bool group_content(size_t start, const Style& st, const Affine& space, int depth);
+  MaskRef resolve_mask(const Element& e, const std::string& value);
+  const Element* mask_link(const Element& e) const;
+  void cut_recursive_masks();
+  bool group_content(const Element& e, size_t start, const Style& st, const Affine& space, int depth);
   void hide_content(size_t start);
   bool fold_opacity(size_t start, double opacity);
   struct LazyBounds;

@@ -14,46 +14,73 @@
 
 namespace mpvg::svg::detail {
 
-// Resolves a mask value. As with clip-path (resvg, and the suite's
-// masking/mask tests): a reference to a missing element is ignored, one to
-// an element that is not a mask hides the element, and a reference back
-// into a mask being converted (a mask on itself, or on its content) is
-// ignored with a warning.
-MaskRef Converter::resolve_mask(const std::string& value) {
-  MaskRef r;
-  if (value.empty() || iequals(value, "none")) return r;
-  Scanner s(value);
-  bool external = false;
-  const auto id = parse_func_iri(s, &external);
-  s.skip_ws();
-  if (!id || !s.at_end()) {
-    warn("mask values other than url(#id) are not supported: mask ignored");
-    return r;
-  }
-  if (external) {
-    warn("references to other documents are not supported: mask ignored");
-    return r;
-  }
-  const Element* target = find(*id);
-  if (!target) return r;
-  if (target->name != "mask") {
-    r.state = MaskRef::Invalid;
-    return r;
-  }
-  if (std::find(s_.active_masks.begin(), s_.active_masks.end(), target) != s_.active_masks.end()) {
+// Resolves the mask value of element `e`. As with clip-path (resvg, and
+// the suite's masking/mask tests): a reference to a missing element is
+// ignored, one to an element that is not a mask hides the element, and a
+// recursive reference is ignored with a warning: those that
+// cut_recursive_masks() finds, and any other reference back into a mask
+// being converted.
+MaskRef Converter::resolve_mask(const Element& e, const std::string& value) {
+  if (!s_.masks_checked) cut_recursive_masks();
+  if (s_.cut_masks.count(&e) != 0) {
     warn("recursive mask reference ignored");
-    return r;
+    return MaskRef{};
   }
-  r.state = MaskRef::Valid;
-  r.element = target;
-  return r;
+  return resolve_reference(value, "mask", "mask", s_.active_masks);
 }
 
-// Wraps the element content ops_[start, end) in the group that its
+namespace {
+
+// Calls f on `e` and its descendants, in document order.
+template <class F>
+void for_each_element(const Element& e, F f) {
+  f(e);
+  for (const auto& c : e.children) for_each_element(*c, f);
+}
+
+}  // namespace
+
+// The element that `e`'s own mask property names in this document, unless
+// that reference has been cut.
+const Element* Converter::mask_link(const Element& e) const {
+  if (s_.cut_masks.count(&e) != 0) return nullptr;
+  const auto v = property<std::string>(e, "mask", [](std::string_view t) { return std::optional<std::string>(trim(t)); });
+  if (v.state != Prop<std::string>::Set) return nullptr;
+  Scanner s(v.value);
+  bool external = false;
+  const auto id = parse_func_iri(s, &external);
+  return id && !external ? find(*id) : nullptr;
+}
+
+// Which mask references of the document are recursive, decided once on
+// the document tree as resvg does, so that a chain of masks means the same
+// wherever it is entered (masking/mask/recursive-on-child): for each mask
+// M in document order, a reference to M from M or its descendants is cut;
+// so is, when M or a descendant references an element L, every reference
+// to M from L or L's descendants. Cuts take effect at once (a cut
+// reference leads nowhere for the masks after it). Longer cycles are
+// caught while converting, through Session::active_masks.
+void Converter::cut_recursive_masks() {
+  s_.masks_checked = true;
+  for_each_element(*s_.doc.root, [&](const Element& m) {
+    if (m.name != "mask") return;
+    std::unordered_set<const Element*> scanned;  // L whose references to m are cut already
+    for_each_element(m, [&](const Element& d) {
+      const Element* l = mask_link(d);
+      if (l == &m) s_.cut_masks.insert(&d);
+      if (!l || l == &m || !scanned.insert(l).second) return;
+      for_each_element(*l, [&](const Element& d2) {
+        if (mask_link(d2) == &m) s_.cut_masks.insert(&d2);
+      });
+    });
+  });
+}
+
+// Wraps the content ops_[start, end) of element `e` in the group that its
 // opacity, mask, mix-blend-mode and isolation make. Returns false when the
 // element is not rendered at all (an invalid mask reference).
-bool Converter::group_content(size_t start, const Style& st, const Affine& space, int depth) {
-  const MaskRef mask = resolve_mask(st.mask);
+bool Converter::group_content(const Element& e, size_t start, const Style& st, const Affine& space, int depth) {
+  const MaskRef mask = resolve_mask(e, st.mask);
   if (mask.state == MaskRef::Invalid) {
     ops_.resize(start);
     return false;
@@ -159,7 +186,7 @@ bool Converter::mask_ops(const Element& mask, const Affine& space, LazyBounds& b
   ops_.push_back(begin);
 
   s_.active_masks.push_back(&mask);
-  const MaskRef nested = resolve_mask(st.mask);
+  const MaskRef nested = resolve_mask(mask, st.mask);
   bool ok = nested.state != MaskRef::Invalid;
   if (ok && nested.state == MaskRef::Valid) ok = mask_ops(*nested.element, space, bbox, depth + 1);
   if (ok) {

@@ -115,6 +115,15 @@ const Element* Converter::find(const std::string& id) const {
 // element that is not a clipPath makes the element invisible. Other values
 // (CSS basic shapes) are not supported and ignored.
 ClipRef Converter::resolve_clip(const std::string& value) {
+  return resolve_reference(value, "clip-path", "clipPath", s_.active_clips);
+}
+
+// A clip-path or mask value (`property`) resolved to its target, which
+// must be an `element_name`: none for "none", a missing element, a value
+// that is not url(#id) of this document (with a warning) or a target in
+// `active` (a cycle, with a warning); invalid for any other element.
+ClipRef Converter::resolve_reference(const std::string& value, const std::string& property,
+                                     const std::string& element_name, const std::vector<const Element*>& active) {
   ClipRef r;
   if (value.empty() || iequals(value, "none")) return r;
   Scanner s(value);
@@ -122,21 +131,21 @@ ClipRef Converter::resolve_clip(const std::string& value) {
   const auto id = parse_func_iri(s, &external);
   s.skip_ws();
   if (!id || !s.at_end()) {
-    warn("clip-path values other than url(#id) are not supported: clip-path ignored");
+    warn(property + " values other than url(#id) are not supported: " + property + " ignored");
     return r;
   }
   if (external) {
-    warn("references to other documents are not supported: clip-path ignored");
+    warn("references to other documents are not supported: " + property + " ignored");
     return r;
   }
   const Element* target = find(*id);
   if (!target) return r;
-  if (target->name != "clipPath") {
+  if (target->name != element_name) {
     r.state = ClipRef::Invalid;
     return r;
   }
-  if (std::find(s_.active_clips.begin(), s_.active_clips.end(), target) != s_.active_clips.end()) {
-    warn("recursive clip-path reference ignored");
+  if (std::find(active.begin(), active.end(), target) != active.end()) {
+    warn("recursive " + property + " reference ignored");
     return r;
   }
   r.state = ClipRef::Valid;
@@ -335,7 +344,7 @@ void Converter::render(const Element& e, const Context& ctx, int depth) {
   s_.active.pop_back();
 
   // CSS Masking 1 §1 and Compositing 1 §3: clip, mask, opacity, then blending.
-  if (!group_content(start, st, space, depth)) return;
+  if (!group_content(e, start, st, space, depth)) return;
   if (clip.state == ClipRef::Valid) clip_content(start, *clip.element, space, depth);
 }
 
