@@ -305,6 +305,8 @@ void SceneBuilder::begin_group(const Group& g) {
   n->group = static_cast<uint32_t>(scene_.groups.size());
   scene_.groups.push_back(g);
   scene_.groups.back().back_to_front = false;
+  // A mask is evaluated on its own: onto transparency, whatever it says.
+  if (g.mask != MaskType::None) scene_.groups.back().isolated = true;
   if (g.mask != MaskType::None) {
     Node* owner = f.group;
     if (owner->kind != Node::Transparency || owner->mask || !owner->content.empty())
