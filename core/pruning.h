@@ -149,16 +149,23 @@ MPVG_HD_INLINE bool prune_single_item(const Entry* entries, const PruneLinks& l,
 // The marks of element i. add(index, delta) accumulates into the
 // elimination array (atomically on the GPU). [cell_begin, cell_end) is i's
 // cell.
+// Is the group whose '{' is at o unmasked in this cell: no mask, or one
+// that rule 21 removes in this very round (a single fill that makes it 1)?
+MPVG_HD_INLINE bool prune_unmasked(const Entry* entries, const uint32_t* term, const PruneLinks& l, uint32_t o) {
+  if (!prune_is_mask_begin(entries, o + 1)) return true;
+  return l.close[o + 1] == o + 3 && (term[o + 2] & TERM_FILLS_MASK) != 0;
+}
+
 // Rule 22: an unmasked solid group with an opaque element F1 in its list
 // (the group at o, F1 at i) hides what lies behind it in the list it is
 // in; being opaque, it makes that list's group opaque too if that one is
 // solid and unmasked, and so on up.
 template <class Add>
-MPVG_HD_INLINE void prune_mark_solid_group(const Entry* entries, const PruneLinks& l, uint32_t o, uint32_t cell_begin,
-                                           uint32_t cell_end, Add&& add) {
+MPVG_HD_INLINE void prune_mark_solid_group(const Entry* entries, const uint32_t* term, const PruneLinks& l, uint32_t o,
+                                           uint32_t cell_begin, uint32_t cell_end, Add&& add) {
   for (;;) {
     if (!entry_is_group_begin(entries[o]) || !(entries[o].head & GROUP_ENTRY_SOLID) ||
-        prune_is_mask_begin(entries, o + 1))
+        !prune_unmasked(entries, term, l, o))
       return;
     const uint32_t p = l.parent[o];
     if (entries[o].head & GROUP_ENTRY_IN_BACK_TO_FRONT) {
@@ -195,7 +202,7 @@ MPVG_HD_INLINE void prune_mark(const Entry* entries, const uint32_t* term, const
       add(i + 1, 1);
       add(stop, -1);
     }
-    if (l.depth[i] > 0) prune_mark_solid_group(entries, l, l.open[i], cell_begin, cell_end, add);
+    if (l.depth[i] > 0) prune_mark_solid_group(entries, term, l, l.open[i], cell_begin, cell_end, add);
     return;
   }
   if (t == TERM_F1_BACK) {  // rule 14': everything before F1 in its list
@@ -204,7 +211,7 @@ MPVG_HD_INLINE void prune_mark(const Entry* entries, const uint32_t* term, const
       add(start, 1);
       add(i, -1);
     }
-    if (l.depth[i] > 0) prune_mark_solid_group(entries, l, l.open[i], cell_begin, cell_end, add);
+    if (l.depth[i] > 0) prune_mark_solid_group(entries, term, l, l.open[i], cell_begin, cell_end, add);
     return;
   }
   if (t == TERM_C1) {
@@ -244,12 +251,14 @@ MPVG_HD_INLINE void prune_mark(const Entry* entries, const uint32_t* term, const
       if (prune_list_start(entries, l, o) == i) {  // rule 19
         add(o, 1);
         add(i + 1, -1);
-      } else if ((entries[o].head & GROUP_ENTRY_DISSOLVES) && !prune_is_mask_begin(entries, o + 1) &&
-                 prune_single_item(entries, l, o + 1, i - 1)) {  // rule 23
-        add(o, 1);
-        add(o + 1, -1);
-        add(i, 1);
-        add(i + 1, -1);
+      } else if ((entries[o].head & GROUP_ENTRY_DISSOLVES) && prune_unmasked(entries, term, l, o)) {  // rule 23
+        const uint32_t first = prune_list_start(entries, l, o);  // after a mask rule 21 removes
+        if (prune_single_item(entries, l, first, i - 1)) {
+          add(o, 1);
+          add(o + 1, -1);
+          add(i, 1);
+          add(i + 1, -1);
+        }
       }
     } else if (o + 1 == i && (entries[i].head & GROUP_ENTRY_EMPTY_HIDES)) {  // rule 20
       const uint32_t p = o - 1;  // the group this mask belongs to
