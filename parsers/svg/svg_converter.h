@@ -413,6 +413,8 @@ class Converter {
   // ------------------------------------------------------------ groups and masks (svg_masks.cpp)
 
   MaskRef resolve_mask(const std::string& value);
+  ClipRef resolve_reference(const std::string& value, const char* what, const char* element,
+                            const std::vector<const Element*>& active);
   bool group_content(size_t start, const Style& st, const Affine& space, int depth);
   void hide_content(size_t start);
   bool fold_opacity(size_t start, double opacity);

@@ -14,39 +14,10 @@
 
 namespace mpvg::svg::detail {
 
-// Resolves a mask value. As with clip-path (resvg, and the suite's
-// masking/mask tests): a reference to a missing element is ignored, one to
-// an element that is not a mask hides the element, and a reference back
-// into a mask being converted (a mask on itself, or on its content) is
-// ignored with a warning.
+// A mask value (see resolve_reference): a reference back into a mask
+// being converted (a mask on itself, or on its content) is ignored.
 MaskRef Converter::resolve_mask(const std::string& value) {
-  MaskRef r;
-  if (value.empty() || iequals(value, "none")) return r;
-  Scanner s(value);
-  bool external = false;
-  const auto id = parse_func_iri(s, &external);
-  s.skip_ws();
-  if (!id || !s.at_end()) {
-    warn("mask values other than url(#id) are not supported: mask ignored");
-    return r;
-  }
-  if (external) {
-    warn("references to other documents are not supported: mask ignored");
-    return r;
-  }
-  const Element* target = find(*id);
-  if (!target) return r;
-  if (target->name != "mask") {
-    r.state = MaskRef::Invalid;
-    return r;
-  }
-  if (std::find(s_.active_masks.begin(), s_.active_masks.end(), target) != s_.active_masks.end()) {
-    warn("recursive mask reference ignored");
-    return r;
-  }
-  r.state = MaskRef::Valid;
-  r.element = target;
-  return r;
+  return resolve_reference(value, "mask", "mask", s_.active_masks);
 }
 
 // Wraps the element content ops_[start, end) in the group that its
