@@ -238,9 +238,17 @@ class Encoder {
     return base;
   }
 
+  // Does a fill with this paint make the mask 1 where it covers (exactly,
+  // by the sampler's own arithmetic)?
+  static bool fills_mask(const GroupRecord& mask, const PaintRecord& p, uint32_t path_flags) {
+    if (!(path_flags & PATH_OPAQUE)) return false;
+    if (mask.flags & GROUP_MASK_ALPHA) return true;
+    return p.kind == PAINT_SOLID && mask_value(mask, Rgba4{p.r, p.g, p.b, p.a}) == 1.0f;
+  }
+
   // The entry of a group delimiter; `in` are the flags of the list the
   // group is in (GROUP_IN_*), recorded on its begin.
-  Entry group_entry(const Element& e, uint32_t group_base, uint32_t in) {
+  Entry group_entry(const Element& e, const Group& g, uint32_t group_base, uint32_t in) {
     const uint32_t id = group_base + e.path;
     GroupRecord& r = paint_.groups[id];
     uint32_t bits = e.kind == ElementKind::EndGroup ? GROUP_ENTRY_END : 0u;
@@ -249,6 +257,15 @@ class Encoder {
       if (mask_value(r, Rgba4{0.0f, 0.0f, 0.0f, 0.0f}) == 0.0f) bits |= GROUP_ENTRY_EMPTY_HIDES;
     }
     if (e.kind == ElementKind::BeginGroup) r.flags |= in;
+    if (r.opacity == 1.0f && r.blend == BLEND_NORMAL && !(bits & GROUP_ENTRY_MASK) &&
+        !(r.flags & GROUP_IN_KNOCKOUT) && !g.knockout)
+      bits |= GROUP_ENTRY_SOLID;
+    if (r.flags & GROUP_IN_BACK_TO_FRONT) bits |= GROUP_ENTRY_IN_BACK_TO_FRONT;
+    if (r.flags & GROUP_BACKDROP) bits |= GROUP_ENTRY_BACKDROP;
+    if (r.blend == BLEND_NORMAL) bits |= GROUP_ENTRY_NORMAL;
+    if ((bits & GROUP_ENTRY_SOLID) && !(r.flags & GROUP_BACKDROP) &&
+        g.back_to_front == ((r.flags & GROUP_IN_BACK_TO_FRONT) != 0))
+      bits |= GROUP_ENTRY_DISSOLVES;
     return make_entry(ENTRY_GROUP, bits, id);
   }
   // The record of paint p, into `out`; returns the path flags it implies
@@ -462,14 +479,17 @@ class Encoder {
     // How the innermost open group's list composites (GROUP_IN_* of its
     // children); the top level runs front to back.
     std::vector<uint32_t> lists{0u};
+    // The innermost open group's record when it is a mask of opacity 1.
+    std::vector<uint32_t> masks{~0u};
     for (const Element& e : scene.stream) {
       switch (e.kind) {
         case ElementKind::Push: out.stream.push_back(make_entry(ENTRY_PUSH, 0, 0)); continue;
         case ElementKind::Activate: out.stream.push_back(make_entry(ENTRY_ACTIVATE, 0, 0)); continue;
         case ElementKind::Pop: out.stream.push_back(make_entry(ENTRY_POP, 0, 0)); continue;
         case ElementKind::BeginGroup: {
-          out.stream.push_back(group_entry(e, group_base, lists.back()));
           const Group& g = scene.groups[e.path];
+          out.stream.push_back(group_entry(e, g, group_base, lists.back()));
+          masks.push_back(g.mask != MaskType::None && g.opacity >= 1.0f ? group_base + e.path : ~0u);
           if (lists.size() > static_cast<size_t>(kMaxGroupDepth))
             throw Error("groups and masks nested more than " + std::to_string(kMaxGroupDepth) + " deep");
           lists.push_back((g.back_to_front ? GROUP_IN_BACK_TO_FRONT : 0u) | (g.knockout ? GROUP_IN_KNOCKOUT : 0u));
@@ -477,7 +497,8 @@ class Encoder {
         }
         case ElementKind::EndGroup:
           lists.pop_back();
-          out.stream.push_back(group_entry(e, group_base, 0));
+          masks.pop_back();
+          out.stream.push_back(group_entry(e, scene.groups[e.path], group_base, 0));
           continue;
         default: break;
       }
@@ -490,6 +511,8 @@ class Encoder {
         rec.flags |= paint_flags[sp.paint];
         if (lists.back() & GROUP_IN_BACK_TO_FRONT) rec.flags |= PATH_BACK_TO_FRONT;
         if (lists.back() & GROUP_IN_KNOCKOUT) rec.flags |= PATH_KNOCKOUT;
+        if (masks.back() != ~0u && fills_mask(paint_.groups[masks.back()], paint_.paints[rec.paint], rec.flags))
+          rec.flags |= PATH_MASK_FULL;
       }
       out.stream.push_back(make_entry(ENTRY_SEGMENT, id, 0));
 

@@ -72,6 +72,17 @@ enum : uint32_t {
   GROUP_ENTRY_END = 1u << 0,
   GROUP_ENTRY_MASK = 1u << 1,         // the group is a mask
   GROUP_ENTRY_EMPTY_HIDES = 1u << 2,  // a mask whose empty content makes it 0
+  // Opacity 1, normal blending, not knockout, not a mask, in a list that is
+  // not knockout: unmasked, the group is opaque wherever its list holds an
+  // opaque element, and hides what lies behind it.
+  GROUP_ENTRY_SOLID = 1u << 3,
+  GROUP_ENTRY_IN_BACK_TO_FRONT = 1u << 4,  // the list it is in runs back to front
+  // Solid, isolated (or not starting from its backdrop), and its list runs
+  // in the same order as the one it is in: unmasked, a group of a single
+  // element composites exactly as that element alone (rule 23).
+  GROUP_ENTRY_DISSOLVES = 1u << 5,
+  GROUP_ENTRY_BACKDROP = 1u << 6,  // the group starts from its backdrop (GROUP_BACKDROP)
+  GROUP_ENTRY_NORMAL = 1u << 7,    // normal blending
 };
 
 MPVG_HD_INLINE Rgba4 rgba_scale(Rgba4 c, float k) { return Rgba4{c.r * k, c.g * k, c.b * k, c.a * k}; }
@@ -122,6 +133,8 @@ MPVG_HD_INLINE float mask_value(const GroupRecord& g, Rgba4 r) {
       cb = conv(cb);
     }
     v = g.lum[0] * cr + g.lum[1] * cg + g.lum[2] * cb;
+    // Weights that sum to 1 (SVG's: 0.99999994 in floats) make white 1.
+    if (v > 1.0f - 1.0f / 65536.0f) v = 1.0f;
   }
   return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v);
 }

@@ -25,6 +25,20 @@
 //                           when that group is a mask itself, only B goes:
 //                           {{} B} -> {{}}, as the outer mask's value is
 //                           then its backdrop's, not 1
+//   (21) {{F1} B} -> {B}     where F1 makes the mask 1 at every sample
+//                           (white, or opaque for an alpha mask)
+//   (22) (A | B {C F1 D} E) -> (A | B {C F1 D}) for a solid group (opacity
+//        1, normal, not knockout, unmasked): opaque where its list holds an
+//        F1, it hides what lies behind it like an F1 (before it in a list
+//        stored back to front); also in groups' lists and at the top level,
+//        and up through solid groups that hold it
+//   (23) {X} -> X           for one item X (a path, or a group of normal
+//                           blending that does not start from its
+//                           backdrop) in an unmasked
+//                           solid group that does not start from its
+//                           backdrop and whose list runs in its parent's
+//                           order: X alone composites exactly as the group
+//                           would
 // M is the group's mask, a group itself ('{' and '}' open and close like
 // '(' and ')').
 // Rule 18 is applied by the first C1 of the content section only: two C1s
@@ -59,6 +73,8 @@ enum : uint32_t {
   TERM_C0 = 3,
   TERM_C1 = 4,
   TERM_F1_BACK = 5,  // F1 in a list stored back to front (rule 14')
+  TERM_CLASS = 7,
+  TERM_FILLS_MASK = 8,  // with F1 / F1_BACK: a fill that makes its mask 1 (rule 21)
 };
 
 // Depth scan input for element i.
@@ -85,7 +101,8 @@ MPVG_HD_INLINE uint32_t prune_classify(const Entry* entries, uint32_t i, uint32_
   if (rec.flags & PATH_CLIP) return inside ? TERM_C1 : TERM_C0;
   if (!inside) return TERM_F0;
   if (!(rec.flags & (PATH_OPAQUE | PATH_KNOCKOUT))) return TERM_NONE;
-  return (rec.flags & PATH_BACK_TO_FRONT) ? TERM_F1_BACK : TERM_F1;
+  return ((rec.flags & PATH_BACK_TO_FRONT) ? TERM_F1_BACK : TERM_F1) |
+         ((rec.flags & PATH_MASK_FULL) ? TERM_FILLS_MASK : 0u);
 }
 
 // Is element k a mask's '{'?
@@ -101,6 +118,7 @@ struct PruneLinks {
   const uint32_t* bar;
   const uint32_t* close;
   const uint32_t* first_c1;  // per '(' element: index of the first C1 after its '|', or ~0u
+  const uint32_t* parent;    // per '(' or '{' element: the '(' or '{' it lies in, or ~0u at the top level
 };
 
 // Does a C1 at i lie in the content section of its group (after the '|')?
@@ -116,13 +134,62 @@ MPVG_HD_INLINE uint32_t prune_list_start(const Entry* entries, const PruneLinks&
   return prune_is_mask_begin(entries, o + 1) ? l.close[o + 1] + 1 : o + 1;
 }
 
+// Is [a, b] one item of a list that composites the same in any list of
+// its order: one path's run (a path has one run in a cell), or one group
+// of normal blending that does not start from its backdrop (a blend mode or
+// a backdrop would meet another backdrop)?
+MPVG_HD_INLINE bool prune_single_item(const Entry* entries, const PruneLinks& l, uint32_t a, uint32_t b) {
+  if (entry_is_group_begin(entries[a]))
+    return l.close[a] == b && (entries[a].head & (GROUP_ENTRY_BACKDROP | GROUP_ENTRY_NORMAL)) == GROUP_ENTRY_NORMAL;
+  if (entry_opens(entries[a])) return false;
+  return !entry_is_delimiter(entries[a]) && !entry_is_delimiter(entries[b]) &&
+         entry_path(entries[a]) == entry_path(entries[b]);
+}
+
 // The marks of element i. add(index, delta) accumulates into the
 // elimination array (atomically on the GPU). [cell_begin, cell_end) is i's
 // cell.
+// Is the group whose '{' is at o unmasked in this cell: no mask, or one
+// that rule 21 removes in this very round (a single fill that makes it 1)?
+MPVG_HD_INLINE bool prune_unmasked(const Entry* entries, const uint32_t* term, const PruneLinks& l, uint32_t o) {
+  if (!prune_is_mask_begin(entries, o + 1)) return true;
+  return l.close[o + 1] == o + 3 && (term[o + 2] & TERM_FILLS_MASK) != 0;
+}
+
+// Rule 22: an unmasked solid group with an opaque element F1 in its list
+// (the group at o, F1 at i) hides what lies behind it in the list it is
+// in; being opaque, it makes that list's group opaque too if that one is
+// solid and unmasked, and so on up.
+template <class Add>
+MPVG_HD_INLINE void prune_mark_solid_group(const Entry* entries, const uint32_t* term, const PruneLinks& l, uint32_t o,
+                                           uint32_t cell_begin, uint32_t cell_end, Add&& add) {
+  for (;;) {
+    if (!entry_is_group_begin(entries[o]) || !(entries[o].head & GROUP_ENTRY_SOLID) ||
+        !prune_unmasked(entries, term, l, o))
+      return;
+    const uint32_t p = l.parent[o];
+    if (entries[o].head & GROUP_ENTRY_IN_BACK_TO_FRONT) {
+      const uint32_t start = p != ~0u ? prune_list_start(entries, l, p) : cell_begin;
+      if (start < o) {
+        add(start, 1);
+        add(o, -1);
+      }
+    } else {
+      const uint32_t stop = p != ~0u ? l.close[p] : cell_end;
+      if (l.close[o] + 1 < stop) {
+        add(l.close[o] + 1, 1);
+        add(stop, -1);
+      }
+    }
+    if (p == ~0u) return;
+    o = p;
+  }
+}
+
 template <class Add>
 MPVG_HD_INLINE void prune_mark(const Entry* entries, const uint32_t* term, const PruneLinks& l, uint32_t i,
                                uint32_t cell_begin, uint32_t cell_end, Add&& add) {
-  const uint32_t t = term[i];
+  const uint32_t t = term[i] & TERM_CLASS;
   const uint32_t kind = entry_kind(entries[i]);
   if (t == TERM_F0 || t == TERM_C0) {  // rules 12, 13
     add(i, 1);
@@ -135,6 +202,7 @@ MPVG_HD_INLINE void prune_mark(const Entry* entries, const uint32_t* term, const
       add(i + 1, 1);
       add(stop, -1);
     }
+    if (l.depth[i] > 0) prune_mark_solid_group(entries, term, l, l.open[i], cell_begin, cell_end, add);
     return;
   }
   if (t == TERM_F1_BACK) {  // rule 14': everything before F1 in its list
@@ -143,6 +211,7 @@ MPVG_HD_INLINE void prune_mark(const Entry* entries, const uint32_t* term, const
       add(start, 1);
       add(i, -1);
     }
+    if (l.depth[i] > 0) prune_mark_solid_group(entries, term, l, l.open[i], cell_begin, cell_end, add);
     return;
   }
   if (t == TERM_C1) {
@@ -173,10 +242,23 @@ MPVG_HD_INLINE void prune_mark(const Entry* entries, const uint32_t* term, const
   }
   if (entry_is_group_end(entries[i])) {
     const uint32_t o = l.open[i];
+    if ((entries[i].head & GROUP_ENTRY_MASK) && i == o + 2 && (term[o + 1] & TERM_FILLS_MASK)) {  // rule 21
+      add(o, 1);
+      add(i + 1, -1);
+      return;
+    }
     if (!(entries[i].head & GROUP_ENTRY_MASK)) {
       if (prune_list_start(entries, l, o) == i) {  // rule 19
         add(o, 1);
         add(i + 1, -1);
+      } else if ((entries[o].head & GROUP_ENTRY_DISSOLVES) && prune_unmasked(entries, term, l, o)) {  // rule 23
+        const uint32_t first = prune_list_start(entries, l, o);  // after a mask rule 21 removes
+        if (prune_single_item(entries, l, first, i - 1)) {
+          add(o, 1);
+          add(o + 1, -1);
+          add(i, 1);
+          add(i + 1, -1);
+        }
       }
     } else if (o + 1 == i && (entries[i].head & GROUP_ENTRY_EMPTY_HIDES)) {  // rule 20
       const uint32_t p = o - 1;  // the group this mask belongs to

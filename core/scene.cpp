@@ -305,6 +305,8 @@ void SceneBuilder::begin_group(const Group& g) {
   n->group = static_cast<uint32_t>(scene_.groups.size());
   scene_.groups.push_back(g);
   scene_.groups.back().back_to_front = false;
+  // A mask is evaluated on its own: onto transparency, whatever it says.
+  if (g.mask != MaskType::None) scene_.groups.back().isolated = true;
   if (g.mask != MaskType::None) {
     Node* owner = f.group;
     if (owner->kind != Node::Transparency || owner->mask || !owner->content.empty())
@@ -494,17 +496,7 @@ struct Replay {
     while (i < s.stream.size() && s.stream[i].kind != ElementKind::Pop &&
            s.stream[i].kind != ElementKind::Activate && s.stream[i].kind != ElementKind::EndGroup) {
       const size_t first = i;
-      if (s.stream[i].kind == ElementKind::Push || s.stream[i].kind == ElementKind::BeginGroup) {
-        int depth = 0;
-        do {
-          const ElementKind k = s.stream[i].kind;
-          if (k == ElementKind::Push || k == ElementKind::BeginGroup) depth++;
-          if (k == ElementKind::Pop || k == ElementKind::EndGroup) depth--;
-          i++;
-        } while (depth > 0);
-      } else {
-        i++;
-      }
+      skip_item();
       out.push_back({first, i});
     }
     return out;
@@ -546,7 +538,7 @@ struct Replay {
     if (i < s.stream.size() && s.stream[i].kind == ElementKind::BeginGroup &&
         s.groups[s.stream[i].path].mask != MaskType::None) {
       const size_t first = i;
-      items_one();
+      skip_item();
       const size_t resume = i;
       transparency(first);
       i = resume;
@@ -554,8 +546,8 @@ struct Replay {
     fill_list(g.back_to_front);
     b.end_group();
   }
-  // Skips one item at i.
-  void items_one() {
+  // Moves i past the item at i: an element, or a group with its content.
+  void skip_item() {
     int depth = 0;
     do {
       const ElementKind k = s.stream[i].kind;

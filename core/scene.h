@@ -246,7 +246,8 @@ struct Group {
   // Luminance takes luminance[] . rgb of the content composited over
   // `backdrop` (PDF /BC; SVG: transparent), rgb sRGB-encoded or linear as
   // `luminance_space` says; Alpha takes its alpha. The value, times the
-  // mask's opacity, multiplies the group the mask belongs to.
+  // mask's opacity, multiplies the group the mask belongs to. A mask is
+  // always isolated; its blend mode does not apply.
   MaskType mask = MaskType::None;
   float luminance[3] = {0.2125f, 0.7154f, 0.0721f};
   RGBA backdrop{0, 0, 0, 0};

@@ -129,6 +129,9 @@ enum : uint32_t {
   // need their backdrop; core/group.h): it goes over the colour so far.
   PATH_BACK_TO_FRONT = 1u << 4,
   PATH_KNOCKOUT = 1u << 5,  // fill in a knockout group's list
+  // Fill in a mask's list whose paint, covering a sample, makes the mask 1
+  // there (opaque for an alpha mask; luminance 1 for a luminance mask).
+  PATH_MASK_FULL = 1u << 6,
 };
 
 struct PathRecord {

@@ -24,9 +24,13 @@ __global__ void k_link_init(const Entry* e, const int32_t* depth, size_t n, int3
 }
 
 __global__ void k_link_apply(const Entry* e, const int32_t* depth, size_t n, int32_t d,
-                             const Segmented<uint32_t>* link, uint32_t* open, uint32_t* bar, uint32_t* close) {
+                             const Segmented<uint32_t>* link, uint32_t* open, uint32_t* bar, uint32_t* close,
+                             uint32_t* parent) {
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
-  if (i >= n || depth[i] != d) return;
+  if (i >= n) return;
+  // A '(' or '{' one level deeper lies in the nearest '(' or '{' of depth d.
+  if (depth[i] == d + 1 && entry_opens(e[i])) parent[i] = static_cast<uint32_t>(i) - (link[i].value - 1);
+  if (depth[i] != d) return;
   const uint32_t o = static_cast<uint32_t>(i) - (link[i].value - 1);
   open[i] = o;
   const uint32_t k = entry_kind(e[i]);
@@ -99,6 +103,7 @@ int Context::Impl::prune(DeviceLevel& lv) {
     uint32_t* close = (u32[2].resize(n), u32[2].data());
     uint32_t* term = (u32[3].resize(n + 1), u32[3].data());
     uint32_t* first_c1 = (u32[4].resize(n + 1), u32[4].data());
+    uint32_t* parent_of = (u32[5].resize(n), u32[5].data());
 
     if (scene_depth == 0) {
       MPVG_CUDA(cudaMemsetAsync(depth, 0, n * sizeof(int32_t)));
@@ -109,19 +114,20 @@ int Context::Impl::prune(DeviceLevel& lv) {
       MPVG_CUDA(cudaMemsetAsync(open, 0xff, n * sizeof(uint32_t)));
       MPVG_CUDA(cudaMemsetAsync(bar, 0xff, n * sizeof(uint32_t)));
       MPVG_CUDA(cudaMemsetAsync(close, 0xff, n * sizeof(uint32_t)));
+      MPVG_CUDA(cudaMemsetAsync(parent_of, 0xff, n * sizeof(uint32_t)));
       link.resize(n);
       for (int32_t d = 1; d <= scene_depth; d++) {
         k_link_init<<<grid, kBlock>>>(e, depth, n, d, link.data());
         launched();
         prim.inclusive_scan(link.data(), link.data(), SegmentedSum<uint32_t>{}, n);
-        k_link_apply<<<grid, kBlock>>>(e, depth, n, d, link.data(), open, bar, close);
+        k_link_apply<<<grid, kBlock>>>(e, depth, n, d, link.data(), open, bar, close, parent_of);
         launched();
       }
     }
 
     k_classify<<<grid, kBlock>>>(e, lv.entry_cell.data(), n, lv.cells.data(), paths.data(), term);
     launched();
-    const PruneLinks links{depth, open, bar, close, first_c1};
+    const PruneLinks links{depth, open, bar, close, first_c1, parent_of};
     if (scene_depth > 0) {
       MPVG_CUDA(cudaMemsetAsync(first_c1, 0xff, n * sizeof(uint32_t)));
       k_first_c1<<<grid, kBlock>>>(term, n, links, first_c1);

@@ -50,13 +50,16 @@ def main():
         return 'fill="url(#g%d)"' % i
 
     text = FILL.sub(replace, text)
-    defs = "<defs>\n" + "\n".join(gradients) + "\n</defs>"
-    # Into the existing <defs>, or right after the root element's start tag.
+    sys.stdout.write(insert_defs(text, gradients))
+
+
+def insert_defs(text, items):
+    """The document with a <defs> of `items`: into its empty <defs>, or right
+    after the root element's start tag."""
+    defs = "<defs>\n" + "\n".join(items) + "\n</defs>"
     if re.search(r"<defs>\s*</defs>", text):
-        text = re.sub(r"<defs>\s*</defs>", lambda _: defs, text, count=1)
-    else:
-        text = re.sub(r"(<svg[^>]*>)", lambda m: m.group(1) + "\n" + defs, text, count=1)
-    sys.stdout.write(text)
+        return re.sub(r"<defs>\s*</defs>", lambda _: defs, text, count=1)
+    return re.sub(r"(<svg[^>]*>)", lambda m: m.group(1) + "\n" + defs, text, count=1)
 
 
 if __name__ == "__main__":

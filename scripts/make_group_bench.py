@@ -17,6 +17,8 @@ as `tiger_groups.svg`).
 import re
 import sys
 
+from make_gradient_bench import insert_defs
+
 PATH = re.compile(r"<path\b[^>]*/>")
 SIZES = (64, 16, 4)
 MASK = ('<mask id="mpvg_all" maskUnits="userSpaceOnUse" x="-100000" y="-100000" width="200000" '
@@ -52,13 +54,7 @@ def main():
     if run:
         out.append(wrap(run, 0))
     out.append(text[last:])
-    text = "".join(out)
-    defs = "<defs>\n" + MASK + "\n</defs>"
-    if re.search(r"<defs>\s*</defs>", text):
-        text = re.sub(r"<defs>\s*</defs>", lambda _: defs, text, count=1)
-    else:
-        text = re.sub(r"(<svg[^>]*>)", lambda m: m.group(1) + "\n" + defs, text, count=1)
-    sys.stdout.write(text)
+    sys.stdout.write(insert_defs("".join(out), [MASK]))
 
 
 if __name__ == "__main__":

@@ -47,6 +47,19 @@ std::vector<Case> cases() {
     const Scene s = random_groups::group_scene(seed, 4, 100).scene;
     out.push_back({"random groups " + std::to_string(seed), encode(s, Affine{}, Gamma::Srgb), 100, 80});
   }
+  // Groups inside pattern tiles (a stack per pattern level).
+  for (uint32_t seed = 61; seed <= 64; seed++) {
+    SceneBuilder b(100, 100);
+    Pattern p;
+    p.tile = std::make_shared<Scene>(random_groups::group_scene(seed, 3, 24).scene);
+    p.xf = Affine::rotate_degrees(10.0 * seed) * Affine::scale(0.7, 0.7);
+    Paint paint;
+    paint.type = PaintType::Pattern;
+    paint.index = b.add_pattern(p);
+    std::mt19937 rng(seed);
+    b.fill(b.add_geometry(oracle::random_path(rng, 0.0, 100.0, 2, 5)), Affine{}, FillRule::NonZero, paint);
+    out.push_back({"groups in a pattern " + std::to_string(seed), encode(b.finish(), Affine{}, Gamma::Srgb), 100, 80});
+  }
   if (const char* dir = std::getenv("MPVG_BENCH_DIR")) {
     std::vector<std::filesystem::path> files;
     for (const auto& e : std::filesystem::directory_iterator(dir))

@@ -27,13 +27,15 @@ bool prune_round(TreeLevel& level, const std::vector<PathRecord>& paths) {
   const int32_t max_depth = *std::max_element(depth.begin(), depth.end());
 
   // Cross-links, one segmented scan per depth.
-  std::vector<uint32_t> open(n, ~0u), bar(n, ~0u), close(n, ~0u);
+  std::vector<uint32_t> open(n, ~0u), bar(n, ~0u), close(n, ~0u), parent(n, ~0u);
   std::vector<LinkSeg> link(n);
   for (int32_t d = 1; d <= max_depth; d++) {
     for (size_t i = 0; i < n; i++)
       link[i] = LinkSeg{1u, (entry_opens(e[i]) && depth[i] == d) ? 1u : 0u};
     std::inclusive_scan(link.begin(), link.end(), link.begin(), SegmentedSum<uint32_t>{});
     for (size_t i = 0; i < n; i++) {
+      // A '(' or '{' one level deeper lies in the nearest '(' or '{' of depth d.
+      if (depth[i] == d + 1 && entry_opens(e[i])) parent[i] = static_cast<uint32_t>(i) - (link[i].value - 1);
       if (depth[i] != d) continue;
       const uint32_t o = static_cast<uint32_t>(i) - (link[i].value - 1);
       open[i] = o;
@@ -50,7 +52,7 @@ bool prune_round(TreeLevel& level, const std::vector<PathRecord>& paths) {
     term[i] = prune_classify(e, static_cast<uint32_t>(i), c.begin, c.end, paths.data());
   }
   std::vector<uint32_t> first_c1(n, ~0u);
-  const PruneLinks links{depth.data(), open.data(), bar.data(), close.data(), first_c1.data()};
+  const PruneLinks links{depth.data(), open.data(), bar.data(), close.data(), first_c1.data(), parent.data()};
   for (size_t i = 0; i < n; i++)
     if (term[i] == TERM_C1 && prune_c1_in_content(links, static_cast<uint32_t>(i)))
       first_c1[open[i]] = std::min(first_c1[open[i]], static_cast<uint32_t>(i));

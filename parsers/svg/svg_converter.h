@@ -381,8 +381,6 @@ class Converter {
   // ------------------------------------------------------------ references
 
   ClipRef resolve_clip(const std::string& value);
-  ClipRef resolve_reference(const std::string& value, const std::string& property, const std::string& element_name,
-                            const std::vector<const Element*>& active);
   const Element* use_target(const Element& use);
   Affine use_offset(const Element& use, double em);
 
@@ -419,6 +417,8 @@ class Converter {
   // ------------------------------------------------------------ groups and masks (svg_masks.cpp)
 
   MaskRef resolve_mask(const Element& e, const std::string& value);
+  ClipRef resolve_reference(const std::string& value, const char* what, const char* element,
+                            const std::vector<const Element*>& active);
   const Element* mask_link(const Element& e) const;
   void cut_recursive_masks();
   bool group_content(const Element& e, size_t start, const Style& st, const Affine& space, int depth);

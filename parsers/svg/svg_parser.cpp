@@ -109,21 +109,15 @@ const Element* Converter::find(const std::string& id) const {
 
 // ------------------------------------------------------------ references
 
-// Resolves a clip-path value. Following resvg (and the suite's
-// masking/clipPath tests): a reference to a missing element or a reference
-// cycle is ignored (the element is drawn unclipped); a reference to an
-// element that is not a clipPath makes the element invisible. Other values
-// (CSS basic shapes) are not supported and ignored.
-ClipRef Converter::resolve_clip(const std::string& value) {
-  return resolve_reference(value, "clip-path", "clipPath", s_.active_clips);
-}
-
-// A clip-path or mask value (`property`) resolved to its target, which
-// must be an `element_name`: none for "none", a missing element, a value
-// that is not url(#id) of this document (with a warning) or a target in
-// `active` (a cycle, with a warning); invalid for any other element.
-ClipRef Converter::resolve_reference(const std::string& value, const std::string& property,
-                                     const std::string& element_name, const std::vector<const Element*>& active) {
+// Resolves a clip-path or mask value: `what` is the property, `element`
+// the name its target must have, `active` the targets being converted.
+// Following resvg (and the suite's masking tests): a reference to a
+// missing element or a reference cycle is ignored (the element is drawn
+// unclipped, unmasked); a reference to an element of another kind makes
+// the element invisible. Other values (CSS basic shapes, images) are not
+// supported and ignored.
+ClipRef Converter::resolve_reference(const std::string& value, const char* what, const char* element,
+                                     const std::vector<const Element*>& active) {
   ClipRef r;
   if (value.empty() || iequals(value, "none")) return r;
   Scanner s(value);
@@ -131,26 +125,30 @@ ClipRef Converter::resolve_reference(const std::string& value, const std::string
   const auto id = parse_func_iri(s, &external);
   s.skip_ws();
   if (!id || !s.at_end()) {
-    warn(property + " values other than url(#id) are not supported: " + property + " ignored");
+    warn(std::string(what) + " values other than url(#id) are not supported: " + what + " ignored");
     return r;
   }
   if (external) {
-    warn("references to other documents are not supported: " + property + " ignored");
+    warn(std::string("references to other documents are not supported: ") + what + " ignored");
     return r;
   }
   const Element* target = find(*id);
   if (!target) return r;
-  if (target->name != element_name) {
+  if (target->name != element) {
     r.state = ClipRef::Invalid;
     return r;
   }
   if (std::find(active.begin(), active.end(), target) != active.end()) {
-    warn("recursive " + property + " reference ignored");
+    warn(std::string("recursive ") + what + " reference ignored");
     return r;
   }
   r.state = ClipRef::Valid;
   r.element = target;
   return r;
+}
+
+ClipRef Converter::resolve_clip(const std::string& value) {
+  return resolve_reference(value, "clip-path", "clipPath", s_.active_clips);
 }
 
 // The element a use references (SVG 2 struct.html#UseElement); nullptr when missing or when
