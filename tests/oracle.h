@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/abstraction.h"
+#include "core/paint.h"
 #include "core/scene.h"
 
 namespace mpvg::oracle {
@@ -115,6 +116,20 @@ class Windings {
   size_t npaths_;
   std::vector<std::vector<double>> breaks_;
 };
+
+// The rectangle [x0, x1] x [y0, y1] as a closed path.
+inline Path rect(double x0, double y0, double x1, double y1) {
+  Path p;
+  p.move_to({x0, y0});
+  p.line_to({x1, y0});
+  p.line_to({x1, y1});
+  p.line_to({x0, y1});
+  p.close();
+  return p;
+}
+
+// Are two samples identical to the last bit (pruned against unpruned trees)?
+inline bool identical(const Rgba4& a, const Rgba4& b) { return a.r == b.r && a.g == b.g && a.b == b.b && a.a == b.a; }
 
 // A random closed path mixing every segment type. Some control points fall
 // outside [lo, hi]; a share of vertices snap to the integer grid, the way

@@ -9,6 +9,7 @@
 #include "core/renderer.h"
 #include "parsers/svg/svg_parser.h"
 #include "tests/catch.h"
+#include "tests/oracle.h"
 
 using namespace mpvg;
 
@@ -16,16 +17,6 @@ namespace {
 
 const Filter kFilters[] = {Filter::Box, Filter::Hat, Filter::BSpline, Filter::Cardinal, Filter::Mitchell,
                            Filter::CatmullRom};
-
-Path rect_path(double x0, double y0, double x1, double y1) {
-  Path p;
-  p.move_to({x0, y0});
-  p.line_to({x1, y0});
-  p.line_to({x1, y1});
-  p.line_to({x0, y1});
-  p.close();
-  return p;
-}
 
 ImageF render(const Scene& s, int w, int h, Filter f, PatternKind pk, int samples, uint32_t seed, Gamma g) {
   RenderOptions o;
@@ -85,10 +76,10 @@ TEST_CASE("a constant-colour scene is reproduced exactly under every filter", "[
     Paint p;
     p.color = RGBA{0.2f, 0.4f, 0.6f, 1.0f};
     if (split) {
-      b.fill(b.add_geometry(rect_path(-10, -10, 17.3, 40)), Affine{}, FillRule::NonZero, p);
-      b.fill(b.add_geometry(rect_path(17.3, -10, 50, 40)), Affine{}, FillRule::NonZero, p);
+      b.fill(b.add_geometry(oracle::rect(-10, -10, 17.3, 40)), Affine{}, FillRule::NonZero, p);
+      b.fill(b.add_geometry(oracle::rect(17.3, -10, 50, 40)), Affine{}, FillRule::NonZero, p);
     } else {
-      b.fill(b.add_geometry(rect_path(-10, -10, 50, 40)), Affine{}, FillRule::NonZero, p);
+      b.fill(b.add_geometry(oracle::rect(-10, -10, 50, 40)), Affine{}, FillRule::NonZero, p);
     }
     const Scene s = b.finish();
     for (Filter f : kFilters)
@@ -149,7 +140,7 @@ TEST_CASE("linear light: a 1-px checkerboard averages to 50 % grey", "[aa]") {
   Paint white, black;
   white.color = RGBA{1, 1, 1, 1};
   black.color = RGBA{0, 0, 0, 1};
-  b.fill(b.add_geometry(rect_path(-2, -2, 34, 34)), Affine{}, FillRule::NonZero, white);
+  b.fill(b.add_geometry(oracle::rect(-2, -2, 34, 34)), Affine{}, FillRule::NonZero, white);
   Path squares;
   for (int j = -1; j < 33; j++)
     for (int i = -1; i < 33; i++)

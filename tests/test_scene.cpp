@@ -57,20 +57,10 @@ stream ( C0 | F1 )
 
 namespace {
 
-Path square(double x0, double y0, double s) {
-  Path p;
-  p.move_to({x0, y0});
-  p.line_to({x0 + s, y0});
-  p.line_to({x0 + s, y0 + s});
-  p.line_to({x0, y0 + s});
-  p.close();
-  return p;
-}
-
 void fill_square(SceneBuilder& b, double x0, float r) {
   Paint p;
   p.color = RGBA{r, 0, 0, 1};
-  b.fill(b.add_geometry(square(x0, 0, 4)), Affine{}, FillRule::NonZero, p);
+  b.fill(b.add_geometry(oracle::rect(x0, 0, x0 + 4, 4)), Affine{}, FillRule::NonZero, p);
 }
 
 // The stream line of a dump.
