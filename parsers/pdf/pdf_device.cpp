@@ -1,0 +1,304 @@
+// The lowering device: MuPDF's drawing operations into a SceneBuilder.
+//
+// MuPDF's rules hold here: no C++ exception leaves a device callback (each
+// body runs under catch_all, which records the first error and lets the
+// page finish), and no fz_try block jumps over C++ objects with
+// destructors (the only fz_try is in Document, around plain calls).
+//
+// Clip and mask nesting: clip_path / clip_stroke_path push a clip group
+// that lasts until pop_clip; begin_mask opens a group and its mask, the
+// mask's content follows until end_mask, then the masked content until
+// pop_clip closes the group. A stack remembers which one each pop_clip
+// closes.
+#include <mupdf/fitz.h>
+
+#include <cmath>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "parsers/pdf/pdf_device.h"
+#include "stroker/stroker.h"
+
+namespace mpvg::pdf::detail {
+
+namespace {
+
+Affine to_affine(fz_matrix m) { return Affine{m.a, m.b, m.c, m.d, m.e, m.f}; }
+
+// fz_path to Path, in the path's own space.
+struct PathBuilder {
+  Path p;
+  static PathBuilder* of(void* arg) { return static_cast<PathBuilder*>(arg); }
+  static void moveto(fz_context*, void* a, float x, float y) { of(a)->p.move_to({x, y}); }
+  static void lineto(fz_context*, void* a, float x, float y) { of(a)->p.line_to({x, y}); }
+  static void curveto(fz_context*, void* a, float x1, float y1, float x2, float y2, float x3, float y3) {
+    of(a)->p.cubic_to({x1, y1}, {x2, y2}, {x3, y3});
+  }
+  static void quadto(fz_context*, void* a, float x1, float y1, float x2, float y2) {
+    of(a)->p.quad_to({x1, y1}, {x2, y2});
+  }
+  static void closepath(fz_context*, void* a) { of(a)->p.close(); }
+};
+
+Path to_path(fz_context* ctx, const fz_path* path) {
+  static const fz_path_walker walker = {PathBuilder::moveto,  PathBuilder::lineto, PathBuilder::curveto,
+                                        PathBuilder::closepath, PathBuilder::quadto, nullptr,
+                                        nullptr,                nullptr};
+  PathBuilder b;
+  fz_walk_path(ctx, path, &walker, &b);
+  return std::move(b.p);
+}
+
+stroke::Cap to_cap(fz_linecap c) {
+  switch (c) {
+    case FZ_LINECAP_ROUND: return stroke::Cap::Round;
+    case FZ_LINECAP_SQUARE: return stroke::Cap::Square;
+    default: return stroke::Cap::Butt;  // triangle caps (XPS) come later
+  }
+}
+
+}  // namespace
+
+struct Lowering {
+  fz_device super;  // first: MuPDF's device
+  SceneBuilder* b;
+  Affine device;  // page points to output pixels (stroke tolerance, thin lines)
+  // What each pop_clip to come closes, innermost last.
+  enum Pop : uint8_t { ClipGroup, MaskedGroup, Nothing };
+  std::vector<Pop> pops;
+  std::set<std::string> warned;
+  std::vector<std::string>* warnings;
+  std::string error;  // the first failure inside a callback
+
+  static Lowering* of(fz_device* d) { return reinterpret_cast<Lowering*>(d); }
+
+  void warn(const std::string& w) {
+    if (warned.insert(w).second) warnings->push_back(w);
+  }
+
+  // Runs f, turning any C++ exception into the recorded error.
+  template <class F>
+  void guarded(F&& f) {
+    if (!error.empty()) return;
+    try {
+      f();
+    } catch (const std::exception& e) {
+      error = e.what();
+    } catch (...) {
+      error = "unknown error";
+    }
+  }
+
+  Paint solid(fz_context* ctx, fz_colorspace* cs, const float* color, float alpha, fz_color_params cp) {
+    float rgb[3] = {0, 0, 0};
+    if (cs) fz_convert_color(ctx, cs, color, fz_device_rgb(ctx), rgb, nullptr, cp);
+    Paint p;
+    p.color = RGBA{rgb[0], rgb[1], rgb[2], 1};
+    p.opacity = alpha;
+    return p;
+  }
+
+  // The fill geometry of a stroke, in the path's space. Width 0 is the
+  // thinnest visible line: one output pixel.
+  Path stroke_geometry(const Path& p, const fz_stroke_state* s, const Affine& ctm) {
+    stroke::Style st;
+    const Affine to_device = device * ctm;
+    const double scale = std::sqrt(std::fabs(to_device.a * to_device.d - to_device.b * to_device.c));
+    st.width = s->linewidth > 0 ? s->linewidth : (scale > 0 ? 1.0 / scale : 1.0);
+    st.cap = to_cap(s->start_cap);
+    switch (s->linejoin) {
+      case FZ_LINEJOIN_ROUND: st.join = stroke::Join::Round; break;
+      case FZ_LINEJOIN_BEVEL: st.join = stroke::Join::Bevel; break;
+      default: st.join = stroke::Join::Miter; break;
+    }
+    st.miter_limit = s->miterlimit;
+    for (int i = 0; i < s->dash_len; i++) st.dashes.push_back(s->dash_list[i]);
+    st.dash_offset = s->dash_phase;
+    return stroke::stroke_to_fill(p, st, to_device);
+  }
+
+  void fill(Path geometry, const Affine& xf, FillRule rule, const Paint& paint) {
+    if (geometry.empty()) return;
+    b->fill(b->add_geometry(std::move(geometry)), xf, rule, paint);
+  }
+  void clip(Path geometry, const Affine& xf, FillRule rule) {
+    b->push();
+    if (!geometry.empty()) b->clip(b->add_geometry(std::move(geometry)), xf, rule);
+    b->activate();
+    pops.push_back(ClipGroup);
+  }
+  // A clip not lowered yet (text, image masks): its content goes unclipped.
+  void unsupported_clip(const char* what) {
+    warn(std::string(what) + " clips are not supported yet: content drawn unclipped");
+    pops.push_back(Nothing);
+  }
+  void close(Pop p) {
+    if (p == ClipGroup) b->pop();
+    if (p == MaskedGroup) b->end_group();
+  }
+};
+
+namespace {
+
+void fill_path(fz_context* ctx, fz_device* dev, const fz_path* path, int even_odd, fz_matrix ctm, fz_colorspace* cs,
+               const float* color, float alpha, fz_color_params cp) {
+  Lowering* l = Lowering::of(dev);
+  l->guarded([&] {
+    l->fill(to_path(ctx, path), to_affine(ctm), even_odd ? FillRule::EvenOdd : FillRule::NonZero,
+            l->solid(ctx, cs, color, alpha, cp));
+  });
+}
+
+void stroke_path(fz_context* ctx, fz_device* dev, const fz_path* path, const fz_stroke_state* stroke, fz_matrix ctm,
+                 fz_colorspace* cs, const float* color, float alpha, fz_color_params cp) {
+  Lowering* l = Lowering::of(dev);
+  l->guarded([&] {
+    const Affine xf = to_affine(ctm);
+    l->fill(l->stroke_geometry(to_path(ctx, path), stroke, xf), xf, FillRule::NonZero,
+            l->solid(ctx, cs, color, alpha, cp));
+  });
+}
+
+void clip_path(fz_context* ctx, fz_device* dev, const fz_path* path, int even_odd, fz_matrix ctm, fz_rect) {
+  Lowering* l = Lowering::of(dev);
+  l->guarded([&] {
+    l->clip(to_path(ctx, path), to_affine(ctm), even_odd ? FillRule::EvenOdd : FillRule::NonZero);
+  });
+}
+
+void clip_stroke_path(fz_context* ctx, fz_device* dev, const fz_path* path, const fz_stroke_state* stroke,
+                      fz_matrix ctm, fz_rect) {
+  Lowering* l = Lowering::of(dev);
+  l->guarded([&] {
+    const Affine xf = to_affine(ctm);
+    l->clip(l->stroke_geometry(to_path(ctx, path), stroke, xf), xf, FillRule::NonZero);
+  });
+}
+
+void pop_clip(fz_context*, fz_device* dev) {
+  Lowering* l = Lowering::of(dev);
+  l->guarded([&] {
+    if (l->pops.empty()) return;
+    const Lowering::Pop p = l->pops.back();
+    l->pops.pop_back();
+    l->close(p);
+  });
+}
+
+void begin_mask(fz_context* ctx, fz_device* dev, fz_rect, int luminosity, fz_colorspace* cs, const float* bc,
+                fz_color_params cp) {
+  Lowering* l = Lowering::of(dev);
+  l->guarded([&] {
+    l->b->begin_group(Group{});
+    Group m;
+    m.mask = luminosity ? MaskType::Luminance : MaskType::Alpha;
+    // PDF's luminosity (Lum of the non-separable blend modes).
+    m.luminance[0] = 0.3f;
+    m.luminance[1] = 0.59f;
+    m.luminance[2] = 0.11f;
+    if (luminosity && cs && bc) {
+      const Paint p = l->solid(ctx, cs, bc, 1, cp);
+      m.backdrop = p.color;
+    }
+    l->b->begin_group(m);
+    l->pops.push_back(Lowering::MaskedGroup);
+  });
+}
+
+void end_mask(fz_context*, fz_device* dev) {
+  Lowering* l = Lowering::of(dev);
+  l->guarded([&] { l->b->end_group(); });
+}
+
+void begin_group(fz_context*, fz_device* dev, fz_rect, fz_colorspace*, int isolated, int knockout, int blendmode,
+                 float alpha) {
+  Lowering* l = Lowering::of(dev);
+  l->guarded([&] {
+    Group g;
+    g.opacity = alpha;
+    g.blend = static_cast<BlendMode>(blendmode & FZ_BLEND_MODEMASK);
+    g.isolated = isolated != 0;
+    g.knockout = knockout != 0;
+    l->b->begin_group(g);
+  });
+}
+
+void end_group(fz_context*, fz_device* dev) {
+  Lowering* l = Lowering::of(dev);
+  l->guarded([&] { l->b->end_group(); });
+}
+
+}  // namespace
+
+std::vector<std::string> lower_page(fz_context* ctx, fz_page* page, const fz_matrix& ctm, const Affine& device,
+                                    SceneBuilder& b) {
+  std::vector<std::string> warnings;
+  Lowering* l = fz_new_derived_device(ctx, Lowering);
+  fz_device* dev = &l->super;
+  // fz_new_derived_device zero-fills; the C++ members are constructed here
+  // and destroyed below, before the device is dropped.
+  l->b = &b;
+  l->device = device;
+  l->warnings = &warnings;
+  new (&l->pops) std::vector<Lowering::Pop>();
+  new (&l->warned) std::set<std::string>();
+  new (&l->error) std::string();
+  dev->fill_path = fill_path;
+  dev->stroke_path = stroke_path;
+  dev->clip_path = clip_path;
+  dev->clip_stroke_path = clip_stroke_path;
+  dev->pop_clip = pop_clip;
+  dev->begin_mask = begin_mask;
+  dev->end_mask = end_mask;
+  dev->begin_group = begin_group;
+  dev->end_group = end_group;
+  dev->fill_text = [](fz_context*, fz_device* d, const fz_text*, fz_matrix, fz_colorspace*, const float*, float,
+                      fz_color_params) { Lowering::of(d)->warn("text is not supported yet: skipped"); };
+  dev->stroke_text = [](fz_context*, fz_device* d, const fz_text*, const fz_stroke_state*, fz_matrix, fz_colorspace*,
+                        const float*, float, fz_color_params) {
+    Lowering::of(d)->warn("text is not supported yet: skipped");
+  };
+  dev->fill_shade = [](fz_context*, fz_device* d, fz_shade*, fz_matrix, float, fz_color_params) {
+    Lowering::of(d)->warn("shadings are not supported yet: skipped");
+  };
+  dev->fill_image = [](fz_context*, fz_device* d, fz_image*, fz_matrix, float, fz_color_params) {
+    Lowering::of(d)->warn("images are not supported yet: skipped");
+  };
+  dev->fill_image_mask = [](fz_context*, fz_device* d, fz_image*, fz_matrix, fz_colorspace*, const float*, float,
+                            fz_color_params) { Lowering::of(d)->warn("image masks are not supported yet: skipped"); };
+  dev->clip_text = [](fz_context*, fz_device* d, const fz_text*, fz_matrix, fz_rect) {
+    Lowering::of(d)->unsupported_clip("text");
+  };
+  dev->clip_stroke_text = [](fz_context*, fz_device* d, const fz_text*, const fz_stroke_state*, fz_matrix, fz_rect) {
+    Lowering::of(d)->unsupported_clip("text");
+  };
+  dev->clip_image_mask = [](fz_context*, fz_device* d, fz_image*, fz_matrix, fz_rect) {
+    Lowering::of(d)->unsupported_clip("image mask");
+  };
+  std::string error;
+  fz_try(ctx) {
+    fz_run_page(ctx, page, dev, ctm, nullptr);
+    fz_close_device(ctx, dev);
+  }
+  fz_catch(ctx) {
+    error = fz_caught_message(ctx);
+  }
+  if (error.empty()) error = l->error;
+  // Clips, masks and groups MuPDF left open (an interrupted page).
+  if (error.empty()) {
+    while (!l->pops.empty()) {
+      l->close(l->pops.back());
+      l->pops.pop_back();
+    }
+  }
+  l->error.~basic_string();
+  l->warned.~set();
+  l->pops.~vector();
+  fz_drop_device(ctx, dev);
+  if (!error.empty()) throw Error("page: " + error);
+  return warnings;
+}
+
+}  // namespace mpvg::pdf::detail

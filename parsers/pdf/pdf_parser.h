@@ -1,0 +1,44 @@
+// The PDF frontend: MuPDF parses and interprets pages; a custom fz_device
+// (pdf_device.cpp) lowers every drawing operation into the core scene,
+// which the pipeline renders like any SVG. Nothing downstream knows PDF.
+//
+// Work in progress (issue 11): paths (fills, strokes, clips), transparency
+// groups and soft masks are lowered; text, shadings, images and patterns
+// are reported as unsupported and skipped.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/scene.h"
+
+namespace mpvg::pdf {
+
+// A page lowered to a scene: units are PDF points, (0, 0) the top-left
+// corner of the page's box after /Rotate.
+struct PageResult {
+  Scene scene;
+  std::vector<std::string> warnings;  // one line each, deduplicated
+};
+
+// An open document. Errors (unreadable, broken, encrypted without the
+// password) throw mpvg::Error with one line.
+class Document {
+ public:
+  explicit Document(const std::string& path, const std::string& password = "");
+  ~Document();
+  Document(const Document&) = delete;
+  Document& operator=(const Document&) = delete;
+
+  int page_count() const;
+  // Page `index` (0-based); `pixels_per_point` is the output resolution
+  // the page will be rendered at (stroke tolerance, thinnest lines).
+  // Throws mpvg::Error when MuPDF fails on it.
+  PageResult page(int index, double pixels_per_point) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace mpvg::pdf

@@ -1,0 +1,120 @@
+// The PDF frontend (parsers/pdf/) on small PDFs written here, one feature
+// each, rendered on the CPU: colours at pixels inside and outside the
+// shapes, and the errors of broken and encrypted documents.
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/renderer.h"
+#include "parsers/pdf/pdf_parser.h"
+#include "tests/catch.h"
+
+using namespace mpvg;
+
+namespace {
+
+// A one-page PDF of size w x h points whose page content is `content`,
+// with a correct cross-reference table; `resources` goes into the page's
+// /Resources dictionary.
+std::string one_page_pdf(const std::string& content, int w = 100, int h = 100, const std::string& resources = "") {
+  std::vector<std::string> objects = {
+      "<< /Type /Catalog /Pages 2 0 R >>",
+      "<< /Type /Pages /Kids [3 0 R] /Count 1 >>",
+      "<< /Type /Page /Parent 2 0 R /MediaBox [0 0 " + std::to_string(w) + " " + std::to_string(h) +
+          "] /Contents 4 0 R /Resources << " + resources + " >> >>",
+      "<< /Length " + std::to_string(content.size()) + " >>\nstream\n" + content + "\nendstream",
+  };
+  std::string pdf = "%PDF-1.4\n";
+  std::vector<size_t> offsets;
+  for (size_t i = 0; i < objects.size(); i++) {
+    offsets.push_back(pdf.size());
+    pdf += std::to_string(i + 1) + " 0 obj\n" + objects[i] + "\nendobj\n";
+  }
+  const size_t xref = pdf.size();
+  pdf += "xref\n0 " + std::to_string(objects.size() + 1) + "\n0000000000 65535 f \n";
+  for (size_t o : offsets) {
+    char line[32];
+    std::snprintf(line, sizeof line, "%010zu 00000 n \n", o);
+    pdf += line;
+  }
+  pdf += "trailer\n<< /Size " + std::to_string(objects.size() + 1) + " /Root 1 0 R >>\nstartxref\n" +
+         std::to_string(xref) + "\n%%EOF\n";
+  return pdf;
+}
+
+std::string write_temp(const std::string& name, const std::string& bytes) {
+  const std::string path = (std::filesystem::temp_directory_path() / ("mpvg_test_pdf_" + name)).string();
+  FILE* f = std::fopen(path.c_str(), "wb");
+  REQUIRE(f);
+  std::fwrite(bytes.data(), 1, bytes.size(), f);
+  std::fclose(f);
+  return path;
+}
+
+// Page 1 rendered at 1 pixel per point on white, one sample per pixel.
+struct Page {
+  ImageF im;
+  int w = 0;
+  explicit Page(const std::string& path) {
+    const pdf::Document doc(path);
+    const pdf::PageResult page = doc.page(0, 1.0);
+    RenderOptions o;
+    o.width = w = static_cast<int>(page.scene.width);
+    o.height = static_cast<int>(page.scene.height);
+    o.samples = 1;
+    o.background = RGBA{1, 1, 1, 1};
+    o.gamma = Gamma::Srgb;
+    o.backend = Backend::Cpu;
+    im = render_cpu(page.scene, o);
+  }
+  // Straight colour at pixel (x, y), y down from the page's top.
+  std::array<float, 3> at(int x, int y) const {
+    const float* p = &im.rgba[(size_t(y) * w + x) * 4];
+    return {p[0], p[1], p[2]};
+  }
+};
+
+void check(const Page& p, int x, int y, std::array<float, 3> want) {
+  const auto got = p.at(x, y);
+  INFO("pixel (" << x << ", " << y << "): " << got[0] << " " << got[1] << " " << got[2]);
+  for (int k = 0; k < 3; k++) CHECK(got[k] == Approx(want[k]).margin(1e-3));
+}
+
+}  // namespace
+
+TEST_CASE("pdf: fills with both rules, in PDF's coordinates (y up)", "[pdf]") {
+  // A red square in the lower left (y up: the bottom of the page), and an
+  // even-odd blue ring: two nested squares.
+  const Page p(write_temp("fill.pdf", one_page_pdf("1 0 0 rg 0 0 40 40 re f\n"
+                                                   "0 0 1 rg 50 50 50 50 re 60 60 30 30 re f*\n")));
+  check(p, 10, 90, {1, 0, 0});    // bottom left (pixel rows run down)
+  check(p, 10, 10, {1, 1, 1});    // top left: nothing
+  check(p, 55, 45, {0, 0, 1});    // the ring
+  check(p, 75, 25, {1, 1, 1});    // its hole
+}
+
+TEST_CASE("pdf: clips, strokes and constant alpha", "[pdf]") {
+  // Clip to the left half, then fill the page green; a 10 pt black stroke
+  // across the right half; a half-transparent red square (ExtGState /ca).
+  const Page p(write_temp("clip.pdf",
+                          one_page_pdf("q 0 0 50 100 re W n 0 1 0 rg 0 0 100 100 re f Q\n"
+                                       "0 G 10 w 60 50 m 100 50 l S\n"
+                                       "/half gs 1 0 0 rg 70 70 20 20 re f\n",
+                                       100, 100, "/ExtGState << /half << /ca 0.5 >> >>")));
+  check(p, 25, 50, {0, 1, 0});
+  check(p, 75, 10, {1, 0.5f, 0.5f});  // red at 50 % over white
+  check(p, 80, 50, {0, 0, 0});        // the stroke
+  check(p, 80, 40, {1, 1, 1});        // outside it, between stroke and square
+}
+
+TEST_CASE("pdf: broken and encrypted documents give one clear error", "[pdf]") {
+  CHECK_THROWS_WITH(pdf::Document(write_temp("garbage.pdf", "this is not a PDF")), Catch::Contains("cannot open"));
+  CHECK_THROWS_WITH(pdf::Document("/nonexistent/mpvg.pdf"), Catch::Contains("cannot open '/nonexistent/mpvg.pdf'"));
+  // A page whose content stream fails to parse still yields what came before.
+  const std::string truncated = one_page_pdf("1 0 0 rg 0 0 40 40 re f\n0 0 1 rg 50 50 50");
+  const pdf::Document doc(write_temp("truncated.pdf", truncated));
+  CHECK(doc.page_count() == 1);
+  CHECK_NOTHROW(doc.page(0, 1.0));
+}
