@@ -4,8 +4,9 @@
 //
 // Page numbers are zero-padded to the digits of the page count, as
 // pdftoppm does. Options of its own: -r/--dpi N (default 150), -f N and
-// -l N (first and last page), --password P, --transparent (no white page
-// background); the rendering options are svg2png's (--aa, --gamma,
+// -l N (first and last page), --singlefile (the first page only, written to
+// OUT-PREFIX.png), --password P, --transparent (no white page background);
+// the rendering options are svg2png's (--aa, --gamma,
 // --backend, --bits, --stats, -q).
 //
 // Work in progress (issue 11): one page after another on the calling
@@ -31,6 +32,7 @@ struct PdfOptions {
   int first = 1, last = -1;
   std::string password;
   bool transparent = false;
+  bool singlefile = false;  // the first page only, to OUT-PREFIX.png
 };
 
 // Takes pdf2png's own options out of argv; the rest goes to cli::parse.
@@ -60,6 +62,8 @@ std::vector<char*> own_options(int argc, char** argv, PdfOptions& p) {
       p.password = value();
     else if (a == "--transparent")
       p.transparent = true;
+    else if (a == "--singlefile")
+      p.singlefile = true;
     else
       rest.push_back(argv[i]);
   }
@@ -84,13 +88,13 @@ int main(int argc, char** argv) {
   try {
     const pdf::Document doc(opt.positional[0], pdf.password);
     const int count = doc.page_count();
-    const int last = pdf.last < 0 ? count : std::min(pdf.last, count);
+    const int last = pdf.singlefile ? pdf.first : pdf.last < 0 ? count : std::min(pdf.last, count);
     const int digits = static_cast<int>(std::to_string(count).size());
     const double scale = pdf.dpi / 72.0;
     for (int n = pdf.first; n <= last; n++) {
       char name[32];
       std::snprintf(name, sizeof name, "-%0*d.png", digits, n);
-      const std::string out = opt.output + name;
+      const std::string out = opt.output + (pdf.singlefile ? std::string(".png") : std::string(name));
       try {
         const pdf::PageResult page = doc.page(n - 1, scale);
         if (!opt.quiet)
