@@ -118,3 +118,20 @@ TEST_CASE("pdf: broken and encrypted documents give one clear error", "[pdf]") {
   CHECK(doc.page_count() == 1);
   CHECK_NOTHROW(doc.page(0, 1.0));
 }
+
+TEST_CASE("pdf: text as glyph outlines, invisible text, text as a clip", "[pdf]") {
+  const std::string font = "/Font << /F1 << /Type /Font /Subtype /Type1 /BaseFont /Helvetica >> >>";
+  // A 40 pt Helvetica 'I' at x = 10 (its stem about 3.8 to 7.4 pt right of
+  // the origin, 0 to 28.7 pt up from the baseline at y = 30); the same 'I'
+  // invisible (mode 3) at x = 50; and at x = 70 an 'I' in clip mode (7)
+  // clipping a red page-wide fill.
+  const Page p(write_temp("text.pdf", one_page_pdf("BT /F1 40 Tf 10 30 Td (I) Tj ET\n"
+                                                   "BT 3 Tr /F1 40 Tf 50 30 Td (I) Tj ET\n"
+                                                   "q BT 7 Tr /F1 40 Tf 70 30 Td (I) Tj ET 1 0 0 rg 0 0 100 100 re f Q\n",
+                                                   100, 100, font)));
+  check(p, 15, 55, {0, 0, 0});   // in the stem
+  check(p, 25, 55, {1, 1, 1});   // right of it
+  check(p, 55, 55, {1, 1, 1});   // invisible text
+  check(p, 75, 55, {1, 0, 0});   // the red fill, through the glyph clip
+  check(p, 90, 55, {1, 1, 1});   // clipped away
+}

@@ -51,6 +51,29 @@ Path to_path(fz_context* ctx, const fz_path* path) {
   return std::move(b.p);
 }
 
+// MuPDF calls that may throw, each under its own fz_try, so that no error
+// unwinds through a callback's C++ frames.
+fz_path* outline_glyph(fz_context* ctx, fz_font* font, int gid, fz_matrix m) {
+  fz_path* volatile p = nullptr;
+  fz_try(ctx) { p = fz_outline_glyph(ctx, font, gid, m); }
+  fz_catch(ctx) { p = nullptr; }
+  return p;
+}
+
+bool run_t3_glyph(fz_context* ctx, fz_font* font, int gid, fz_matrix trm, fz_device* dev) {
+  volatile bool ok = true;
+  fz_try(ctx) { fz_run_t3_glyph(ctx, font, gid, trm, dev); }
+  fz_catch(ctx) { ok = false; }
+  return ok;
+}
+
+bool convert_color(fz_context* ctx, fz_colorspace* cs, const float* color, float* rgb, fz_color_params cp) {
+  volatile bool ok = true;
+  fz_try(ctx) { fz_convert_color(ctx, cs, color, fz_device_rgb(ctx), rgb, nullptr, cp); }
+  fz_catch(ctx) { ok = false; }
+  return ok;
+}
+
 stroke::Cap to_cap(fz_linecap c) {
   switch (c) {
     case FZ_LINECAP_ROUND: return stroke::Cap::Round;
@@ -93,7 +116,7 @@ struct Lowering {
 
   Paint solid(fz_context* ctx, fz_colorspace* cs, const float* color, float alpha, fz_color_params cp) {
     float rgb[3] = {0, 0, 0};
-    if (cs) fz_convert_color(ctx, cs, color, fz_device_rgb(ctx), rgb, nullptr, cp);
+    if (cs && !convert_color(ctx, cs, color, rgb, cp)) warn("a colour could not be converted: black used");
     Paint p;
     p.color = RGBA{rgb[0], rgb[1], rgb[2], 1};
     p.opacity = alpha;
@@ -129,6 +152,30 @@ struct Lowering {
     b->activate();
     pops.push_back(ClipGroup);
   }
+  // Calls f(glyph path in user space) for every glyph of `text`; Type 3
+  // glyphs without an outline run their procedures through this device.
+  template <class F>
+  void glyphs(fz_context* ctx, const fz_text* text, fz_matrix ctm, F&& f) {
+    for (const fz_text_span* span = text->head; span; span = span->next) {
+      for (int i = 0; i < span->len; i++) {
+        const fz_text_item& it = span->items[i];
+        if (it.gid < 0) continue;
+        fz_matrix tm = span->trm;
+        tm.e = it.x;
+        tm.f = it.y;
+        fz_path* path = outline_glyph(ctx, span->font, it.gid, tm);
+        if (path) {
+          Path p = to_path(ctx, path);
+          fz_drop_path(ctx, path);
+          if (!p.empty()) f(std::move(p));
+        } else if (!fz_font_t3_procs(ctx, span->font) ||
+                   !run_t3_glyph(ctx, span->font, it.gid, fz_concat(tm, ctm), &super)) {
+          warn("a glyph without an outline was skipped");
+        }
+      }
+    }
+  }
+
   // A clip not lowered yet (text, image masks): its content goes unclipped.
   void unsupported_clip(const char* what) {
     warn(std::string(what) + " clips are not supported yet: content drawn unclipped");
@@ -174,6 +221,56 @@ void clip_stroke_path(fz_context* ctx, fz_device* dev, const fz_path* path, cons
   l->guarded([&] {
     const Affine xf = to_affine(ctm);
     l->clip(l->stroke_geometry(to_path(ctx, path), stroke, xf), xf, FillRule::NonZero);
+  });
+}
+
+// Text as glyph outlines, curves in object precision (every render mode
+// reaches one of these or ignore_text).
+void fill_text(fz_context* ctx, fz_device* dev, const fz_text* text, fz_matrix ctm, fz_colorspace* cs,
+               const float* color, float alpha, fz_color_params cp) {
+  Lowering* l = Lowering::of(dev);
+  l->guarded([&] {
+    const Paint paint = l->solid(ctx, cs, color, alpha, cp);
+    const Affine xf = to_affine(ctm);
+    l->glyphs(ctx, text, ctm, [&](Path p) { l->fill(std::move(p), xf, FillRule::NonZero, paint); });
+  });
+}
+
+void stroke_text(fz_context* ctx, fz_device* dev, const fz_text* text, const fz_stroke_state* stroke, fz_matrix ctm,
+                 fz_colorspace* cs, const float* color, float alpha, fz_color_params cp) {
+  Lowering* l = Lowering::of(dev);
+  l->guarded([&] {
+    const Paint paint = l->solid(ctx, cs, color, alpha, cp);
+    const Affine xf = to_affine(ctm);
+    l->glyphs(ctx, text, ctm,
+              [&](Path p) { l->fill(l->stroke_geometry(p, stroke, xf), xf, FillRule::NonZero, paint); });
+  });
+}
+
+// A text clip: the union of its glyphs.
+void clip_text(fz_context* ctx, fz_device* dev, const fz_text* text, fz_matrix ctm, fz_rect) {
+  Lowering* l = Lowering::of(dev);
+  l->guarded([&] {
+    const Affine xf = to_affine(ctm);
+    l->b->push();
+    l->glyphs(ctx, text, ctm, [&](Path p) { l->b->clip(l->b->add_geometry(std::move(p)), xf, FillRule::NonZero); });
+    l->b->activate();
+    l->pops.push_back(Lowering::ClipGroup);
+  });
+}
+
+void clip_stroke_text(fz_context* ctx, fz_device* dev, const fz_text* text, const fz_stroke_state* stroke,
+                      fz_matrix ctm, fz_rect) {
+  Lowering* l = Lowering::of(dev);
+  l->guarded([&] {
+    const Affine xf = to_affine(ctm);
+    l->b->push();
+    l->glyphs(ctx, text, ctm, [&](Path p) {
+      Path g = l->stroke_geometry(p, stroke, xf);
+      if (!g.empty()) l->b->clip(l->b->add_geometry(std::move(g)), xf, FillRule::NonZero);
+    });
+    l->b->activate();
+    l->pops.push_back(Lowering::ClipGroup);
   });
 }
 
@@ -254,12 +351,10 @@ std::vector<std::string> lower_page(fz_context* ctx, fz_page* page, const fz_mat
   dev->end_mask = end_mask;
   dev->begin_group = begin_group;
   dev->end_group = end_group;
-  dev->fill_text = [](fz_context*, fz_device* d, const fz_text*, fz_matrix, fz_colorspace*, const float*, float,
-                      fz_color_params) { Lowering::of(d)->warn("text is not supported yet: skipped"); };
-  dev->stroke_text = [](fz_context*, fz_device* d, const fz_text*, const fz_stroke_state*, fz_matrix, fz_colorspace*,
-                        const float*, float, fz_color_params) {
-    Lowering::of(d)->warn("text is not supported yet: skipped");
-  };
+  dev->fill_text = fill_text;
+  dev->stroke_text = stroke_text;
+  dev->clip_text = clip_text;
+  dev->clip_stroke_text = clip_stroke_text;
   dev->fill_shade = [](fz_context*, fz_device* d, fz_shade*, fz_matrix, float, fz_color_params) {
     Lowering::of(d)->warn("shadings are not supported yet: skipped");
   };
@@ -268,12 +363,6 @@ std::vector<std::string> lower_page(fz_context* ctx, fz_page* page, const fz_mat
   };
   dev->fill_image_mask = [](fz_context*, fz_device* d, fz_image*, fz_matrix, fz_colorspace*, const float*, float,
                             fz_color_params) { Lowering::of(d)->warn("image masks are not supported yet: skipped"); };
-  dev->clip_text = [](fz_context*, fz_device* d, const fz_text*, fz_matrix, fz_rect) {
-    Lowering::of(d)->unsupported_clip("text");
-  };
-  dev->clip_stroke_text = [](fz_context*, fz_device* d, const fz_text*, const fz_stroke_state*, fz_matrix, fz_rect) {
-    Lowering::of(d)->unsupported_clip("text");
-  };
   dev->clip_image_mask = [](fz_context*, fz_device* d, fz_image*, fz_matrix, fz_rect) {
     Lowering::of(d)->unsupported_clip("image mask");
   };
