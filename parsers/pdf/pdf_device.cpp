@@ -74,6 +74,16 @@ bool convert_color(fz_context* ctx, fz_colorspace* cs, const float* color, float
   return ok;
 }
 
+Path rect_path(double x0, double y0, double x1, double y1) {
+  Path p;
+  p.move_to({x0, y0});
+  p.line_to({x1, y0});
+  p.line_to({x1, y1});
+  p.line_to({x0, y1});
+  p.close();
+  return p;
+}
+
 stroke::Cap to_cap(fz_linecap c) {
   switch (c) {
     case FZ_LINECAP_ROUND: return stroke::Cap::Round;
@@ -87,7 +97,8 @@ stroke::Cap to_cap(fz_linecap c) {
 struct Lowering {
   fz_device super;  // first: MuPDF's device
   SceneBuilder* b;
-  Affine device;  // page points to output pixels (stroke tolerance, thin lines)
+  Affine device;
+  double page_w = 0, page_h = 0;  // scene units  // page points to output pixels (stroke tolerance, thin lines)
   // What each pop_clip to come closes, innermost last.
   enum Pop : uint8_t { ClipGroup, MaskedGroup, Nothing };
   std::vector<Pop> pops;
@@ -224,6 +235,39 @@ void clip_stroke_path(fz_context* ctx, fz_device* dev, const fz_path* path, cons
   });
 }
 
+// Axial and radial shadings as gradient paints over the shading's box (or
+// the page): the colour function as MuPDF samples it, 256 stops converted
+// to sRGB, Extend as the gradient's extend flags.
+void fill_shade(fz_context* ctx, fz_device* dev, fz_shade* shade, fz_matrix ctm, float alpha, fz_color_params cp) {
+  Lowering* l = Lowering::of(dev);
+  l->guarded([&] {
+    if ((shade->type != FZ_LINEAR && shade->type != FZ_RADIAL) || !shade->use_function) {
+      l->warn("function-based and mesh shadings are not supported yet: skipped");
+      return;
+    }
+    Gradient g;
+    g.xf = to_affine(fz_concat(shade->matrix, ctm));
+    const auto& c = shade->u.l_or_r.coords;
+    g.p0 = {c[0][0], c[0][1]};
+    g.p1 = {c[1][0], c[1][1]};
+    g.focal = g.p0;
+    g.focal_radius = c[0][2];
+    g.center = g.p1;
+    g.radius = c[1][2];
+    g.extend_start = shade->u.l_or_r.extend[0] != 0;
+    g.extend_end = shade->u.l_or_r.extend[1] != 0;
+    for (int i = 0; i < 256; i++) g.stops.push_back({i / 255.0, l->solid(ctx, shade->colorspace, shade->function[i], 1, cp).color});
+    Paint paint;
+    paint.type = shade->type == FZ_LINEAR ? PaintType::LinearGradient : PaintType::RadialGradient;
+    paint.opacity = alpha;
+    paint.index = l->b->add_gradient(std::move(g));
+    const fz_rect r = shade->bbox;
+    const bool bounded = !fz_is_infinite_rect(r) && r.x1 > r.x0 && r.y1 > r.y0;
+    const Path area = bounded ? rect_path(r.x0, r.y0, r.x1, r.y1) : rect_path(0, 0, l->page_w, l->page_h);
+    l->fill(area, bounded ? to_affine(fz_concat(shade->matrix, ctm)) : Affine{}, FillRule::NonZero, paint);
+  });
+}
+
 // Text as glyph outlines, curves in object precision (every render mode
 // reaches one of these or ignore_text).
 void fill_text(fz_context* ctx, fz_device* dev, const fz_text* text, fz_matrix ctm, fz_colorspace* cs,
@@ -330,7 +374,7 @@ void end_group(fz_context*, fz_device* dev) {
 }  // namespace
 
 std::vector<std::string> lower_page(fz_context* ctx, fz_page* page, const fz_matrix& ctm, const Affine& device,
-                                    SceneBuilder& b) {
+                                    double width, double height, SceneBuilder& b) {
   std::vector<std::string> warnings;
   Lowering* l = fz_new_derived_device(ctx, Lowering);
   fz_device* dev = &l->super;
@@ -338,6 +382,8 @@ std::vector<std::string> lower_page(fz_context* ctx, fz_page* page, const fz_mat
   // and destroyed below, before the device is dropped.
   l->b = &b;
   l->device = device;
+  l->page_w = width;
+  l->page_h = height;
   l->warnings = &warnings;
   new (&l->pops) std::vector<Lowering::Pop>();
   new (&l->warned) std::set<std::string>();
@@ -355,9 +401,7 @@ std::vector<std::string> lower_page(fz_context* ctx, fz_page* page, const fz_mat
   dev->stroke_text = stroke_text;
   dev->clip_text = clip_text;
   dev->clip_stroke_text = clip_stroke_text;
-  dev->fill_shade = [](fz_context*, fz_device* d, fz_shade*, fz_matrix, float, fz_color_params) {
-    Lowering::of(d)->warn("shadings are not supported yet: skipped");
-  };
+  dev->fill_shade = fill_shade;
   dev->fill_image = [](fz_context*, fz_device* d, fz_image*, fz_matrix, float, fz_color_params) {
     Lowering::of(d)->warn("images are not supported yet: skipped");
   };

@@ -11,10 +11,10 @@
 namespace mpvg::pdf::detail {
 
 // Runs `page` with `ctm` (page space to scene units) through the lowering
-// device into `b`; `device` maps scene units to output pixels (stroke
-// tolerance, thinnest lines). Returns the warnings; throws mpvg::Error when
+// device into `b`, a page of width x height scene units; `device` maps
+// scene units to output pixels (stroke tolerance, thinnest lines). Returns the warnings; throws mpvg::Error when
 // MuPDF or the lowering fails.
 std::vector<std::string> lower_page(fz_context* ctx, fz_page* page, const fz_matrix& ctm, const Affine& device,
-                                    SceneBuilder& b);
+                                    double width, double height, SceneBuilder& b);
 
 }  // namespace mpvg::pdf::detail

@@ -82,7 +82,7 @@ PageResult Document::page(int index, double pixels_per_point) const {
   SceneBuilder b(w, h);
   try {
     out.warnings = detail::lower_page(ctx, page, fz_translate(-box.x0, -box.y0),
-                                      Affine::scale(pixels_per_point, pixels_per_point), b);
+                                      Affine::scale(pixels_per_point, pixels_per_point), w, h, b);
   } catch (const Error& e) {
     fz_drop_page(ctx, page);
     throw Error("page " + std::to_string(index + 1) + ": " + e.what());
