@@ -10,8 +10,8 @@
 // --backend, --bits, --stats, -q).
 //
 // Work in progress (issue 11): one page after another on the calling
-// thread; what the PDF frontend does not lower yet (text, shadings,
-// images) is reported and skipped. A page that fails is reported and the
+// thread; what the PDF frontend does not lower yet (mesh shadings, image
+// masks) is reported and skipped. A page that fails is reported and the
 // others are still written; the exit status is 1 if any page failed.
 #include <cmath>
 #include <cstdio>

@@ -135,3 +135,16 @@ TEST_CASE("pdf: text as glyph outlines, invisible text, text as a clip", "[pdf]"
   check(p, 75, 55, {1, 0, 0});   // the red fill, through the glyph clip
   check(p, 90, 55, {1, 1, 1});   // clipped away
 }
+
+TEST_CASE("pdf: images as textures, their top row at the top", "[pdf]") {
+  // An inline 2 x 2 RGB image over [10, 30] x [10, 30]: red, blue on its
+  // first (top) row, green, white on the second.
+  const std::string pixels("\xff\x00\x00\x00\x00\xff\x00\xff\x00\xff\xff\xff", 12);
+  const Page p(write_temp("image.pdf", one_page_pdf("q 20 0 0 20 10 10 cm BI /W 2 /H 2 /CS /RGB /BPC 8 /I false ID " +
+                                                    pixels + "\nEI Q\n")));
+  check(p, 14, 74, {1, 0, 0});  // top left (pixel rows run down: y 70..80 is the image's top half)
+  check(p, 26, 74, {0, 0, 1});
+  check(p, 14, 86, {0, 1, 0});
+  check(p, 26, 86, {1, 1, 1});
+  check(p, 50, 50, {1, 1, 1});  // outside
+}

@@ -12,7 +12,9 @@
 // closes.
 #include <mupdf/fitz.h>
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
 #include <set>
 #include <string>
 #include <vector>
@@ -72,6 +74,20 @@ bool convert_color(fz_context* ctx, fz_colorspace* cs, const float* color, float
   fz_try(ctx) { fz_convert_color(ctx, cs, color, fz_device_rgb(ctx), rgb, nullptr, cp); }
   fz_catch(ctx) { ok = false; }
   return ok;
+}
+
+// An image decoded at full resolution and converted to RGB with alpha
+// (premultiplied, as MuPDF keeps pixmaps); null on failure.
+fz_pixmap* rgb_pixmap(fz_context* ctx, fz_image* image, fz_color_params cp) {
+  fz_pixmap* volatile decoded = nullptr;
+  fz_pixmap* volatile rgb = nullptr;
+  fz_try(ctx) {
+    decoded = fz_get_unscaled_pixmap_from_image(ctx, image);
+    rgb = fz_convert_pixmap(ctx, decoded, fz_device_rgb(ctx), nullptr, nullptr, cp, 1);
+  }
+  fz_always(ctx) { fz_drop_pixmap(ctx, decoded); }
+  fz_catch(ctx) { rgb = nullptr; }
+  return rgb;
 }
 
 Path rect_path(double x0, double y0, double x1, double y1) {
@@ -185,6 +201,42 @@ struct Lowering {
         }
       }
     }
+  }
+
+  // An image as a texture paint on the unit square that `ctm` places (MuPDF
+  // puts the image's top-left pixel at the unit square's origin); the
+  // pixmap's premultiplied samples become straight RGBA.
+  void image(fz_context* ctx, fz_image* img, fz_matrix ctm, float alpha, fz_color_params cp) {
+    fz_pixmap* pix = rgb_pixmap(ctx, img, cp);
+    if (!pix) {
+      warn("an image could not be decoded: skipped");
+      return;
+    }
+    auto im = std::make_shared<Image>();
+    im->width = fz_pixmap_width(ctx, pix);
+    im->height = fz_pixmap_height(ctx, pix);
+    const int n = fz_pixmap_components(ctx, pix), stride = fz_pixmap_stride(ctx, pix);
+    const bool has_alpha = fz_pixmap_alpha(ctx, pix) != 0;
+    const unsigned char* samples = fz_pixmap_samples(ctx, pix);
+    im->rgba8.resize(size_t(im->width) * im->height * 4);
+    for (int y = 0; y < im->height; y++)
+      for (int x = 0; x < im->width; x++) {
+        const unsigned char* s = samples + size_t(y) * stride + size_t(x) * n;
+        const int a = has_alpha ? s[n - 1] : 255;
+        uint8_t* d = &im->rgba8[(size_t(y) * im->width + x) * 4];
+        for (int k = 0; k < 3; k++) d[k] = static_cast<uint8_t>(a ? std::min(255, (s[k] * 255 + a / 2) / a) : 0);
+        d[3] = static_cast<uint8_t>(a);
+      }
+    fz_drop_pixmap(ctx, pix);
+    const Affine xf = to_affine(ctm);
+    Texture t;
+    t.image = std::move(im);
+    t.xf = xf * Affine::scale(1.0 / t.image->width, 1.0 / t.image->height);
+    Paint paint;
+    paint.type = PaintType::Texture;
+    paint.opacity = alpha;
+    paint.index = b->add_texture(std::move(t));
+    fill(rect_path(0, 0, 1, 1), xf, FillRule::NonZero, paint);
   }
 
   // A clip not lowered yet (text, image masks): its content goes unclipped.
@@ -402,8 +454,9 @@ std::vector<std::string> lower_page(fz_context* ctx, fz_page* page, const fz_mat
   dev->clip_text = clip_text;
   dev->clip_stroke_text = clip_stroke_text;
   dev->fill_shade = fill_shade;
-  dev->fill_image = [](fz_context*, fz_device* d, fz_image*, fz_matrix, float, fz_color_params) {
-    Lowering::of(d)->warn("images are not supported yet: skipped");
+  dev->fill_image = [](fz_context* c, fz_device* d, fz_image* img, fz_matrix m, float alpha, fz_color_params cp) {
+    Lowering* low = Lowering::of(d);
+    low->guarded([&] { low->image(c, img, m, alpha, cp); });
   };
   dev->fill_image_mask = [](fz_context*, fz_device* d, fz_image*, fz_matrix, fz_colorspace*, const float*, float,
                             fz_color_params) { Lowering::of(d)->warn("image masks are not supported yet: skipped"); };

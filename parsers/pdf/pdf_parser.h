@@ -2,9 +2,10 @@
 // (pdf_device.cpp) lowers every drawing operation into the core scene,
 // which the pipeline renders like any SVG. Nothing downstream knows PDF.
 //
-// Work in progress (issue 11): paths (fills, strokes, clips), transparency
-// groups and soft masks are lowered; text, shadings, images and patterns
-// are reported as unsupported and skipped.
+// Work in progress (issue 11): paths (fills, strokes, clips), text as glyph
+// outlines, axial and radial shadings, images, transparency groups and
+// soft masks are lowered; mesh and function shadings, image masks and
+// tiling patterns' own paints are reported and skipped or drawn plainly.
 #pragma once
 #include <memory>
 #include <string>
