@@ -148,3 +148,11 @@ TEST_CASE("pdf: images as textures, their top row at the top", "[pdf]") {
   check(p, 26, 86, {1, 1, 1});
   check(p, 50, 50, {1, 1, 1});  // outside
 }
+
+TEST_CASE("pdf: stencil image masks paint the fill colour", "[pdf]") {
+  // A 2 x 1 one-bit stencil (0 paints): its left pixel painted red.
+  const Page p(write_temp("stencil.pdf", one_page_pdf("1 0 0 rg q 20 0 0 20 10 10 cm BI /W 2 /H 1 /IM true /BPC 1 ID " +
+                                                      std::string("\x40", 1) + "\nEI Q\n")));
+  check(p, 14, 80, {1, 0, 0});
+  check(p, 26, 80, {1, 1, 1});
+}

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -77,13 +78,16 @@ bool convert_color(fz_context* ctx, fz_colorspace* cs, const float* color, float
 }
 
 // An image decoded at full resolution and converted to RGB with alpha
-// (premultiplied, as MuPDF keeps pixmaps); null on failure.
+// (premultiplied, as MuPDF keeps pixmaps), or for a stencil mask its one
+// alpha channel as it is; null on failure.
 fz_pixmap* rgb_pixmap(fz_context* ctx, fz_image* image, fz_color_params cp) {
   fz_pixmap* volatile decoded = nullptr;
   fz_pixmap* volatile rgb = nullptr;
   fz_try(ctx) {
     decoded = fz_get_unscaled_pixmap_from_image(ctx, image);
-    rgb = fz_convert_pixmap(ctx, decoded, fz_device_rgb(ctx), nullptr, nullptr, cp, 1);
+    rgb = fz_pixmap_colorspace(ctx, decoded)
+              ? fz_convert_pixmap(ctx, decoded, fz_device_rgb(ctx), nullptr, nullptr, cp, 1)
+              : fz_keep_pixmap(ctx, decoded);
   }
   fz_always(ctx) { fz_drop_pixmap(ctx, decoded); }
   fz_catch(ctx) { rgb = nullptr; }
@@ -116,7 +120,7 @@ struct Lowering {
   Affine device;
   double page_w = 0, page_h = 0;  // scene units  // page points to output pixels (stroke tolerance, thin lines)
   // What each pop_clip to come closes, innermost last.
-  enum Pop : uint8_t { ClipGroup, MaskedGroup, Nothing };
+  enum Pop : uint8_t { ClipGroup, MaskedGroup };
   std::vector<Pop> pops;
   std::set<std::string> warned;
   std::vector<std::string>* warnings;
@@ -205,12 +209,15 @@ struct Lowering {
 
   // An image as a texture paint on the unit square that `ctm` places (MuPDF
   // puts the image's top-left pixel at the unit square's origin); the
-  // pixmap's premultiplied samples become straight RGBA.
-  void image(fz_context* ctx, fz_image* img, fz_matrix ctm, float alpha, fz_color_params cp) {
+  // pixmap's premultiplied samples become straight RGBA. A stencil mask
+  // (one alpha channel) is white where it paints, tinted by `tint`.
+  // Returns the paint (and the placement in *xf), or nothing.
+  std::optional<Paint> image_paint(fz_context* ctx, fz_image* img, fz_matrix ctm, float alpha, fz_color_params cp,
+                                   RGBA tint, Affine* xf_out) {
     fz_pixmap* pix = rgb_pixmap(ctx, img, cp);
     if (!pix) {
       warn("an image could not be decoded: skipped");
-      return;
+      return std::nullopt;
     }
     auto im = std::make_shared<Image>();
     im->width = fz_pixmap_width(ctx, pix);
@@ -224,7 +231,8 @@ struct Lowering {
         const unsigned char* s = samples + size_t(y) * stride + size_t(x) * n;
         const int a = has_alpha ? s[n - 1] : 255;
         uint8_t* d = &im->rgba8[(size_t(y) * im->width + x) * 4];
-        for (int k = 0; k < 3; k++) d[k] = static_cast<uint8_t>(a ? std::min(255, (s[k] * 255 + a / 2) / a) : 0);
+        for (int k = 0; k < 3; k++)
+          d[k] = n < 3 ? 255 : static_cast<uint8_t>(a ? std::min(255, (s[k] * 255 + a / 2) / a) : 0);
         d[3] = static_cast<uint8_t>(a);
       }
     fz_drop_pixmap(ctx, pix);
@@ -232,18 +240,31 @@ struct Lowering {
     Texture t;
     t.image = std::move(im);
     t.xf = xf * Affine::scale(1.0 / t.image->width, 1.0 / t.image->height);
+    t.tint = tint;
     Paint paint;
     paint.type = PaintType::Texture;
     paint.opacity = alpha;
     paint.index = b->add_texture(std::move(t));
-    fill(rect_path(0, 0, 1, 1), xf, FillRule::NonZero, paint);
+    *xf_out = xf;
+    return paint;
+  }
+  void image(fz_context* ctx, fz_image* img, fz_matrix ctm, float alpha, fz_color_params cp, RGBA tint) {
+    Affine xf;
+    if (const auto paint = image_paint(ctx, img, ctm, alpha, cp, tint, &xf))
+      fill(rect_path(0, 0, 1, 1), xf, FillRule::NonZero, *paint);
+  }
+  // A clip by an image mask: a group masked by the image's alpha, until
+  // pop_clip.
+  void clip_image(fz_context* ctx, fz_image* img, fz_matrix ctm) {
+    b->begin_group(Group{});
+    Group m;
+    m.mask = MaskType::Alpha;
+    b->begin_group(m);
+    image(ctx, img, ctm, 1, fz_default_color_params, RGBA{1, 1, 1, 1});
+    b->end_group();
+    pops.push_back(MaskedGroup);
   }
 
-  // A clip not lowered yet (text, image masks): its content goes unclipped.
-  void unsupported_clip(const char* what) {
-    warn(std::string(what) + " clips are not supported yet: content drawn unclipped");
-    pops.push_back(Nothing);
-  }
   void close(Pop p) {
     if (p == ClipGroup) b->pop();
     if (p == MaskedGroup) b->end_group();
@@ -456,12 +477,16 @@ std::vector<std::string> lower_page(fz_context* ctx, fz_page* page, const fz_mat
   dev->fill_shade = fill_shade;
   dev->fill_image = [](fz_context* c, fz_device* d, fz_image* img, fz_matrix m, float alpha, fz_color_params cp) {
     Lowering* low = Lowering::of(d);
-    low->guarded([&] { low->image(c, img, m, alpha, cp); });
+    low->guarded([&] { low->image(c, img, m, alpha, cp, RGBA{1, 1, 1, 1}); });
   };
-  dev->fill_image_mask = [](fz_context*, fz_device* d, fz_image*, fz_matrix, fz_colorspace*, const float*, float,
-                            fz_color_params) { Lowering::of(d)->warn("image masks are not supported yet: skipped"); };
-  dev->clip_image_mask = [](fz_context*, fz_device* d, fz_image*, fz_matrix, fz_rect) {
-    Lowering::of(d)->unsupported_clip("image mask");
+  dev->fill_image_mask = [](fz_context* c, fz_device* d, fz_image* img, fz_matrix m, fz_colorspace* cs,
+                            const float* color, float alpha, fz_color_params cp) {
+    Lowering* low = Lowering::of(d);
+    low->guarded([&] { low->image(c, img, m, alpha, cp, low->solid(c, cs, color, 1, cp).color); });
+  };
+  dev->clip_image_mask = [](fz_context* c, fz_device* d, fz_image* img, fz_matrix m, fz_rect) {
+    Lowering* low = Lowering::of(d);
+    low->guarded([&] { low->clip_image(c, img, m); });
   };
   std::string error;
   fz_try(ctx) {
