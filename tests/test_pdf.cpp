@@ -57,8 +57,8 @@ std::string write_temp(const std::string& name, const std::string& bytes) {
 struct Page {
   ImageF im;
   int w = 0;
-  explicit Page(const std::string& path) {
-    const pdf::Document doc(path);
+  explicit Page(const std::string& path, const std::string& password = "") {
+    const pdf::Document doc(path, password);
     const pdf::PageResult page = doc.page(0, 1.0);
     RenderOptions o;
     o.width = w = static_cast<int>(page.scene.width);
@@ -155,4 +155,14 @@ TEST_CASE("pdf: stencil image masks paint the fill colour", "[pdf]") {
                                                       std::string("\x40", 1) + "\nEI Q\n")));
   check(p, 14, 80, {1, 0, 0});
   check(p, 26, 80, {1, 1, 1});
+}
+
+TEST_CASE("pdf: an encrypted document needs its password", "[pdf]") {
+  const std::string path = std::string(MPVG_SOURCE_DIR) + "/testdata/pdf/encrypted-password-secret.pdf";
+  CHECK_THROWS_WITH(pdf::Document(path), Catch::Contains("encrypted: give its password with --password"));
+  CHECK_THROWS_WITH(pdf::Document(path, "wrong"), Catch::Contains("wrong password"));
+  const pdf::Document doc(path, "secret");
+  REQUIRE(doc.page_count() == 1);
+  const Page p(path, "secret");
+  check(p, 10, 90, {1, 0, 0});
 }
