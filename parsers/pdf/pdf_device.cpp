@@ -116,7 +116,10 @@ stroke::Cap to_cap(fz_linecap c) {
 
 struct Lowering {
   fz_device super;  // first: MuPDF's device
-  SceneBuilder* b;
+  SceneBuilder* b;  // the page's, or the tile's being captured
+  // Maps the device space MuPDF draws in (the page's scene units) to b's:
+  // the identity, or inside a tile the inverse of the tile's placement.
+  Affine adjust;
   Affine device;
   double page_w = 0, page_h = 0;  // scene units  // page points to output pixels (stroke tolerance, thin lines)
   // What each pop_clip to come closes, innermost last.
@@ -127,6 +130,21 @@ struct Lowering {
   std::string error;  // the first failure inside a callback
 
   static Lowering* of(fz_device* d) { return reinterpret_cast<Lowering*>(d); }
+
+  Affine place(fz_matrix m) const { return adjust * to_affine(m); }
+
+  // Tiling patterns being captured, innermost last: each one's tile is a
+  // scene of its own, then a pattern paint on the area it covers.
+  struct Tile {
+    std::unique_ptr<SceneBuilder> builder;  // null: not captured (drawn once)
+    SceneBuilder* parent = nullptr;
+    Affine parent_adjust, placement;  // placement: tile units to the parent's units
+    Affine pattern_space;             // the pattern space to the parent's units
+    fz_rect area{};                   // in pattern space
+    size_t pops = 0;
+    bool clipped = false;
+  };
+  std::vector<Tile> tiles;
 
   void warn(const std::string& w) {
     if (warned.insert(w).second) warnings->push_back(w);
@@ -158,7 +176,7 @@ struct Lowering {
   // thinnest visible line: one output pixel.
   Path stroke_geometry(const Path& p, const fz_stroke_state* s, const Affine& ctm) {
     stroke::Style st;
-    const Affine to_device = device * ctm;
+    const Affine to_device = device * adjust.inverted() * ctm;
     const double scale = std::sqrt(std::fabs(to_device.a * to_device.d - to_device.b * to_device.c));
     st.width = s->linewidth > 0 ? s->linewidth : (scale > 0 ? 1.0 / scale : 1.0);
     st.cap = to_cap(s->start_cap);
@@ -236,7 +254,7 @@ struct Lowering {
         d[3] = static_cast<uint8_t>(a);
       }
     fz_drop_pixmap(ctx, pix);
-    const Affine xf = to_affine(ctm);
+    const Affine xf = place(ctm);
     Texture t;
     t.image = std::move(im);
     t.xf = xf * Affine::scale(1.0 / t.image->width, 1.0 / t.image->height);
@@ -277,7 +295,7 @@ void fill_path(fz_context* ctx, fz_device* dev, const fz_path* path, int even_od
                const float* color, float alpha, fz_color_params cp) {
   Lowering* l = Lowering::of(dev);
   l->guarded([&] {
-    l->fill(to_path(ctx, path), to_affine(ctm), even_odd ? FillRule::EvenOdd : FillRule::NonZero,
+    l->fill(to_path(ctx, path), l->place(ctm), even_odd ? FillRule::EvenOdd : FillRule::NonZero,
             l->solid(ctx, cs, color, alpha, cp));
   });
 }
@@ -286,7 +304,7 @@ void stroke_path(fz_context* ctx, fz_device* dev, const fz_path* path, const fz_
                  fz_colorspace* cs, const float* color, float alpha, fz_color_params cp) {
   Lowering* l = Lowering::of(dev);
   l->guarded([&] {
-    const Affine xf = to_affine(ctm);
+    const Affine xf = l->place(ctm);
     l->fill(l->stroke_geometry(to_path(ctx, path), stroke, xf), xf, FillRule::NonZero,
             l->solid(ctx, cs, color, alpha, cp));
   });
@@ -295,7 +313,7 @@ void stroke_path(fz_context* ctx, fz_device* dev, const fz_path* path, const fz_
 void clip_path(fz_context* ctx, fz_device* dev, const fz_path* path, int even_odd, fz_matrix ctm, fz_rect) {
   Lowering* l = Lowering::of(dev);
   l->guarded([&] {
-    l->clip(to_path(ctx, path), to_affine(ctm), even_odd ? FillRule::EvenOdd : FillRule::NonZero);
+    l->clip(to_path(ctx, path), l->place(ctm), even_odd ? FillRule::EvenOdd : FillRule::NonZero);
   });
 }
 
@@ -303,7 +321,7 @@ void clip_stroke_path(fz_context* ctx, fz_device* dev, const fz_path* path, cons
                       fz_matrix ctm, fz_rect) {
   Lowering* l = Lowering::of(dev);
   l->guarded([&] {
-    const Affine xf = to_affine(ctm);
+    const Affine xf = l->place(ctm);
     l->clip(l->stroke_geometry(to_path(ctx, path), stroke, xf), xf, FillRule::NonZero);
   });
 }
@@ -319,7 +337,7 @@ void fill_shade(fz_context* ctx, fz_device* dev, fz_shade* shade, fz_matrix ctm,
       return;
     }
     Gradient g;
-    g.xf = to_affine(fz_concat(shade->matrix, ctm));
+    g.xf = l->place(fz_concat(shade->matrix, ctm));
     const auto& c = shade->u.l_or_r.coords;
     g.p0 = {c[0][0], c[0][1]};
     g.p1 = {c[1][0], c[1][1]};
@@ -337,7 +355,7 @@ void fill_shade(fz_context* ctx, fz_device* dev, fz_shade* shade, fz_matrix ctm,
     const fz_rect r = shade->bbox;
     const bool bounded = !fz_is_infinite_rect(r) && r.x1 > r.x0 && r.y1 > r.y0;
     const Path area = bounded ? rect_path(r.x0, r.y0, r.x1, r.y1) : rect_path(0, 0, l->page_w, l->page_h);
-    l->fill(area, bounded ? to_affine(fz_concat(shade->matrix, ctm)) : Affine{}, FillRule::NonZero, paint);
+    l->fill(area, bounded ? l->place(fz_concat(shade->matrix, ctm)) : l->adjust, FillRule::NonZero, paint);
   });
 }
 
@@ -348,7 +366,7 @@ void fill_text(fz_context* ctx, fz_device* dev, const fz_text* text, fz_matrix c
   Lowering* l = Lowering::of(dev);
   l->guarded([&] {
     const Paint paint = l->solid(ctx, cs, color, alpha, cp);
-    const Affine xf = to_affine(ctm);
+    const Affine xf = l->place(ctm);
     l->glyphs(ctx, text, ctm, [&](Path p) { l->fill(std::move(p), xf, FillRule::NonZero, paint); });
   });
 }
@@ -358,7 +376,7 @@ void stroke_text(fz_context* ctx, fz_device* dev, const fz_text* text, const fz_
   Lowering* l = Lowering::of(dev);
   l->guarded([&] {
     const Paint paint = l->solid(ctx, cs, color, alpha, cp);
-    const Affine xf = to_affine(ctm);
+    const Affine xf = l->place(ctm);
     l->glyphs(ctx, text, ctm,
               [&](Path p) { l->fill(l->stroke_geometry(p, stroke, xf), xf, FillRule::NonZero, paint); });
   });
@@ -368,7 +386,7 @@ void stroke_text(fz_context* ctx, fz_device* dev, const fz_text* text, const fz_
 void clip_text(fz_context* ctx, fz_device* dev, const fz_text* text, fz_matrix ctm, fz_rect) {
   Lowering* l = Lowering::of(dev);
   l->guarded([&] {
-    const Affine xf = to_affine(ctm);
+    const Affine xf = l->place(ctm);
     l->b->push();
     l->glyphs(ctx, text, ctm, [&](Path p) { l->b->clip(l->b->add_geometry(std::move(p)), xf, FillRule::NonZero); });
     l->b->activate();
@@ -380,7 +398,7 @@ void clip_stroke_text(fz_context* ctx, fz_device* dev, const fz_text* text, cons
                       fz_matrix ctm, fz_rect) {
   Lowering* l = Lowering::of(dev);
   l->guarded([&] {
-    const Affine xf = to_affine(ctm);
+    const Affine xf = l->place(ctm);
     l->b->push();
     l->glyphs(ctx, text, ctm, [&](Path p) {
       Path g = l->stroke_geometry(p, stroke, xf);
@@ -388,6 +406,65 @@ void clip_stroke_text(fz_context* ctx, fz_device* dev, const fz_text* text, cons
     });
     l->b->activate();
     l->pops.push_back(Lowering::ClipGroup);
+  });
+}
+
+// Tiling patterns: the cell's content, captured into a tile scene in
+// pattern space (from the view box's corner, one period xstep x ystep,
+// clipped to the view box), repeated by a pattern paint over `area` (in
+// pattern space, as MuPDF's interpreter passes it).
+// Returning 0 tells MuPDF the content comes once, for us to repeat.
+int begin_tile(fz_context*, fz_device* dev, fz_rect area, fz_rect view, float xstep, float ystep, fz_matrix ctm,
+               int) {
+  Lowering* l = Lowering::of(dev);
+  l->guarded([&] {
+    Lowering::Tile t;
+    t.parent = l->b;
+    t.parent_adjust = l->adjust;
+    t.area = area;
+    t.pops = l->pops.size();
+    const double w = view.x1 - view.x0, h = view.y1 - view.y0;
+    t.pattern_space = l->place(ctm);
+    t.placement = t.pattern_space * Affine::translate(view.x0, view.y0);
+    if (xstep > 0 && ystep > 0 && w > 0 && h > 0 && t.placement.invertible()) {
+      t.builder = std::make_unique<SceneBuilder>(xstep, ystep);
+      l->b = t.builder.get();
+      l->adjust = t.placement.inverted() * t.parent_adjust;
+      if (w < xstep || h < ystep) {  // gaps between cells: the content stays in its box
+        t.clipped = true;
+        l->b->push();
+        l->b->clip(l->b->add_geometry(rect_path(0, 0, w, h)), Affine{}, FillRule::NonZero);
+        l->b->activate();
+      }
+    } else {
+      l->warn("a tiling pattern with an empty or reversed cell was drawn once");
+    }
+    l->tiles.push_back(std::move(t));
+  });
+  return 0;
+}
+
+void end_tile(fz_context*, fz_device* dev) {
+  Lowering* l = Lowering::of(dev);
+  l->guarded([&] {
+    if (l->tiles.empty()) return;
+    Lowering::Tile t = std::move(l->tiles.back());
+    l->tiles.pop_back();
+    if (!t.builder) return;
+    while (l->pops.size() > t.pops) {  // clips the cell's content left open
+      l->close(l->pops.back());
+      l->pops.pop_back();
+    }
+    if (t.clipped) l->b->pop();
+    Pattern pattern;
+    pattern.tile = std::make_shared<Scene>(t.builder->finish());
+    pattern.xf = t.placement;
+    l->b = t.parent;
+    l->adjust = t.parent_adjust;
+    Paint paint;
+    paint.type = PaintType::Pattern;
+    paint.index = l->b->add_pattern(std::move(pattern));
+    l->fill(rect_path(t.area.x0, t.area.y0, t.area.x1, t.area.y1), t.pattern_space, FillRule::NonZero, paint);
   });
 }
 
@@ -454,11 +531,13 @@ std::vector<std::string> lower_page(fz_context* ctx, fz_page* page, const fz_mat
   // fz_new_derived_device zero-fills; the C++ members are constructed here
   // and destroyed below, before the device is dropped.
   l->b = &b;
+  l->adjust = Affine{};
   l->device = device;
   l->page_w = width;
   l->page_h = height;
   l->warnings = &warnings;
   new (&l->pops) std::vector<Lowering::Pop>();
+  new (&l->tiles) std::vector<Lowering::Tile>();
   new (&l->warned) std::set<std::string>();
   new (&l->error) std::string();
   dev->fill_path = fill_path;
@@ -470,6 +549,8 @@ std::vector<std::string> lower_page(fz_context* ctx, fz_page* page, const fz_mat
   dev->end_mask = end_mask;
   dev->begin_group = begin_group;
   dev->end_group = end_group;
+  dev->begin_tile = begin_tile;
+  dev->end_tile = end_tile;
   dev->fill_text = fill_text;
   dev->stroke_text = stroke_text;
   dev->clip_text = clip_text;
@@ -497,6 +578,7 @@ std::vector<std::string> lower_page(fz_context* ctx, fz_page* page, const fz_mat
     error = fz_caught_message(ctx);
   }
   if (error.empty()) error = l->error;
+  if (error.empty() && !l->tiles.empty()) error = "a tiling pattern was left open";
   // Clips, masks and groups MuPDF left open (an interrupted page).
   if (error.empty()) {
     while (!l->pops.empty()) {
@@ -507,6 +589,7 @@ std::vector<std::string> lower_page(fz_context* ctx, fz_page* page, const fz_mat
   l->error.~basic_string();
   l->warned.~set();
   l->pops.~vector();
+  l->tiles.~vector();
   fz_drop_device(ctx, dev);
   if (!error.empty()) throw Error("page: " + error);
   return warnings;
