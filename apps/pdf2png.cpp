@@ -3,8 +3,9 @@
 //   pdf2png [options] IN.pdf OUT-PREFIX      writes OUT-PREFIX-1.png, ...
 //
 // Page numbers are zero-padded to the digits of the page count, as
-// pdftoppm does. Options of its own: -r/--dpi N (default 150), -f N and
-// -l N (first and last page), --singlefile (the first page only, written to
+// pdftoppm does. Options of its own: -r/--dpi N (default 150), --scale-to N
+// (the longer side in pixels), -x X -y Y -W W -H H (a crop window in
+// pixels), -f N and -l N (first and last page), --singlefile (the first page only, written to
 // OUT-PREFIX.png), --password P, --transparent (no white page background);
 // the rendering options are svg2png's (--aa, --gamma,
 // --backend, --bits, --stats, -q).
@@ -33,6 +34,8 @@ struct PdfOptions {
   std::string password;
   bool transparent = false;
   bool singlefile = false;  // the first page only, to OUT-PREFIX.png
+  int scale_to = 0;         // the longer side in pixels (overrides the resolution)
+  int crop_x = 0, crop_y = 0, crop_w = 0, crop_h = 0;  // -x -y -W -H, pixels at the resolution
 };
 
 // Takes pdf2png's own options out of argv; the rest goes to cli::parse.
@@ -64,6 +67,16 @@ std::vector<char*> own_options(int argc, char** argv, PdfOptions& p) {
       p.transparent = true;
     else if (a == "--singlefile")
       p.singlefile = true;
+    else if (a == "--scale-to")
+      p.scale_to = static_cast<int>(number(1));
+    else if (a == "-x")
+      p.crop_x = static_cast<int>(number(0));
+    else if (a == "-y")
+      p.crop_y = static_cast<int>(number(0));
+    else if (a == "-W")
+      p.crop_w = static_cast<int>(number(1));
+    else if (a == "-H")
+      p.crop_h = static_cast<int>(number(1));
     else
       rest.push_back(argv[i]);
   }
@@ -90,20 +103,31 @@ int main(int argc, char** argv) {
     const int count = doc.page_count();
     const int last = pdf.singlefile ? pdf.first : pdf.last < 0 ? count : std::min(pdf.last, count);
     const int digits = static_cast<int>(std::to_string(count).size());
-    const double scale = pdf.dpi / 72.0;
     for (int n = pdf.first; n <= last; n++) {
       char name[32];
       std::snprintf(name, sizeof name, "-%0*d.png", digits, n);
       const std::string out = opt.output + (pdf.singlefile ? std::string(".png") : std::string(name));
       try {
+        // The scale needs the page's size with --scale-to: look at the page first.
+        double scale = pdf.dpi / 72.0;
+        if (pdf.scale_to > 0) {
+          const auto [w, h] = doc.page_size(n - 1);
+          scale = pdf.scale_to / std::max(w, h);
+        }
         const pdf::PageResult page = doc.page(n - 1, scale);
         if (!opt.quiet)
           for (const std::string& w : page.warnings) std::fprintf(stderr, "pdf2png: page %d: warning: %s\n", n, w.c_str());
-        const int width = std::max(1, static_cast<int>(std::ceil(page.scene.width * scale - 1e-6)));
-        const int height = std::max(1, static_cast<int>(std::ceil(page.scene.height * scale - 1e-6)));
+        int width = std::max(1, static_cast<int>(std::ceil(page.scene.width * scale - 1e-6)));
+        int height = std::max(1, static_cast<int>(std::ceil(page.scene.height * scale - 1e-6)));
+        // -x -y -W -H: a window of the page's pixels (the rest of the page if
+        // -W or -H is absent), as pdftoppm crops.
+        if (pdf.crop_x || pdf.crop_y || pdf.crop_w || pdf.crop_h) {
+          width = pdf.crop_w ? pdf.crop_w : std::max(1, width - pdf.crop_x);
+          height = pdf.crop_h ? pdf.crop_h : std::max(1, height - pdf.crop_y);
+        }
+        const Affine view = Affine::translate(-pdf.crop_x, -pdf.crop_y) * Affine::scale(scale, scale);
         RenderStats stats;
-        const ImageF img =
-            render(page.scene, cli::render_options(opt, width, height, Affine::scale(scale, scale)), &stats);
+        const ImageF img = render(page.scene, cli::render_options(opt, width, height, view), &stats);
         if (opt.bits == 16)
           write_png_rgba16(out, width, height, to_rgba16(img, opt.gamma));
         else

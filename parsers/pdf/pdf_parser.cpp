@@ -60,15 +60,16 @@ Document::~Document() = default;
 
 int Document::page_count() const { return impl_->pages; }
 
-PageResult Document::page(int index, double pixels_per_point) const {
-  fz_context* ctx = impl_->ctx;
+namespace {
+
+// Loads page `index` and its box; throws mpvg::Error with MuPDF's message.
+fz_page* load_page(fz_context* ctx, fz_document* doc, int index, fz_rect* box) {
   fz_page* volatile page = nullptr;
-  fz_rect box{};
   char message[256] = "";
   fz_try(ctx) {
-    page = fz_load_page(ctx, impl_->doc, index);
+    page = fz_load_page(ctx, doc, index);
     const fz_rect bounds = fz_bound_page(ctx, page);
-    memcpy(&box, &bounds, sizeof box);
+    memcpy(box, &bounds, sizeof bounds);
   }
   fz_catch(ctx) {
     fz_strlcpy(message, fz_caught_message(ctx), sizeof message);
@@ -77,6 +78,21 @@ PageResult Document::page(int index, double pixels_per_point) const {
     fz_drop_page(ctx, page);
     throw Error("page " + std::to_string(index + 1) + ": " + message);
   }
+  return page;
+}
+
+}  // namespace
+
+std::pair<double, double> Document::page_size(int index) const {
+  fz_rect box{};
+  fz_drop_page(impl_->ctx, load_page(impl_->ctx, impl_->doc, index, &box));
+  return {box.x1 - box.x0, box.y1 - box.y0};
+}
+
+PageResult Document::page(int index, double pixels_per_point) const {
+  fz_context* ctx = impl_->ctx;
+  fz_rect box{};
+  fz_page* page = load_page(ctx, impl_->doc, index, &box);
   PageResult out;
   const double w = box.x1 - box.x0, h = box.y1 - box.y0;
   SceneBuilder b(w, h);

@@ -8,6 +8,7 @@
 // tiling patterns' own paints are reported and skipped or drawn plainly.
 #pragma once
 #include <memory>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,8 @@ class Document {
   Document& operator=(const Document&) = delete;
 
   int page_count() const;
+  // Width and height of page `index` in points (its box after /Rotate).
+  std::pair<double, double> page_size(int index) const;
   // Page `index` (0-based); `pixels_per_point` is the output resolution
   // the page will be rendered at (stroke tolerance, thinnest lines).
   // Throws mpvg::Error when MuPDF fails on it.
