@@ -16,6 +16,7 @@
 // others are still written; the exit status is 1 if any page failed.
 #include <cmath>
 #include <cstdio>
+#include <unistd.h>
 #include <exception>
 #include <string>
 #include <vector>
@@ -103,7 +104,10 @@ int main(int argc, char** argv) {
     const int count = doc.page_count();
     const int last = pdf.singlefile ? pdf.first : pdf.last < 0 ? count : std::min(pdf.last, count);
     const int digits = static_cast<int>(std::to_string(count).size());
+    // A progress line on a terminal for multi-page jobs.
+    const bool progress = !opt.quiet && last > pdf.first && isatty(fileno(stderr));
     for (int n = pdf.first; n <= last; n++) {
+      if (progress) std::fprintf(stderr, "\rpdf2png: page %d of %d-%d ", n, pdf.first, last);
       char name[32];
       std::snprintf(name, sizeof name, "-%0*d.png", digits, n);
       const std::string out = opt.output + (pdf.singlefile ? std::string(".png") : std::string(name));
@@ -134,10 +138,11 @@ int main(int argc, char** argv) {
           write_png_rgba8(out, width, height, to_rgba8(img, opt.gamma));
         if (opt.stats) std::fprintf(stderr, "page %d\n%s", n, cli::format_stats(stats).c_str());
       } catch (const std::exception& e) {
-        std::fprintf(stderr, "pdf2png: %s\n", e.what());
+        std::fprintf(stderr, "%spdf2png: %s\n", progress ? "\n" : "", e.what());
         failed++;
       }
     }
+    if (progress) std::fprintf(stderr, "\rpdf2png: %d pages, %d failed%*s\n", last - pdf.first + 1, failed, 12, "");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "pdf2png: %s\n", e.what());
     return 1;
