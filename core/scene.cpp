@@ -110,6 +110,16 @@ Path Path::contour_path(size_t i) const {
   return out;
 }
 
+Path Path::rectangle(double x0, double y0, double x1, double y1) {
+  Path p;
+  p.move_to({x0, y0});
+  p.line_to({x1, y0});
+  p.line_to({x1, y1});
+  p.line_to({x0, y1});
+  p.close();
+  return p;
+}
+
 void Path::append(const Path& other) {
   const auto np = static_cast<uint32_t>(points_.size());
   const auto nw = static_cast<uint32_t>(weights_.size());

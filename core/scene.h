@@ -89,6 +89,8 @@ class Path {
 
   // Contour i alone, as a path of its own (the same commands replayed).
   Path contour_path(size_t i) const;
+  // The rectangle [x0, x1] x [y0, y1], one closed contour from (x0, y0).
+  static Path rectangle(double x0, double y0, double x1, double y1);
   // Appends the contours of `other`, as if its commands followed ours.
   void append(const Path& other);
 

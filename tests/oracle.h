@@ -118,15 +118,7 @@ class Windings {
 };
 
 // The rectangle [x0, x1] x [y0, y1] as a closed path.
-inline Path rect(double x0, double y0, double x1, double y1) {
-  Path p;
-  p.move_to({x0, y0});
-  p.line_to({x1, y0});
-  p.line_to({x1, y1});
-  p.line_to({x0, y1});
-  p.close();
-  return p;
-}
+inline Path rect(double x0, double y0, double x1, double y1) { return Path::rectangle(x0, y0, x1, y1); }
 
 // Are two samples identical to the last bit (pruned against unpruned trees)?
 inline bool identical(const Rgba4& a, const Rgba4& b) { return a.r == b.r && a.g == b.g && a.b == b.b && a.a == b.a; }

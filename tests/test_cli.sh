@@ -5,20 +5,7 @@
 set -u
 bin=$1
 src=$2
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-fails=0
-check() {  # description, condition...
-  local what=$1
-  shift
-  if "$@"; then echo "ok   $what"; else echo "FAIL $what"; fails=$((fails + 1)); fi
-}
-png_size() {  # prints WIDTHxHEIGHT of a PNG (IHDR at byte 16)
-  local w h
-  w=$(od -An -tu1 -j16 -N4 "$1" | awk '{print $1*16777216+$2*65536+$3*256+$4}')
-  h=$(od -An -tu1 -j20 -N4 "$1" | awk '{print $1*16777216+$2*65536+$3*256+$4}')
-  echo "${w}x${h}"
-}
+source "$(dirname "${BASH_SOURCE[0]}")/cli_test_lib.sh"
 differ() { ! cmp -s "$1" "$2"; }
 svg=$src/testdata/golden/arcs.svg   # 128 x 96
 

@@ -94,16 +94,6 @@ fz_pixmap* rgb_pixmap(fz_context* ctx, fz_image* image, fz_color_params cp) {
   return rgb;
 }
 
-Path rect_path(double x0, double y0, double x1, double y1) {
-  Path p;
-  p.move_to({x0, y0});
-  p.line_to({x1, y0});
-  p.line_to({x1, y1});
-  p.line_to({x0, y1});
-  p.close();
-  return p;
-}
-
 stroke::Cap to_cap(fz_linecap c) {
   switch (c) {
     case FZ_LINECAP_ROUND: return stroke::Cap::Round;
@@ -269,7 +259,7 @@ struct Lowering {
   void image(fz_context* ctx, fz_image* img, fz_matrix ctm, float alpha, fz_color_params cp, RGBA tint) {
     Affine xf;
     if (const auto paint = image_paint(ctx, img, ctm, alpha, cp, tint, &xf))
-      fill(rect_path(0, 0, 1, 1), xf, FillRule::NonZero, *paint);
+      fill(Path::rectangle(0, 0, 1, 1), xf, FillRule::NonZero, *paint);
   }
   // A clip by an image mask: a group masked by the image's alpha, until
   // pop_clip.
@@ -354,7 +344,7 @@ void fill_shade(fz_context* ctx, fz_device* dev, fz_shade* shade, fz_matrix ctm,
     paint.index = l->b->add_gradient(std::move(g));
     const fz_rect r = shade->bbox;
     const bool bounded = !fz_is_infinite_rect(r) && r.x1 > r.x0 && r.y1 > r.y0;
-    const Path area = bounded ? rect_path(r.x0, r.y0, r.x1, r.y1) : rect_path(0, 0, l->page_w, l->page_h);
+    const Path area = bounded ? Path::rectangle(r.x0, r.y0, r.x1, r.y1) : Path::rectangle(0, 0, l->page_w, l->page_h);
     l->fill(area, bounded ? l->place(fz_concat(shade->matrix, ctm)) : l->adjust, FillRule::NonZero, paint);
   });
 }
@@ -433,7 +423,7 @@ int begin_tile(fz_context*, fz_device* dev, fz_rect area, fz_rect view, float xs
       if (w < xstep || h < ystep) {  // gaps between cells: the content stays in its box
         t.clipped = true;
         l->b->push();
-        l->b->clip(l->b->add_geometry(rect_path(0, 0, w, h)), Affine{}, FillRule::NonZero);
+        l->b->clip(l->b->add_geometry(Path::rectangle(0, 0, w, h)), Affine{}, FillRule::NonZero);
         l->b->activate();
       }
     } else {
@@ -464,7 +454,7 @@ void end_tile(fz_context*, fz_device* dev) {
     Paint paint;
     paint.type = PaintType::Pattern;
     paint.index = l->b->add_pattern(std::move(pattern));
-    l->fill(rect_path(t.area.x0, t.area.y0, t.area.x1, t.area.y1), t.pattern_space, FillRule::NonZero, paint);
+    l->fill(Path::rectangle(t.area.x0, t.area.y0, t.area.x1, t.area.y1), t.pattern_space, FillRule::NonZero, paint);
   });
 }
 
