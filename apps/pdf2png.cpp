@@ -7,7 +7,7 @@
 // (the longer side in pixels), -x X -y Y -W W -H H (a crop window in
 // pixels), -f N and -l N (first and last page), --singlefile (the first page only, written to
 // OUT-PREFIX.png), --password P, --transparent (no white page background);
-// the rendering options are svg2png's (--aa, --gamma,
+// IN.pdf "-" reads stdin; the rendering options are svg2png's (--aa, --gamma,
 // --backend, --bits, --stats, -q).
 //
 // Work in progress (issue 11): one page after another on the calling

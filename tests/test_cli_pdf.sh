@@ -31,5 +31,8 @@ check "a bad option value: exit 2" test "$rc" = 2
 "$bin" -q --backend cpu -r 72 -f 1 -l 3 "$pdf" "$tmp/l"; rc=$?
 check "-l past the last page renders what exists" test "$rc" = 0 -a -f "$tmp/l-1.png"
 
+"$bin" -q --backend cpu -r 72 - "$tmp/in" < "$pdf"
+check "- reads the document from stdin, the same image" cmp -s "$tmp/r-1.png" "$tmp/in-1.png"
+
 echo "$fails failure(s)"
 test "$fails" = 0

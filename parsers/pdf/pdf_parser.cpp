@@ -5,7 +5,9 @@
 
 #include <mupdf/fitz.h>
 
+#include <cstdio>
 #include <cstring>
+#include <vector>
 
 #include "core/error.h"
 #include "parsers/pdf/pdf_device.h"
@@ -16,6 +18,7 @@ struct Document::Impl {
   fz_context* ctx = nullptr;
   fz_document* doc = nullptr;
   int pages = 0;
+  std::vector<unsigned char> input;  // the document read from stdin ("-"), which MuPDF reads in place
   ~Impl() {
     if (ctx) {
       fz_drop_document(ctx, doc);
@@ -38,15 +41,29 @@ Document::Document(const std::string& path, const std::string& password) : impl_
   char message[256] = "";
   fz_document* volatile doc = nullptr;
   volatile int pages = 0;
+  if (path == "-") {
+    unsigned char buf[1 << 16];
+    size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, stdin)) > 0) impl_->input.insert(impl_->input.end(), buf, buf + n);
+  }
+  const unsigned char* data = impl_->input.data();
+  const size_t size = impl_->input.size();
+  fz_stream* volatile stream = nullptr;
   fz_try(ctx) {
     fz_register_document_handlers(ctx);
-    doc = fz_open_document(ctx, path.c_str());
+    if (path == "-") {
+      stream = fz_open_memory(ctx, data, size);
+      doc = fz_open_document_with_stream(ctx, "application/pdf", stream);
+    } else {
+      doc = fz_open_document(ctx, path.c_str());
+    }
     if (fz_needs_password(ctx, doc) && !fz_authenticate_password(ctx, doc, password.c_str()))
       failure = password.empty() ? "the document is encrypted: give its password with --password"
                                  : "wrong password";
     else
       pages = fz_count_pages(ctx, doc);
   }
+  fz_always(ctx) { fz_drop_stream(ctx, stream); }
   fz_catch(ctx) {
     fz_strlcpy(message, fz_caught_message(ctx), sizeof message);
   }

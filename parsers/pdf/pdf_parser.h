@@ -23,8 +23,8 @@ struct PageResult {
   std::vector<std::string> warnings;  // one line each, deduplicated
 };
 
-// An open document. Errors (unreadable, broken, encrypted without the
-// password) throw mpvg::Error with one line.
+// An open document ("-": read from stdin). Errors (unreadable, broken,
+// encrypted without the password) throw mpvg::Error with one line.
 class Document {
  public:
   explicit Document(const std::string& path, const std::string& password = "");
