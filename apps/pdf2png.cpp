@@ -5,14 +5,14 @@
 // Page numbers are zero-padded to the digits of the page count, as
 // pdftoppm does. Options of its own: -r/--dpi N (default 150), --scale-to N
 // (the longer side in pixels), -x X -y Y -W W -H H (a crop window in
-// pixels), -f N and -l N (first and last page), --singlefile (the first page only, written to
-// OUT-PREFIX.png), --password P, --transparent (no white page background);
-// IN.pdf "-" reads stdin; the rendering options are svg2png's (--aa, --gamma,
-// --backend, --bits, --stats, -q).
+// pixels), -f N and -l N (first and last page), --singlefile (the first
+// page only, written to OUT-PREFIX.png), --password P, --transparent (no
+// white page background); IN.pdf "-" reads stdin. The rendering options
+// are svg2png's (--aa, --gamma, --backend, --bits, --stats, -q).
 //
 // Work in progress (issue 11): one page after another on the calling
-// thread; what the PDF frontend does not lower yet (mesh shadings, image
-// masks) is reported and skipped. A page that fails is reported and the
+// thread; what the PDF frontend does not lower yet (mesh and
+// function-based shadings) is reported and skipped. A page that fails is reported and the
 // others are still written; the exit status is 1 if any page failed.
 #include <cmath>
 #include <cstdio>
