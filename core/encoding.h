@@ -14,6 +14,7 @@
 #include "core/paint_data.h"
 #include "core/scene.h"
 #include "core/shortcut_tree.h"
+#include "core/srgb.h"
 
 namespace mpvg {
 
@@ -71,8 +72,5 @@ struct EncodeOptions {
 // nested deeper than kMaxPatternDepth.
 EncodedScene encode(const Scene& scene, const Affine& view, Gamma gamma, const EncodeOptions& options = {});
 
-// Colour conversions for paints and the final image.
-float srgb_to_linear(float c);
-float linear_to_srgb(float c);
 
 }  // namespace mpvg

@@ -31,6 +31,7 @@
 #include "core/blend.h"
 #include "core/hd.h"
 #include "core/paint.h"
+#include "core/srgb.h"
 
 namespace mpvg {
 
@@ -106,13 +107,6 @@ MPVG_HD_INLINE Rgba4 group_remove_backdrop(Rgba4 composite, Rgba4 backdrop, floa
                alpha_g};
 }
 
-MPVG_HD_INLINE float group_srgb_encode(float c) {
-  return c <= 0.0031308f ? 12.92f * c : 1.055f * powf(c, 1.0f / 2.4f) - 0.055f;
-}
-MPVG_HD_INLINE float group_srgb_decode(float c) {
-  return c <= 0.04045f ? c / 12.92f : powf((c + 0.055f) / 1.055f, 2.4f);
-}
-
 // The value of a mask whose content composited to r (premultiplied),
 // before the mask's opacity; in [0, 1].
 MPVG_HD_INLINE float mask_value(const GroupRecord& g, Rgba4 r) {
@@ -126,7 +120,7 @@ MPVG_HD_INLINE float mask_value(const GroupRecord& g, Rgba4 r) {
       const bool enc = (g.flags & GROUP_LUMINANCE_ENCODE) != 0;
       auto conv = [&](float x) {
         const float s = x / c.a;
-        return c.a * (enc ? group_srgb_encode(s) : group_srgb_decode(s));
+        return c.a * (enc ? linear_to_srgb(s) : srgb_to_linear(s));
       };
       cr = conv(cr);
       cg = conv(cg);
