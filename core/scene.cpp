@@ -315,9 +315,9 @@ void SceneBuilder::begin_group(const Group& g) {
   n->group = static_cast<uint32_t>(scene_.groups.size());
   scene_.groups.push_back(g);
   scene_.groups.back().back_to_front = false;
-  // A mask is evaluated on its own: onto transparency, whatever it says.
-  if (g.mask != MaskType::None) scene_.groups.back().isolated = true;
   if (g.mask != MaskType::None) {
+    // A mask is evaluated on its own: onto transparency, whatever it says.
+    scene_.groups.back().isolated = true;
     Node* owner = f.group;
     if (owner->kind != Node::Transparency || owner->mask || !owner->content.empty())
       throw Error("scene grammar: a mask must be the first content of a group");
