@@ -112,13 +112,11 @@ int main(int argc, char** argv) {
       std::snprintf(name, sizeof name, "-%0*d.png", digits, n);
       const std::string out = opt.output + (pdf.singlefile ? std::string(".png") : std::string(name));
       try {
-        // The scale needs the page's size with --scale-to: look at the page first.
-        double scale = pdf.dpi / 72.0;
-        if (pdf.scale_to > 0) {
-          const auto [w, h] = doc.page_size(n - 1);
-          scale = pdf.scale_to / std::max(w, h);
-        }
-        const pdf::PageResult page = doc.page(n - 1, scale);
+        // --scale-to: the resolution follows from the page's size.
+        const pdf::PageResult page = doc.page(n - 1, [&pdf](double w, double h) {
+          return pdf.scale_to > 0 ? pdf.scale_to / std::max(w, h) : pdf.dpi / 72.0;
+        });
+        const double scale = page.pixels_per_point;
         if (!opt.quiet)
           for (const std::string& w : page.warnings) std::fprintf(stderr, "pdf2png: page %d: warning: %s\n", n, w.c_str());
         int width = std::max(1, static_cast<int>(std::ceil(page.scene.width * scale - 1e-6)));

@@ -100,22 +100,21 @@ fz_page* load_page(fz_context* ctx, fz_document* doc, int index, fz_rect* box) {
 
 }  // namespace
 
-std::pair<double, double> Document::page_size(int index) const {
-  fz_rect box{};
-  fz_drop_page(impl_->ctx, load_page(impl_->ctx, impl_->doc, index, &box));
-  return {box.x1 - box.x0, box.y1 - box.y0};
+PageResult Document::page(int index, double pixels_per_point) const {
+  return page(index, [pixels_per_point](double, double) { return pixels_per_point; });
 }
 
-PageResult Document::page(int index, double pixels_per_point) const {
+PageResult Document::page(int index, const std::function<double(double, double)>& pixels_per_point) const {
   fz_context* ctx = impl_->ctx;
   fz_rect box{};
   fz_page* page = load_page(ctx, impl_->doc, index, &box);
   PageResult out;
   const double w = box.x1 - box.x0, h = box.y1 - box.y0;
+  out.pixels_per_point = pixels_per_point(w, h);
   SceneBuilder b(w, h);
   try {
     out.warnings = detail::lower_page(ctx, page, fz_translate(-box.x0, -box.y0),
-                                      Affine::scale(pixels_per_point, pixels_per_point), w, h, b);
+                                      Affine::scale(out.pixels_per_point, out.pixels_per_point), w, h, b);
   } catch (const Error& e) {
     fz_drop_page(ctx, page);
     throw Error("page " + std::to_string(index + 1) + ": " + e.what());

@@ -7,8 +7,8 @@
 // soft masks are lowered; mesh and function shadings, image masks and
 // tiling patterns' own paints are reported and skipped or drawn plainly.
 #pragma once
+#include <functional>
 #include <memory>
-#include <utility>
 #include <string>
 #include <vector>
 
@@ -21,6 +21,7 @@ namespace mpvg::pdf {
 struct PageResult {
   Scene scene;
   std::vector<std::string> warnings;  // one line each, deduplicated
+  double pixels_per_point = 1;        // the output resolution it was lowered for
 };
 
 // An open document ("-": read from stdin). Errors (unreadable, broken,
@@ -33,12 +34,12 @@ class Document {
   Document& operator=(const Document&) = delete;
 
   int page_count() const;
-  // Width and height of page `index` in points (its box after /Rotate).
-  std::pair<double, double> page_size(int index) const;
   // Page `index` (0-based); `pixels_per_point` is the output resolution
-  // the page will be rendered at (stroke tolerance, thinnest lines).
-  // Throws mpvg::Error when MuPDF fails on it.
+  // the page will be rendered at (stroke tolerance, thinnest lines), given
+  // or chosen from the page's width and height in points (as
+  // svg::ParseOptions::view is). Throws mpvg::Error when MuPDF fails on it.
   PageResult page(int index, double pixels_per_point) const;
+  PageResult page(int index, const std::function<double(double width, double height)>& pixels_per_point) const;
 
  private:
   struct Impl;
