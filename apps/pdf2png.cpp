@@ -11,9 +11,8 @@
 // are svg2png's (--aa, --gamma, --backend, --bits, --stats, -q).
 //
 // Work in progress (issue 11): one page after another on the calling
-// thread; what the PDF frontend does not lower yet (mesh and
-// function-based shadings) is reported and skipped. A page that fails is reported and the
-// others are still written; the exit status is 1 if any page failed.
+// thread. A page that fails is reported and the others are still written;
+// the exit status is 1 if any page failed.
 #include <cmath>
 #include <cstdio>
 #include <unistd.h>

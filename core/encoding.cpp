@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "core/error.h"
+#include "core/mesh_build.h"
 #include "core/parallel.h"
 
 namespace mpvg {
@@ -303,6 +304,14 @@ class Encoder {
         }
         break;
       }
+      case PaintType::Mesh:
+        // Never opaque for pruning: a fill larger than the triangles'
+        // union would be transparent outside it.
+        if (mesh(scene.meshes.at(p.index), view, rec))
+          flags |= PATH_VARYING;
+        else
+          rec = PaintRecord{0, 0, 0, 0, PAINT_SOLID, 0, 0, 0};
+        break;
       case PaintType::Pattern:
         if (pattern(scene.patterns.at(p.index), view, frame_to_out, depth, rec)) {
           flags |= PATH_VARYING;
@@ -367,6 +376,17 @@ class Encoder {
       if (!g.extend_end) gr.flags |= GRADIENT_NO_EXTEND_END;
       covers = covers && g.extend_start && g.extend_end;
     }
+    const bool ramp_opaque = ramp(g, gr);  // always appends the ramp
+    opaque = covers && ramp_opaque;
+    rec.kind = radial ? PAINT_RADIAL : PAINT_LINEAR;
+    rec.index = static_cast<uint32_t>(paint_.gradients.size());
+    paint_.gradients.push_back(gr);
+    return true;
+  }
+
+  // Appends g's colour ramp to the tables and points gr at it; true when
+  // every colour of the ramp is opaque.
+  bool ramp(const Gradient& g, GradientRecord& gr) {
     const RampBuilder rb(g, gamma_);
     gr.first = static_cast<uint32_t>(paint_.ramp_t.size());
     if (options_.ramp_lut > 1) {
@@ -376,11 +396,32 @@ class Encoder {
       rb.exact_knots(paint_.ramp_t, paint_.ramp_color);
     }
     gr.count = static_cast<uint32_t>(paint_.ramp_t.size()) - gr.first;
-    opaque = covers;
+    bool opaque = true;
     for (uint32_t i = gr.first; i < gr.first + gr.count; i++) opaque = opaque && paint_.ramp_color[i].a >= 1.0f;
-    rec.kind = radial ? PAINT_RADIAL : PAINT_LINEAR;
-    rec.index = static_cast<uint32_t>(paint_.gradients.size());
-    paint_.gradients.push_back(gr);
+    return opaque;
+  }
+
+  // Fills in a mesh paint (core/mesh_build.h); false when no triangle has
+  // an area in pixels.
+  bool mesh(const Mesh& m, const Affine& view, PaintRecord& rec) {
+    MeshRecord mr{};
+    auto color = [this](const RGBA& c) {
+      Rgba4 r = out_color(c);
+      r.a = clamp01(c.a);
+      return r;
+    };
+    if (!build_mesh(m, view * m.xf, color, paint_, mr)) return false;
+    if (!m.ramp.empty()) {
+      Gradient g;  // only its stops: t comes from the triangles
+      g.stops = m.ramp;
+      GradientRecord gr{};
+      ramp(g, gr);
+      mr.ramp = static_cast<uint32_t>(paint_.gradients.size());
+      paint_.gradients.push_back(gr);
+    }
+    rec.kind = PAINT_MESH;
+    rec.index = static_cast<uint32_t>(paint_.meshes.size());
+    paint_.meshes.push_back(mr);
     return true;
   }
 

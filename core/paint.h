@@ -9,7 +9,8 @@
 //
 //   PaintRecord ──kind──> GradientRecord ──first,count──> ramp_t[], ramp_color[]
 //               │──────> TextureRecord ──level0,levels──> TextureLevel[] ──offset──> texels[]
-//               └──────> PatternRecord ──tree──> TreeView[] (a tile's own shortcut tree)
+//               │──────> PatternRecord ──tree──> TreeView[] (a tile's own shortcut tree)
+//               └──────> MeshRecord ──cells──> mesh_cells[] ──> mesh_items[] ──> MeshTriangle[]
 #pragma once
 #include <cstdint>
 
@@ -45,6 +46,7 @@ enum PaintKind : uint32_t {
   PAINT_RADIAL = 2,
   PAINT_TEXTURE = 3,
   PAINT_PATTERN = 4,
+  PAINT_MESH = 5,
 };
 
 // One paint. r, g, b, a are premultiplied: for PAINT_SOLID the colour; for
@@ -53,7 +55,7 @@ enum PaintKind : uint32_t {
 struct PaintRecord {
   float r, g, b, a;
   uint32_t kind;
-  uint32_t index;  // GradientRecord, TextureRecord or PatternRecord
+  uint32_t index;  // GradientRecord, TextureRecord, PatternRecord or MeshRecord
   uint32_t pad0, pad1;
 };
 static_assert(sizeof(PaintRecord) == 32, "PaintRecord is a 32-byte record shared by CPU and GPU");
@@ -133,6 +135,32 @@ struct PatternRecord {
 };
 static_assert(sizeof(PatternRecord) == 32, "PatternRecord is a 32-byte record shared by CPU and GPU");
 
+// A mesh of Gouraud-shaded triangles (core/mesh.h), located per sample
+// through a uniform grid over its bounding box in pixels: cell (i, j) lists
+// the triangles whose bounding box meets it, as mesh_items[mesh_cells[c] ..
+// mesh_cells[c + 1]) with c = cells + j * grid_w + i, in ascending order
+// (later triangles lie over earlier ones).
+struct MeshRecord {
+  float x0, y0;  // the grid's corner, pixels
+  float sx, sy;  // cells per pixel
+  uint32_t grid_w, grid_h;
+  uint32_t cells;
+  uint32_t ramp;  // GradientRecord whose ramp maps the interpolated t (PDF shadings with a Function), or kNoMeshRamp
+};
+static_assert(sizeof(MeshRecord) == 32, "MeshRecord is a 32-byte record shared by CPU and GPU");
+constexpr uint32_t kNoMeshRamp = 0xffffffffu;
+
+// One triangle, in pixels: barycentric coordinates (s, t) of a point p are
+// (m00 dx + m01 dy, m10 dx + m11 dy) with (dx, dy) = p - a, and its colour
+// there is c0 + s d1 + t d2 (straight alpha, the integration colour space;
+// with a ramp, t of the ramp in c0.r + s d1.r + t d2.r).
+struct MeshTriangle {
+  float ax, ay;
+  float m00, m01, m10, m11;
+  Rgba4 c0, d1, d2;
+};
+static_assert(sizeof(MeshTriangle) == 72, "MeshTriangle is a 72-byte record shared by CPU and GPU");
+
 // A built shortcut tree as a sampler reads it: the main scene's, or a
 // pattern tile's (built over a grid of width x height unit areas).
 struct TreeView {
@@ -159,6 +187,10 @@ struct PaintTables {
   const PatternRecord* patterns;
   const TreeView* tiles;
   const GroupRecord* groups;  // transparency groups and masks, the tiles' included
+  const MeshRecord* meshes;
+  const MeshTriangle* mesh_triangles;
+  const uint32_t* mesh_cells;
+  const uint32_t* mesh_items;
 };
 
 // The paint multiplied by a record's factor.

@@ -20,18 +20,23 @@ struct PaintData {
   std::vector<Texel16> texels;
   std::vector<PatternRecord> patterns;
   std::vector<GroupRecord> groups;
+  std::vector<MeshRecord> meshes;
+  std::vector<MeshTriangle> mesh_triangles;
+  std::vector<uint32_t> mesh_cells, mesh_items;
 
   // Pointers into these vectors; `tiles` are the tile trees' views.
   PaintTables view(const TreeView* tiles) const {
-    return PaintTables{paints.data(), gradients.data(), ramp_t.data(),   ramp_color.data(), textures.data(),
-                       levels.data(), texels.data(),    patterns.data(), tiles,             groups.data()};
+    return PaintTables{paints.data(),   gradients.data(), ramp_t.data(),         ramp_color.data(), textures.data(),
+                       levels.data(),   texels.data(),    patterns.data(),       tiles,             groups.data(),
+                       meshes.data(),   mesh_triangles.data(), mesh_cells.data(), mesh_items.data()};
   }
   size_t bytes() const {
     return paints.size() * sizeof(PaintRecord) + gradients.size() * sizeof(GradientRecord) +
            ramp_t.size() * sizeof(float) + ramp_color.size() * sizeof(Rgba4) +
            textures.size() * sizeof(TextureRecord) + levels.size() * sizeof(TextureLevel) +
            texels.size() * sizeof(Texel16) + patterns.size() * sizeof(PatternRecord) +
-           groups.size() * sizeof(GroupRecord);
+           groups.size() * sizeof(GroupRecord) + meshes.size() * sizeof(MeshRecord) +
+           mesh_triangles.size() * sizeof(MeshTriangle) + (mesh_cells.size() + mesh_items.size()) * sizeof(uint32_t);
   }
 };
 

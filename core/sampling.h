@@ -20,6 +20,7 @@
 #include "core/gradient.h"
 #include "core/group.h"
 #include "core/hd.h"
+#include "core/mesh.h"
 #include "core/paint.h"
 #include "core/paint_data.h"
 #include "core/shortcut_tree.h"
@@ -52,7 +53,7 @@ struct SampleInputs {
 // colours or not.
 enum : uint32_t {
   PAINTS_SOLID = 0,
-  PAINTS_GRADIENTS = 1u << 0,
+  PAINTS_GRADIENTS = 1u << 0,  // gradients and meshes
   PAINTS_TEXTURES = 1u << 1,
   PAINTS_PATTERNS = 1u << 2,
   PAINTS_ALL = PAINTS_GRADIENTS | PAINTS_TEXTURES | PAINTS_PATTERNS,
@@ -68,7 +69,7 @@ inline uint32_t sampler_kinds(const PaintData& p) {
   const uint32_t groups = p.groups.empty() ? 0u : SAMPLE_GROUPS;
   if (!p.patterns.empty()) return PAINTS_ALL | groups;
   uint32_t k = PAINTS_SOLID;
-  if (!p.gradients.empty()) k |= PAINTS_GRADIENTS;
+  if (!p.gradients.empty() || !p.meshes.empty()) k |= PAINTS_GRADIENTS;  // meshes are smooth shadings too
   if (!p.textures.empty()) k |= PAINTS_TEXTURES;
   if (groups && k != PAINTS_SOLID) k = PAINTS_GRADIENTS | PAINTS_TEXTURES;
   return k | groups;
@@ -129,6 +130,7 @@ MPVG_HD_INLINE Rgba4 paint_at(const PaintTables& t, uint32_t index, float px, fl
     if (p.kind == PAINT_LINEAR || p.kind == PAINT_RADIAL)
       return paint_scale(gradient_at(t.gradients[p.index], p.kind == PAINT_RADIAL, t.ramp_t, t.ramp_color, px, py),
                          p);
+    if (p.kind == PAINT_MESH) return paint_scale(mesh_at(t.meshes[p.index], t, px, py), p);
   }
   if constexpr ((Kinds & PAINTS_TEXTURES) != 0) {
     if (p.kind == PAINT_TEXTURE) return paint_scale(texture_at(t.textures[p.index], t.levels, t.texels, px, py), p);

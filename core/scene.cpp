@@ -236,6 +236,19 @@ uint32_t SceneBuilder::add_pattern(Pattern p) {
   return static_cast<uint32_t>(scene_.patterns.size() - 1);
 }
 
+uint32_t SceneBuilder::add_mesh(Mesh m) {
+  if (m.vertices.empty() || m.vertices.size() % 3 != 0) throw Error("scene: mesh without whole triangles");
+  if (!finite(m.xf)) throw Error("scene: mesh with a non-finite parameter");
+  for (const MeshVertex& v : m.vertices)
+    if (!finite(v.p) || !finite(v.color)) throw Error("scene: mesh vertex with a non-finite value");
+  for (size_t i = 0; i < m.ramp.size(); i++) {
+    if (!finite(m.ramp[i].offset) || !finite(m.ramp[i].color)) throw Error("scene: mesh ramp with a non-finite value");
+    if (i > 0 && m.ramp[i].offset < m.ramp[i - 1].offset) throw Error("scene: mesh ramp out of order");
+  }
+  scene_.meshes.push_back(std::move(m));
+  return static_cast<uint32_t>(scene_.meshes.size() - 1);
+}
+
 void SceneBuilder::fill(uint32_t geometry, const Affine& xf, FillRule rule, const Paint& paint) {
   Frame& f = frame();
   if (f.clip_context || !f.activated) throw Error("scene grammar: fill inside a clip-path");
@@ -243,6 +256,7 @@ void SceneBuilder::fill(uint32_t geometry, const Affine& xf, FillRule rule, cons
   const size_t servers = paint.type == PaintType::Solid            ? 1
                          : paint.type == PaintType::Texture        ? scene_.textures.size()
                          : paint.type == PaintType::Pattern        ? scene_.patterns.size()
+                         : paint.type == PaintType::Mesh           ? scene_.meshes.size()
                                                                    : scene_.gradients.size();
   if (paint.index >= servers) throw Error("scene: paint refers to an unknown paint server");
   Node* n = new Node{Node::Fill, {}, {}, {}};
@@ -464,7 +478,7 @@ struct Replay {
   const Scene& s;
   SceneBuilder& b;
   const Affine& xf;
-  std::vector<int64_t> geometry, gradient, texture, pattern;
+  std::vector<int64_t> geometry, gradient, texture, pattern, mesh;
   size_t i = 0;
 
   uint32_t geom(uint32_t g) {
@@ -494,6 +508,9 @@ struct Replay {
         break;
       case PaintType::Pattern:
         out.index = server(pattern, s.patterns, p.index, [&](Pattern t) { return b.add_pattern(std::move(t)); });
+        break;
+      case PaintType::Mesh:
+        out.index = server(mesh, s.meshes, p.index, [&](Mesh m) { return b.add_mesh(std::move(m)); });
         break;
     }
     return out;
@@ -598,7 +615,8 @@ void SceneBuilder::append(const Scene& other, const Affine& xf) {
            std::vector<int64_t>(other.geometries.size(), -1),
            std::vector<int64_t>(other.gradients.size(), -1),
            std::vector<int64_t>(other.textures.size(), -1),
-           std::vector<int64_t>(other.patterns.size(), -1)};
+           std::vector<int64_t>(other.patterns.size(), -1),
+           std::vector<int64_t>(other.meshes.size(), -1)};
   r.fill_list();
 }
 
@@ -612,6 +630,7 @@ Scene SceneBuilder::finish() {
   out.gradients = std::move(scene_.gradients);
   out.textures = std::move(scene_.textures);
   out.patterns = std::move(scene_.patterns);
+  out.meshes = std::move(scene_.meshes);
   out.groups = std::move(scene_.groups);
   GroupAnalysis<Node> analysis{out.groups};
   analysis.list(root_->content, false);
@@ -656,6 +675,7 @@ const char* paint_type_name(PaintType t) {
     case PaintType::RadialGradient: return "radial";
     case PaintType::Texture: return "texture";
     case PaintType::Pattern: return "pattern";
+    case PaintType::Mesh: return "mesh";
   }
   return "?";
 }
@@ -699,6 +719,13 @@ void dump_servers(std::string& s, const Scene& scene, const std::string& indent)
     append_matrix(s, p.xf);
     s += "\n";
     dump_into(s, *p.tile, indent + "    ");
+  }
+  for (size_t i = 0; i < scene.meshes.size(); i++) {
+    const Mesh& m = scene.meshes[i];
+    appendf(s, "%smesh %zu triangles %zu", indent.c_str(), i, m.vertices.size() / 3);
+    if (!m.ramp.empty()) appendf(s, " ramp %zu stops", m.ramp.size());
+    append_matrix(s, m.xf);
+    s += "\n";
   }
 }
 

@@ -118,7 +118,7 @@ struct RGBA {
 // space: a paint can be placed independently of the path it fills, as PDF's
 // shadings and patterns are).
 
-enum class PaintType : uint8_t { Solid, LinearGradient, RadialGradient, Texture, Pattern };
+enum class PaintType : uint8_t { Solid, LinearGradient, RadialGradient, Texture, Pattern, Mesh };
 
 // What a colour ramp does with t outside [0, 1].
 enum class Spread : uint8_t { Pad, Reflect, Repeat };
@@ -200,11 +200,31 @@ struct Pattern {
   Affine xf;  // tile space to scene units
 };
 
+// A mesh of Gouraud-shaded triangles: PDF's mesh shadings (types 4 and 5,
+// and 6 and 7 with their patches subdivided into triangles), and its
+// function-based shadings sampled on a grid. The colour at a point is
+// interpolated linearly over the top-most (last) triangle containing it.
+// A mesh paints only inside its triangles: fill it with mesh_outline()
+// (core/mesh_build.h), the union of the triangles, and the colour is defined
+// wherever the fill is.
+struct MeshVertex {
+  Vec2 p;
+  RGBA color;  // straight alpha, sRGB-encoded; with a ramp, t in color.r
+};
+struct Mesh {
+  Affine xf;                         // mesh space to scene units
+  std::vector<MeshVertex> vertices;  // three per triangle
+  // Empty: the vertices' colours are interpolated (in the colour space of
+  // integration). Otherwise t is interpolated (PDF shadings with a
+  // Function) and its colour read from this ramp.
+  std::vector<ColorStop> ramp;
+};
+
 struct Paint {
   PaintType type = PaintType::Solid;
   RGBA color;         // Solid only
   float opacity = 1;  // multiplies the paint, whatever its type (fill-opacity × opacity)
-  uint32_t index = 0; // gradients (LinearGradient, RadialGradient), textures or patterns of the scene
+  uint32_t index = 0; // gradients (LinearGradient, RadialGradient), textures, patterns or meshes of the scene
 };
 
 // One path instance of the stream: geometry, its transform to scene units,
@@ -275,6 +295,7 @@ struct Scene {
   std::vector<Gradient> gradients;
   std::vector<Texture> textures;
   std::vector<Pattern> patterns;
+  std::vector<Mesh> meshes;
   std::vector<Group> groups;
   std::vector<Element> stream;   // top-most first (see the grammar above)
 
@@ -301,6 +322,7 @@ class SceneBuilder {
   uint32_t add_gradient(Gradient g);
   uint32_t add_texture(Texture t);
   uint32_t add_pattern(Pattern p);
+  uint32_t add_mesh(Mesh m);
 
   // A filled path, drawn over what came before it.
   void fill(uint32_t geometry, const Affine& xf, FillRule rule, const Paint& paint);

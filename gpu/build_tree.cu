@@ -89,6 +89,10 @@ void Context::Impl::upload_paints(const PaintData& p) {
   texels.upload(p.texels);
   patterns.upload(p.patterns);
   groups.upload(p.groups);
+  meshes.upload(p.meshes);
+  mesh_triangles.upload(p.mesh_triangles);
+  mesh_cells.upload(p.mesh_cells);
+  mesh_items.upload(p.mesh_items);
 }
 
 void Context::Impl::stash_tile(TileTree& t) {

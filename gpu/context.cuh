@@ -131,12 +131,16 @@ struct Context::Impl {
   DeviceBuffer<Texel16> texels;
   DeviceBuffer<PatternRecord> patterns;
   DeviceBuffer<GroupRecord> groups;
+  DeviceBuffer<MeshRecord> meshes;
+  DeviceBuffer<MeshTriangle> mesh_triangles;
+  DeviceBuffer<uint32_t> mesh_cells, mesh_items;
   DeviceBuffer<PaintTables> paint_view;  // one element: paint_tables(), for SampleInputs::paint
   std::shared_ptr<const PaintData> host_paint;
   PaintTables paint_tables() const {
     return PaintTables{paints.data(),   gradients.data(),      ramp_t.data(), ramp_color.data(), textures.data(),
                        texture_levels.data(), texels.data(), patterns.data(), tile_views.data(),
-                       groups.data()};
+                       groups.data(), meshes.data(), mesh_triangles.data(), mesh_cells.data(),
+                       mesh_items.data()};
   }
   // Scratch.
   DeviceBuffer<uint32_t> u32[6];

@@ -11,12 +11,14 @@
 #include <filesystem>
 
 #include "core/cpu/cpu_stages.h"
+#include "core/mesh_build.h"
 #include "core/renderer.h"
 #include "gpu/backend.h"
 #include "gpu/gpu_backend.h"
 #include "parsers/svg/svg_parser.h"
 #include "tests/catch.h"
 #include "tests/random_groups.h"
+#include "tests/random_meshes.h"
 #include "tests/random_scenes.h"
 
 using namespace mpvg;
@@ -59,6 +61,32 @@ std::vector<Case> cases() {
     std::mt19937 rng(seed);
     b.fill(b.add_geometry(oracle::random_path(rng, 0.0, 100.0, 2, 5)), Affine{}, FillRule::NonZero, paint);
     out.push_back({"groups in a pattern " + std::to_string(seed), encode(b.finish(), Affine{}, Gamma::Srgb), 100, 80});
+  }
+  // Mesh paints (PDF's mesh and function-based shadings): lattices with
+  // colours and with ramps, overlapping free triangles, and a mesh in a
+  // pattern tile.
+  for (uint32_t seed = 71; seed <= 74; seed++) {
+    std::mt19937 rng(seed);
+    SceneBuilder b(100, 100);
+    auto fill_mesh = [&](SceneBuilder& into, const Mesh& m) {
+      Paint paint;
+      paint.type = PaintType::Mesh;
+      paint.index = into.add_mesh(m);
+      into.fill(into.add_geometry(mesh_outline(m)), Affine{}, FillRule::NonZero, paint);
+    };
+    fill_mesh(b, random_meshes::lattice(rng, 6, 5, 5, 5, 70, 60, seed % 2 == 0));
+    fill_mesh(b, random_meshes::free_triangles(rng, 8, 20, 80));
+    SceneBuilder tile(30, 30);
+    fill_mesh(tile, random_meshes::lattice(rng, 3, 3, 0, 0, 30, 30, true));
+    Pattern p;
+    p.tile = std::make_shared<Scene>(tile.finish());
+    p.xf = Affine::rotate_degrees(20.0 * seed);
+    Paint paint;
+    paint.type = PaintType::Pattern;
+    paint.index = b.add_pattern(p);
+    b.fill(b.add_geometry(Path::rectangle(50, 40, 95, 95)), Affine{}, FillRule::NonZero, paint);
+    out.push_back({"meshes " + std::to_string(seed), encode(b.finish(), Affine{}, seed % 2 ? Gamma::Srgb : Gamma::Linear),
+                   100, 80});
   }
   if (const char* dir = std::getenv("MPVG_BENCH_DIR")) {
     std::vector<std::filesystem::path> files;

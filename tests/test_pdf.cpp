@@ -18,7 +18,9 @@ namespace {
 // A one-page PDF of size w x h points whose page content is `content`,
 // with a correct cross-reference table; `resources` goes into the page's
 // /Resources dictionary.
-std::string one_page_pdf(const std::string& content, int w = 100, int h = 100, const std::string& resources = "") {
+// Further objects (`extra`) are numbered from 5 on.
+std::string one_page_pdf(const std::string& content, int w = 100, int h = 100, const std::string& resources = "",
+                         const std::vector<std::string>& extra = {}) {
   std::vector<std::string> objects = {
       "<< /Type /Catalog /Pages 2 0 R >>",
       "<< /Type /Pages /Kids [3 0 R] /Count 1 >>",
@@ -26,6 +28,7 @@ std::string one_page_pdf(const std::string& content, int w = 100, int h = 100, c
           "] /Contents 4 0 R /Resources << " + resources + " >> >>",
       "<< /Length " + std::to_string(content.size()) + " >>\nstream\n" + content + "\nendstream",
   };
+  objects.insert(objects.end(), extra.begin(), extra.end());
   std::string pdf = "%PDF-1.4\n";
   std::vector<size_t> offsets;
   for (size_t i = 0; i < objects.size(); i++) {
@@ -76,10 +79,10 @@ struct Page {
   }
 };
 
-void check(const Page& p, int x, int y, std::array<float, 3> want) {
+void check(const Page& p, int x, int y, std::array<float, 3> want, float margin = 1e-3f) {
   const auto got = p.at(x, y);
   INFO("pixel (" << x << ", " << y << "): " << got[0] << " " << got[1] << " " << got[2]);
-  for (int k = 0; k < 3; k++) CHECK(got[k] == Approx(want[k]).margin(1e-3));
+  for (int k = 0; k < 3; k++) CHECK(got[k] == Approx(want[k]).margin(margin));
 }
 
 }  // namespace
@@ -155,6 +158,73 @@ TEST_CASE("pdf: stencil image masks paint the fill colour", "[pdf]") {
                                                       std::string("\x40", 1) + "\nEI Q\n")));
   check(p, 14, 80, {1, 0, 0});
   check(p, 26, 80, {1, 1, 1});
+}
+
+// A stream object: `dict` entries and the data.
+std::string stream_object(const std::string& dict, const std::string& data) {
+  return "<< " + dict + " /Length " + std::to_string(data.size()) + " >>\nstream\n" + data + "\nendstream";
+}
+
+// Mesh shading data with 8-bit flags, coordinates (0..255 for 0..100 pt)
+// and components.
+std::string bytes(std::initializer_list<int> v) {
+  std::string s;
+  for (int b : v) s.push_back(static_cast<char>(b));
+  return s;
+}
+
+TEST_CASE("pdf: mesh and function-based shadings are interpolated per sample", "[pdf]") {
+  // One sample per pixel, somewhere inside it: colours that change by up to
+  // 1/60 per point are checked within 0.02.
+  const float m = 0.02f;
+  const std::string mesh8 = "/BitsPerCoordinate 8 /BitsPerComponent 8 /BitsPerFlag 8 ";
+  SECTION("free-form triangles (type 4) with colours at the corners") {
+    // Corners (10, 10) red, (90, 10) green, (10, 90) blue, in PDF units (y up).
+    const std::string data = bytes({0, 25, 25, 255, 0, 0, 0, 230, 25, 0, 255, 0, 0, 25, 230, 0, 0, 255});
+    const Page p(write_temp("type4.pdf", one_page_pdf("/Sh sh", 100, 100, "/Shading << /Sh 5 0 R >>",
+                                                      {stream_object("/ShadingType 4 /ColorSpace /DeviceRGB " + mesh8 +
+                                                                         "/Decode [0 100 0 100 0 1 0 1 0 1]",
+                                                                     data)})));
+    check(p, 11, 88, {0.96f, 0.02f, 0.02f}, m);  // near the red corner (1.7 pt from it in x and y): red
+    check(p, 36, 63, {1 / 3.0f, 1 / 3.0f, 1 / 3.0f}, m);  // the centroid: the mean
+    check(p, 80, 20, {1, 1, 1}, m);  // beyond the hypotenuse: nothing
+  }
+  SECTION("a triangle whose corners carry t of a Function") {
+    // t = 0, 1, 0.5 through a function from red (t = 0) to blue (t = 1).
+    const std::string data = bytes({0, 25, 25, 0, 0, 230, 25, 255, 0, 25, 230, 128});
+    const Page p(write_temp("type4f.pdf",
+                            one_page_pdf("/Sh sh", 100, 100, "/Shading << /Sh 5 0 R >>",
+                                         {stream_object("/ShadingType 4 /ColorSpace /DeviceRGB " + mesh8 +
+                                                            "/Decode [0 100 0 100 0 1] /Function << /FunctionType 2 "
+                                                            "/Domain [0 1] /C0 [1 0 0] /C1 [0 0 1] /N 1 >>",
+                                                        data)})));
+    check(p, 36, 63, {0.5f, 0, 0.5f}, m);  // t = 0.5 at the centroid
+  }
+  SECTION("a Coons patch (type 6) with straight sides: bilinear colours") {
+    // The square (20, 20)-(80, 80), sides as cubics with points at thirds;
+    // corners red, green, blue, white counter-clockwise from the bottom
+    // left, so the centre is their mean.
+    const std::string data = bytes({0, 51, 51, 51, 102, 51, 153, 51, 204, 102, 204, 153, 204, 204, 204, 204, 153, 204,
+                                    102, 204, 51, 153, 51, 102, 51, 255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255});
+    const Page p(write_temp("type6.pdf", one_page_pdf("/Sh sh", 100, 100, "/Shading << /Sh 5 0 R >>",
+                                                      {stream_object("/ShadingType 6 /ColorSpace /DeviceRGB " + mesh8 +
+                                                                         "/Decode [0 100 0 100 0 1 0 1 0 1]",
+                                                                     data)})));
+    check(p, 50, 50, {0.5f, 0.5f, 0.5f}, m);
+    check(p, 10, 50, {1, 1, 1}, m);  // outside the patch
+  }
+  SECTION("a function-based shading (type 1) over its domain") {
+    // f(x, y) = (x, y, 0) on [0, 1]^2 mapped to (20, 20)-(80, 80).
+    const std::string fn = "{ 0 }";
+    const Page p(write_temp("type1.pdf",
+                            one_page_pdf("/Sh sh", 100, 100, "/Shading << /Sh 5 0 R >>",
+                                         {"<< /ShadingType 1 /ColorSpace /DeviceRGB /Domain [0 1 0 1] "
+                                          "/Matrix [60 0 0 60 20 20] /Function 6 0 R >>",
+                                          stream_object("/FunctionType 4 /Domain [0 1 0 1] /Range [0 1 0 1 0 1]", fn)})));
+    check(p, 50, 50, {0.5f, 0.5f, 0}, m);
+    check(p, 25, 75, {0.09f, 0.09f, 0}, m);  // near (0, 0) of the domain: dark
+    check(p, 90, 50, {1, 1, 1}, m);            // outside the domain
+  }
 }
 
 TEST_CASE("pdf: an encrypted document needs its password", "[pdf]") {

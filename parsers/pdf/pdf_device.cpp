@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/mesh_build.h"
 #include "parsers/pdf/pdf_device.h"
 #include "stroker/stroker.h"
 
@@ -316,36 +317,105 @@ void clip_stroke_path(fz_context* ctx, fz_device* dev, const fz_path* path, cons
   });
 }
 
-// Axial and radial shadings as gradient paints over the shading's box (or
-// the page): the colour function as MuPDF samples it, 256 stops converted
-// to sRGB, Extend as the gradient's extend flags.
+// What fz_process_shade hands over: vertices in the device space MuPDF
+// draws in, colours converted to sRGB (or, for a shading with a Function,
+// the function's input t in [0, 1]).
+struct MeshCapture {
+  Lowering* l;
+  fz_shade* shade;
+  fz_color_params cp;
+  Mesh mesh;
+  bool bad_color = false;
+};
+
+void mesh_prepare(fz_context* ctx, void* arg, fz_vertex* v, const float* c) {
+  MeshCapture* m = static_cast<MeshCapture*>(arg);
+  if (m->shade->use_function) {
+    v->c[0] = c[0];
+  } else {
+    float rgb[3] = {0, 0, 0};
+    if (!convert_color(ctx, m->shade->colorspace, c, rgb, m->cp)) m->bad_color = true;
+    for (int k = 0; k < 3; k++) v->c[k] = rgb[k];
+  }
+}
+
+void mesh_triangle(fz_context*, void* arg, fz_vertex* a, fz_vertex* b, fz_vertex* c) {
+  MeshCapture* m = static_cast<MeshCapture*>(arg);
+  try {
+    for (const fz_vertex* v : {a, b, c})
+      m->mesh.vertices.push_back({{v->p.x, v->p.y}, RGBA{v->c[0], v->c[1], v->c[2], 1}});
+  } catch (...) {
+    m->bad_color = true;  // out of memory: the mesh is dropped below
+  }
+}
+
+// fz_process_shade under its own fz_try; false when MuPDF failed.
+bool process_shade(fz_context* ctx, fz_shade* shade, fz_matrix ctm, MeshCapture* capture) {
+  volatile bool ok = true;
+  fz_try(ctx) { fz_process_shade(ctx, shade, ctm, fz_infinite_rect, mesh_prepare, mesh_triangle, capture); }
+  fz_catch(ctx) { ok = false; }
+  return ok;
+}
+
+// Shadings: axial and radial ones as gradient paints over the shading's
+// box (or the page), the colour function as MuPDF samples it (256 stops
+// converted to sRGB), Extend as the gradient's extend flags. Mesh shadings
+// (types 4 to 7, patches subdivided as MuPDF does) and function-based ones
+// (type 1, sampled on MuPDF's grid) as a mesh paint over the union of
+// their triangles, the colour interpolated per sample.
 void fill_shade(fz_context* ctx, fz_device* dev, fz_shade* shade, fz_matrix ctm, float alpha, fz_color_params cp) {
   Lowering* l = Lowering::of(dev);
   l->guarded([&] {
-    if ((shade->type != FZ_LINEAR && shade->type != FZ_RADIAL) || !shade->use_function) {
-      l->warn("function-based and mesh shadings are not supported yet: skipped");
-      return;
-    }
-    Gradient g;
-    g.xf = l->place(fz_concat(shade->matrix, ctm));
-    const auto& c = shade->u.l_or_r.coords;
-    g.p0 = {c[0][0], c[0][1]};
-    g.p1 = {c[1][0], c[1][1]};
-    g.focal = g.p0;
-    g.focal_radius = c[0][2];
-    g.center = g.p1;
-    g.radius = c[1][2];
-    g.extend_start = shade->u.l_or_r.extend[0] != 0;
-    g.extend_end = shade->u.l_or_r.extend[1] != 0;
-    for (int i = 0; i < 256; i++) g.stops.push_back({i / 255.0, l->solid(ctx, shade->colorspace, shade->function[i], 1, cp).color});
-    Paint paint;
-    paint.type = shade->type == FZ_LINEAR ? PaintType::LinearGradient : PaintType::RadialGradient;
-    paint.opacity = alpha;
-    paint.index = l->b->add_gradient(std::move(g));
+    const fz_matrix to_device = fz_concat(shade->matrix, ctm);
     const fz_rect r = shade->bbox;
     const bool bounded = !fz_is_infinite_rect(r) && r.x1 > r.x0 && r.y1 > r.y0;
-    const Path area = bounded ? Path::rectangle(r.x0, r.y0, r.x1, r.y1) : Path::rectangle(0, 0, l->page_w, l->page_h);
-    l->fill(area, bounded ? l->place(fz_concat(shade->matrix, ctm)) : l->adjust, FillRule::NonZero, paint);
+    auto ramp = [&]() {
+      std::vector<ColorStop> stops;
+      for (int i = 0; i < 256; i++)
+        stops.push_back({i / 255.0, l->solid(ctx, shade->colorspace, shade->function[i], 1, cp).color});
+      return stops;
+    };
+    Paint paint;
+    paint.opacity = alpha;
+    if (shade->type == FZ_LINEAR || shade->type == FZ_RADIAL) {
+      Gradient g;
+      g.xf = l->place(to_device);
+      const auto& c = shade->u.l_or_r.coords;
+      g.p0 = {c[0][0], c[0][1]};
+      g.p1 = {c[1][0], c[1][1]};
+      g.focal = g.p0;
+      g.focal_radius = c[0][2];
+      g.center = g.p1;
+      g.radius = c[1][2];
+      g.extend_start = shade->u.l_or_r.extend[0] != 0;
+      g.extend_end = shade->u.l_or_r.extend[1] != 0;
+      g.stops = ramp();
+      paint.type = shade->type == FZ_LINEAR ? PaintType::LinearGradient : PaintType::RadialGradient;
+      paint.index = l->b->add_gradient(std::move(g));
+      const Path area = bounded ? Path::rectangle(r.x0, r.y0, r.x1, r.y1) : Path::rectangle(0, 0, l->page_w, l->page_h);
+      l->fill(area, bounded ? l->place(to_device) : l->adjust, FillRule::NonZero, paint);
+      return;
+    }
+    // Vertices come out in device space; the shading's box is in shading
+    // space and clips them.
+    MeshCapture capture{l, shade, cp, {}, false};
+    if (!process_shade(ctx, shade, to_device, &capture) || capture.mesh.vertices.empty()) {
+      l->warn("a shading could not be read: skipped");
+      return;
+    }
+    if (capture.bad_color) l->warn("a colour could not be converted: black used");
+    if (shade->use_function) capture.mesh.ramp = ramp();
+    capture.mesh.xf = l->adjust;
+    Path area = mesh_outline(capture.mesh);
+    if (area.empty()) return;
+    paint.type = PaintType::Mesh;
+    paint.index = l->b->add_mesh(std::move(capture.mesh));
+    if (bounded) l->clip(Path::rectangle(r.x0, r.y0, r.x1, r.y1), l->place(to_device), FillRule::NonZero);
+    l->fill(std::move(area), l->adjust, FillRule::NonZero, paint);
+    if (bounded) {
+      l->close(l->pops.back());
+      l->pops.pop_back();
+    }
   });
 }
 

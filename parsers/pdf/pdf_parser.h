@@ -2,10 +2,11 @@
 // (pdf_device.cpp) lowers every drawing operation into the core scene,
 // which the pipeline renders like any SVG. Nothing downstream knows PDF.
 //
-// Work in progress (issue 11): paths (fills, strokes, clips), text as glyph
-// outlines, axial and radial shadings, images, transparency groups and
-// soft masks are lowered; mesh and function shadings, image masks and
-// tiling patterns' own paints are reported and skipped or drawn plainly.
+// Lowered: paths (fills, strokes, clips), text as glyph outlines (every
+// render mode), shadings (axial and radial as gradients, mesh and
+// function-based ones as mesh paints), images and image masks, tiling
+// patterns, transparency groups and soft masks. What cannot be lowered is
+// reported as a warning.
 #pragma once
 #include <functional>
 #include <memory>

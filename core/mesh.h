@@ -1,0 +1,76 @@
+// Meshes of Gouraud-shaded triangles evaluated per sample (PDF's free-form
+// and lattice-form meshes, its Coons and tensor-product patches as MuPDF
+// subdivides them, and its function-based shadings sampled on a grid):
+// the sample's triangle is found through the mesh's grid (MeshRecord), and
+// its colour interpolated linearly over that triangle, then, for shadings
+// with a Function, looked up in the ramp. Host/device code shared by both
+// executors; the encoder (core/encoding.cpp) prepares the records.
+//
+// Invariants (set up by the encoder, relied on here):
+//   - every triangle that contains a point is listed in the point's cell
+//     (a triangle is listed in every cell its bounding box meets);
+//   - a cell's list ascends, so the first containing triangle found from
+//     the end is the top-most, as PDF paints later triangles over earlier;
+//   - the area a mesh paint fills is the union of its triangles
+//     (mesh_outline in core/mesh_build.h), so a sample that no triangle
+//     contains by this arithmetic lies on an edge within rounding: it
+//     takes the colour of the nearest triangle of its cell (barycentric
+//     coordinates clamped), not a colour extrapolated beyond the triangle.
+#pragma once
+#include <cmath>
+#include <cstdint>
+
+#include "core/gradient.h"
+#include "core/hd.h"
+#include "core/paint.h"
+
+namespace mpvg {
+
+// The grid cell of pixel (px, py): clamped to the grid, so that points
+// outside the mesh's box still find its border cells.
+MPVG_HD_INLINE uint32_t mesh_cell(const MeshRecord& m, float px, float py) {
+  const float fx = floorf((px - m.x0) * m.sx), fy = floorf((py - m.y0) * m.sy);
+  const uint32_t i = fx <= 0.0f ? 0u : (fx >= float(m.grid_w - 1) ? m.grid_w - 1 : static_cast<uint32_t>(fx));
+  const uint32_t j = fy <= 0.0f ? 0u : (fy >= float(m.grid_h - 1) ? m.grid_h - 1 : static_cast<uint32_t>(fy));
+  return m.cells + j * m.grid_w + i;
+}
+
+// Premultiplied colour of mesh m at pixel (px, py); transparent where the
+// cell lists no triangle.
+MPVG_HD_NOINLINE inline Rgba4 mesh_at(const MeshRecord& m, const PaintTables& t, float px, float py) {
+  const uint32_t c = mesh_cell(m, px, py);
+  const uint32_t first = t.mesh_cells[c], last = t.mesh_cells[c + 1];
+  if (first == last) return Rgba4{0.0f, 0.0f, 0.0f, 0.0f};
+  // The top-most containing triangle, or the one the point is least far
+  // outside of (its smallest barycentric coordinate is the largest).
+  float best = -INFINITY, bs = 0.0f, bt = 0.0f;
+  uint32_t bi = t.mesh_items[last - 1];
+  for (uint32_t k = last; k-- > first;) {
+    const uint32_t i = t.mesh_items[k];
+    const MeshTriangle& tr = t.mesh_triangles[i];
+    const float dx = px - tr.ax, dy = py - tr.ay;
+    const float s = tr.m00 * dx + tr.m01 * dy, u = tr.m10 * dx + tr.m11 * dy;
+    const float d = fminf(fminf(s, u), 1.0f - s - u);
+    if (d > best) {
+      best = d;
+      bs = s;
+      bt = u;
+      bi = i;
+      if (d >= 0.0f) break;
+    }
+  }
+  bs = fmaxf(bs, 0.0f);
+  bt = fmaxf(bt, 0.0f);
+  if (bs + bt > 1.0f) {
+    const float k = 1.0f / (bs + bt);
+    bs *= k;
+    bt *= k;
+  }
+  const MeshTriangle& tr = t.mesh_triangles[bi];
+  Rgba4 col{tr.c0.r + bs * tr.d1.r + bt * tr.d2.r, tr.c0.g + bs * tr.d1.g + bt * tr.d2.g,
+            tr.c0.b + bs * tr.d1.b + bt * tr.d2.b, tr.c0.a + bs * tr.d1.a + bt * tr.d2.a};
+  if (m.ramp != kNoMeshRamp) col = ramp_at(t.gradients[m.ramp], t.ramp_t, t.ramp_color, col.r);
+  return Rgba4{col.r * col.a, col.g * col.a, col.b * col.a, col.a};
+}
+
+}  // namespace mpvg
