@@ -7,17 +7,34 @@
 // (the longer side in pixels), -x X -y Y -W W -H H (a crop window in
 // pixels), -f N and -l N (first and last page), --singlefile (the first
 // page only, written to OUT-PREFIX.png), --password P, --transparent (no
-// white page background); IN.pdf "-" reads stdin. The rendering options
+// white page background), --threads N (worker threads, default one per
+// core), --repeat N (the pages N times over, for benchmarks: later rounds
+// run warm); IN.pdf "-" reads stdin. The rendering options
 // are svg2png's (--aa, --gamma, --backend, --bits, --stats, -q).
 //
-// Work in progress (issue 11): one page after another on the calling
-// thread. A page that fails is reported and the others are still written;
-// the exit status is 1 if any page failed.
-#include <cmath>
-#include <cstdio>
+// Pages flow through one process as a pipeline, so that no stage waits
+// for another: worker threads (one MuPDF context and document clone each)
+// interpret and lower pages into scenes and encode them; one thread renders
+// them with one backend (one CUDA context, kept warm from page to page);
+// the workers turn rendered images into PNG files, before they take new
+// pages, so that at most `workers + 4` pages are in flight. A page that
+// fails is reported and the others are still written; the exit status is
+// 1 if any page failed. --stats prints each page's stage times and the
+// whole job's throughput.
 #include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <cstdio>
+#include <deque>
 #include <exception>
+#include <memory>
+#include <mutex>
+#include <queue>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "apps/cli.h"
@@ -36,6 +53,8 @@ struct PdfOptions {
   bool singlefile = false;  // the first page only, to OUT-PREFIX.png
   int scale_to = 0;         // the longer side in pixels (overrides the resolution)
   int crop_x = 0, crop_y = 0, crop_w = 0, crop_h = 0;  // -x -y -W -H, pixels at the resolution
+  int threads = 0;          // worker threads; 0: one per core
+  int repeat = 1;           // --repeat N: the pages N times over (benchmarks: later rounds run warm)
 };
 
 // Takes pdf2png's own options out of argv; the rest goes to cli::parse.
@@ -77,11 +96,213 @@ std::vector<char*> own_options(int argc, char** argv, PdfOptions& p) {
       p.crop_w = static_cast<int>(number(1));
     else if (a == "-H")
       p.crop_h = static_cast<int>(number(1));
+    else if (a == "--threads")
+      p.threads = static_cast<int>(number(1));
+    else if (a == "--repeat")
+      p.repeat = static_cast<int>(number(1));
     else
       rest.push_back(argv[i]);
   }
   return rest;
 }
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// One page on its way through the pipeline.
+struct Job {
+  int page = 0;  // 1-based
+  std::string out;
+  int width = 0, height = 0;
+  mpvg::RenderOptions options;
+  mpvg::EncodedScene scene;
+  mpvg::ImageF image;
+  mpvg::RenderStats stats;
+  double interpret_ms = 0, lower_ms = 0, png_ms = 0;
+  std::vector<std::string> warnings;
+};
+
+// The pipeline's shared state; everything under `m`.
+struct Pipeline {
+  const PdfOptions& pdf;
+  const mpvg::cli::Options& opt;
+  int first = 1, last = 0, digits = 1;
+  int tickets = 0;  // pages to render: the range, --repeat times over
+  bool progress = false;
+
+  std::mutex m;
+  std::condition_variable cv;
+  int next = 0;       // the next ticket to lower: page first + next % (last - first + 1)
+  int in_flight = 0;  // pages taken and not yet finished
+  int lowering = 0;   // pages being lowered now
+  int max_in_flight = 1;
+  int finished = 0, failed = 0;
+  bool rendering_done = false;
+  // Lowered pages waiting for the renderer, lowest page first.
+  struct Later {
+    bool operator()(const std::unique_ptr<Job>& a, const std::unique_ptr<Job>& b) const { return a->page > b->page; }
+  };
+  std::priority_queue<std::unique_ptr<Job>, std::vector<std::unique_ptr<Job>>, Later> to_render;
+  std::deque<std::unique_ptr<Job>> to_write;
+
+  Pipeline(const PdfOptions& p, const mpvg::cli::Options& o) : pdf(p), opt(o) {}
+
+  std::string output_name(int page) const {
+    char name[32];
+    std::snprintf(name, sizeof name, "-%0*d.png", digits, page);
+    return opt.output + (pdf.singlefile ? std::string(".png") : std::string(name));
+  }
+
+  // Reports a page's end (under m): its error if any, its warnings and
+  // stats, the progress line.
+  void finish(const Job* job, int page, const std::string& error) {
+    finished++;
+    in_flight--;
+    if (!error.empty()) failed++;
+    const char* nl = progress ? "\r\033[K" : "";
+    if (!error.empty()) std::fprintf(stderr, "%spdf2png: %s\n", nl, error.c_str());
+    if (job && !opt.quiet)
+      for (const std::string& w : job->warnings) std::fprintf(stderr, "%spdf2png: page %d: warning: %s\n", nl, page, w.c_str());
+    if (job && opt.stats && error.empty()) {
+      const mpvg::RenderStats& st = job->stats;
+      std::fprintf(stderr,
+                   "%spage %d: %dx%d, interpretation %.2f ms, lowering %.2f ms, encoding %.2f ms, preprocessing "
+                   "%.2f ms, rendering %.2f ms, PNG %.2f ms\n%s",
+                   nl, page, job->width, job->height, job->interpret_ms, job->lower_ms, st.encode_ms,
+                   st.abstract_ms + st.subdivide_ms + st.prune_ms, st.schedule_ms + st.sample_ms, job->png_ms,
+                   mpvg::cli::format_stats(st).c_str());
+    }
+    if (progress) std::fprintf(stderr, "\rpdf2png: %d of %d pages", finished, tickets);
+    cv.notify_all();
+  }
+
+  // Interprets, lowers and encodes page n (outside m).
+  std::unique_ptr<Job> lower(const mpvg::pdf::Document& doc, int n) {
+    using namespace mpvg;
+    auto job = std::make_unique<Job>();
+    job->page = n;
+    job->out = output_name(n);
+    // --scale-to: the resolution follows from the page's size.
+    pdf::PageResult page = doc.page(n - 1, [this](double w, double h) {
+      return pdf.scale_to > 0 ? pdf.scale_to / std::max(w, h) : pdf.dpi / 72.0;
+    });
+    job->interpret_ms = page.interpret_ms;
+    job->lower_ms = page.lower_ms;
+    job->warnings = std::move(page.warnings);
+    const double scale = page.pixels_per_point;
+    int width = std::max(1, static_cast<int>(std::ceil(page.scene.width * scale - 1e-6)));
+    int height = std::max(1, static_cast<int>(std::ceil(page.scene.height * scale - 1e-6)));
+    // -x -y -W -H: a window of the page's pixels (the rest of the page if
+    // -W or -H is absent), as pdftoppm crops.
+    if (pdf.crop_x || pdf.crop_y || pdf.crop_w || pdf.crop_h) {
+      width = pdf.crop_w ? pdf.crop_w : std::max(1, width - pdf.crop_x);
+      height = pdf.crop_h ? pdf.crop_h : std::max(1, height - pdf.crop_y);
+    }
+    job->width = width;
+    job->height = height;
+    const Affine view = Affine::translate(-pdf.crop_x, -pdf.crop_y) * Affine::scale(scale, scale);
+    job->options = cli::render_options(opt, width, height, view);
+    job->scene = encode_for(page.scene, job->options, &job->stats);
+    return job;
+  }
+
+  void write(Job& job) {
+    using namespace mpvg;
+    const auto t0 = std::chrono::steady_clock::now();
+    if (opt.bits == 16)
+      write_png_rgba16(job.out, job.width, job.height, to_rgba16(job.image, opt.gamma));
+    else
+      write_png_rgba8(job.out, job.width, job.height, to_rgba8(job.image, opt.gamma));
+    job.png_ms = ms_since(t0);
+  }
+
+  // A worker: writes rendered pages first, lowers new ones while there is
+  // room, until every page is through. `doc`: the document to use, or null
+  // for a clone of base_doc of its own (made on first use).
+  void work(const mpvg::pdf::Document* doc) {
+    std::unique_ptr<mpvg::pdf::Document> own;
+    std::unique_lock<std::mutex> lock(m);
+    for (;;) {
+      cv.wait(lock, [&] {
+        return !to_write.empty() || (next < tickets && in_flight < max_in_flight) ||
+               (next >= tickets && rendering_done);
+      });
+      if (!to_write.empty()) {
+        std::unique_ptr<Job> job = std::move(to_write.front());
+        to_write.pop_front();
+        lock.unlock();
+        std::string error;
+        try {
+          write(*job);
+        } catch (const std::exception& e) {
+          error = e.what();
+        }
+        job->image = mpvg::ImageF{};
+        lock.lock();
+        finish(job.get(), job->page, error);
+        continue;
+      }
+      if (next >= tickets) return;  // rendering done, nothing to write
+      const int n = first + next++ % (last - first + 1);
+      in_flight++;
+      lowering++;
+      lock.unlock();
+      std::unique_ptr<Job> job;
+      std::string error;
+      try {
+        if (!doc) {
+          own = base_doc->clone();
+          doc = own.get();
+        }
+        job = lower(*doc, n);
+      } catch (const std::exception& e) {
+        error = e.what();
+        if (error.rfind("page ", 0) != 0) error = "page " + std::to_string(n) + ": " + error;
+      }
+      lock.lock();
+      lowering--;
+      if (job) {
+        to_render.push(std::move(job));
+        cv.notify_all();
+      } else {
+        finish(nullptr, n, error);
+      }
+    }
+  }
+
+
+  // The renderer: one backend for every page, until every page is lowered
+  // and rendered.
+  void render(mpvg::FrameRenderer& renderer) {
+    std::unique_lock<std::mutex> lock(m);
+    for (;;) {
+      cv.wait(lock, [&] { return !to_render.empty() || (next >= tickets && lowering == 0); });
+      if (to_render.empty()) break;
+      std::unique_ptr<Job> job = std::move(const_cast<std::unique_ptr<Job>&>(to_render.top()));
+      to_render.pop();
+      lock.unlock();
+      std::string error;
+      try {
+        job->image = renderer.render(job->scene, job->options, &job->stats);
+      } catch (const std::exception& e) {
+        error = "page " + std::to_string(job->page) + ": " + e.what();
+      }
+      job->scene = mpvg::EncodedScene{};
+      lock.lock();
+      if (error.empty()) {
+        to_write.push_back(std::move(job));
+        cv.notify_all();
+      } else {
+        finish(job.get(), job->page, error);
+      }
+    }
+    rendering_done = true;
+    cv.notify_all();
+  }
+
+  const mpvg::pdf::Document* base_doc = nullptr;  // the document the others clone
+};
 
 }  // namespace
 
@@ -97,52 +318,39 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (!pdf.transparent && opt.background.a == 0) opt.background = RGBA{1, 1, 1, 1};
-  int failed = 0;
+  const auto t_start = std::chrono::steady_clock::now();
+  Pipeline p(pdf, opt);
   try {
     const pdf::Document doc(opt.positional[0], pdf.password);
     const int count = doc.page_count();
-    const int last = pdf.singlefile ? pdf.first : pdf.last < 0 ? count : std::min(pdf.last, count);
-    const int digits = static_cast<int>(std::to_string(count).size());
+    p.first = pdf.first;
+    p.last = pdf.singlefile ? std::min(pdf.first, count) : pdf.last < 0 ? count : std::min(pdf.last, count);
+    p.digits = static_cast<int>(std::to_string(count).size());
+    const int pages = std::max(0, p.last - p.first + 1) * pdf.repeat;
+    if (pages == 0) return 0;
+    p.tickets = pages;
     // A progress line on a terminal for multi-page jobs.
-    const bool progress = !opt.quiet && last > pdf.first && isatty(fileno(stderr));
-    for (int n = pdf.first; n <= last; n++) {
-      if (progress) std::fprintf(stderr, "\rpdf2png: page %d of %d-%d ", n, pdf.first, last);
-      char name[32];
-      std::snprintf(name, sizeof name, "-%0*d.png", digits, n);
-      const std::string out = opt.output + (pdf.singlefile ? std::string(".png") : std::string(name));
-      try {
-        // --scale-to: the resolution follows from the page's size.
-        const pdf::PageResult page = doc.page(n - 1, [&pdf](double w, double h) {
-          return pdf.scale_to > 0 ? pdf.scale_to / std::max(w, h) : pdf.dpi / 72.0;
-        });
-        const double scale = page.pixels_per_point;
-        if (!opt.quiet)
-          for (const std::string& w : page.warnings) std::fprintf(stderr, "pdf2png: page %d: warning: %s\n", n, w.c_str());
-        int width = std::max(1, static_cast<int>(std::ceil(page.scene.width * scale - 1e-6)));
-        int height = std::max(1, static_cast<int>(std::ceil(page.scene.height * scale - 1e-6)));
-        // -x -y -W -H: a window of the page's pixels (the rest of the page if
-        // -W or -H is absent), as pdftoppm crops.
-        if (pdf.crop_x || pdf.crop_y || pdf.crop_w || pdf.crop_h) {
-          width = pdf.crop_w ? pdf.crop_w : std::max(1, width - pdf.crop_x);
-          height = pdf.crop_h ? pdf.crop_h : std::max(1, height - pdf.crop_y);
-        }
-        const Affine view = Affine::translate(-pdf.crop_x, -pdf.crop_y) * Affine::scale(scale, scale);
-        RenderStats stats;
-        const ImageF img = render(page.scene, cli::render_options(opt, width, height, view), &stats);
-        if (opt.bits == 16)
-          write_png_rgba16(out, width, height, to_rgba16(img, opt.gamma));
-        else
-          write_png_rgba8(out, width, height, to_rgba8(img, opt.gamma));
-        if (opt.stats) std::fprintf(stderr, "page %d\n%s", n, cli::format_stats(stats).c_str());
-      } catch (const std::exception& e) {
-        std::fprintf(stderr, "%spdf2png: %s\n", progress ? "\n" : "", e.what());
-        failed++;
-      }
+    p.progress = !opt.quiet && pages > 1 && isatty(fileno(stderr));
+    FrameRenderer renderer(opt.backend);
+    if (!renderer.note().empty() && opt.stats) std::fprintf(stderr, "pdf2png: %s\n", renderer.note().c_str());
+    const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    const int workers = std::min(pages, pdf.threads > 0 ? pdf.threads : cores);
+    p.max_in_flight = workers + 4;
+    p.base_doc = &doc;
+    std::vector<std::thread> threads;
+    for (int i = 0; i < workers; i++) threads.emplace_back([&p, &doc, i] { p.work(i == 0 ? &doc : nullptr); });
+    // This thread renders; the workers lower and write.
+    p.render(renderer);
+    for (std::thread& t : threads) t.join();
+    if (p.progress) std::fprintf(stderr, "\r\033[Kpdf2png: %d pages, %d failed\n", pages, p.failed);
+    if (opt.stats) {
+      const double s = ms_since(t_start) / 1000;
+      std::fprintf(stderr, "pdf2png: %d pages in %.3f s (%.1f pages/s), %d workers, %s backend\n", pages, s,
+                   pages / s, workers, renderer.backend() == Backend::Cuda ? "cuda" : "cpu");
     }
-    if (progress) std::fprintf(stderr, "\rpdf2png: %d pages, %d failed%*s\n", last - pdf.first + 1, failed, 12, "");
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "pdf2png: %s\n", e.what());
+    std::fprintf(stderr, "%spdf2png: %s\n", p.progress ? "\n" : "", e.what());
     return 1;
   }
-  return failed ? 1 : 0;
+  return p.failed ? 1 : 0;
 }

@@ -51,15 +51,30 @@ RenderPlan plan_render(const RenderOptions& o) {
   return p;
 }
 
+EncodedScene encode_for(const Scene& scene, const RenderOptions& o, RenderStats* stats) {
+  const auto t0 = std::chrono::steady_clock::now();
+  EncodedScene enc = encode(scene, plan_render(o).view, o.gamma);
+  if (stats) stats->encode_ms += ms_since(t0);
+  return enc;
+}
+
 ImageF render_cpu(const Scene& scene, const RenderOptions& o, RenderStats* stats) {
+  RenderStats local;
+  RenderStats& st = stats ? *stats : local;
+  const auto t_all = std::chrono::steady_clock::now();
+  const EncodedScene enc = encode_for(scene, o, &st);
+  const double encode_ms = ms_since(t_all);
+  ImageF img = render_cpu(enc, o, &st);
+  st.total_ms += encode_ms;
+  return img;
+}
+
+ImageF render_cpu(const EncodedScene& enc, const RenderOptions& o, RenderStats* stats) {
   const RenderPlan plan = plan_render(o);
   RenderStats local;
   RenderStats& st = stats ? *stats : local;
   st.backend = "cpu";
   const auto t_all = std::chrono::steady_clock::now();
-  auto t0 = std::chrono::steady_clock::now();
-  const EncodedScene enc = encode(scene, plan.view, o.gamma);
-  st.encode_ms += ms_since(t0);
   BuildTimes bt;
   const ShortcutTree tree = build_tree_cpu(enc, plan.frame.ua_w, plan.frame.ua_h, o.tree, &bt);
   st.abstract_ms += bt.abstract_ms;

@@ -43,6 +43,13 @@ struct RenderStats {
 
 // Renders on the CPU. Throws mpvg::Error for scenes it cannot render.
 ImageF render_cpu(const Scene& scene, const RenderOptions& options, RenderStats* stats = nullptr);
+// The same for a scene already encoded for these options (encode_for), so
+// that encoding can run on another thread than rendering.
+ImageF render_cpu(const EncodedScene& scene, const RenderOptions& options, RenderStats* stats = nullptr);
+
+// The scene encoded as both backends render it with these options;
+// stats->encode_ms, if given, receives the time.
+EncodedScene encode_for(const Scene& scene, const RenderOptions& options, RenderStats* stats = nullptr);
 
 // What both backends prepare from the options: the pattern, the filter's
 // weights, the frame of unit areas, and the scene-to-unit-area transform.

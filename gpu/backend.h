@@ -2,6 +2,7 @@
 // configuration: without nvcc, the CUDA side reports itself unavailable and
 // auto renders on the CPU.
 #pragma once
+#include <memory>
 #include <string>
 
 #include "core/renderer.h"
@@ -15,5 +16,27 @@ bool cuda_available(std::string* why = nullptr);
 // can be used), or Auto (CUDA when available, else the CPU, with a one-line
 // note in stats->note).
 ImageF render(const Scene& scene, const RenderOptions& options, RenderStats* stats = nullptr);
+
+// Renders frame after frame with one backend, keeping its state between
+// them (the CUDA device buffers, which grow to the largest frame), as
+// batches do. Auto is resolved once, at construction. Not thread-safe: one
+// per rendering thread; scenes are encoded elsewhere (encode_for, any
+// thread).
+class FrameRenderer {
+ public:
+  explicit FrameRenderer(Backend backend);  // throws mpvg::Error for Cuda without a device
+  ~FrameRenderer();
+  FrameRenderer(const FrameRenderer&) = delete;
+  FrameRenderer& operator=(const FrameRenderer&) = delete;
+
+  Backend backend() const;  // Cpu or Cuda
+  const std::string& note() const;  // why Auto chose the CPU, or empty
+  // scene = encode_for(s, options): the image in the integration colour space.
+  ImageF render(const EncodedScene& scene, const RenderOptions& options, RenderStats* stats = nullptr);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace mpvg

@@ -16,4 +16,21 @@ ImageF render(const Scene& scene, const RenderOptions& options, RenderStats* sta
   return img;
 }
 
+struct FrameRenderer::Impl {
+  std::string note;
+};
+
+FrameRenderer::FrameRenderer(Backend backend) : impl_(std::make_unique<Impl>()) {
+  if (backend == Backend::Cuda) throw Error("CUDA backend unavailable: mpvg was built without CUDA");
+  if (backend == Backend::Auto) impl_->note = "no CUDA backend in this build; rendered on the CPU";
+}
+FrameRenderer::~FrameRenderer() = default;
+Backend FrameRenderer::backend() const { return Backend::Cpu; }
+const std::string& FrameRenderer::note() const { return impl_->note; }
+ImageF FrameRenderer::render(const EncodedScene& scene, const RenderOptions& options, RenderStats* stats) {
+  ImageF img = render_cpu(scene, options, stats);
+  if (stats) stats->note = impl_->note;
+  return img;
+}
+
 }  // namespace mpvg

@@ -23,14 +23,10 @@ bool cuda_available(std::string* why) {
 
 namespace {
 
-ImageF render_cuda(const Scene& scene, const RenderOptions& o, RenderStats& st) {
+ImageF render_cuda(gpu::Context& ctx, const EncodedScene& enc, const RenderOptions& o, RenderStats& st) {
   const RenderPlan plan = plan_render(o);
   st.backend = "cuda";
   const auto t_all = std::chrono::steady_clock::now();
-  auto t0 = std::chrono::steady_clock::now();
-  const EncodedScene enc = encode(scene, plan.view, o.gamma);
-  st.encode_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  gpu::Context ctx;
   gpu::GpuTimes gt;
   ctx.build(enc, plan.frame.ua_w, plan.frame.ua_h, o.tree, &gt);
   ImageF img = ctx.render(plan.integ, plan.frame, background_paint(o.background, o.gamma), &gt);
@@ -50,6 +46,16 @@ ImageF render_cuda(const Scene& scene, const RenderOptions& o, RenderStats& st) 
   return img;
 }
 
+ImageF render_cuda(const Scene& scene, const RenderOptions& o, RenderStats& st) {
+  const auto t_all = std::chrono::steady_clock::now();
+  const EncodedScene enc = encode_for(scene, o, &st);
+  const double encode_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_all).count();
+  gpu::Context ctx;
+  ImageF img = render_cuda(ctx, enc, o, st);
+  st.total_ms += encode_ms;
+  return img;
+}
+
 }  // namespace
 
 ImageF render(const Scene& scene, const RenderOptions& options, RenderStats* stats) {
@@ -64,6 +70,35 @@ ImageF render(const Scene& scene, const RenderOptions& options, RenderStats* sta
     return img;
   }
   return render_cuda(scene, options, st);
+}
+
+struct FrameRenderer::Impl {
+  Backend backend = Backend::Cpu;
+  std::string note;
+  std::unique_ptr<gpu::Context> ctx;
+};
+
+FrameRenderer::FrameRenderer(Backend backend) : impl_(std::make_unique<Impl>()) {
+  if (backend == Backend::Cpu) return;
+  std::string why;
+  if (!cuda_available(&why)) {
+    if (backend == Backend::Cuda) throw Error("CUDA backend unavailable: " + why);
+    impl_->note = why + "; rendered on the CPU";
+    return;
+  }
+  impl_->backend = Backend::Cuda;
+  impl_->ctx = std::make_unique<gpu::Context>();
+}
+FrameRenderer::~FrameRenderer() = default;
+Backend FrameRenderer::backend() const { return impl_->backend; }
+const std::string& FrameRenderer::note() const { return impl_->note; }
+
+ImageF FrameRenderer::render(const EncodedScene& scene, const RenderOptions& options, RenderStats* stats) {
+  RenderStats local;
+  RenderStats& st = stats ? *stats : local;
+  st.note = impl_->note;
+  if (impl_->backend == Backend::Cpu) return render_cpu(scene, options, &st);
+  return render_cuda(*impl_->ctx, scene, options, st);
 }
 
 }  // namespace mpvg

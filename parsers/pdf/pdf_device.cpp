@@ -11,8 +11,10 @@
 // pop_clip closes the group. A stack remembers which one each pop_clip
 // closes.
 #include <mupdf/fitz.h>
+#include <mupdf/pdf.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -141,10 +143,15 @@ struct Lowering {
     if (warned.insert(w).second) warnings->push_back(w);
   }
 
-  // Runs f, turning any C++ exception into the recorded error.
+  // Runs f, turning any C++ exception into the recorded error, and adds
+  // its time to lower_ms (callbacks nest: a Type 3 glyph runs through this
+  // device from inside fill_text; only the outermost is timed).
+  double lower_ms = 0;
+  int nesting = 0;
   template <class F>
   void guarded(F&& f) {
     if (!error.empty()) return;
+    const auto t0 = nesting++ == 0 ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
     try {
       f();
     } catch (const std::exception& e) {
@@ -152,6 +159,8 @@ struct Lowering {
     } catch (...) {
       error = "unknown error";
     }
+    if (--nesting == 0)
+      lower_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   }
 
   Paint solid(fz_context* ctx, fz_colorspace* cs, const float* color, float alpha, fz_color_params cp) {
@@ -583,9 +592,10 @@ void end_group(fz_context*, fz_device* dev) {
 
 }  // namespace
 
-std::vector<std::string> lower_page(fz_context* ctx, fz_page* page, const fz_matrix& ctm, const Affine& device,
-                                    double width, double height, SceneBuilder& b) {
-  std::vector<std::string> warnings;
+Lowered lower_page(fz_context* ctx, fz_page* page, const fz_matrix& ctm, const Affine& device, double width,
+                   double height, SceneBuilder& b) {
+  Lowered out;
+  std::vector<std::string>& warnings = out.warnings;
   Lowering* l = fz_new_derived_device(ctx, Lowering);
   fz_device* dev = &l->super;
   // fz_new_derived_device zero-fills; the C++ members are constructed here
@@ -630,13 +640,23 @@ std::vector<std::string> lower_page(fz_context* ctx, fz_page* page, const fz_mat
     low->guarded([&] { low->clip_image(c, img, m); });
   };
   std::string error;
+  pdf_page* pdf = pdf_page_from_fz_page(ctx, page);
+  const auto t0 = std::chrono::steady_clock::now();
   fz_try(ctx) {
-    fz_run_page(ctx, page, dev, ctm, nullptr);
+    if (pdf) {
+      pdf_run_page_contents_with_usage(ctx, pdf, dev, ctm, "View", nullptr);
+      pdf_run_page_annots_with_usage(ctx, pdf, dev, ctm, "Print", nullptr);
+      pdf_run_page_widgets_with_usage(ctx, pdf, dev, ctm, "Print", nullptr);
+    } else {
+      fz_run_page(ctx, page, dev, ctm, nullptr);
+    }
     fz_close_device(ctx, dev);
   }
   fz_catch(ctx) {
     error = fz_caught_message(ctx);
   }
+  out.run_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  out.lower_ms = l->lower_ms;
   if (error.empty()) error = l->error;
   if (error.empty() && !l->tiles.empty()) error = "a tiling pattern was left open";
   // Clips, masks and groups MuPDF left open (an interrupted page).
@@ -651,8 +671,8 @@ std::vector<std::string> lower_page(fz_context* ctx, fz_page* page, const fz_mat
   l->pops.~vector();
   l->tiles.~vector();
   fz_drop_device(ctx, dev);
-  if (!error.empty()) throw Error("page: " + error);
-  return warnings;
+  if (!error.empty()) throw Error(error);
+  return out;
 }
 
 }  // namespace mpvg::pdf::detail

@@ -23,6 +23,10 @@ struct PageResult {
   Scene scene;
   std::vector<std::string> warnings;  // one line each, deduplicated
   double pixels_per_point = 1;        // the output resolution it was lowered for
+  // Wall time of MuPDF interpreting the page (parsing, fonts, images) and
+  // of lowering what it draws into the scene (glyph outlines, strokes, the
+  // builder's finish), in ms.
+  double interpret_ms = 0, lower_ms = 0;
 };
 
 // An open document ("-": read from stdin). Errors (unreadable, broken,
@@ -34,6 +38,13 @@ class Document {
   Document(const Document&) = delete;
   Document& operator=(const Document&) = delete;
 
+  // Another handle on the same document for another thread: its own MuPDF
+  // context, cloned from this one's (the resource store and glyph cache
+  // shared, under locks), and its own parse of the same file or bytes.
+  // MuPDF allows one thread per context and document; every thread of a
+  // batch works on a clone of its own. The original must outlive its clones.
+  std::unique_ptr<Document> clone() const;
+
   int page_count() const;
   // Page `index` (0-based); `pixels_per_point` is the output resolution
   // the page will be rendered at (stroke tolerance, thinnest lines), given
@@ -43,6 +54,8 @@ class Document {
   PageResult page(int index, const std::function<double(double width, double height)>& pixels_per_point) const;
 
  private:
+  struct CloneTag {};
+  Document(const Document& other, CloneTag);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

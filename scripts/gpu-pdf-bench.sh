@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# pdf2png against mutool draw on the GPU host, at 150 dpi (issue 11's
+# yardstick), from .deps/pdf (scripts/gpu-pdf-deps.sh). Prints:
+#   - per-page stage times of pgfmanual p. 1 and utfsym p. 6 (pdf2png
+#     --stats, the page rendered 5 times in one process, the last shown:
+#     a warm pipeline), and mutool's own time for the page (-s t);
+#   - whole-document throughput, pages per second, for pgfmanual and
+#     asymptote: pdf2png (one process, CUDA), mutool draw in one process,
+#     and mutool draw in $(nproc) processes over equal page ranges.
+# Every run writes its PNGs to a scratch folder on local disk.
+#
+#   scripts/gpu-pdf-bench.sh [pages] [throughput]     (default: both)
+set -uo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+d=$root/.deps/pdf
+export LD_LIBRARY_PATH=$d/lib:${LD_LIBRARY_PATH:-}
+pdf2png=$d/bin/pdf2png
+mutool=$d/bin/mutool
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+steps=${*:-pages throughput}
+has() { [[ " $steps " == *" $1 "* ]]; }
+now() { date +%s.%N; }
+cores=$(nproc)
+echo "host: $(nvidia-smi --query-gpu=name --format=csv,noheader), $cores cores"
+
+if has pages; then
+  for spec in pgfmanual:1 utfsym:6; do
+    doc=${spec%%:*}
+    page=${spec##*:}
+    echo "== $doc p. $page"
+    "$pdf2png" --backend cuda --stats --repeat 5 -r 150 -f "$page" -l "$page" "$d/corpus/$doc.pdf" "$scratch/p" 2>&1 |
+      grep -E "^page|^pdf2png" | tail -2
+    for i in 1 2 3; do "$mutool" draw -s t -r 150 -o "$scratch/m.png" "$d/corpus/$doc.pdf" "$page" 2>&1 | grep -E "^page"; done
+  done
+fi
+
+if has throughput; then
+  for doc in asymptote pgfmanual; do
+    f=$d/corpus/$doc.pdf
+    n=$("$mutool" info -M "$f" 2>/dev/null | sed -n 's/^Pages: *//p')
+    echo "== $doc, $n pages"
+    rm -rf "$scratch"/*
+    t0=$(now)
+    "$pdf2png" --backend cuda --stats -q -r 150 "$f" "$scratch/p" 2>&1 | grep -E "pages/s"
+    t1=$(now)
+    echo "pdf2png: $(awk "BEGIN{printf \"%.2f\", $t1 - $t0}") s wall, $(ls "$scratch" | wc -l) files"
+    rm -rf "$scratch"/*
+    t0=$(now)
+    "$mutool" draw -q -r 150 -o "$scratch/m%d.png" "$f" 2>/dev/null
+    t1=$(now)
+    echo "mutool, 1 process: $(awk "BEGIN{printf \"%.2f\", $t1 - $t0}") s, $(awk "BEGIN{printf \"%.1f\", $n / ($t1 - $t0)}") pages/s"
+    rm -rf "$scratch"/*
+    t0=$(now)
+    for ((k = 0; k < cores; k++)); do
+      a=$((k * n / cores + 1))
+      b=$(((k + 1) * n / cores))
+      [ "$a" -le "$b" ] && "$mutool" draw -q -r 150 -o "$scratch/m$k-%d.png" "$f" "$a-$b" 2>/dev/null &
+    done
+    wait
+    t1=$(now)
+    echo "mutool, $cores processes: $(awk "BEGIN{printf \"%.2f\", $t1 - $t0}") s, $(awk "BEGIN{printf \"%.1f\", $n / ($t1 - $t0)}") pages/s"
+  done
+fi

@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Prepares .deps/pdf/ (ignored by git) for pdf2png benchmarks on the GPU
+# host, which has no MuPDF: pdf2png built here for sm_90 with the libpng
+# writer (build-pdfhost/, MuPDF linked statically), Debian's mutool for the
+# comparison, the shared libraries both name (glibc's own excepted), and the
+# corpus documents the benchmarks read. Run on the Debian development
+# machine; then carry .deps with the checkout (scripts/gpu-pdf-bench.sh).
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+corpus=${1:-$root/../shared/pdf-corpus}
+out=$root/.deps/pdf
+build=$root/build-pdfhost
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DMPVG_IMAGE_IO=png -DMPVG_BUILD_TESTS=OFF \
+  -DCMAKE_CUDA_ARCHITECTURES=90 > /dev/null
+cmake --build "$build" -j "$(nproc)" --target pdf2png > /dev/null
+rm -rf "$out"
+mkdir -p "$out/bin" "$out/lib" "$out/corpus"
+cp "$build/apps/pdf2png" "$(command -v mutool)" "$out/bin/"
+for bin in "$out"/bin/*; do
+  ldd "$bin" | awk '$3 ~ /^\// {print $3}'
+done | sort -u | grep -vE '/(libc|libm|libdl|libpthread|librt|libgcc_s|libstdc\+\+)\.so' | while read -r lib; do
+  cp -L "$lib" "$out/lib/"
+done
+cp "$corpus"/pgfmanual.pdf "$corpus"/asymptote.pdf "$corpus"/utfsym.pdf "$out/corpus/"
+du -sh "$out"
