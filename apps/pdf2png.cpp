@@ -8,14 +8,16 @@
 // pixels), -f N and -l N (first and last page), --singlefile (the first
 // page only, written to OUT-PREFIX.png), --password P, --transparent (no
 // white page background), --threads N (worker threads, default one per
-// core), --repeat N (the pages N times over, for benchmarks: later rounds
-// run warm); IN.pdf "-" reads stdin. The rendering options
+// core), --render-threads N (default 3 with CUDA, 1 on the CPU), --repeat N
+// (the pages N times over, for benchmarks: later rounds run warm); IN.pdf
+// "-" reads stdin. The rendering options
 // are svg2png's (--aa, --gamma, --backend, --bits, --stats, -q).
 //
 // Pages flow through one process as a pipeline, so that no stage waits
 // for another: worker threads (one MuPDF context and document clone each)
-// interpret and lower pages into scenes and encode them; one thread renders
-// them with one backend (one CUDA context, kept warm from page to page);
+// interpret and lower pages into scenes and encode them; render threads
+// (three with CUDA: one CUDA context, a gpu::Context and stream per thread,
+// kept warm from page to page; one on the CPU) render them;
 // the workers turn rendered images into PNG files, before they take new
 // pages, so that at most `workers + 4` pages are in flight. A page that
 // fails is reported and the others are still written; the exit status is
@@ -28,6 +30,7 @@
 #include <cmath>
 #include <condition_variable>
 #include <cstdio>
+#include <cstdlib>
 #include <deque>
 #include <exception>
 #include <memory>
@@ -55,6 +58,7 @@ struct PdfOptions {
   int crop_x = 0, crop_y = 0, crop_w = 0, crop_h = 0;  // -x -y -W -H, pixels at the resolution
   int threads = 0;          // worker threads; 0: one per core
   int repeat = 1;           // --repeat N: the pages N times over (benchmarks: later rounds run warm)
+  int render_threads = 0;   // threads rendering, each with its own backend state; 0: 3 with CUDA, 1 on the CPU
 };
 
 // Takes pdf2png's own options out of argv; the rest goes to cli::parse.
@@ -100,6 +104,8 @@ std::vector<char*> own_options(int argc, char** argv, PdfOptions& p) {
       p.threads = static_cast<int>(number(1));
     else if (a == "--repeat")
       p.repeat = static_cast<int>(number(1));
+    else if (a == "--render-threads")
+      p.render_threads = static_cast<int>(number(1));
     else
       rest.push_back(argv[i]);
   }
@@ -139,6 +145,7 @@ struct Pipeline {
   int max_in_flight = 1;
   int finished = 0, failed = 0;
   bool rendering_done = false;
+  int renderers = 1;  // render threads still running
   // Lowered pages waiting for the renderer, lowest page first.
   struct Later {
     bool operator()(const std::unique_ptr<Job>& a, const std::unique_ptr<Job>& b) const { return a->page > b->page; }
@@ -252,7 +259,8 @@ struct Pipeline {
       std::string error;
       try {
         if (!doc) {
-          own = base_doc->clone();
+          own = base_doc->clone(shared_context ? mpvg::pdf::Document::Context::Shared
+                                               : mpvg::pdf::Document::Context::Independent);
           doc = own.get();
         }
         job = lower(*doc, n);
@@ -272,8 +280,8 @@ struct Pipeline {
   }
 
 
-  // The renderer: one backend for every page, until every page is lowered
-  // and rendered.
+  // A renderer: one backend state for every page it takes, until every
+  // page is lowered and rendered.
   void render(mpvg::FrameRenderer& renderer) {
     std::unique_lock<std::mutex> lock(m);
     for (;;) {
@@ -297,11 +305,14 @@ struct Pipeline {
         finish(job.get(), job->page, error);
       }
     }
-    rendering_done = true;
+    if (--renderers == 0) rendering_done = true;
     cv.notify_all();
   }
 
   const mpvg::pdf::Document* base_doc = nullptr;  // the document the others clone
+  // MPVG_PDF_SHARED_CONTEXT=1: workers clone the first context
+  // (fz_clone_context) instead of each having its own; for measurements.
+  bool shared_context = false;
 };
 
 }  // namespace
@@ -333,20 +344,32 @@ int main(int argc, char** argv) {
     p.progress = !opt.quiet && pages > 1 && isatty(fileno(stderr));
     FrameRenderer renderer(opt.backend);
     if (!renderer.note().empty() && opt.stats) std::fprintf(stderr, "pdf2png: %s\n", renderer.note().c_str());
+    const bool cuda = renderer.backend() == Backend::Cuda;
     const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     const int workers = std::min(pages, pdf.threads > 0 ? pdf.threads : cores);
-    p.max_in_flight = workers + 4;
+    // With CUDA, a few render threads (own gpu::Context and stream each)
+    // overlap one page's host work and copies with another's kernels; the
+    // CPU backend uses every core for one page already.
+    const int renderers = std::min(pages, pdf.render_threads > 0 ? pdf.render_threads : cuda ? 3 : 1);
+    p.max_in_flight = workers + 4 + renderers;
+    p.renderers = renderers;
     p.base_doc = &doc;
+    const char* shared = std::getenv("MPVG_PDF_SHARED_CONTEXT");
+    p.shared_context = shared && std::string(shared) == "1";
     std::vector<std::thread> threads;
     for (int i = 0; i < workers; i++) threads.emplace_back([&p, &doc, i] { p.work(i == 0 ? &doc : nullptr); });
-    // This thread renders; the workers lower and write.
+    // This thread renders, with `renderers - 1` more; the workers lower and
+    // write.
+    std::vector<std::unique_ptr<FrameRenderer>> more;
+    for (int i = 1; i < renderers; i++) more.push_back(std::make_unique<FrameRenderer>(renderer.backend()));
+    for (auto& r : more) threads.emplace_back([&p, &r] { p.render(*r); });
     p.render(renderer);
     for (std::thread& t : threads) t.join();
     if (p.progress) std::fprintf(stderr, "\r\033[Kpdf2png: %d pages, %d failed\n", pages, p.failed);
     if (opt.stats) {
       const double s = ms_since(t_start) / 1000;
-      std::fprintf(stderr, "pdf2png: %d pages in %.3f s (%.1f pages/s), %d workers, %s backend\n", pages, s,
-                   pages / s, workers, renderer.backend() == Backend::Cuda ? "cuda" : "cpu");
+      std::fprintf(stderr, "pdf2png: %d pages in %.3f s (%.1f pages/s), %d workers, %d render threads, %s backend\n",
+                   pages, s, pages / s, workers, renderers, cuda ? "cuda" : "cpu");
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%spdf2png: %s\n", p.progress ? "\n" : "", e.what());

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 #include "core/error.h"
 #include "core/integration.h"
@@ -94,12 +96,64 @@ ImageF render_cpu(const EncodedScene& enc, const RenderOptions& o, RenderStats* 
   return img;
 }
 
+namespace {
+
+// lround(linear_to_srgb(v) * 255) for v in [0, 1], without a pow per
+// channel: code k starts at the smallest float `start[k]` that gives it,
+// found once by bisection over the floats with that same expression, so the
+// codes are exactly those of the formula. A lookup starts from the code of
+// v's 1/4096 bucket and steps up (at most about one code per bucket, where
+// the curve is steepest).
+struct SrgbCodes {
+  static constexpr int kBuckets = 4096;
+  float start[257];
+  uint8_t bucket[kBuckets + 1];
+  SrgbCodes() {
+    auto code = [](float v) { return std::lround(linear_to_srgb(v) * 255.0f); };
+    start[0] = 0.0f;
+    for (int k = 1; k < 256; k++) {
+      uint32_t lo = 0, hi = 0x3f800000u;  // the bit patterns of 0 and 1: positive floats order as integers
+      while (lo < hi) {
+        const uint32_t mid = lo + (hi - lo) / 2;
+        float v;
+        std::memcpy(&v, &mid, sizeof v);
+        if (code(v) >= k)
+          hi = mid;
+        else
+          lo = mid + 1;
+      }
+      std::memcpy(&start[k], &lo, sizeof lo);
+    }
+    start[256] = INFINITY;
+    for (int i = 0; i <= kBuckets; i++) bucket[i] = slow(static_cast<float>(i) / kBuckets);
+  }
+  uint8_t slow(float v) const {
+    int k = 0;
+    while (k < 255 && start[k + 1] <= v) k++;
+    return static_cast<uint8_t>(k);
+  }
+  uint8_t operator()(float v) const {
+    int k = bucket[static_cast<int>(v * kBuckets)];  // then corrected either way for v * 4096's rounding
+    while (start[k + 1] <= v) k++;
+    while (start[k] > v) k--;
+    return static_cast<uint8_t>(k);
+  }
+};
+
+}  // namespace
+
 std::vector<uint8_t> to_rgba8(const ImageF& image, Gamma gamma) {
+  static const SrgbCodes srgb;
   std::vector<uint8_t> out(image.rgba.size());
   for (size_t i = 0; i < image.rgba.size(); i += 4) {
-    float v[4];
-    to_straight_srgb(&image.rgba[i], gamma, v);
-    for (int c = 0; c < 4; c++) out[i + c] = static_cast<uint8_t>(std::lround(v[c] * 255.0f));
+    const float* p = &image.rgba[i];
+    const float a = std::min(1.0f, std::max(0.0f, p[3]));
+    for (int c = 0; c < 3; c++) {
+      float v = a > 0.0f ? p[c] / a : 0.0f;
+      v = std::min(1.0f, std::max(0.0f, v));
+      out[i + c] = gamma == Gamma::Linear ? srgb(v) : static_cast<uint8_t>(std::lround(v * 255.0f));
+    }
+    out[i + 3] = static_cast<uint8_t>(std::lround(a * 255.0f));
   }
   return out;
 }

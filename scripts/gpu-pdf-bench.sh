@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # pdf2png against mutool draw on the GPU host, at 150 dpi (issue 11's
-# yardstick), from .deps/pdf (scripts/gpu-pdf-deps.sh). Prints:
+# yardstick), from .deps/pdf.tar.xz (scripts/gpu-pdf-deps.sh). Prints:
 #   - per-page stage times of pgfmanual p. 1 and utfsym p. 6 (pdf2png
-#     --stats, the page rendered 5 times in one process, the last shown:
-#     a warm pipeline), and mutool's own time for the page (-s t);
+#     --stats, the page rendered 5 times in one process by one worker, the
+#     last shown: a warm, uncontended pipeline), and mutool's own time for
+#     the page (-s t);
 #   - whole-document throughput, pages per second, for pgfmanual and
 #     asymptote: pdf2png (one process, CUDA), mutool draw in one process,
 #     and mutool draw in $(nproc) processes over equal page ranges.
@@ -12,12 +13,15 @@
 #   scripts/gpu-pdf-bench.sh [pages] [throughput]     (default: both)
 set -uo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-d=$root/.deps/pdf
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+tar -C "$scratch" -xJf "$root/.deps/pdf.tar.xz"
+d=$scratch/pdf
 export LD_LIBRARY_PATH=$d/lib:${LD_LIBRARY_PATH:-}
 pdf2png=$d/bin/pdf2png
 mutool=$d/bin/mutool
-scratch=$(mktemp -d)
-trap 'rm -rf "$scratch"' EXIT
+out=$scratch/out
+mkdir -p "$out"
 steps=${*:-pages throughput}
 has() { [[ " $steps " == *" $1 "* ]]; }
 now() { date +%s.%N; }
@@ -29,9 +33,9 @@ if has pages; then
     doc=${spec%%:*}
     page=${spec##*:}
     echo "== $doc p. $page"
-    "$pdf2png" --backend cuda --stats --repeat 5 -r 150 -f "$page" -l "$page" "$d/corpus/$doc.pdf" "$scratch/p" 2>&1 |
+    "$pdf2png" --backend cuda --stats --threads 1 --repeat 5 -r 150 -f "$page" -l "$page" "$d/corpus/$doc.pdf" "$out/p" 2>&1 |
       grep -E "^page|^pdf2png" | tail -2
-    for i in 1 2 3; do "$mutool" draw -s t -r 150 -o "$scratch/m.png" "$d/corpus/$doc.pdf" "$page" 2>&1 | grep -E "^page"; done
+    for i in 1 2 3; do "$mutool" draw -s t -r 150 -o "$out/m.png" "$d/corpus/$doc.pdf" "$page" 2>&1 | grep -E "^page"; done
   done
 fi
 
@@ -40,22 +44,31 @@ if has throughput; then
     f=$d/corpus/$doc.pdf
     n=$("$mutool" info -M "$f" 2>/dev/null | sed -n 's/^Pages: *//p')
     echo "== $doc, $n pages"
-    rm -rf "$scratch"/*
+    rm -rf "$out"/*
     t0=$(now)
-    "$pdf2png" --backend cuda --stats -q -r 150 "$f" "$scratch/p" 2>&1 | grep -E "pages/s"
+    "$pdf2png" --backend cuda --stats -q -r 150 "$f" "$out/p" 2>&1 | grep -E "pages/s"
     t1=$(now)
-    echo "pdf2png: $(awk "BEGIN{printf \"%.2f\", $t1 - $t0}") s wall, $(ls "$scratch" | wc -l) files"
-    rm -rf "$scratch"/*
+    echo "pdf2png: $(awk "BEGIN{printf \"%.2f\", $t1 - $t0}") s wall, $(ls "$out" | wc -l) files"
+    if [ "$doc" = asymptote ]; then
+      rm -rf "$out"/*
+      MPVG_PDF_SHARED_CONTEXT=1 "$pdf2png" --backend cuda --stats -q -r 150 "$f" "$out/p" 2>&1 |
+        grep -E "pages/s" | sed 's/^/cloned MuPDF contexts: /'
+      for r in 1 2 4; do
+        rm -rf "$out"/*
+        "$pdf2png" --backend cuda --stats -q --render-threads $r -r 150 "$f" "$out/p" 2>&1 | grep -E "pages/s"
+      done
+    fi
+    rm -rf "$out"/*
     t0=$(now)
-    "$mutool" draw -q -r 150 -o "$scratch/m%d.png" "$f" 2>/dev/null
+    "$mutool" draw -q -r 150 -o "$out/m%d.png" "$f" 2>/dev/null
     t1=$(now)
     echo "mutool, 1 process: $(awk "BEGIN{printf \"%.2f\", $t1 - $t0}") s, $(awk "BEGIN{printf \"%.1f\", $n / ($t1 - $t0)}") pages/s"
-    rm -rf "$scratch"/*
+    rm -rf "$out"/*
     t0=$(now)
     for ((k = 0; k < cores; k++)); do
       a=$((k * n / cores + 1))
       b=$(((k + 1) * n / cores))
-      [ "$a" -le "$b" ] && "$mutool" draw -q -r 150 -o "$scratch/m$k-%d.png" "$f" "$a-$b" 2>/dev/null &
+      [ "$a" -le "$b" ] && "$mutool" draw -q -r 150 -o "$out/m$k-%d.png" "$f" "$a-$b" 2>/dev/null &
     done
     wait
     t1=$(now)

@@ -260,3 +260,27 @@ TEST_CASE("noise: 4x4x32 renders with two seeds differ far less than 1x8 ones", 
     CHECK(bs.max <= 20);
   }
 }
+
+TEST_CASE("8-bit output codes are exactly the rounded sRGB encoding", "[aa]") {
+  // to_rgba8 looks codes up instead of calling pow per channel; it must
+  // give what lround(linear_to_srgb(v) * 255) gives, at every float of a
+  // dense sweep and around every code's first float.
+  std::vector<float> values;
+  for (int i = 0; i <= 1 << 20; i++) values.push_back(static_cast<float>(i) / (1 << 20));
+  for (int k = 1; k < 256; k++) {
+    const float x = srgb_to_linear((k - 0.5f) / 255.0f);
+    for (float v = std::nextafter(x, 0.0f), n = 0; n < 64; n++, v = std::nextafter(v, 0.0f)) values.push_back(v);
+    for (float v = x, n = 0; n < 64; n++, v = std::nextafter(v, 2.0f)) values.push_back(v);
+  }
+  ImageF im;
+  im.width = static_cast<int>(values.size());
+  im.height = 1;
+  for (float v : values) im.rgba.insert(im.rgba.end(), {v, v, v, 1.0f});
+  const std::vector<uint8_t> out = to_rgba8(im, Gamma::Linear);
+  size_t wrong = 0;
+  for (size_t i = 0; i < values.size(); i++) {
+    const float v = std::min(1.0f, std::max(0.0f, values[i]));
+    wrong += out[4 * i] != std::lround(linear_to_srgb(v) * 255.0f);
+  }
+  CHECK(wrong == 0);
+}

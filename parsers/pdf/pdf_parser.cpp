@@ -109,9 +109,14 @@ Document::Document(const std::string& path, const std::string& password) : impl_
   impl_->open();
 }
 
-Document::Document(const Document& other, CloneTag) : impl_(std::make_unique<Impl>()) {
-  impl_->locks = other.impl_->locks;
-  impl_->ctx = fz_clone_context(other.impl_->ctx);
+Document::Document(const Document& other, Context context) : impl_(std::make_unique<Impl>()) {
+  if (context == Context::Shared) {
+    impl_->locks = other.impl_->locks;
+    impl_->ctx = fz_clone_context(other.impl_->ctx);
+  } else {
+    impl_->locks = std::make_shared<Locks>();
+    impl_->ctx = fz_new_context(nullptr, &impl_->locks->ctx, FZ_STORE_DEFAULT);
+  }
   if (!impl_->ctx) throw Error("cannot start MuPDF");
   silence(impl_->ctx);
   impl_->path = other.impl_->path;
@@ -120,7 +125,9 @@ Document::Document(const Document& other, CloneTag) : impl_(std::make_unique<Imp
   impl_->open();
 }
 
-std::unique_ptr<Document> Document::clone() const { return std::unique_ptr<Document>(new Document(*this, CloneTag{})); }
+std::unique_ptr<Document> Document::clone(Context context) const {
+  return std::unique_ptr<Document>(new Document(*this, context));
+}
 
 Document::~Document() = default;
 

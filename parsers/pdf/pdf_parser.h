@@ -38,12 +38,16 @@ class Document {
   Document(const Document&) = delete;
   Document& operator=(const Document&) = delete;
 
-  // Another handle on the same document for another thread: its own MuPDF
-  // context, cloned from this one's (the resource store and glyph cache
-  // shared, under locks), and its own parse of the same file or bytes.
-  // MuPDF allows one thread per context and document; every thread of a
-  // batch works on a clone of its own. The original must outlive its clones.
-  std::unique_ptr<Document> clone() const;
+  // Another handle on the same document for another thread, with its own
+  // parse of the same file or bytes; MuPDF allows one thread per context
+  // and document. Independent: a MuPDF context of its own (own allocator
+  // lock, FreeType instance and resource store). Shared: a clone of this
+  // one's context (fz_clone_context: store, glyph cache and FreeType shared
+  // under MuPDF's locks), which measured 5-10x slower per page with 16
+  // threads (BENCHMARKS.md): every allocation and glyph outline takes a
+  // process-wide lock. The original must outlive its clones.
+  enum class Context { Independent, Shared };
+  std::unique_ptr<Document> clone(Context context = Context::Independent) const;
 
   int page_count() const;
   // Page `index` (0-based); `pixels_per_point` is the output resolution
@@ -54,8 +58,7 @@ class Document {
   PageResult page(int index, const std::function<double(double width, double height)>& pixels_per_point) const;
 
  private:
-  struct CloneTag {};
-  Document(const Document& other, CloneTag);
+  Document(const Document& other, Context context);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
