@@ -38,11 +38,6 @@ const std::map<std::string, std::string> kPending = {
     {"mesh-type6", "mesh shadings: the renderer's support is being reworked"},
     {"mesh-type7", "mesh shadings: the renderer's support is being reworked"},
     {"shading-function", "function-based shadings (type 1) go through the mesh path being reworked"},
-    {"image-decode", "images without /Interpolate are smoothed; MuPDF draws their pixels as squares"},
-    {"image-interpolate", "images without /Interpolate are smoothed; MuPDF draws their pixels as squares"},
-    {"image-mask", "images without /Interpolate are smoothed; MuPDF draws their pixels as squares"},
-    {"image-smask", "images without /Interpolate are smoothed; MuPDF draws their pixels as squares"},
-    {"colorspace-indexed", "images without /Interpolate are smoothed; MuPDF draws their pixels as squares"},
 };
 
 // Page 1 at 1 pixel per point, as `pdf2png -r 72 --aa 1x32 --gamma srgb`.

@@ -220,6 +220,8 @@ struct Lowering {
   // puts the image's top-left pixel at the unit square's origin); the
   // pixmap's premultiplied samples become straight RGBA. A stencil mask
   // (one alpha channel) is white where it paints, tinted by `tint`.
+  // Magnified, an image is smoothed only with /Interpolate true; without
+  // it its pixels stay squares, as MuPDF and Acrobat draw them.
   // Returns the paint (and the placement in *xf), or nothing.
   std::optional<Paint> image_paint(fz_context* ctx, fz_image* img, fz_matrix ctm, float alpha, fz_color_params cp,
                                    RGBA tint, Affine* xf_out) {
@@ -250,6 +252,7 @@ struct Lowering {
     t.image = std::move(im);
     t.xf = xf * Affine::scale(1.0 / t.image->width, 1.0 / t.image->height);
     t.tint = tint;
+    t.filter = img->interpolate ? TextureFilter::Bilinear : TextureFilter::Nearest;
     Paint paint;
     paint.type = PaintType::Texture;
     paint.opacity = alpha;
