@@ -45,6 +45,8 @@ for broken in three-pages-bad-page2 three-pages-deep-page2; do
   errors[$broken]=$err
 done
 check "a page that fails to load: MuPDF's reason" test "${errors[three-pages-bad-page2]}" = "pdf2png: page 2: cycle in page tree"
+check "a page that fails while running: its number once, MuPDF's reason" \
+  test "${errors[three-pages-deep-page2]}" = "pdf2png: page 2: exception stack overflow!"
 
 # A truncated document (no xref, no trailer, page 3's content cut): MuPDF
 # repairs it; every page it finds is written, the first two intact.

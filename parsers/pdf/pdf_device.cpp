@@ -654,7 +654,7 @@ std::vector<std::string> lower_page(fz_context* ctx, fz_page* page, const fz_mat
   l->pops.~vector();
   l->tiles.~vector();
   fz_drop_device(ctx, dev);
-  if (!error.empty()) throw Error("page: " + error);
+  if (!error.empty()) throw Error(error);  // Document::page names the page
   return warnings;
 }
 
