@@ -335,6 +335,7 @@ void mesh_prepare(fz_context* ctx, void* arg, fz_vertex* v, const float* c) {
   MeshCapture* m = static_cast<MeshCapture*>(arg);
   if (m->shade->use_function) {
     v->c[0] = c[0];
+    v->c[1] = v->c[2] = 0;  // unused, but mesh_triangle copies them into the vertex's colour
   } else {
     float rgb[3] = {0, 0, 0};
     if (!convert_color(ctx, m->shade->colorspace, c, rgb, m->cp)) m->bad_color = true;
