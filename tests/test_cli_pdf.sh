@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # Command-line behaviour of pdf2png: output names as pdftoppm gives them,
 # resolution, --scale-to, crops, --singlefile, and one clear error line with
-# a non-zero exit for bad input.
+# a non-zero exit for bad input: broken pages (the others still written),
+# truncated and encrypted documents.
 # usage: test_cli_pdf.sh PDF2PNG SOURCE_DIR
 set -u
 bin=$1
 src=$2
 source "$(dirname "${BASH_SOURCE[0]}")/cli_test_lib.sh"
+declare -A errors
 pdf=$src/testdata/pdf/red-square.pdf   # one 100 x 100 pt page
 
 "$bin" -q --backend cpu "$pdf" "$tmp/p"; rc=$?
@@ -30,6 +32,41 @@ err=$("$bin" -q --dpi zero "$pdf" "$tmp/m" 2>&1); rc=$?
 check "a bad option value: exit 2" test "$rc" = 2
 "$bin" -q --backend cpu -r 72 -f 1 -l 3 "$pdf" "$tmp/l"; rc=$?
 check "-l past the last page renders what exists" test "$rc" = 0 -a -f "$tmp/l-1.png"
+
+# Broken pages (testdata/pdf/README.md): the others are still written, the
+# broken one reported on one line that names it, exit 1.
+# three-pages-bad-page2 fails to load page 2 inside MuPDF.
+for broken in three-pages-bad-page2; do
+  err=$("$bin" -q --backend cpu -r 72 "$src/testdata/pdf/$broken.pdf" "$tmp/$broken" 2>&1); rc=$?
+  check "$broken: pages 1 and 3 written, page 2 not" \
+    test -f "$tmp/$broken-1.png" -a ! -e "$tmp/$broken-2.png" -a -f "$tmp/$broken-3.png"
+  check "$broken: exit 1, one line naming page 2 ($err)" \
+    test "$rc" = 1 -a "$(echo "$err" | wc -l)" = 1 -a -n "$(echo "$err" | grep -e '^pdf2png: page 2: ')"
+  errors[$broken]=$err
+done
+check "a page that fails to load: MuPDF's reason" test "${errors[three-pages-bad-page2]}" = "pdf2png: page 2: cycle in page tree"
+
+# A truncated document (no xref, no trailer, page 3's content cut): MuPDF
+# repairs it; every page it finds is written, the first two intact.
+"$bin" -q --backend cpu -r 72 "$src/testdata/pdf/truncated.pdf" "$tmp/t"; rc=$?
+"$bin" -q --backend cpu -r 72 "$src/testdata/pdf/three-pages.pdf" "$tmp/full"
+check "truncated: repaired, three pages, exit 0" test "$rc" = 0 -a -f "$tmp/t-3.png"
+same_pages_1_2() { cmp -s "$tmp/t-1.png" "$tmp/full-1.png" && cmp -s "$tmp/t-2.png" "$tmp/full-2.png"; }
+check "truncated: pages 1 and 2 as in the intact document" same_pages_1_2
+# Cuts of the intact document every 100 bytes: what is recovered is
+# written, anything else is an error line and exit 1 (MuPDF 1.21 gives up
+# on a cut inside some dictionaries: "invalid key in dict"); never a crash.
+size=$(wc -c < "$src/testdata/pdf/three-pages.pdf")
+bad_cuts=""
+for ((n = 0; n < size; n += 100)); do
+  head -c "$n" "$src/testdata/pdf/three-pages.pdf" > "$tmp/cut.pdf"
+  err=$("$bin" -q --backend cpu -r 10 "$tmp/cut.pdf" "$tmp/cut" 2>&1); rc=$?
+  if ! { test "$rc" = 0 -a -z "$err" || test "$rc" = 1 -a -n "$err" -a -z "$(echo "$err" | grep -v '^pdf2png: ')"; }; then
+    bad_cuts="$bad_cuts $n(rc $rc)"
+  fi
+done
+check "truncated anywhere: output or an error line with exit 1, never a crash${bad_cuts:+ (failed at$bad_cuts)}" \
+  test -z "$bad_cuts"
 
 "$bin" -q --backend cpu -r 72 - "$tmp/in" < "$pdf"
 check "- reads the document from stdin, the same image" cmp -s "$tmp/r-1.png" "$tmp/in-1.png"

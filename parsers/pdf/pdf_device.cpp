@@ -229,6 +229,8 @@ struct Lowering {
   // puts the image's top-left pixel at the unit square's origin); the
   // pixmap's premultiplied samples become straight RGBA. A stencil mask
   // (one alpha channel) is white where it paints, tinted by `tint`.
+  // Magnified, an image is smoothed only with /Interpolate true; without
+  // it its pixels stay squares, as MuPDF and Acrobat draw them.
   // Returns the paint (and the placement in *xf), or nothing.
   std::optional<Paint> image_paint(fz_context* ctx, fz_image* img, fz_matrix ctm, float alpha, fz_color_params cp,
                                    RGBA tint, Affine* xf_out) {
@@ -259,6 +261,7 @@ struct Lowering {
     t.image = std::move(im);
     t.xf = xf * Affine::scale(1.0 / t.image->width, 1.0 / t.image->height);
     t.tint = tint;
+    t.filter = img->interpolate ? TextureFilter::Bilinear : TextureFilter::Nearest;
     Paint paint;
     paint.type = PaintType::Texture;
     paint.opacity = alpha;
@@ -341,6 +344,7 @@ void mesh_prepare(fz_context* ctx, void* arg, fz_vertex* v, const float* c) {
   MeshCapture* m = static_cast<MeshCapture*>(arg);
   if (m->shade->use_function) {
     v->c[0] = c[0];
+    v->c[1] = v->c[2] = 0;  // unused, but mesh_triangle copies them into the vertex's colour
   } else {
     float rgb[3] = {0, 0, 0};
     if (!convert_color(ctx, m->shade->colorspace, c, rgb, m->cp)) m->bad_color = true;
@@ -671,7 +675,7 @@ Lowered lower_page(fz_context* ctx, fz_page* page, const fz_matrix& ctm, const A
   l->pops.~vector();
   l->tiles.~vector();
   fz_drop_device(ctx, dev);
-  if (!error.empty()) throw Error(error);
+  if (!error.empty()) throw Error(error);  // Document::page names the page
   return out;
 }
 
