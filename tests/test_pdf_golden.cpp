@@ -33,11 +33,6 @@ namespace {
 
 // Features whose golden is not made yet, and why.
 const std::map<std::string, std::string> kPending = {
-    {"mesh-type4", "mesh shadings: the renderer's support is being reworked"},
-    {"mesh-type5", "mesh shadings: the renderer's support is being reworked"},
-    {"mesh-type6", "mesh shadings: the renderer's support is being reworked"},
-    {"mesh-type7", "mesh shadings: the renderer's support is being reworked"},
-    {"shading-function", "function-based shadings (type 1) go through the mesh path being reworked"},
 };
 
 // Page 1 at 1 pixel per point, as `pdf2png -r 72 --aa 1x32 --gamma srgb`.
