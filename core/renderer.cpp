@@ -53,26 +53,34 @@ RenderPlan plan_render(const RenderOptions& o) {
   return p;
 }
 
-EncodedScene encode_for(const Scene& scene, const RenderOptions& o, RenderStats* stats) {
+EncodedScene encode_for(const Scene& scene, const RenderPlan& plan, Gamma gamma, RenderStats* stats) {
   const auto t0 = std::chrono::steady_clock::now();
-  EncodedScene enc = encode(scene, plan_render(o).view, o.gamma);
+  EncodedScene enc = encode(scene, plan.view, gamma);
   if (stats) stats->encode_ms += ms_since(t0);
   return enc;
+}
+
+EncodedScene encode_for(const Scene& scene, const RenderOptions& o, RenderStats* stats) {
+  return encode_for(scene, plan_render(o), o.gamma, stats);
 }
 
 ImageF render_cpu(const Scene& scene, const RenderOptions& o, RenderStats* stats) {
   RenderStats local;
   RenderStats& st = stats ? *stats : local;
   const auto t_all = std::chrono::steady_clock::now();
-  const EncodedScene enc = encode_for(scene, o, &st);
+  const RenderPlan plan = plan_render(o);
+  const EncodedScene enc = encode_for(scene, plan, o.gamma, &st);
   const double encode_ms = ms_since(t_all);
-  ImageF img = render_cpu(enc, o, &st);
+  ImageF img = render_cpu(enc, plan, o, &st);
   st.total_ms += encode_ms;
   return img;
 }
 
 ImageF render_cpu(const EncodedScene& enc, const RenderOptions& o, RenderStats* stats) {
-  const RenderPlan plan = plan_render(o);
+  return render_cpu(enc, plan_render(o), o, stats);
+}
+
+ImageF render_cpu(const EncodedScene& enc, const RenderPlan& plan, const RenderOptions& o, RenderStats* stats) {
   RenderStats local;
   RenderStats& st = stats ? *stats : local;
   st.backend = "cpu";

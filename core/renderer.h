@@ -61,6 +61,12 @@ struct RenderPlan {
 };
 RenderPlan plan_render(const RenderOptions& options);
 
+// encode_for and render_cpu with the plan already made: a frame plans once
+// however many of its stages run on this thread.
+EncodedScene encode_for(const Scene& scene, const RenderPlan& plan, Gamma gamma, RenderStats* stats = nullptr);
+ImageF render_cpu(const EncodedScene& scene, const RenderPlan& plan, const RenderOptions& options,
+                  RenderStats* stats = nullptr);
+
 // The background as a premultiplied paint in the integration colour space.
 PaintRecord background_paint(const RGBA& c, Gamma gamma);
 

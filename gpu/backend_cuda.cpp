@@ -23,8 +23,8 @@ bool cuda_available(std::string* why) {
 
 namespace {
 
-ImageF render_cuda(gpu::Context& ctx, const EncodedScene& enc, const RenderOptions& o, RenderStats& st) {
-  const RenderPlan plan = plan_render(o);
+ImageF render_cuda(gpu::Context& ctx, const EncodedScene& enc, const RenderPlan& plan, const RenderOptions& o,
+                   RenderStats& st) {
   st.backend = "cuda";
   const auto t_all = std::chrono::steady_clock::now();
   gpu::GpuTimes gt;
@@ -48,10 +48,11 @@ ImageF render_cuda(gpu::Context& ctx, const EncodedScene& enc, const RenderOptio
 
 ImageF render_cuda(const Scene& scene, const RenderOptions& o, RenderStats& st) {
   const auto t_all = std::chrono::steady_clock::now();
-  const EncodedScene enc = encode_for(scene, o, &st);
+  const RenderPlan plan = plan_render(o);
+  const EncodedScene enc = encode_for(scene, plan, o.gamma, &st);
   const double encode_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_all).count();
   gpu::Context ctx;
-  ImageF img = render_cuda(ctx, enc, o, st);
+  ImageF img = render_cuda(ctx, enc, plan, o, st);
   st.total_ms += encode_ms;
   return img;
 }
@@ -98,7 +99,7 @@ ImageF FrameRenderer::render(const EncodedScene& scene, const RenderOptions& opt
   RenderStats& st = stats ? *stats : local;
   st.note = impl_->note;
   if (impl_->backend == Backend::Cpu) return render_cpu(scene, options, &st);
-  return render_cuda(*impl_->ctx, scene, options, st);
+  return render_cuda(*impl_->ctx, scene, plan_render(options), options, st);
 }
 
 }  // namespace mpvg

@@ -333,7 +333,6 @@ void clip_stroke_path(fz_context* ctx, fz_device* dev, const fz_path* path, cons
 // draws in, colours converted to sRGB (or, for a shading with a Function,
 // the function's input t in [0, 1]).
 struct MeshCapture {
-  Lowering* l;
   fz_shade* shade;
   fz_color_params cp;
   Mesh mesh;
@@ -411,7 +410,7 @@ void fill_shade(fz_context* ctx, fz_device* dev, fz_shade* shade, fz_matrix ctm,
     }
     // Vertices come out in device space; the shading's box is in shading
     // space and clips them.
-    MeshCapture capture{l, shade, cp, {}, false};
+    MeshCapture capture{shade, cp, {}, false};
     if (!process_shade(ctx, shade, to_device, &capture) || capture.mesh.vertices.empty()) {
       l->warn("a shading could not be read: skipped");
       return;
