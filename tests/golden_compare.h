@@ -25,6 +25,15 @@
 
 namespace mpvg::golden {
 
+// The files of `dir` whose extension is `ext` (".svg", ".pdf"), sorted.
+inline std::vector<std::filesystem::path> inputs(const std::filesystem::path& dir, const std::string& ext) {
+  std::vector<std::filesystem::path> out;
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    if (e.path().extension() == ext) out.push_back(e.path());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 // expected | |difference| x 8 | actual, each over a light checkerboard.
 inline void write_failure_panel(const std::string& path, int w, int h, const std::vector<uint8_t>& expected,
                                 const std::vector<uint8_t>& actual) {

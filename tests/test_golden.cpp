@@ -45,10 +45,7 @@ std::vector<uint8_t> render_golden(const std::string& svg_path, int* w, int* h) 
 
 TEST_CASE("golden images", "[golden]") {
   const fs::path dir = fs::path(MPVG_SOURCE_DIR) / "testdata" / "golden";
-  std::vector<fs::path> svgs;
-  for (const auto& e : fs::directory_iterator(dir))
-    if (e.path().extension() == ".svg") svgs.push_back(e.path());
-  std::sort(svgs.begin(), svgs.end());
+  const std::vector<fs::path> svgs = golden::inputs(dir, ".svg");
   REQUIRE(svgs.size() >= 6);
   for (const fs::path& svg : svgs) {
     const std::string name = svg.stem().string();

@@ -71,10 +71,7 @@ bool update_asks_for(const std::string& name) {
 
 TEST_CASE("pdf golden images", "[pdf][golden]") {
   const fs::path dir = fs::path(MPVG_SOURCE_DIR) / "testdata" / "pdf" / "features";
-  std::vector<fs::path> pdfs;
-  for (const auto& e : fs::directory_iterator(dir))
-    if (e.path().extension() == ".pdf") pdfs.push_back(e.path());
-  std::sort(pdfs.begin(), pdfs.end());
+  const std::vector<fs::path> pdfs = golden::inputs(dir, ".pdf");
   REQUIRE(pdfs.size() >= 30);
   for (const fs::path& pdf : pdfs) {
     const std::string name = pdf.stem().string();
