@@ -8,7 +8,7 @@
 // pixels), -f N and -l N (first and last page), --singlefile (the first
 // page only, written to OUT-PREFIX.png), --password P, --transparent (no
 // white page background), --threads N (worker threads, default one per
-// core), --render-threads N (default 3 with CUDA, 1 on the CPU), --repeat N
+// core, less the render threads with CUDA), --render-threads N (default 3 with CUDA, 1 on the CPU), --repeat N
 // (the pages N times over, for benchmarks: later rounds run warm); IN.pdf
 // "-" reads stdin. The rendering options
 // are svg2png's (--aa, --gamma, --backend, --bits, --stats, -q).
@@ -61,11 +61,47 @@ struct PdfOptions {
   int render_threads = 0;   // threads rendering, each with its own backend state; 0: 3 with CUDA, 1 on the CPU
 };
 
+void usage() {
+  std::printf(
+      "Usage: pdf2png [OPTIONS] INPUT.pdf OUTPUT-PREFIX\n"
+      "Renders the pages of INPUT to OUTPUT-PREFIX-1.png, OUTPUT-PREFIX-2.png, ... (page\n"
+      "numbers zero-padded to the page count's digits, as pdftoppm writes them) with\n"
+      "the mpvg rasterizer. INPUT '-' reads standard input.\n\n"
+      "Pages:\n"
+      "  -f N, -l N                first and last page (default: all)\n"
+      "      --singlefile          the first page only, written to OUTPUT-PREFIX.png\n"
+      "      --password P          the document's password\n"
+      "Size:\n"
+      "  -r, --dpi N               resolution (default 150)\n"
+      "      --scale-to N          the longer side in pixels (instead of -r)\n"
+      "  -x X -y Y -W W -H H       a crop window, in pixels at the resolution\n"
+      "Output:\n"
+      "      --transparent         no white page background\n"
+      "      --bits 8|16           bits per channel of the PNG (default 8)\n"
+      "Antialiasing (the paper's modes):\n"
+      "      --aa MODE             4x4x32 (default), 1x32 or 1x8 (see svg2png --help)\n"
+      "      --filter F, --samples N, --pattern P, --seed N, --gamma linear|srgb\n"
+      "Execution:\n"
+      "      --backend B           auto, cpu or cuda (default auto)\n"
+      "      --threads N           worker threads: interpretation, lowering, PNG (default:\n"
+      "                            one per core, less the render threads with CUDA)\n"
+      "      --render-threads N    rendering threads (default 3 with CUDA, 1 on the CPU)\n"
+      "      --stats               per-page stage times and the job's throughput\n"
+      "      --repeat N            the pages N times over (benchmarks)\n"
+      "  -q, --quiet               no warnings\n"
+      "      --help, --version\n");
+}
+
 // Takes pdf2png's own options out of argv; the rest goes to cli::parse.
+// Returns false after --help.
 std::vector<char*> own_options(int argc, char** argv, PdfOptions& p) {
   std::vector<char*> rest{argv[0]};
   for (int i = 1; i < argc; i++) {
     const std::string a = argv[i];
+    if (a == "--help" || a == "-?") {
+      usage();
+      return {};
+    }
     auto value = [&]() -> std::string {
       if (i + 1 >= argc) throw mpvg::cli::UsageError{a + " needs a value"};
       return argv[++i];
@@ -122,10 +158,12 @@ struct Job {
   std::string out;
   int width = 0, height = 0;
   mpvg::RenderOptions options;
+  mpvg::RenderPlan plan;
   mpvg::EncodedScene scene;
-  mpvg::ImageF image;
+  mpvg::ImageF image;          // --bits 16
+  std::vector<uint8_t> rgba8;  // --bits 8 (converted where it was rendered)
   mpvg::RenderStats stats;
-  double interpret_ms = 0, lower_ms = 0, png_ms = 0;
+  double interpret_ms = 0, lower_ms = 0, render_ms = 0, png_ms = 0;
   std::vector<std::string> warnings;
 };
 
@@ -144,6 +182,12 @@ struct Pipeline {
   int lowering = 0;   // pages being lowered now
   int max_in_flight = 1;
   int finished = 0, failed = 0;
+  // --stats: each stage's time summed over the pages (ms), and how long
+  // the render threads and the workers waited for work.
+  struct Totals {
+    double interpret = 0, lower = 0, encode = 0, preprocess = 0, render = 0, render_wall = 0, png = 0;
+    double render_idle = 0, worker_idle = 0;
+  } totals;
   bool rendering_done = false;
   int renderers = 1;  // render threads still running
   // Lowered pages waiting for the renderer, lowest page first.
@@ -173,6 +217,13 @@ struct Pipeline {
       for (const std::string& w : job->warnings) std::fprintf(stderr, "%spdf2png: page %d: warning: %s\n", nl, page, w.c_str());
     if (job && opt.stats && error.empty()) {
       const mpvg::RenderStats& st = job->stats;
+      totals.interpret += job->interpret_ms;
+      totals.lower += job->lower_ms;
+      totals.encode += st.encode_ms;
+      totals.preprocess += st.abstract_ms + st.subdivide_ms + st.prune_ms;
+      totals.render += st.schedule_ms + st.sample_ms;
+      totals.render_wall += job->render_ms;
+      totals.png += job->png_ms;
       std::fprintf(stderr,
                    "%spage %d: %dx%d, interpretation %.2f ms, lowering %.2f ms, encoding %.2f ms, preprocessing "
                    "%.2f ms, rendering %.2f ms, PNG %.2f ms\n%s",
@@ -210,7 +261,8 @@ struct Pipeline {
     job->height = height;
     const Affine view = Affine::translate(-pdf.crop_x, -pdf.crop_y) * Affine::scale(scale, scale);
     job->options = cli::render_options(opt, width, height, view);
-    job->scene = encode_for(page.scene, job->options, &job->stats);
+    job->plan = plan_render(job->options);
+    job->scene = encode_for(page.scene, job->plan, job->options.gamma, &job->stats);
     return job;
   }
 
@@ -220,7 +272,7 @@ struct Pipeline {
     if (opt.bits == 16)
       write_png_rgba16(job.out, job.width, job.height, to_rgba16(job.image, opt.gamma));
     else
-      write_png_rgba8(job.out, job.width, job.height, to_rgba8(job.image, opt.gamma));
+      write_png_rgba8(job.out, job.width, job.height, job.rgba8);
     job.png_ms = ms_since(t0);
   }
 
@@ -231,10 +283,12 @@ struct Pipeline {
     std::unique_ptr<mpvg::pdf::Document> own;
     std::unique_lock<std::mutex> lock(m);
     for (;;) {
+      const auto t_wait = std::chrono::steady_clock::now();
       cv.wait(lock, [&] {
         return !to_write.empty() || (next < tickets && in_flight < max_in_flight) ||
                (next >= tickets && rendering_done);
       });
+      totals.worker_idle += ms_since(t_wait);
       if (!to_write.empty()) {
         std::unique_ptr<Job> job = std::move(to_write.front());
         to_write.pop_front();
@@ -246,6 +300,7 @@ struct Pipeline {
           error = e.what();
         }
         job->image = mpvg::ImageF{};
+        job->rgba8 = {};
         lock.lock();
         finish(job.get(), job->page, error);
         continue;
@@ -285,18 +340,25 @@ struct Pipeline {
   void render(mpvg::FrameRenderer& renderer) {
     std::unique_lock<std::mutex> lock(m);
     for (;;) {
+      const auto t_wait = std::chrono::steady_clock::now();
       cv.wait(lock, [&] { return !to_render.empty() || (next >= tickets && lowering == 0); });
+      totals.render_idle += ms_since(t_wait);
       if (to_render.empty()) break;
       std::unique_ptr<Job> job = std::move(const_cast<std::unique_ptr<Job>&>(to_render.top()));
       to_render.pop();
       lock.unlock();
       std::string error;
+      const auto t0 = std::chrono::steady_clock::now();
       try {
-        job->image = renderer.render(job->scene, job->options, &job->stats);
+        if (opt.bits == 16)
+          job->image = renderer.render(job->scene, job->options, &job->stats);
+        else
+          job->rgba8 = renderer.render_rgba8(job->scene, job->plan, job->options, &job->stats);
       } catch (const std::exception& e) {
         error = "page " + std::to_string(job->page) + ": " + e.what();
       }
       job->scene = mpvg::EncodedScene{};
+      job->render_ms = ms_since(t0);
       lock.lock();
       if (error.empty()) {
         to_write.push_back(std::move(job));
@@ -323,6 +385,7 @@ int main(int argc, char** argv) {
   PdfOptions pdf;
   try {
     std::vector<char*> rest = own_options(argc, argv, pdf);
+    if (rest.empty()) return 0;  // --help
     if (!cli::parse(static_cast<int>(rest.size()), rest.data(), "pdf2png", "pdf", opt)) return 0;
   } catch (const cli::UsageError& e) {
     std::fprintf(stderr, "pdf2png: %s\n", e.message.c_str());
@@ -346,11 +409,15 @@ int main(int argc, char** argv) {
     if (!renderer.note().empty() && opt.stats) std::fprintf(stderr, "pdf2png: %s\n", renderer.note().c_str());
     const bool cuda = renderer.backend() == Backend::Cuda;
     const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    const int workers = std::min(pages, pdf.threads > 0 ? pdf.threads : cores);
     // With CUDA, a few render threads (own gpu::Context and stream each)
     // overlap one page's host work and copies with another's kernels; the
     // CPU backend uses every core for one page already.
     const int renderers = std::min(pages, pdf.render_threads > 0 ? pdf.render_threads : cuda ? 3 : 1);
+    // The render threads wait on the device dozens of times a page: with
+    // CUDA they keep cores of their own (workers on every core starved them:
+    // asymptote 109 pages/s with 16 workers, 120 with 14; BENCHMARKS.md).
+    const int workers =
+        std::min(pages, pdf.threads > 0 ? pdf.threads : cuda ? std::max(1, cores - renderers) : cores);
     p.max_in_flight = workers + 4 + renderers;
     p.renderers = renderers;
     p.base_doc = &doc;
@@ -370,6 +437,15 @@ int main(int argc, char** argv) {
       const double s = ms_since(t_start) / 1000;
       std::fprintf(stderr, "pdf2png: %d pages in %.3f s (%.1f pages/s), %d workers, %d render threads, %s backend\n",
                    pages, s, pages / s, workers, renderers, cuda ? "cuda" : "cpu");
+      const Pipeline::Totals& t = p.totals;
+      const int ok = std::max(1, pages - p.failed);
+      std::fprintf(stderr,
+                   "pdf2png: per page (mean ms): interpretation %.2f, lowering %.2f, encoding %.2f, preprocessing "
+                   "%.2f, rendering %.2f, render thread %.2f, PNG %.2f; idle: render threads %.0f%%, workers "
+                   "%.0f%%\n",
+                   t.interpret / ok, t.lower / ok, t.encode / ok, t.preprocess / ok, t.render / ok,
+                   t.render_wall / ok, t.png / ok, 100 * t.render_idle / (renderers * s * 1000),
+                   100 * t.worker_idle / (workers * s * 1000));
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%spdf2png: %s\n", p.progress ? "\n" : "", e.what());

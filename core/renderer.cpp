@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/integration.h"
+#include "core/rgba8.h"
 
 namespace mpvg {
 
@@ -104,21 +105,11 @@ ImageF render_cpu(const EncodedScene& enc, const RenderPlan& plan, const RenderO
   return img;
 }
 
-namespace {
-
-// lround(linear_to_srgb(v) * 255) for v in [0, 1], without a pow per
-// channel: code k starts at the smallest float `start[k]` that gives it,
-// found once by bisection over the floats with that same expression, so the
-// codes are exactly those of the formula. A lookup starts from the code of
-// v's 1/4096 bucket and steps up (at most about one code per bucket, where
-// the curve is steepest).
-struct SrgbCodes {
-  static constexpr int kBuckets = 4096;
-  float start[257];
-  uint8_t bucket[kBuckets + 1];
-  SrgbCodes() {
+const SrgbCodeTable& srgb_code_table() {
+  static const SrgbCodeTable table = [] {
+    SrgbCodeTable t{};
     auto code = [](float v) { return std::lround(linear_to_srgb(v) * 255.0f); };
-    start[0] = 0.0f;
+    t.start[0] = 0.0f;
     for (int k = 1; k < 256; k++) {
       uint32_t lo = 0, hi = 0x3f800000u;  // the bit patterns of 0 and 1: positive floats order as integers
       while (lo < hi) {
@@ -130,38 +121,28 @@ struct SrgbCodes {
         else
           lo = mid + 1;
       }
-      std::memcpy(&start[k], &lo, sizeof lo);
+      std::memcpy(&t.start[k], &lo, sizeof lo);
     }
-    start[256] = INFINITY;
-    for (int i = 0; i <= kBuckets; i++) bucket[i] = slow(static_cast<float>(i) / kBuckets);
-  }
-  uint8_t slow(float v) const {
-    int k = 0;
-    while (k < 255 && start[k + 1] <= v) k++;
-    return static_cast<uint8_t>(k);
-  }
-  uint8_t operator()(float v) const {
-    int k = bucket[static_cast<int>(v * kBuckets)];  // then corrected either way for v * 4096's rounding
-    while (start[k + 1] <= v) k++;
-    while (start[k] > v) k--;
-    return static_cast<uint8_t>(k);
-  }
-};
-
-}  // namespace
+    t.start[256] = INFINITY;
+    for (int i = 0; i <= SrgbCodeTable::kBuckets; i++) {
+      const float v = static_cast<float>(i) / SrgbCodeTable::kBuckets;
+      int k = 0;
+      while (k < 255 && t.start[k + 1] <= v) k++;
+      t.bucket[i] = static_cast<uint8_t>(k);
+    }
+    return t;
+  }();
+  return table;
+}
 
 std::vector<uint8_t> to_rgba8(const ImageF& image, Gamma gamma) {
-  static const SrgbCodes srgb;
+  const SrgbCodeTable& t = srgb_code_table();
+  const bool linear = gamma == Gamma::Linear;
   std::vector<uint8_t> out(image.rgba.size());
   for (size_t i = 0; i < image.rgba.size(); i += 4) {
     const float* p = &image.rgba[i];
-    const float a = std::min(1.0f, std::max(0.0f, p[3]));
-    for (int c = 0; c < 3; c++) {
-      float v = a > 0.0f ? p[c] / a : 0.0f;
-      v = std::min(1.0f, std::max(0.0f, v));
-      out[i + c] = gamma == Gamma::Linear ? srgb(v) : static_cast<uint8_t>(std::lround(v * 255.0f));
-    }
-    out[i + 3] = static_cast<uint8_t>(std::lround(a * 255.0f));
+    const uint32_t v = rgba8_pixel(p[0], p[1], p[2], p[3], linear, t);
+    for (int c = 0; c < 4; c++) out[i + c] = static_cast<uint8_t>(v >> (8 * c));
   }
   return out;
 }

@@ -4,6 +4,7 @@
 #pragma once
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "core/renderer.h"
 
@@ -33,6 +34,11 @@ class FrameRenderer {
   const std::string& note() const;  // why Auto chose the CPU, or empty
   // scene = encode_for(s, options): the image in the integration colour space.
   ImageF render(const EncodedScene& scene, const RenderOptions& options, RenderStats* stats = nullptr);
+  // The same image as to_rgba8(render(...), options.gamma) gives, byte for
+  // byte; with CUDA converted on the device (a quarter of the copy back).
+  // plan = plan_render(options), made once per frame by the caller.
+  std::vector<uint8_t> render_rgba8(const EncodedScene& scene, const RenderPlan& plan, const RenderOptions& options,
+                                    RenderStats* stats = nullptr);
 
  private:
   struct Impl;

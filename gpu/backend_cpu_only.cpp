@@ -33,4 +33,11 @@ ImageF FrameRenderer::render(const EncodedScene& scene, const RenderOptions& opt
   return img;
 }
 
+std::vector<uint8_t> FrameRenderer::render_rgba8(const EncodedScene& scene, const RenderPlan& plan,
+                                                const RenderOptions& options, RenderStats* stats) {
+  std::vector<uint8_t> out = to_rgba8(render_cpu(scene, plan, options, stats), options.gamma);
+  if (stats) stats->note = impl_->note;
+  return out;
+}
+
 }  // namespace mpvg

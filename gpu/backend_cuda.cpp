@@ -2,6 +2,9 @@
 #include <cuda_runtime.h>
 
 #include <chrono>
+#include <cstdlib>
+#include <mutex>
+#include <string>
 
 #include "core/error.h"
 #include "gpu/backend.h"
@@ -23,13 +26,16 @@ bool cuda_available(std::string* why) {
 
 namespace {
 
-ImageF render_cuda(gpu::Context& ctx, const EncodedScene& enc, const RenderPlan& plan, const RenderOptions& o,
-                   RenderStats& st) {
+// Builds the tree of `enc` and renders it on ctx; `finish` renders (into
+// whichever image it returns) and fills stats.
+template <class Finish>
+auto render_cuda(gpu::Context& ctx, const EncodedScene& enc, const RenderPlan& plan, const RenderOptions& o,
+                 RenderStats& st, Finish&& finish) {
   st.backend = "cuda";
   const auto t_all = std::chrono::steady_clock::now();
   gpu::GpuTimes gt;
   ctx.build(enc, plan.frame.ua_w, plan.frame.ua_h, o.tree, &gt);
-  ImageF img = ctx.render(plan.integ, plan.frame, background_paint(o.background, o.gamma), &gt);
+  auto img = finish(background_paint(o.background, o.gamma), &gt);
   st.abstract_ms += gt.abstract_ms;
   st.subdivide_ms += gt.subdivide_ms;
   st.prune_ms += gt.prune_ms;
@@ -44,6 +50,13 @@ ImageF render_cuda(gpu::Context& ctx, const EncodedScene& enc, const RenderPlan&
   st.leaves = counts.leaves;
   st.leaf_entries = counts.leaf_entries;
   return img;
+}
+
+ImageF render_cuda(gpu::Context& ctx, const EncodedScene& enc, const RenderPlan& plan, const RenderOptions& o,
+                   RenderStats& st) {
+  return render_cuda(ctx, enc, plan, o, st, [&](const PaintRecord& bg, gpu::GpuTimes* gt) {
+    return ctx.render(plan.integ, plan.frame, bg, gt);
+  });
 }
 
 ImageF render_cuda(const Scene& scene, const RenderOptions& o, RenderStats& st) {
@@ -88,6 +101,21 @@ FrameRenderer::FrameRenderer(Backend backend) : impl_(std::make_unique<Impl>()) 
     return;
   }
   impl_->backend = Backend::Cuda;
+  // How a host thread waits for the device (before the context exists):
+  // MPVG_CUDA_SYNC=spin|yield|block, for measurements; the driver's
+  // default otherwise (it spins while the process has fewer contexts than
+  // cores, taking a core from the CPU stages of a pipeline per waiting
+  // thread).
+  static std::once_flag once;
+  std::call_once(once, [] {
+    const char* sync = std::getenv("MPVG_CUDA_SYNC");
+    const std::string mode = sync ? sync : "";
+    const unsigned flags = mode == "spin"    ? cudaDeviceScheduleSpin
+                           : mode == "yield" ? cudaDeviceScheduleYield
+                           : mode == "block" ? cudaDeviceScheduleBlockingSync
+                                             : cudaDeviceScheduleAuto;
+    if (flags != cudaDeviceScheduleAuto) cudaSetDeviceFlags(flags);
+  });
   impl_->ctx = std::make_unique<gpu::Context>();
 }
 FrameRenderer::~FrameRenderer() = default;
@@ -100,6 +128,18 @@ ImageF FrameRenderer::render(const EncodedScene& scene, const RenderOptions& opt
   st.note = impl_->note;
   if (impl_->backend == Backend::Cpu) return render_cpu(scene, options, &st);
   return render_cuda(*impl_->ctx, scene, plan_render(options), options, st);
+}
+
+std::vector<uint8_t> FrameRenderer::render_rgba8(const EncodedScene& scene, const RenderPlan& plan,
+                                                const RenderOptions& options, RenderStats* stats) {
+  RenderStats local;
+  RenderStats& st = stats ? *stats : local;
+  st.note = impl_->note;
+  if (impl_->backend == Backend::Cpu) return to_rgba8(render_cpu(scene, plan, options, &st), options.gamma);
+  gpu::Context& ctx = *impl_->ctx;
+  return render_cuda(ctx, scene, plan, options, st, [&](const PaintRecord& bg, gpu::GpuTimes* gt) {
+    return ctx.render_rgba8(plan.integ, plan.frame, bg, options.gamma == Gamma::Linear, gt);
+  });
 }
 
 }  // namespace mpvg

@@ -90,6 +90,12 @@ ImageF Context::render(const Integration& integ, const IntegrationFrame& frame, 
   return img;
 }
 
+std::vector<uint8_t> Context::render_rgba8(const Integration& integ, const IntegrationFrame& frame,
+                                          const PaintRecord& background, bool linear, GpuTimes* times) {
+  impl_->render(integ, frame, background, times);
+  return impl_->download_rgba8(linear);
+}
+
 Context::BuildCounts Context::build_counts() const {
   const Impl& m = *impl_;
   return BuildCounts{m.depth, m.build_launches, m.build_cub_calls, m.build_syncs, m.nsegments, m.nleaves,

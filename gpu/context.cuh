@@ -8,6 +8,7 @@
 #include "core/abstraction.h"
 #include "core/paint.h"
 #include "core/paint_data.h"
+#include "core/rgba8.h"
 #include "core/scan.h"
 #include "core/shortcut_tree.h"
 #include "core/integration.h"
@@ -158,6 +159,8 @@ struct Context::Impl {
   DeviceBuffer<float> weights, weight_sums, buf;
   DeviceBuffer<double> totals;
   DeviceBuffer<unsigned long long> acc;  // fixed-point accumulators, 4 per pixel
+  DeviceBuffer<SrgbCodeTable> srgb_table;  // core/rgba8.h's, uploaded on first use
+  DeviceBuffer<uint32_t> rgba8;            // the image as 8-bit codes (rgba8.cu)
   int out_width = 0, out_height = 0;
   SamplerShape shape;
   int width = 0, height = 0;
@@ -199,6 +202,8 @@ struct Context::Impl {
   void stash_tile(TileTree& t);
   void render(const Integration& integ, const IntegrationFrame& frame, const PaintRecord& background,
               GpuTimes* times);
+  // The rendered image as straight 8-bit codes (core/rgba8.h), copied back.
+  std::vector<uint8_t> download_rgba8(bool linear);
 };
 
 }  // namespace mpvg::gpu

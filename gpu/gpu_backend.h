@@ -62,6 +62,12 @@ class Context {
   // The box filter over the pixels the tree was built for.
   ImageF render(const std::vector<SampleOffset>& pattern, const PaintRecord& background, GpuTimes* times = nullptr);
 
+  // As render(), returning the image as straight 8-bit codes, 4 bytes per
+  // pixel (core/rgba8.h; linear: the image was integrated in linear light),
+  // converted on the device: a quarter of the float image is copied back.
+  std::vector<uint8_t> render_rgba8(const Integration& integ, const IntegrationFrame& frame,
+                                    const PaintRecord& background, bool linear, GpuTimes* times = nullptr);
+
   // As render(), leaving the image on the device (benchmarks); returns the
   // GPU time of the whole render, gaps between kernels included, in ms.
   double render_on_device(const Integration& integ, const IntegrationFrame& frame, const PaintRecord& background,

@@ -7,10 +7,15 @@
 #     the page (-s t);
 #   - whole-document throughput, pages per second, for pgfmanual and
 #     asymptote: pdf2png (one process, CUDA), mutool draw in one process,
-#     and mutool draw in $(nproc) processes over equal page ranges.
+#     and mutool draw in $(nproc) processes over equal page ranges;
+#   - variants: asymptote through pdf2png with other render-thread counts
+#     and CUDA wait modes (MPVG_CUDA_SYNC), each with its per-stage means
+#     and idle shares (--stats).
 # Every run writes its PNGs to a scratch folder on local disk.
 #
-#   scripts/gpu-pdf-bench.sh [pages] [throughput]     (default: both)
+#   scripts/gpu-pdf-bench.sh [pages] [throughput] [variants]   (default: all)
+#   MPVG_BENCH_DOCS="asymptote pgfmanual" (throughput's documents),
+#   MPVG_BENCH_MUTOOL1=0 skips single-process mutool runs.
 set -uo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 scratch=$(mktemp -d)
@@ -22,7 +27,7 @@ pdf2png=$d/bin/pdf2png
 mutool=$d/bin/mutool
 out=$scratch/out
 mkdir -p "$out"
-steps=${*:-pages throughput}
+steps=${*:-pages throughput variants}
 has() { [[ " $steps " == *" $1 "* ]]; }
 now() { date +%s.%N; }
 cores=$(nproc)
@@ -40,29 +45,22 @@ if has pages; then
 fi
 
 if has throughput; then
-  for doc in asymptote pgfmanual; do
+  for doc in ${MPVG_BENCH_DOCS:-asymptote pgfmanual}; do
     f=$d/corpus/$doc.pdf
     n=$("$mutool" info -M "$f" 2>/dev/null | sed -n 's/^Pages: *//p')
     echo "== $doc, $n pages"
     rm -rf "$out"/*
     t0=$(now)
-    "$pdf2png" --backend cuda --stats -q -r 150 "$f" "$out/p" 2>&1 | grep -E "pages/s"
+    "$pdf2png" --backend cuda --stats -q -r 150 "$f" "$out/p" 2>&1 | grep -E "pages/s|per page"
     t1=$(now)
     echo "pdf2png: $(awk "BEGIN{printf \"%.2f\", $t1 - $t0}") s wall, $(ls "$out" | wc -l) files"
-    if [ "$doc" = asymptote ]; then
+    if [ "${MPVG_BENCH_MUTOOL1:-1}" != 0 ]; then
       rm -rf "$out"/*
-      MPVG_PDF_SHARED_CONTEXT=1 "$pdf2png" --backend cuda --stats -q -r 150 "$f" "$out/p" 2>&1 |
-        grep -E "pages/s" | sed 's/^/cloned MuPDF contexts: /'
-      for r in 1 2 4; do
-        rm -rf "$out"/*
-        "$pdf2png" --backend cuda --stats -q --render-threads $r -r 150 "$f" "$out/p" 2>&1 | grep -E "pages/s"
-      done
+      t0=$(now)
+      "$mutool" draw -q -r 150 -o "$out/m%d.png" "$f" 2>/dev/null
+      t1=$(now)
+      echo "mutool, 1 process: $(awk "BEGIN{printf \"%.2f\", $t1 - $t0}") s, $(awk "BEGIN{printf \"%.1f\", $n / ($t1 - $t0)}") pages/s"
     fi
-    rm -rf "$out"/*
-    t0=$(now)
-    "$mutool" draw -q -r 150 -o "$out/m%d.png" "$f" 2>/dev/null
-    t1=$(now)
-    echo "mutool, 1 process: $(awk "BEGIN{printf \"%.2f\", $t1 - $t0}") s, $(awk "BEGIN{printf \"%.1f\", $n / ($t1 - $t0)}") pages/s"
     rm -rf "$out"/*
     t0=$(now)
     for ((k = 0; k < cores; k++)); do
@@ -73,5 +71,20 @@ if has throughput; then
     wait
     t1=$(now)
     echo "mutool, $cores processes: $(awk "BEGIN{printf \"%.2f\", $t1 - $t0}") s, $(awk "BEGIN{printf \"%.1f\", $n / ($t1 - $t0)}") pages/s"
+  done
+fi
+
+if has variants; then
+  f=$d/corpus/asymptote.pdf
+  echo "== variants, asymptote"
+  run() {
+    rm -rf "$out"/*
+    echo "-- $*"
+    env "$@" --backend cuda --stats -q -r 150 "$f" "$out/p" 2>&1 | grep -E "pages/s|per page"
+  }
+  run MPVG_PDF_SHARED_CONTEXT=1 "$pdf2png"
+  for r in 1 2 4 6; do run "$pdf2png" --render-threads $r; done
+  for m in spin yield block; do
+    for r in 3 6; do run MPVG_CUDA_SYNC=$m "$pdf2png" --render-threads $r; done
   done
 fi

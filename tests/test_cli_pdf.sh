@@ -28,6 +28,10 @@ check "an encrypted document without its password: exit 1, one line" \
 check "--password opens it" test -f "$tmp/e-1.png"
 err=$("$bin" -q "$tmp/missing.pdf" "$tmp/m" 2>&1); rc=$?
 check "a missing file: exit 1, one line" test "$rc" = 1 -a "$(echo "$err" | wc -l)" = 1
+out=$("$bin" --help); rc=$?
+check "--help describes pdf2png's own options" \
+  test "$rc" = 0 -a -n "$(echo "$out" | grep -e 'OUTPUT-PREFIX')" -a -n "$(echo "$out" | grep -e '--dpi')" \
+  -a -z "$(echo "$out" | grep -e '--width')"
 err=$("$bin" -q --dpi zero "$pdf" "$tmp/m" 2>&1); rc=$?
 check "a bad option value: exit 2" test "$rc" = 2
 "$bin" -q --backend cpu -r 72 -f 1 -l 3 "$pdf" "$tmp/l"; rc=$?

@@ -232,6 +232,7 @@ TEST_CASE("CPU and GPU agree within 1/255 under every preset, filter and colour 
       const std::string path = std::string(dir) + "/" + name;
       if (std::filesystem::exists(path)) scenes.push_back({name, svg::parse_svg_file(path).scene});
     }
+  FrameRenderer frames(Backend::Cuda);
   for (const auto& [name, scene] : scenes) {
     const bool big = scene.width > 200;
     const int w = big ? 1024 : 100, h = static_cast<int>(std::lround(scene.height * w / scene.width));
@@ -258,6 +259,10 @@ TEST_CASE("CPU and GPU agree within 1/255 under every preset, filter and colour 
         for (size_t i = 0; i < q_cpu.size(); i++) worst = std::max(worst, std::abs(q_cpu[i] - q_gpu[i]));
         INFO("largest 8-bit CPU/GPU difference " << worst << "/255");
         CHECK(worst <= 1);
+        // Converted to 8 bits on the device (core/rgba8.h in a kernel): the
+        // bytes to_rgba8 gives on the host.
+        const RenderPlan plan = plan_render(o);
+        CHECK(frames.render_rgba8(encode_for(scene, plan, g), plan, o) == q_gpu);
       }
   }
 }
