@@ -120,6 +120,12 @@ Path Path::rectangle(double x0, double y0, double x1, double y1) {
   return p;
 }
 
+Path Path::transformed(const Affine& m) const {
+  Path out = *this;
+  for (Vec2& p : out.points_) p = m.apply(p);
+  return out;
+}
+
 void Path::append(const Path& other) {
   const auto np = static_cast<uint32_t>(points_.size());
   const auto nw = static_cast<uint32_t>(weights_.size());

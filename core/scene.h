@@ -93,6 +93,9 @@ class Path {
   static Path rectangle(double x0, double y0, double x1, double y1);
   // Appends the contours of `other`, as if its commands followed ours.
   void append(const Path& other);
+  // The same commands with every point mapped by m (affine maps keep the
+  // rational weights).
+  Path transformed(const Affine& m) const;
 
  private:
   void ensure_contour();

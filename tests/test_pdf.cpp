@@ -1,6 +1,7 @@
 // The PDF frontend (parsers/pdf/) on small PDFs written here, one feature
 // each, rendered on the CPU: colours at pixels inside and outside the
 // shapes, and the errors of broken and encrypted documents.
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -8,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/renderer.h"
+#include "parsers/pdf/pdf_device.h"
 #include "parsers/pdf/pdf_parser.h"
 #include "tests/catch.h"
 
@@ -235,4 +237,53 @@ TEST_CASE("pdf: an encrypted document needs its password", "[pdf]") {
   REQUIRE(doc.page_count() == 1);
   const Page p(path, "secret");
   check(p, 10, 90, {1, 0, 0});
+}
+
+// The glyph cache outlines in glyph space and applies the text matrix
+// itself: the points must be MuPDF's own outline at that matrix (float
+// rounding apart), for fonts of both outline kinds (quadratic TrueType,
+// cubic CFF), rotated and sheared matrices included.
+TEST_CASE("glyph cache: outlines equal MuPDF's at the text matrix", "[pdf]") {
+  fz_context* ctx = fz_new_context(nullptr, nullptr, FZ_STORE_DEFAULT);
+  REQUIRE(ctx);
+  fz_font* fonts[2] = {fz_new_base14_font(ctx, "Times-Roman"), fz_new_base14_font(ctx, "Courier-Bold")};
+  {
+    pdf::detail::GlyphCache cache(ctx);
+    const fz_matrix matrices[] = {{12, 0, 0, 12, 100.25f, 700.5f}, {0, 9, -9, 0, 33, 44}, {10, 0, 3, 8, -5, 1000}};
+    int compared = 0;
+    for (fz_font* font : fonts)
+      for (int gid = 1; gid < 60; gid++)
+        for (const fz_matrix& m : matrices) {
+          const Path* cached = cache.outline(font, gid);
+          fz_path* ref = fz_outline_glyph(ctx, font, gid, m);
+          REQUIRE((cached != nullptr) == (ref != nullptr));
+          if (!ref) continue;
+          std::vector<Vec2> pts;
+          const fz_path_walker walker = {
+              [](fz_context*, void* a, float x, float y) { static_cast<std::vector<Vec2>*>(a)->push_back({x, y}); },
+              [](fz_context*, void* a, float x, float y) { static_cast<std::vector<Vec2>*>(a)->push_back({x, y}); },
+              [](fz_context*, void* a, float x1, float y1, float x2, float y2, float x3, float y3) {
+                auto* v = static_cast<std::vector<Vec2>*>(a);
+                v->insert(v->end(), {{x1, y1}, {x2, y2}, {x3, y3}});
+              },
+              [](fz_context*, void*) {},
+              [](fz_context*, void* a, float x1, float y1, float x2, float y2) {
+                auto* v = static_cast<std::vector<Vec2>*>(a);
+                v->insert(v->end(), {{x1, y1}, {x2, y2}});
+              },
+              nullptr, nullptr, nullptr};
+          fz_walk_path(ctx, ref, &walker, &pts);
+          fz_drop_path(ctx, ref);
+          const Path mine = cached->transformed(Affine{m.a, m.b, m.c, m.d, m.e, m.f});
+          REQUIRE(mine.points().size() == pts.size());
+          for (size_t k = 0; k < pts.size(); k++) {
+            CHECK(std::fabs(mine.points()[k].x - pts[k].x) < 1e-3);
+            CHECK(std::fabs(mine.points()[k].y - pts[k].y) < 1e-3);
+          }
+          compared++;
+        }
+    CHECK(compared > 300);
+  }
+  for (fz_font* font : fonts) fz_drop_font(ctx, font);
+  fz_drop_context(ctx);
 }

@@ -66,6 +66,28 @@ fz_path* outline_glyph(fz_context* ctx, fz_font* font, int gid, fz_matrix m) {
   return p;
 }
 
+}  // namespace
+
+GlyphCache::~GlyphCache() {
+  for (fz_font* f : fonts_) fz_drop_font(ctx_, f);
+}
+
+const Path* GlyphCache::outline(fz_font* font, int gid) {
+  auto [it, inserted] = glyphs_.try_emplace({font, gid});
+  if (inserted) {
+    // A font seen for the first time is kept, so that its address is not
+    // reused by another font while the cache holds entries for it.
+    if (std::find(fonts_.begin(), fonts_.end(), font) == fonts_.end()) fonts_.push_back(fz_keep_font(ctx_, font));
+    if (fz_path* path = outline_glyph(ctx_, font, gid, fz_identity)) {
+      it->second = to_path(ctx_, path);
+      fz_drop_path(ctx_, path);
+    }
+  }
+  return it->second ? &*it->second : nullptr;
+}
+
+namespace {
+
 bool run_t3_glyph(fz_context* ctx, fz_font* font, int gid, fz_matrix trm, fz_device* dev) {
   volatile bool ok = true;
   fz_try(ctx) { fz_run_t3_glyph(ctx, font, gid, trm, dev); }
@@ -118,6 +140,7 @@ struct Lowering {
   // What each pop_clip to come closes, innermost last.
   enum Pop : uint8_t { ClipGroup, MaskedGroup };
   std::vector<Pop> pops;
+  GlyphCache* glyph_cache;
   std::set<std::string> warned;
   std::vector<std::string>* warnings;
   std::string error;  // the first failure inside a callback
@@ -212,11 +235,8 @@ struct Lowering {
         fz_matrix tm = span->trm;
         tm.e = it.x;
         tm.f = it.y;
-        fz_path* path = outline_glyph(ctx, span->font, it.gid, tm);
-        if (path) {
-          Path p = to_path(ctx, path);
-          fz_drop_path(ctx, path);
-          if (!p.empty()) f(std::move(p));
+        if (const Path* outline = glyph_cache->outline(span->font, it.gid)) {
+          if (!outline->empty()) f(outline->transformed(to_affine(tm)));
         } else if (!fz_font_t3_procs(ctx, span->font) ||
                    !run_t3_glyph(ctx, span->font, it.gid, fz_concat(tm, ctm), &super)) {
           warn("a glyph without an outline was skipped");
@@ -596,7 +616,7 @@ void end_group(fz_context*, fz_device* dev) {
 }  // namespace
 
 Lowered lower_page(fz_context* ctx, fz_page* page, const fz_matrix& ctm, const Affine& device, double width,
-                   double height, SceneBuilder& b) {
+                   double height, SceneBuilder& b, GlyphCache& glyphs) {
   Lowered out;
   std::vector<std::string>& warnings = out.warnings;
   Lowering* l = fz_new_derived_device(ctx, Lowering);
@@ -609,6 +629,7 @@ Lowered lower_page(fz_context* ctx, fz_page* page, const fz_matrix& ctm, const A
   l->page_w = width;
   l->page_h = height;
   l->warnings = &warnings;
+  l->glyph_cache = &glyphs;
   new (&l->pops) std::vector<Lowering::Pop>();
   new (&l->tiles) std::vector<Lowering::Tile>();
   new (&l->warned) std::set<std::string>();

@@ -3,7 +3,10 @@
 #pragma once
 #include <mupdf/fitz.h>
 
+#include <map>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/scene.h"
@@ -18,13 +21,35 @@ struct Lowered {
   double run_ms = 0, lower_ms = 0;
 };
 
+// Glyph outlines in glyph space (before the text matrix), per font and glyph
+// id, so that a worker outlines each glyph of a document once: a glyph's
+// outline is linear in the matrix MuPDF applies (width adjustment, fake
+// italic and bold come before it), so the matrix is applied afterwards, in
+// double precision. Keeps a reference to each font it has seen, dropped
+// with the cache (before its context).
+class GlyphCache {
+ public:
+  explicit GlyphCache(fz_context* ctx) : ctx_(ctx) {}
+  ~GlyphCache();
+  GlyphCache(const GlyphCache&) = delete;
+  GlyphCache& operator=(const GlyphCache&) = delete;
+  // The outline, or null where the glyph has none (Type 3 procedures,
+  // missing glyphs) or MuPDF failed.
+  const Path* outline(fz_font* font, int gid);
+
+ private:
+  fz_context* ctx_;
+  std::map<std::pair<fz_font*, int>, std::optional<Path>> glyphs_;
+  std::vector<fz_font*> fonts_;  // kept
+};
+
 // Runs `page` with `ctm` (page space to scene units) through the lowering
 // device into `b`, a page of width x height scene units; `device` maps
 // scene units to output pixels (stroke tolerance, thinnest lines). The
 // page's content shows optional content as viewed; annotations and form
-// fields show as printed. Throws mpvg::Error when MuPDF or the lowering
-// fails.
+// fields show as printed. Glyph outlines come from `glyphs` (of ctx).
+// Throws mpvg::Error when MuPDF or the lowering fails.
 Lowered lower_page(fz_context* ctx, fz_page* page, const fz_matrix& ctm, const Affine& device, double width,
-                   double height, SceneBuilder& b);
+                   double height, SceneBuilder& b, GlyphCache& glyphs);
 
 }  // namespace mpvg::pdf::detail

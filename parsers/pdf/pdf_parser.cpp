@@ -35,8 +35,10 @@ struct Document::Impl {
   // The document read from stdin ("-"), which MuPDF reads in place; shared
   // with the clones.
   std::shared_ptr<const std::vector<unsigned char>> input;
+  std::unique_ptr<detail::GlyphCache> glyphs;  // this context's, made on first use
   ~Impl() {
     if (ctx) {
+      glyphs.reset();
       fz_drop_document(ctx, doc);
       fz_drop_context(ctx);
     }
@@ -171,8 +173,10 @@ PageResult Document::page(int index, const std::function<double(double, double)>
   out.pixels_per_point = pixels_per_point(w, h);
   SceneBuilder b(w, h);
   try {
+    if (!impl_->glyphs) impl_->glyphs = std::make_unique<detail::GlyphCache>(ctx);
     detail::Lowered l = detail::lower_page(ctx, page, fz_translate(-box.x0, -box.y0),
-                                           Affine::scale(out.pixels_per_point, out.pixels_per_point), w, h, b);
+                                           Affine::scale(out.pixels_per_point, out.pixels_per_point), w, h, b,
+                                           *impl_->glyphs);
     out.warnings = std::move(l.warnings);
     out.interpret_ms += l.run_ms - l.lower_ms;
     out.lower_ms = l.lower_ms;

@@ -54,6 +54,8 @@ class Document {
   // the page will be rendered at (stroke tolerance, thinnest lines), given
   // or chosen from the page's width and height in points (as
   // svg::ParseOptions::view is). Throws mpvg::Error when MuPDF fails on it.
+  // One thread at a time per handle (its glyph outlines are cached for its
+  // later pages).
   PageResult page(int index, double pixels_per_point) const;
   PageResult page(int index, const std::function<double(double width, double height)>& pixels_per_point) const;
 
