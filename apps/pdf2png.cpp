@@ -41,7 +41,7 @@
 #include <vector>
 
 #include "apps/cli.h"
-#include "apps/image_io.h"
+#include "apps/png_writer.h"
 #include "core/error.h"
 #include "gpu/backend.h"
 #include "parsers/pdf/pdf_parser.h"
@@ -270,9 +270,9 @@ struct Pipeline {
     using namespace mpvg;
     const auto t0 = std::chrono::steady_clock::now();
     if (opt.bits == 16)
-      write_png_rgba16(job.out, job.width, job.height, to_rgba16(job.image, opt.gamma));
+      png::write_file(job.out, png::encode_rgba16(job.width, job.height, to_rgba16(job.image, opt.gamma).data()));
     else
-      write_png_rgba8(job.out, job.width, job.height, job.rgba8);
+      png::write_file(job.out, png::encode_rgba8(job.width, job.height, job.rgba8.data()));
     job.png_ms = ms_since(t0);
   }
 

@@ -12,7 +12,7 @@ PACKAGES=(
   libmupdf-dev libmujs-dev libgumbo-dev libjbig2dec0-dev libopenjp2-7-dev
   libjpeg-dev libharfbuzz-dev zlib1g-dev
   catch2
-  libpng-dev
+  libpng-dev libdeflate-dev
 )
 
 missing=()
