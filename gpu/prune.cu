@@ -2,7 +2,10 @@
 // scan per depth to cross-link delimiters, every element marking the
 // elimination array with atomic increments and decrements, an inclusive scan,
 // and an order-preserving compaction; repeated until nothing changes.
+#include <thrust/iterator/counting_iterator.h>
 #include <thrust/iterator/transform_iterator.h>
+
+#include <algorithm>
 
 #include "core/pruning.h"
 #include "gpu/context.cuh"
@@ -13,15 +16,38 @@ namespace {
 
 constexpr unsigned kBlock = 256;
 
-__global__ void k_depth_delta(const Entry* e, size_t n, int32_t* depth) {
+// Everything a round needs before its scans, in one launch (each launch
+// costs the render thread 4-6 us of driver time, and a page's tree takes
+// about a thousand of them: BENCHMARKS.md): each element's depth delta (or
+// 0 without groups), its pruning term, its elimination count zeroed and
+// its links unset. Thread n only zeroes the count the sweep's scan ends on.
+__global__ void k_round_init(const Entry* e, const uint32_t* entry_cell, size_t n, const Cell* cells,
+                             const PathRecord* paths, bool groups, int32_t* depth, uint32_t* term, int32_t* elim,
+                             uint32_t* open, uint32_t* bar, uint32_t* close, uint32_t* first_c1, uint32_t* parent) {
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
-  if (i < n) depth[i] = prune_depth_delta(e, static_cast<uint32_t>(i));
+  if (i > n) return;
+  elim[i] = 0;
+  if (i == n) return;
+  const Cell c = cells[entry_cell[i]];
+  term[i] = prune_classify(e, static_cast<uint32_t>(i), c.begin, c.end, paths);
+  if (!groups) {
+    depth[i] = 0;
+    return;
+  }
+  depth[i] = prune_depth_delta(e, static_cast<uint32_t>(i));
+  open[i] = bar[i] = close[i] = first_c1[i] = parent[i] = ~0u;
 }
 
-__global__ void k_link_init(const Entry* e, const int32_t* depth, size_t n, int32_t d, Segmented<uint32_t>* link) {
-  const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
-  if (i < n) link[i] = Segmented<uint32_t>{1u, (entry_opens(e[i]) && depth[i] == d) ? 1u : 0u};
-}
+// The link scans' input for depth d, read through a transform iterator
+// instead of written by a kernel of its own.
+struct LinkStart {
+  const Entry* e;
+  const int32_t* depth;
+  int32_t d;
+  __host__ __device__ Segmented<uint32_t> operator()(uint32_t i) const {
+    return Segmented<uint32_t>{1u, (entry_opens(e[i]) && depth[i] == d) ? 1u : 0u};
+  }
+};
 
 __global__ void k_link_apply(const Entry* e, const int32_t* depth, size_t n, int32_t d,
                              const Segmented<uint32_t>* link, uint32_t* open, uint32_t* bar, uint32_t* close,
@@ -36,14 +62,6 @@ __global__ void k_link_apply(const Entry* e, const int32_t* depth, size_t n, int
   const uint32_t k = entry_kind(e[i]);
   if (k == ENTRY_ACTIVATE) bar[o] = static_cast<uint32_t>(i);
   if (entry_closes(e[i])) close[o] = static_cast<uint32_t>(i);
-}
-
-__global__ void k_classify(const Entry* e, const uint32_t* entry_cell, size_t n, const Cell* cells,
-                           const PathRecord* paths, uint32_t* term) {
-  const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
-  if (i >= n) return;
-  const Cell c = cells[entry_cell[i]];
-  term[i] = prune_classify(e, static_cast<uint32_t>(i), c.begin, c.end, paths);
 }
 
 __global__ void k_first_c1(const uint32_t* term, size_t n, PruneLinks links, uint32_t* first_c1) {
@@ -66,20 +84,19 @@ struct Kept {
   __host__ __device__ uint32_t operator()(int32_t elim) const { return elim <= 0 ? 1u : 0u; }
 };
 
+// The sweep, one launch: survivors to their slots (threads below n) and
+// every cell's range renumbered (threads below ncells).
 __global__ void k_compact(const Entry* e, const uint32_t* entry_cell, size_t n, const int32_t* elim,
-                          const uint32_t* kpos, Entry* out, uint32_t* out_cell) {
+                          const uint32_t* kpos, Entry* out, uint32_t* out_cell, Cell* cells, size_t ncells) {
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
   if (i < n && elim[i] <= 0) {
     out[kpos[i]] = e[i];
     out_cell[kpos[i]] = entry_cell[i];
   }
-}
-
-__global__ void k_cells_remap(Cell* cells, size_t ncells, const uint32_t* kpos) {
-  const size_t k = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
-  if (k >= ncells) return;
-  cells[k].begin = kpos[cells[k].begin];
-  cells[k].end = kpos[cells[k].end];
+  if (i < ncells) {
+    cells[i].begin = kpos[cells[i].begin];
+    cells[i].end = kpos[cells[i].end];
+  }
 }
 
 }  // namespace
@@ -105,35 +122,26 @@ int Context::Impl::prune(DeviceLevel& lv) {
     uint32_t* first_c1 = (u32[4].resize(n + 1), u32[4].data());
     uint32_t* parent_of = (u32[5].resize(n), u32[5].data());
 
-    if (scene_depth == 0) {
-      MPVG_CUDA(cudaMemsetAsync(depth, 0, n * sizeof(int32_t)));
-    } else {
-      k_depth_delta<<<grid, kBlock>>>(e, n, depth);
-      launched();
+    const bool groups = scene_depth > 0;
+    k_round_init<<<grid_for(n + 1, kBlock), kBlock>>>(e, lv.entry_cell.data(), n, lv.cells.data(), paths.data(),
+                                                       groups, depth, term, elim, open, bar, close, first_c1,
+                                                       parent_of);
+    launched();
+    if (groups) {
       prim.inclusive_sum(depth, depth, n);
-      MPVG_CUDA(cudaMemsetAsync(open, 0xff, n * sizeof(uint32_t)));
-      MPVG_CUDA(cudaMemsetAsync(bar, 0xff, n * sizeof(uint32_t)));
-      MPVG_CUDA(cudaMemsetAsync(close, 0xff, n * sizeof(uint32_t)));
-      MPVG_CUDA(cudaMemsetAsync(parent_of, 0xff, n * sizeof(uint32_t)));
       link.resize(n);
       for (int32_t d = 1; d <= scene_depth; d++) {
-        k_link_init<<<grid, kBlock>>>(e, depth, n, d, link.data());
-        launched();
-        prim.inclusive_scan(link.data(), link.data(), SegmentedSum<uint32_t>{}, n);
+        const auto start = thrust::make_transform_iterator(thrust::counting_iterator<uint32_t>(0), LinkStart{e, depth, d});
+        prim.inclusive_scan(start, link.data(), SegmentedSum<uint32_t>{}, n);
         k_link_apply<<<grid, kBlock>>>(e, depth, n, d, link.data(), open, bar, close, parent_of);
         launched();
       }
     }
-
-    k_classify<<<grid, kBlock>>>(e, lv.entry_cell.data(), n, lv.cells.data(), paths.data(), term);
-    launched();
     const PruneLinks links{depth, open, bar, close, first_c1, parent_of};
-    if (scene_depth > 0) {
-      MPVG_CUDA(cudaMemsetAsync(first_c1, 0xff, n * sizeof(uint32_t)));
+    if (groups) {
       k_first_c1<<<grid, kBlock>>>(term, n, links, first_c1);
       launched();
     }
-    MPVG_CUDA(cudaMemsetAsync(elim, 0, (n + 1) * sizeof(int32_t)));
     k_mark<<<grid, kBlock>>>(e, lv.entry_cell.data(), n, lv.cells.data(), term, links, elim);
     launched();
     prim.inclusive_sum(elim, elim, n + 1);
@@ -148,9 +156,9 @@ int Context::Impl::prune(DeviceLevel& lv) {
     DeviceLevel& out = parent;  // scratch level
     out.entries.resize(kept);
     out.entry_cell.resize(kept);
-    k_compact<<<grid, kBlock>>>(e, lv.entry_cell.data(), n, elim, kpos, out.entries.data(), out.entry_cell.data());
-    launched();
-    k_cells_remap<<<grid_for(lv.ncells, kBlock), kBlock>>>(lv.cells.data(), lv.ncells, kpos);
+    k_compact<<<grid_for(std::max(n, lv.ncells), kBlock), kBlock>>>(e, lv.entry_cell.data(), n, elim, kpos,
+                                                                     out.entries.data(), out.entry_cell.data(),
+                                                                     lv.cells.data(), lv.ncells);
     launched();
     lv.entries.swap(out.entries);
     lv.entry_cell.swap(out.entry_cell);

@@ -40,8 +40,16 @@ __global__ void k_split(const Entry* entries, const uint32_t* entry_cell, size_t
 // Kernel 3 input: outputs of each pair, with room for one winding entry per
 // path run whose consolidated winding is non-zero.
 __global__ void k_count(const Entry* entries, const uint32_t* entry_cell, size_t n, const Cell* cells,
-                        uint32_t fanout, const uint32_t* flags, const Segmented<int32_t>* wind, uint32_t* count) {
+                        uint32_t fanout, const uint32_t* flags, const Segmented<int32_t>* wind, uint32_t* count,
+                        size_t pairs, uint32_t* overflow) {
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  // Thread 0 also zeroes the item that ends the offsets' scan and the
+  // scatter's overflow flag (launches saved: each costs the render thread
+  // more than the work of a small kernel).
+  if (i == 0) {
+    count[pairs] = 0;
+    *overflow = 0;
+  }
   if (i >= n) return;
   const Cell pc = cells[entry_cell[i]];
   const size_t size = pc.end - pc.begin;
@@ -105,21 +113,24 @@ void Context::Impl::subdivide(const DeviceLevel& from, DeviceLevel& to, bool roo
   uint32_t* count = (u32[1].resize(pairs + 1), u32[1].data());
   uint32_t* offset = (u32[2].resize(pairs + 1), u32[2].data());
   wind.resize(pairs + 1);
-  MPVG_CUDA(cudaMemset(count + pairs, 0, sizeof(uint32_t)));
-  if (n) {
+  overflow.resize(1);
+  if (n == 0) {
+    MPVG_CUDA(cudaMemsetAsync(count + pairs, 0, sizeof(uint32_t)));
+    MPVG_CUDA(cudaMemsetAsync(overflow.data(), 0, sizeof(uint32_t)));
+  } else {
     k_split<<<grid_for(n, kBlock), kBlock>>>(from.entries.data(), from.entry_cell.data(), n, from.cells.data(),
                                              segments.data(), fanout, root, root_size, flags, wind.data());
     launched();
     prim.inclusive_scan(wind.data(), wind.data(), SegmentedSum<int32_t>{}, pairs);
     k_count<<<grid_for(n, kBlock), kBlock>>>(from.entries.data(), from.entry_cell.data(), n, from.cells.data(),
-                                             fanout, flags, wind.data(), count);
+                                             fanout, flags, wind.data(), count, pairs, overflow.data());
     launched();
   }
   prim.exclusive_sum(count, offset, pairs + 1);
   // Scatter into the capacity the child buffers already have (they only
   // grow, so after the first frame this rarely fails), then read the total
-  // and the overflow flag in one round trip; on overflow, grow and redo.
-  overflow.resize(1);
+  // and the overflow flag (zeroed by k_count) in one round trip; on
+  // overflow, grow and redo.
   const size_t estimate = std::max(to.entries.capacity(), 2 * pairs + 1024);
   to.entries.resize(estimate);
   to.entry_cell.resize(estimate);
@@ -127,7 +138,7 @@ void Context::Impl::subdivide(const DeviceLevel& from, DeviceLevel& to, bool roo
   to.cells.resize(to.ncells);
   uint32_t total = 0, failed = 0;
   for (int attempt = 0;; attempt++) {
-    MPVG_CUDA(cudaMemsetAsync(overflow.data(), 0, sizeof(uint32_t)));
+    if (attempt > 0) MPVG_CUDA(cudaMemsetAsync(overflow.data(), 0, sizeof(uint32_t)));
     if (n) {
       k_scatter<<<grid_for(n, kBlock), kBlock>>>(from.entries.data(), from.entry_cell.data(), n, from.cells.data(),
                                                  segments.data(), fanout, flags, wind.data(), offset, count,
