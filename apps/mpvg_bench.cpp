@@ -3,7 +3,15 @@
 // events after warm-up, medians over --runs repetitions; end-to-end is the
 // wall time of `svg2png --backend cuda` on the same input.
 //
-//   mpvg_bench [--runs N] [--json FILE] [--svg2png PATH] [--shapes T,I,U;...] [--ramp-lut N] FILE.svg...
+//   mpvg_bench [--runs N] [--json FILE] [--svg2png PATH] [--shapes T,I,U;...] [--ramp-lut N]
+//              [--throughput K,K,...] FILE.svg...
+//
+// --throughput measures the render side of pdf2png's pipeline alone: for
+// each K, K threads with a FrameRenderer each (their own device buffers and
+// per-thread stream, as pdf2png's render threads) render the input at
+// 1275 px width (a letter page at 150 dpi), 4x4x32, to 8-bit RGBA copied
+// back, frame after frame; frames per second over the wall time, and each
+// frame's mean stage times. The per-stage table is skipped.
 //
 // --ramp-lut N encodes colour ramps as lookup tables of N knots instead of
 // exact knots (EncodeOptions::ramp_lut). When an input NAME_gradients.svg
@@ -18,7 +26,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <atomic>
 #include <map>
+#include <mutex>
+#include <thread>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -26,6 +37,7 @@
 #include "core/encoding.h"
 #include "core/error.h"
 #include "core/renderer.h"
+#include "gpu/backend.h"
 #include "gpu/gpu_backend.h"
 #include "parsers/svg/svg_parser.h"
 
@@ -62,11 +74,65 @@ std::vector<gpu::SamplerShape> parse_shapes(const std::string& s) {
   return out;
 }
 
+// The render side's ceiling (--throughput): see the header.
+void throughput(const std::string& file, const std::vector<int>& thread_counts, int frames) {
+  const int w = 1275;
+  const svg::ParseResult doc = svg::parse_svg_file(file, svg::ParseOptions::at_width(w));
+  const int h = static_cast<int>(std::lround(doc.scene.height * w / doc.scene.width));
+  RenderOptions o;
+  o.width = w;
+  o.height = h;
+  o.view = Affine::scale(w / doc.scene.width, h / doc.scene.height);
+  o.filter = Filter::Cardinal;
+  o.pattern = PatternKind::BlueNoise;
+  o.samples = 32;
+  o.backend = Backend::Cuda;
+  o.background = RGBA{1, 1, 1, 1};
+  const RenderPlan plan = plan_render(o);
+  const EncodedScene enc = encode_for(doc.scene, plan, o.gamma);
+  const std::string name = std::filesystem::path(file).stem().string();
+  for (int k : thread_counts) {
+    std::atomic<int> next{0}, ready{0};
+    std::atomic<bool> go{false};
+    std::mutex m;
+    double pre = 0, render = 0, wall = 0;
+    std::vector<std::thread> threads;
+    for (int t = 0; t < k; t++)
+      threads.emplace_back([&] {
+        FrameRenderer r(Backend::Cuda);
+        for (int warm = 0; warm < 2; warm++) r.render_rgba8(enc, plan, o);
+        ready++;
+        while (!go) std::this_thread::yield();
+        double my_pre = 0, my_render = 0, my_wall = 0;
+        while (next++ < frames) {
+          RenderStats st;
+          const auto t0 = std::chrono::steady_clock::now();
+          r.render_rgba8(enc, plan, o, &st);
+          my_wall += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+          my_pre += st.abstract_ms + st.subdivide_ms + st.prune_ms;
+          my_render += st.schedule_ms + st.sample_ms;
+        }
+        std::lock_guard<std::mutex> lock(m);
+        pre += my_pre;
+        render += my_render;
+        wall += my_wall;
+      });
+    while (ready < k) std::this_thread::yield();
+    const auto t0 = std::chrono::steady_clock::now();
+    go = true;
+    for (std::thread& t : threads) t.join();
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("%-10s %dx%d, %d render threads: %.1f frames/s; per frame: preprocessing %.2f ms, rendering %.2f ms, "
+                "thread wall %.2f ms\n",
+                name.c_str(), w, h, k, frames / s, pre / frames, render / frames, wall / frames);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   int runs = 21;
-  std::string json_path, svg2png = "svg2png", shapes_arg;
+  std::string json_path, svg2png = "svg2png", shapes_arg, throughput_arg;
   EncodeOptions encode_options;
   std::vector<std::string> files;
   for (int i = 1; i < argc; i++) {
@@ -76,13 +142,27 @@ int main(int argc, char** argv) {
     else if (a == "--svg2png" && i + 1 < argc) svg2png = argv[++i];
     else if (a == "--shapes" && i + 1 < argc) shapes_arg = argv[++i];
     else if (a == "--ramp-lut" && i + 1 < argc) encode_options.ramp_lut = std::atoi(argv[++i]);
+    else if (a == "--throughput" && i + 1 < argc) throughput_arg = argv[++i];
     else files.push_back(a);
   }
   if (files.empty()) {
     std::fprintf(stderr,
                  "usage: mpvg_bench [--runs N] [--json FILE] [--svg2png PATH] [--shapes T,I,U;...] [--ramp-lut N] "
-                 "FILE.svg...\n");
+                 "[--throughput K,K,...] FILE.svg...\n");
     return 2;
+  }
+  if (!throughput_arg.empty()) {
+    std::vector<int> ks;
+    std::stringstream ss(throughput_arg);
+    std::string item;
+    while (std::getline(ss, item, ',')) ks.push_back(std::max(1, std::atoi(item.c_str())));
+    try {
+      for (const std::string& f : files) throughput(f, ks, std::max(runs, 20));
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "mpvg_bench: %s\n", e.what());
+      return 1;
+    }
+    return 0;
   }
   try {
     const std::string device = gpu::device_name();
