@@ -39,25 +39,51 @@ void put_chunk(std::vector<uint8_t>& out, const char type[4], const uint8_t* dat
   put32(out, crc32_of(0, out.data() + at, n + 4));
 }
 
-// The zlib stream (RFC 1950) of the filtered rows.
-std::vector<uint8_t> deflate(const std::vector<uint8_t>& in, int level) {
-  std::vector<uint8_t> out;
+// Buffers kept per thread from image to image: a batch's pages are of one
+// size, and fresh memory costs a page fault per 4 KiB where it is first
+// written (several times the encoding's own time per page in a virtual
+// machine, BENCHMARKS.md).
+struct Scratch {
+  std::vector<uint8_t> filtered, rows, zero, sub, deflated;
 #if MPVG_HAVE_LIBDEFLATE
-  libdeflate_compressor* c = libdeflate_alloc_compressor(level < 1 ? 1 : level > 12 ? 12 : level);
-  if (!c) throw Error("PNG: out of memory");
-  out.resize(libdeflate_zlib_compress_bound(c, in.size()));
-  const size_t n = libdeflate_zlib_compress(c, in.data(), in.size(), out.data(), out.size());
-  libdeflate_free_compressor(c);
+  libdeflate_compressor* compressor = nullptr;
+  int level = 0;
+  ~Scratch() {
+    if (compressor) libdeflate_free_compressor(compressor);
+  }
+#endif
+};
+
+Scratch& scratch() {
+  thread_local Scratch s;
+  return s;
+}
+
+// The zlib stream (RFC 1950) of the filtered rows, into s.deflated;
+// returns its length.
+size_t deflate(Scratch& s, int level) {
+  const std::vector<uint8_t>& in = s.filtered;
+#if MPVG_HAVE_LIBDEFLATE
+  level = level < 1 ? 1 : level > 12 ? 12 : level;
+  if (!s.compressor || s.level != level) {
+    if (s.compressor) libdeflate_free_compressor(s.compressor);
+    s.compressor = libdeflate_alloc_compressor(level);
+    s.level = level;
+    if (!s.compressor) throw Error("PNG: out of memory");
+  }
+  const size_t bound = libdeflate_zlib_compress_bound(s.compressor, in.size());
+  if (s.deflated.size() < bound) s.deflated.resize(bound);
+  const size_t n = libdeflate_zlib_compress(s.compressor, in.data(), in.size(), s.deflated.data(), s.deflated.size());
   if (n == 0) throw Error("PNG: compression failed");
-  out.resize(n);
+  return n;
 #else
   uLongf n = compressBound(static_cast<uLong>(in.size()));
-  out.resize(n);
-  if (compress2(out.data(), &n, in.data(), static_cast<uLong>(in.size()), level < 1 ? 1 : level > 9 ? 9 : level) != Z_OK)
+  if (s.deflated.size() < n) s.deflated.resize(n);
+  if (compress2(s.deflated.data(), &n, in.data(), static_cast<uLong>(in.size()), level < 1 ? 1 : level > 9 ? 9 : level) !=
+      Z_OK)
     throw Error("PNG: compression failed");
-  out.resize(n);
+  return n;
 #endif
-  return out;
 }
 
 // Sum of the filtered bytes taken as signed values: the specification's
@@ -102,13 +128,16 @@ std::vector<uint8_t> encode(int width, int height, const Sample* rgba, const Enc
   const int channels = opaque ? 3 : 4, bpp = channels * bytes;
   const size_t n = size_t(width) * bpp;
 
-  std::vector<uint8_t> filtered((n + 1) * height);
+  Scratch& sc = scratch();
+  sc.filtered.resize((n + 1) * height);
   // This row and the one above (zeros above the first), and room for the
   // Sub candidate.
-  std::vector<uint8_t> raw(2 * n), zero(n, 0), scratch(n);
+  sc.rows.resize(2 * n);
+  sc.zero.assign(n, 0);
+  sc.sub.resize(n);
   for (int y = 0; y < height; y++) {
-    uint8_t* row = raw.data() + (y & 1) * n;
-    const uint8_t* prev = y ? raw.data() + ((y + 1) & 1) * n : zero.data();
+    uint8_t* row = sc.rows.data() + (y & 1) * n;
+    const uint8_t* prev = y ? sc.rows.data() + ((y + 1) & 1) * n : sc.zero.data();
     const Sample* src = rgba + size_t(y) * width * 4;
     uint8_t* d = row;
     for (int x = 0; x < width; x++, src += 4)
@@ -119,13 +148,14 @@ std::vector<uint8_t> encode(int width, int height, const Sample* rgba, const Enc
           *d++ = static_cast<uint8_t>(src[c] >> 8);
           *d++ = static_cast<uint8_t>(src[c]);
         }
-    filter_row(row, prev, n, bpp, filtered.data() + size_t(y) * (n + 1), scratch.data());
+    filter_row(row, prev, n, bpp, sc.filtered.data() + size_t(y) * (n + 1), sc.sub.data());
   }
-  const std::vector<uint8_t> idat = deflate(filtered, options.level);
+  const size_t zlen = deflate(sc, options.level);
+  const uint8_t* idat = sc.deflated.data();
 
   static const uint8_t signature[8] = {137, 80, 78, 71, 13, 10, 26, 10};
   std::vector<uint8_t> out(signature, signature + 8);
-  out.reserve(idat.size() + 128);
+  out.reserve(zlen + 128);
   const uint8_t ihdr[13] = {uint8_t(width >> 24), uint8_t(width >> 16), uint8_t(width >> 8), uint8_t(width),
                             uint8_t(height >> 24), uint8_t(height >> 16), uint8_t(height >> 8), uint8_t(height),
                             uint8_t(8 * bytes),  // bit depth
@@ -134,8 +164,7 @@ std::vector<uint8_t> encode(int width, int height, const Sample* rgba, const Enc
   put_chunk(out, "IHDR", ihdr, sizeof ihdr);
   // IDAT chunks of at most 1 MiB, within every reader's limits.
   constexpr size_t chunk = size_t(1) << 20;
-  for (size_t at = 0; at < idat.size(); at += chunk)
-    put_chunk(out, "IDAT", idat.data() + at, std::min(chunk, idat.size() - at));
+  for (size_t at = 0; at < zlen; at += chunk) put_chunk(out, "IDAT", idat + at, std::min(chunk, zlen - at));
   put_chunk(out, "IEND", nullptr, 0);
   return out;
 }

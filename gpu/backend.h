@@ -36,9 +36,11 @@ class FrameRenderer {
   ImageF render(const EncodedScene& scene, const RenderOptions& options, RenderStats* stats = nullptr);
   // The same image as to_rgba8(render(...), options.gamma) gives, byte for
   // byte; with CUDA converted on the device (a quarter of the copy back).
-  // plan = plan_render(options), made once per frame by the caller.
+  // plan = plan_render(options), made once per frame by the caller. With
+  // CUDA the result reuses storage's memory where it is large enough
+  // (batches hand back the buffers of written pages).
   std::vector<uint8_t> render_rgba8(const EncodedScene& scene, const RenderPlan& plan, const RenderOptions& options,
-                                    RenderStats* stats = nullptr);
+                                    RenderStats* stats = nullptr, std::vector<uint8_t> storage = {});
 
  private:
   struct Impl;

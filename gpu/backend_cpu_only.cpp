@@ -34,7 +34,8 @@ ImageF FrameRenderer::render(const EncodedScene& scene, const RenderOptions& opt
 }
 
 std::vector<uint8_t> FrameRenderer::render_rgba8(const EncodedScene& scene, const RenderPlan& plan,
-                                                const RenderOptions& options, RenderStats* stats) {
+                                                const RenderOptions& options, RenderStats* stats,
+                                                std::vector<uint8_t> /*storage*/) {
   std::vector<uint8_t> out = to_rgba8(render_cpu(scene, plan, options, stats), options.gamma);
   if (stats) stats->note = impl_->note;
   return out;

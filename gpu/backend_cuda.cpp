@@ -131,14 +131,15 @@ ImageF FrameRenderer::render(const EncodedScene& scene, const RenderOptions& opt
 }
 
 std::vector<uint8_t> FrameRenderer::render_rgba8(const EncodedScene& scene, const RenderPlan& plan,
-                                                const RenderOptions& options, RenderStats* stats) {
+                                                const RenderOptions& options, RenderStats* stats,
+                                                std::vector<uint8_t> storage) {
   RenderStats local;
   RenderStats& st = stats ? *stats : local;
   st.note = impl_->note;
   if (impl_->backend == Backend::Cpu) return to_rgba8(render_cpu(scene, plan, options, &st), options.gamma);
   gpu::Context& ctx = *impl_->ctx;
   return render_cuda(ctx, scene, plan, options, st, [&](const PaintRecord& bg, gpu::GpuTimes* gt) {
-    return ctx.render_rgba8(plan.integ, plan.frame, bg, options.gamma == Gamma::Linear, gt);
+    return ctx.render_rgba8(plan.integ, plan.frame, bg, options.gamma == Gamma::Linear, gt, std::move(storage));
   });
 }
 

@@ -91,9 +91,10 @@ ImageF Context::render(const Integration& integ, const IntegrationFrame& frame, 
 }
 
 std::vector<uint8_t> Context::render_rgba8(const Integration& integ, const IntegrationFrame& frame,
-                                          const PaintRecord& background, bool linear, GpuTimes* times) {
+                                          const PaintRecord& background, bool linear, GpuTimes* times,
+                                          std::vector<uint8_t> storage) {
   impl_->render(integ, frame, background, times);
-  return impl_->download_rgba8(linear);
+  return impl_->download_rgba8(linear, std::move(storage));
 }
 
 Context::BuildCounts Context::build_counts() const {

@@ -203,7 +203,7 @@ struct Context::Impl {
   void render(const Integration& integ, const IntegrationFrame& frame, const PaintRecord& background,
               GpuTimes* times);
   // The rendered image as straight 8-bit codes (core/rgba8.h), copied back.
-  std::vector<uint8_t> download_rgba8(bool linear);
+  std::vector<uint8_t> download_rgba8(bool linear, std::vector<uint8_t> storage);
 };
 
 }  // namespace mpvg::gpu

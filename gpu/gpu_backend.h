@@ -65,8 +65,12 @@ class Context {
   // As render(), returning the image as straight 8-bit codes, 4 bytes per
   // pixel (core/rgba8.h; linear: the image was integrated in linear light),
   // converted on the device: a quarter of the float image is copied back.
+  // The result reuses storage's memory where it is large enough (batches
+  // hand back the buffers of written pages: fresh pages of memory cost a
+  // page fault each while the copy fills them).
   std::vector<uint8_t> render_rgba8(const Integration& integ, const IntegrationFrame& frame,
-                                    const PaintRecord& background, bool linear, GpuTimes* times = nullptr);
+                                    const PaintRecord& background, bool linear, GpuTimes* times = nullptr,
+                                    std::vector<uint8_t> storage = {});
 
   // As render(), leaving the image on the device (benchmarks); returns the
   // GPU time of the whole render, gaps between kernels included, in ms.
