@@ -6,7 +6,8 @@
 #     last shown: a warm, uncontended pipeline), and mutool's own time for
 #     the page (-s t);
 #   - whole-document throughput, pages per second, for pgfmanual and
-#     asymptote: pdf2png (one process, CUDA), mutool draw in one process,
+#     asymptote: pdf2png (one process, CUDA; three rounds), mutool draw in
+#     one process,
 #     and mutool draw in $(nproc) processes over equal page ranges (three
 #     rounds: it varies by 20 % from run to run);
 #   - variants: asymptote through pdf2png with other render-thread counts,
@@ -50,11 +51,13 @@ if has throughput; then
     f=$d/corpus/$doc.pdf
     n=$("$mutool" info -M "$f" 2>/dev/null | sed -n 's/^Pages: *//p')
     echo "== $doc, $n pages"
-    rm -rf "$out"/*
-    t0=$(now)
-    "$pdf2png" --backend cuda --stats -q -r 150 "$f" "$out/p" 2>&1 | grep -E "pages/s|per page"
-    t1=$(now)
-    echo "pdf2png: $(awk "BEGIN{printf \"%.2f\", $t1 - $t0}") s wall, $(ls "$out" | wc -l) files"
+    for round in 1 2 3; do
+      rm -rf "$out"/*
+      t0=$(now)
+      "$pdf2png" --backend cuda --stats -q -r 150 "$f" "$out/p" 2>&1 | grep -E "pages/s|per page"
+      t1=$(now)
+      echo "pdf2png: $(awk "BEGIN{printf \"%.2f\", $t1 - $t0}") s wall, $(awk "BEGIN{printf \"%.1f\", $n / ($t1 - $t0)}") pages/s wall, $(ls "$out" | wc -l) files"
+    done
     if [ "${MPVG_BENCH_MUTOOL1:-1}" != 0 ]; then
       rm -rf "$out"/*
       t0=$(now)
