@@ -1,6 +1,5 @@
-// PNG output for the command-line tools and tests. The product
-// writes through OpenImageIO; builds configured with MPVG_IMAGE_IO=png (the
-// GPU benchmark host, which cannot carry OpenImageIO) use libpng directly.
+// PNG output for the command-line tools and tests, through mpvg's own
+// encoder (apps/png_writer.h): no image library to load at start-up.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -13,7 +12,7 @@ namespace mpvg {
 void write_png_rgba8(const std::string& path, int width, int height, const std::vector<uint8_t>& rgba);
 void write_png_rgba16(const std::string& path, int width, int height, const std::vector<uint16_t>& rgba);
 
-// Which library does the work ("OpenImageIO 2.4.7" or "libpng 1.6.39").
+// Which library does the work ("mpvg PNG encoder, libdeflate 1.14").
 std::string image_io_library();
 
 }  // namespace mpvg

@@ -1,7 +1,17 @@
 // svg2png: renders an SVG document to a PNG.
+//
+// The path from command to file, in order: CUDA's start-up begins on a
+// thread of its own (gpu/backend.h GpuStartup) unless --backend cpu; the
+// document is read, parsed and stroked meanwhile; the scene is encoded; the
+// backend is chosen (--backend auto: gpu/cost_model.cpp, the CPU when it
+// would finish before the GPU is ready); the frame is rendered, converted
+// to 8 or 16 bits and written by mpvg's PNG encoder (no image library is
+// loaded unless the document holds a JPEG, GIF or WebP image).
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
+#include <thread>
 
 #include "apps/cli.h"
 #include "apps/image_io.h"
@@ -9,8 +19,105 @@
 #include "gpu/backend.h"
 #include "parsers/svg/svg_parser.h"
 
+namespace {
+
+using namespace mpvg;
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+int run(const cli::Options& opt, GpuStartup& startup) {
+  const auto t_start = Clock::now();
+  // Strokes are converted for the output's pixels (tolerance, hairlines).
+  svg::ParseOptions parse_options;
+  parse_options.allowed_dirs = opt.allow_read;
+  parse_options.view = [&opt](double w, double h) {
+    int width, height;
+    Affine view;
+    cli::output_geometry(opt, w, h, &width, &height, &view);
+    return view;
+  };
+  svg::ParseResult doc = svg::parse_svg_file(opt.positional[0], parse_options);
+  const double parse_ms = ms_since(t_start);
+  if (!opt.quiet)
+    for (const std::string& w : doc.warnings) std::fprintf(stderr, "svg2png: warning: %s\n", w.c_str());
+  int width, height;
+  Affine view;
+  cli::output_geometry(opt, doc.scene.width, doc.scene.height, &width, &height, &view);
+  RenderOptions ro = cli::render_options(opt, width, height, view);
+  RenderStats stats;
+  const RenderPlan plan = plan_render(ro);
+  const EncodedScene enc = encode_for(doc.scene, plan, ro.gamma, &stats);
+
+  // The backend.
+  std::unique_ptr<FrameRenderer> gpu;
+  std::string choice_note;
+  if (opt.backend == Backend::Cuda) {
+    std::string why;
+    gpu = startup.take(&why);
+    if (!gpu) throw Error("CUDA backend unavailable: " + why);
+  } else if (opt.backend == Backend::Auto) {
+    CostInputs in;
+    in.input_segments = enc.input_segment_count;
+    in.unit_areas = double(plan.frame.ua_w) * plan.frame.ua_h;
+    in.samples = plan.integ.samples;
+    in.support = plan.integ.support;
+    in.pixels = size_t(width) * size_t(height);
+    in.cpu_threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    std::string why_not;
+    if (startup.done()) {
+      gpu = startup.take(&why_not);
+      in.gpu_possible = gpu != nullptr;
+    } else {
+      in.gpu_possible = true;
+      in.gpu_wait_ms = expected_gpu_startup_ms() - startup.elapsed_ms();
+    }
+    BackendChoice choice = choose_backend(in);
+    if (choice.backend == Backend::Cuda && !gpu) {
+      gpu = startup.take(&why_not);
+      if (!gpu) choice.why = why_not;
+    }
+    if (choice.backend == Backend::Cpu || !gpu) {
+      gpu.reset();
+      choice_note = "auto chose the CPU: " + (in.gpu_possible ? choice.why : why_not);
+    } else {
+      choice_note = "auto chose CUDA: " + choice.why;
+    }
+  }
+  const auto t_render = Clock::now();
+  std::vector<uint8_t> rgba8;
+  std::vector<uint16_t> rgba16;
+  if (gpu) {
+    if (opt.bits == 16) rgba16 = to_rgba16(gpu->render(enc, ro, &stats), ro.gamma);
+    else rgba8 = gpu->render_rgba8(enc, plan, ro, &stats);
+  } else {
+    ImageF img = render_cpu(enc, plan, ro, &stats);
+    if (opt.bits == 16) rgba16 = to_rgba16(img, ro.gamma);
+    else rgba8 = to_rgba8(img, ro.gamma);
+  }
+  const double render_ms = ms_since(t_render);
+  const auto t_write = Clock::now();
+  if (opt.bits == 16) write_png_rgba16(opt.output, width, height, rgba16);
+  else write_png_rgba8(opt.output, width, height, rgba8);
+  const double write_ms = ms_since(t_write);
+  if (opt.stats) {
+    std::fprintf(stderr, "parse %.3f ms (stroke %.3f ms, %zu strokes)\n", parse_ms, doc.stroke_seconds * 1e3,
+                 doc.stroked_paths);
+    if (startup.started())
+      std::fprintf(stderr, "CUDA start-up %s\n",
+                   startup.done() ? (std::to_string(startup.ready_ms()) + " ms after program start").c_str()
+                                  : "still running (not waited for)");
+    if (!choice_note.empty()) std::fprintf(stderr, "%s\n", choice_note.c_str());
+    std::fprintf(stderr, "%s", cli::format_stats(stats).c_str());
+    std::fprintf(stderr, "render + 8/16-bit conversion %.3f ms\nPNG %.3f ms\nwall %.3f ms\n", render_ms, write_ms,
+                 ms_since(t_start));
+  }
+  return 0;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  using namespace mpvg;
   cli::Options opt;
   try {
     if (!cli::parse(argc, argv, "svg2png", "svg", opt)) return 0;
@@ -18,39 +125,21 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "svg2png: %s\n", e.message.c_str());
     return 2;
   }
+  // Begun before anything else: the driver's initialisation overlaps the
+  // document's reading and parsing.
+  GpuStartup startup(opt.backend, cli::render_options(opt, 64, 64, Affine{}));
+  int status = 0;
   try {
-    // Strokes are converted for the output's pixels (tolerance, hairlines).
-    svg::ParseOptions parse_options;
-    parse_options.allowed_dirs = opt.allow_read;
-    parse_options.view = [&opt](double w, double h) {
-      int width, height;
-      Affine view;
-      cli::output_geometry(opt, w, h, &width, &height, &view);
-      return view;
-    };
-    const auto t0 = std::chrono::steady_clock::now();
-    svg::ParseResult doc = svg::parse_svg_file(opt.positional[0], parse_options);
-    const double parse_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    if (!opt.quiet)
-      for (const std::string& w : doc.warnings) std::fprintf(stderr, "svg2png: warning: %s\n", w.c_str());
-    int width, height;
-    Affine view;
-    cli::output_geometry(opt, doc.scene.width, doc.scene.height, &width, &height, &view);
-    RenderStats stats;
-    const ImageF img = render(doc.scene, cli::render_options(opt, width, height, view), &stats);
-    if (!stats.note.empty() && !opt.quiet) std::fprintf(stderr, "svg2png: note: %s\n", stats.note.c_str());
-    if (opt.bits == 16)
-      write_png_rgba16(opt.output, width, height, to_rgba16(img, opt.gamma));
-    else
-      write_png_rgba8(opt.output, width, height, to_rgba8(img, opt.gamma));
-    if (opt.stats) {
-      std::fprintf(stderr, "parse %.3f ms (stroke %.3f ms, %zu strokes)\n", parse_ms, doc.stroke_seconds * 1e3,
-                   doc.stroked_paths);
-      std::fprintf(stderr, "%s", cli::format_stats(stats).c_str());
-    }
+    status = run(opt, startup);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "svg2png: %s\n", e.what());
-    return 1;
+    status = 1;
   }
-  return 0;
+  // A start-up still running is not waited for (GpuStartup: no exit()).
+  if (!startup.done()) {
+    std::fflush(stdout);
+    std::fflush(stderr);
+    std::_Exit(status);
+  }
+  return status;
 }

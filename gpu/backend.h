@@ -2,6 +2,7 @@
 // configuration: without nvcc, the CUDA side reports itself unavailable and
 // auto renders on the CPU.
 #pragma once
+#include <chrono>
 #include <memory>
 #include <string>
 #include <vector>
@@ -42,9 +43,66 @@ class FrameRenderer {
   std::vector<uint8_t> render_rgba8(const EncodedScene& scene, const RenderPlan& plan, const RenderOptions& options,
                                     RenderStats* stats = nullptr, std::vector<uint8_t> storage = {});
 
+  // Readies the first real frame: reserves device memory in the pool the
+  // buffers come from (`pool_bytes`), and renders a small built-in scene
+  // with `like`'s filter and samples so that the kernels a frame needs are
+  // loaded and the scratch of the scans exists. Nothing on the CPU.
+  void warm_up(const RenderOptions& like, size_t pool_bytes);
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// CUDA's start-up (driver, context, kernel modules, a pool of device memory,
+// a warm-up frame), begun on a thread of its own at program start, so that
+// it overlaps reading, parsing and stroking (~250 ms on the GPU host, most of
+// it the driver's). The thread is detached: a process that ends while it
+// still runs must end with std::_Exit (after flushing its output), not
+// exit(), whose static destructors would race with it.
+class GpuStartup {
+ public:
+  // Starts unless `backend` is Cpu. `like` gives the warm-up frame's filter
+  // and samples.
+  GpuStartup(Backend backend, const RenderOptions& like);
+  ~GpuStartup();
+  GpuStartup(const GpuStartup&) = delete;
+  GpuStartup& operator=(const GpuStartup&) = delete;
+
+  bool started() const;  // false for Cpu
+  bool done() const;     // finished, with a renderer or without
+  double elapsed_ms() const;  // since construction
+  double ready_ms() const;    // when it finished, since construction (after done())
+  // Waits for it. The CUDA renderer, or nullptr with *why when there is no
+  // usable device (or the start-up failed).
+  std::unique_ptr<FrameRenderer> take(std::string* why);
+
+ private:
+  struct State;
+  std::shared_ptr<State> state_;
+  std::chrono::steady_clock::time_point t0_;
+};
+
+// --backend auto's cost model (gpu/cost_model.cpp; its constants are
+// measurements, BENCHMARKS.md "End to end"): the CPU when it would finish
+// before the GPU, counting what is left of CUDA's start-up.
+struct CostInputs {
+  size_t input_segments = 0;  // encode_for's count
+  double unit_areas = 0;      // of the frame: ua_w * ua_h
+  int samples = 32;           // per unit area
+  int support = 1;            // filter support K: K^2 pixels take each sample
+  size_t pixels = 0;          // of the output
+  int cpu_threads = 1;        // the CPU backend's
+  bool gpu_possible = false;  // a start-up is running or has given a device
+  double gpu_wait_ms = 0;     // expected time until the device is ready
+};
+struct BackendChoice {
+  Backend backend = Backend::Cpu;
+  double cpu_ms = 0, gpu_ms = 0;  // the model's estimates
+  std::string why;                // one line, for --stats
+};
+BackendChoice choose_backend(const CostInputs& in);
+// Expected duration of CUDA's start-up when nothing is known of it yet, ms.
+double expected_gpu_startup_ms();
 
 }  // namespace mpvg

@@ -41,4 +41,21 @@ std::vector<uint8_t> FrameRenderer::render_rgba8(const EncodedScene& scene, cons
   return out;
 }
 
+void FrameRenderer::warm_up(const RenderOptions&, size_t) {}
+
+struct GpuStartup::State {};
+
+GpuStartup::GpuStartup(Backend, const RenderOptions&) : t0_(std::chrono::steady_clock::now()) {}
+GpuStartup::~GpuStartup() = default;
+bool GpuStartup::started() const { return false; }
+bool GpuStartup::done() const { return true; }
+double GpuStartup::elapsed_ms() const {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0_).count();
+}
+double GpuStartup::ready_ms() const { return 0; }
+std::unique_ptr<FrameRenderer> GpuStartup::take(std::string* why) {
+  if (why) *why = "mpvg was built without CUDA";
+  return nullptr;
+}
+
 }  // namespace mpvg

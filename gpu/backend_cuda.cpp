@@ -2,9 +2,11 @@
 #include <cuda_runtime.h>
 
 #include <chrono>
+#include <condition_variable>
 #include <cstdlib>
 #include <mutex>
 #include <string>
+#include <thread>
 
 #include "core/error.h"
 #include "gpu/backend.h"
@@ -141,6 +143,100 @@ std::vector<uint8_t> FrameRenderer::render_rgba8(const EncodedScene& scene, cons
   return render_cuda(ctx, scene, plan, options, st, [&](const PaintRecord& bg, gpu::GpuTimes* gt) {
     return ctx.render_rgba8(plan.integ, plan.frame, bg, options.gamma == Gamma::Linear, gt, std::move(storage));
   });
+}
+
+void FrameRenderer::warm_up(const RenderOptions& like, size_t pool_bytes) {
+  if (impl_->backend != Backend::Cuda) return;
+  gpu::reserve_pool(pool_bytes);
+  // A filled shape with lines and a curve, a clip and an even-odd fill:
+  // abstraction, subdivision, pruning, the tree and the solid sampler.
+  SceneBuilder b(64, 64);
+  Path shape = Path::rectangle(4, 4, 60, 36);
+  shape.move_to({8, 60});
+  shape.quad_to({32, 20}, {56, 60});
+  shape.close();
+  b.push();
+  b.clip(b.add_geometry(Path::rectangle(0, 0, 48, 64)), Affine{}, FillRule::NonZero);
+  b.activate();
+  Paint paint;
+  paint.color = RGBA{0.2f, 0.4f, 0.8f, 1};
+  b.fill(b.add_geometry(shape), Affine{}, FillRule::EvenOdd, paint);
+  b.pop();
+  const Scene scene = b.finish();
+  RenderOptions o = like;
+  o.width = o.height = 64;
+  o.view = Affine{};
+  o.backend = Backend::Cuda;
+  const RenderPlan plan = plan_render(o);
+  render_rgba8(encode_for(scene, plan, o.gamma), plan, o);
+}
+
+struct GpuStartup::State {
+  std::mutex mutex;
+  std::condition_variable cv;
+  bool done = false;
+  double ready_ms = 0;
+  std::unique_ptr<FrameRenderer> renderer;
+  std::string why;
+};
+
+// Device memory the start-up reserves for the first frame: the bench inputs
+// at 1024 px with 4x4x32 take 20-90 MB of buffers (BENCHMARKS.md).
+constexpr size_t kStartupPoolBytes = size_t(128) << 20;
+
+GpuStartup::GpuStartup(Backend backend, const RenderOptions& like) : t0_(std::chrono::steady_clock::now()) {
+  if (backend == Backend::Cpu) return;
+  state_ = std::make_shared<State>();
+  std::thread([state = state_, like, t0 = t0_] {
+    std::unique_ptr<FrameRenderer> renderer;
+    std::string why;
+    try {
+      if (cuda_available(&why)) {
+        renderer = std::make_unique<FrameRenderer>(Backend::Cuda);
+        renderer->warm_up(like, kStartupPoolBytes);
+      }
+    } catch (const std::exception& e) {
+      renderer.reset();
+      why = std::string("CUDA start-up failed: ") + e.what();
+    }
+    std::lock_guard<std::mutex> lock(state->mutex);
+    state->renderer = std::move(renderer);
+    state->why = std::move(why);
+    state->ready_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    state->done = true;
+    state->cv.notify_all();
+  }).detach();
+}
+
+GpuStartup::~GpuStartup() = default;
+
+bool GpuStartup::started() const { return state_ != nullptr; }
+
+bool GpuStartup::done() const {
+  if (!state_) return true;
+  std::lock_guard<std::mutex> lock(state_->mutex);
+  return state_->done;
+}
+
+double GpuStartup::elapsed_ms() const {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0_).count();
+}
+
+double GpuStartup::ready_ms() const {
+  if (!state_) return 0;
+  std::lock_guard<std::mutex> lock(state_->mutex);
+  return state_->ready_ms;
+}
+
+std::unique_ptr<FrameRenderer> GpuStartup::take(std::string* why) {
+  if (!state_) {
+    if (why) *why = "the CPU backend was asked for";
+    return nullptr;
+  }
+  std::unique_lock<std::mutex> lock(state_->mutex);
+  state_->cv.wait(lock, [&] { return state_->done; });
+  if (!state_->renderer && why) *why = state_->why;
+  return std::move(state_->renderer);
 }
 
 }  // namespace mpvg

@@ -1,9 +1,11 @@
 // gpu::Context: the host-facing side of the CUDA executor.
 #include "gpu/context.cuh"
 
+#include <mutex>
+
 namespace mpvg::gpu {
 
-Context::Context() : impl_(std::make_unique<Impl>()) {}
+Context::Context() : impl_(std::make_unique<Impl>()) { use_retaining_pool(); }
 Context::~Context() = default;
 
 void Context::build(const EncodedScene& scene, int width, int height, const TreeParams& params, GpuTimes* times) {
@@ -121,6 +123,27 @@ size_t Context::tree_bytes() const {
   }
   if (m.host_paint) n += m.host_paint->bytes();
   return n;
+}
+
+void use_retaining_pool() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    int dev = 0;
+    MPVG_CUDA(cudaGetDevice(&dev));
+    cudaMemPool_t pool;
+    MPVG_CUDA(cudaDeviceGetDefaultMemPool(&pool, dev));
+    uint64_t never = UINT64_MAX;
+    MPVG_CUDA(cudaMemPoolSetAttribute(pool, cudaMemPoolAttrReleaseThreshold, &never));
+  });
+}
+
+void reserve_pool(size_t bytes) {
+  use_retaining_pool();
+  if (bytes == 0) return;
+  void* p = nullptr;
+  MPVG_CUDA(cudaMallocAsync(&p, bytes, cudaStreamPerThread));
+  MPVG_CUDA(cudaFreeAsync(p, cudaStreamPerThread));
+  MPVG_CUDA(cudaStreamSynchronize(cudaStreamPerThread));
 }
 
 std::string device_name() {

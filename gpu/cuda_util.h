@@ -21,7 +21,9 @@ inline void cuda_check(cudaError_t e, const char* what, const char* file, int li
 #define MPVG_LAUNCHED() ::mpvg::gpu::cuda_check(cudaGetLastError(), "kernel launch", __FILE__, __LINE__)
 
 // A device array that only grows. resize() keeps no contents when it has
-// to reallocate; grow_keep() copies them.
+// to reallocate; grow_keep() copies them. Memory comes from the device's
+// stream-ordered pool on the calling thread's default stream
+// (use_retaining_pool in gpu_backend.h keeps freed memory in the pool).
 template <class T>
 class DeviceBuffer {
  public:
@@ -45,7 +47,7 @@ class DeviceBuffer {
     if (n > cap_) {
       release();
       cap_ = std::max(n, cap_ + cap_ / 2);
-      MPVG_CUDA(cudaMalloc(&p_, std::max<size_t>(cap_, 1) * sizeof(T)));
+      MPVG_CUDA(cudaMallocAsync(&p_, std::max<size_t>(cap_, 1) * sizeof(T), cudaStreamPerThread));
     }
     n_ = n;
   }
@@ -78,7 +80,7 @@ class DeviceBuffer {
 
  private:
   void release() {
-    if (p_) cudaFree(p_);
+    if (p_) cudaFreeAsync(p_, cudaStreamPerThread);
     p_ = nullptr;
     cap_ = 0;
     n_ = 0;

@@ -99,4 +99,12 @@ class Context {
 // Name of the CUDA device in use, e.g. "NVIDIA H100 80GB HBM3".
 std::string device_name();
 
+// Device buffers come from the device's stream-ordered memory pool, which
+// keeps what is freed (release threshold: never) for the next allocation:
+// a buffer that grows, or a frame after a warm-up, does not map memory
+// again. reserve_pool grows the pool by `bytes` at once (one mapping
+// instead of one per buffer of the first frame).
+void use_retaining_pool();
+void reserve_pool(size_t bytes);
+
 }  // namespace mpvg::gpu

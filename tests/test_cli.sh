@@ -78,5 +78,32 @@ check "stdin: images in the current directory are read" cmp -s "$tmp/img2.png" "
 "$bin" --help | grep -q -- "--allow-read DIR"
 check "--help documents --allow-read" test $? = 0
 
+# Start-up: PNGs are written without OpenImageIO, which is opened (as a
+# module) only for the JPEG, GIF and WebP images a document holds.
+! ldd "$bin" | grep -qi openimageio
+check "svg2png does not link OpenImageIO" test $? = 0
+cp "$src/testdata/images/rgb.jpg" "$tmp/doc/"
+printf '<svg xmlns="http://www.w3.org/2000/svg" width="8" height="8"><image width="8" height="8" href="rgb.jpg"/></svg>' > "$tmp/doc/jpg.svg"
+err=$("$bin" --aa 1x32 "$tmp/doc/jpg.svg" "$tmp/jpg.png" 2>&1); rc=$?
+if grep -q "OpenImageIO" <<<"$err"; then
+  echo "skip JPEG through the OpenImageIO module: $err"
+else
+  check "a JPEG image is decoded (module loaded on demand)" test "$rc" = 0 -a -z "$err"
+  printf '<svg xmlns="http://www.w3.org/2000/svg" width="8" height="8"/>' > "$tmp/empty.svg"
+  "$bin" -q --aa 1x32 "$tmp/empty.svg" "$tmp/empty.png"
+  check "a JPEG image is drawn" differ "$tmp/jpg.png" "$tmp/empty.png"
+fi
+
+# --backend auto says in --stats which backend it chose and why; an
+# explicit CUDA request without a device is an error.
+err=$("$bin" --stats "$svg" "$tmp/s.png" 2>&1); rc=$?
+check "--stats: auto names its choice" grep -Eq "^auto chose (the CPU|CUDA): " <<<"$err"
+check "--stats: a wall time" grep -q "^wall " <<<"$err"
+if ! command -v nvidia-smi > /dev/null; then
+  err=$("$bin" --backend cuda "$svg" "$tmp/cuda.png" 2>&1); rc=$?
+  check "--backend cuda without a device: exit 1, says why" test "$rc" = 1 -a -n "$(grep "CUDA backend unavailable" <<<"$err")"
+  check "--backend cuda without a device: no output" test ! -e "$tmp/cuda.png"
+fi
+
 echo "$fails failed"
 test "$fails" = 0

@@ -286,7 +286,7 @@ std::shared_ptr<Image> decode(const std::string& name) {
   return im;
 }
 
-bool has_oiio() { return image_decoder_library().rfind("OpenImageIO", 0) == 0; }
+bool has_oiio() { return oiio_decoder_available(); }
 
 }  // namespace
 

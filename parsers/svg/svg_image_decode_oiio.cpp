@@ -1,5 +1,8 @@
-// Raster images decoded by OpenImageIO (MPVG_IMAGE_IO=oiio): PNG, JPEG,
-// GIF and WebP, from memory through an IOProxy; nothing touches the disk.
+// JPEG, GIF and WebP images decoded by OpenImageIO, from memory through an
+// IOProxy (nothing touches the disk). Built as a module of its own,
+// mpvg_oiio_decoder.so (MPVG_IMAGE_IO=oiio), that svg_image_decode.cpp
+// opens on first need: OpenImageIO's ~260 libraries cost 0.3 s to load,
+// which a process meeting only PNGs, or no images, does not pay.
 //
 // What OpenImageIO 2.4 hands back, checked against PIL: PNG (palette and
 // tRNS expanded) keeps straight alpha when asked with
@@ -12,12 +15,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
+#include <memory>
+#include <string>
+#include <vector>
 
-#include "parsers/svg/svg_resources.h"
-
-namespace mpvg::svg::detail {
+#include "core/scene.h"
 
 namespace {
+
+using mpvg::Image;
 
 // OpenImageIO's messages can span lines (one per error met): joined.
 std::shared_ptr<Image> fail(std::string* why, std::string msg) {
@@ -49,19 +56,8 @@ std::vector<T> to_rgba(const std::vector<T>& src, size_t pixels, int nc, bool as
   return out;
 }
 
-}  // namespace
-
-std::shared_ptr<Image> decode_raster(const std::vector<uint8_t>& bytes, std::string* why, size_t max_pixels) {
-  // The plug-in is chosen from the signature alone: OpenImageIO's own
-  // search would try every format, some by opening the name on disk.
-  const char* format = nullptr;
-  switch (sniff_image(bytes, "")) {
-    case ImageKind::Png: format = "png"; break;
-    case ImageKind::Jpeg: format = "jpeg"; break;
-    case ImageKind::Gif: format = "gif"; break;
-    case ImageKind::Webp: format = "webp"; break;
-    default: return fail(why, "not a PNG, JPEG, GIF or WebP image");
-  }
+std::shared_ptr<Image> decode(const std::vector<uint8_t>& bytes, const char* format, size_t max_pixels,
+                              std::string* why) {
   OIIO::Filesystem::IOMemReader mem(bytes.data(), bytes.size());
   OIIO::Filesystem::IOProxy* proxy = &mem;
   OIIO::ImageSpec config;
@@ -114,6 +110,26 @@ std::shared_ptr<Image> decode_raster(const std::vector<uint8_t>& bytes, std::str
   return image;
 }
 
-std::string image_decoder_library() { return "OpenImageIO " OIIO_VERSION_STRING; }
+}  // namespace
 
-}  // namespace mpvg::svg::detail
+// The module's entry points, looked up by name by svg_image_decode.cpp,
+// which holds their types. `format` is "jpeg", "gif" or "webp": the caller
+// chose it from the signature (OpenImageIO's own search would try every
+// format, some by opening the name on disk). Built by the same compiler
+// against the same libstdc++ as the caller, so C++ types cross.
+extern "C" __attribute__((visibility("default"))) const char* mpvg_oiio_version() {
+  return "OpenImageIO " OIIO_VERSION_STRING;
+}
+
+extern "C" __attribute__((visibility("default"))) void mpvg_oiio_decode(const std::vector<uint8_t>* bytes,
+                                                                       const char* format, size_t max_pixels,
+                                                                       std::shared_ptr<Image>* result,
+                                                                       std::string* why) {
+  // No exception may cross into the caller through a C-linkage function.
+  try {
+    *result = decode(*bytes, format, max_pixels, why);
+  } catch (const std::exception& e) {
+    *result = nullptr;
+    if (why) *why = std::string("cannot decode the ") + format + " image: " + e.what();
+  }
+}

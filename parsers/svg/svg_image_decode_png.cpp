@@ -1,6 +1,6 @@
-// Raster images decoded by libpng alone (MPVG_IMAGE_IO=png, for hosts
-// without OpenImageIO): PNG only, every colour type and depth, expanded to
-// RGBA at 8 bits, or 16 for 16-bit sources. Samples are kept as stored: no
+// PNG images decoded by libpng (every build; other formats go to
+// OpenImageIO's module, svg_image_decode.cpp): every colour type and depth,
+// expanded to RGBA at 8 bits, or 16 for 16-bit sources. Samples are kept as stored: no
 // gamma or ICC conversion, as resvg applies none.
 #include <png.h>
 
@@ -94,18 +94,11 @@ bool decode(PngDecoder* d) {
 
 }  // namespace
 
-std::shared_ptr<Image> decode_raster(const std::vector<uint8_t>& bytes, std::string* why, size_t max_pixels) {
+std::shared_ptr<Image> decode_png(const std::vector<uint8_t>& bytes, std::string* why, size_t max_pixels) {
   auto fail = [&](std::string msg) -> std::shared_ptr<Image> {
     if (why) *why = std::move(msg);
     return nullptr;
   };
-  switch (sniff_image(bytes, "")) {
-    case ImageKind::Png: break;
-    case ImageKind::Jpeg: return fail("JPEG images need OpenImageIO (built with MPVG_IMAGE_IO=png)");
-    case ImageKind::Gif: return fail("GIF images need OpenImageIO (built with MPVG_IMAGE_IO=png)");
-    case ImageKind::Webp: return fail("WebP images need OpenImageIO (built with MPVG_IMAGE_IO=png)");
-    default: return fail("not a PNG, JPEG, GIF or WebP image");
-  }
   PngDecoder d;
   d.bytes = &bytes;
   d.max_pixels = max_pixels;
@@ -118,6 +111,6 @@ std::shared_ptr<Image> decode_raster(const std::vector<uint8_t>& bytes, std::str
   return d.image;
 }
 
-std::string image_decoder_library() { return "libpng " PNG_LIBPNG_VER_STRING " (PNG only)"; }
+std::string png_decoder_library() { return "libpng " PNG_LIBPNG_VER_STRING; }
 
 }  // namespace mpvg::svg::detail

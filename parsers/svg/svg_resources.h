@@ -60,7 +60,20 @@ std::shared_ptr<Image> decode_raster(const std::vector<uint8_t>& bytes, std::str
 std::optional<std::string> gunzip(const std::vector<uint8_t>& bytes, std::string* why,
                                   size_t max_bytes = size_t(256) << 20);
 
-// The decoder library in use ("OpenImageIO 2.4.7" or "libpng 1.6.39 (PNG only)").
+// The decoders in use: "libpng 1.6.39" for PNG, then "; OpenImageIO 2.4.7
+// (module)" once the module for JPEG, GIF and WebP has been loaded, or why
+// it cannot be.
 std::string image_decoder_library();
+
+// Can JPEG, GIF and WebP be decoded? They are decoded by OpenImageIO in a
+// module (mpvg_oiio_decoder.so) opened on first need, so that a process
+// that meets no such image never loads OpenImageIO's ~260 libraries (0.3 s).
+// False, with *why, in builds without it (MPVG_IMAGE_IO=png) or when the
+// module cannot be loaded.
+bool oiio_decoder_available(std::string* why = nullptr);
+
+// The parts of decode_raster: PNG by libpng, the rest by the module.
+std::shared_ptr<Image> decode_png(const std::vector<uint8_t>& bytes, std::string* why, size_t max_pixels);
+std::string png_decoder_library();
 
 }  // namespace mpvg::svg::detail
