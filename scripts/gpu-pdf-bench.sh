@@ -2,8 +2,8 @@
 # pdf2png against mutool draw on the GPU host, at 150 dpi (issue 11's
 # yardstick), from .deps/pdf.tar.xz (scripts/gpu-pdf-deps.sh). Prints:
 #   - per-page stage times of pgfmanual p. 1 and utfsym p. 6 (pdf2png
-#     --stats, the page rendered 5 times in one process by one worker, the
-#     last shown: a warm, uncontended pipeline), and mutool's own time for
+#     --stats, the page rendered 5 times in one process by one worker and
+#     one render thread, the last shown: a warm, uncontended pipeline), and mutool's own time for
 #     the page (-s t);
 #   - whole-document throughput, pages per second, for pgfmanual and
 #     asymptote: pdf2png (one process, CUDA; three rounds), mutool draw in
@@ -40,7 +40,7 @@ if has pages; then
     doc=${spec%%:*}
     page=${spec##*:}
     echo "== $doc p. $page"
-    "$pdf2png" --backend cuda --stats --threads 1 --repeat 5 -r 150 -f "$page" -l "$page" "$d/corpus/$doc.pdf" "$out/p" 2>&1 |
+    "$pdf2png" --backend cuda --stats --threads 1 --render-threads 1 --repeat 5 -r 150 -f "$page" -l "$page" "$d/corpus/$doc.pdf" "$out/p" 2>&1 |
       grep -E "^page|^pdf2png" | tail -2
     for i in 1 2 3; do "$mutool" draw -s t -r 150 -o "$out/m.png" "$d/corpus/$doc.pdf" "$page" 2>&1 | grep -E "^page"; done
   done
