@@ -8,6 +8,7 @@
 // to 8 or 16 bits and written by mpvg's PNG encoder (no image library is
 // loaded unless the document holds a JPEG, GIF or WebP image).
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -26,8 +27,25 @@ using Clock = std::chrono::steady_clock;
 
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
+// Nanoseconds since the epoch at main()'s entry, and MPVG_T0 (the same
+// clock, set by a benchmark just before it starts the process), for
+// --stats' "process start".
+int64_t main_entry_ns = 0;
+
+int64_t epoch_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
 int run(const cli::Options& opt, GpuStartup& startup) {
   const auto t_start = Clock::now();
+  double waited_ms = 0;  // for CUDA's start-up
+  auto take_gpu = [&](std::string* why) {
+    const auto t = Clock::now();
+    std::unique_ptr<FrameRenderer> r = startup.take(why);
+    waited_ms += ms_since(t);
+    return r;
+  };
   // Strokes are converted for the output's pixels (tolerance, hairlines).
   svg::ParseOptions parse_options;
   parse_options.allowed_dirs = opt.allow_read;
@@ -54,7 +72,7 @@ int run(const cli::Options& opt, GpuStartup& startup) {
   std::string choice_note;
   if (opt.backend == Backend::Cuda) {
     std::string why;
-    gpu = startup.take(&why);
+    gpu = take_gpu(&why);
     if (!gpu) throw Error("CUDA backend unavailable: " + why);
   } else if (opt.backend == Backend::Auto) {
     CostInputs in;
@@ -66,7 +84,7 @@ int run(const cli::Options& opt, GpuStartup& startup) {
     in.cpu_threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     std::string why_not;
     if (startup.done()) {
-      gpu = startup.take(&why_not);
+      gpu = take_gpu(&why_not);
       in.gpu_possible = gpu != nullptr;
     } else {
       in.gpu_possible = true;
@@ -74,7 +92,7 @@ int run(const cli::Options& opt, GpuStartup& startup) {
     }
     BackendChoice choice = choose_backend(in);
     if (choice.backend == Backend::Cuda && !gpu) {
-      gpu = startup.take(&why_not);
+      gpu = take_gpu(&why_not);
       if (!gpu) choice.why = why_not;
     }
     if (choice.backend == Backend::Cpu || !gpu) {
@@ -101,12 +119,20 @@ int run(const cli::Options& opt, GpuStartup& startup) {
   else write_png_rgba8(opt.output, width, height, rgba8);
   const double write_ms = ms_since(t_write);
   if (opt.stats) {
+    if (const char* t0 = std::getenv("MPVG_T0"))
+      std::fprintf(stderr, "process start (exec to main) %.3f ms\n", (main_entry_ns - std::atoll(t0)) * 1e-6);
     std::fprintf(stderr, "parse %.3f ms (stroke %.3f ms, %zu strokes)\n", parse_ms, doc.stroke_seconds * 1e3,
                  doc.stroked_paths);
-    if (startup.started())
-      std::fprintf(stderr, "CUDA start-up %s\n",
-                   startup.done() ? (std::to_string(startup.ready_ms()) + " ms after program start").c_str()
-                                  : "still running (not waited for)");
+    if (startup.started()) {
+      if (!startup.done()) {
+        std::fprintf(stderr, "CUDA start-up still running (not waited for)\n");
+      } else {
+        std::string why;
+        if (!gpu) startup.take(&why);
+        std::fprintf(stderr, "CUDA start-up %.3f ms from main()%s%s; waited for it %.3f ms\n", startup.ready_ms(),
+                     why.empty() ? "" : ": ", why.c_str(), waited_ms);
+      }
+    }
     if (!choice_note.empty()) std::fprintf(stderr, "%s\n", choice_note.c_str());
     std::fprintf(stderr, "%s", cli::format_stats(stats).c_str());
     std::fprintf(stderr, "render + 8/16-bit conversion %.3f ms\nPNG %.3f ms\nwall %.3f ms\n", render_ms, write_ms,
@@ -118,6 +144,7 @@ int run(const cli::Options& opt, GpuStartup& startup) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  main_entry_ns = epoch_ns();
   cli::Options opt;
   try {
     if (!cli::parse(argc, argv, "svg2png", "svg", opt)) return 0;
