@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 
 #include "core/error.h"
 #include "parsers/svg/svg_values.h"
@@ -42,9 +43,21 @@ void usage(const char* program, const char* kind) {
       "                            repeatable. Only the document's own folder tree\n"
       "                            (the current directory's for '-') is readable\n"
       "                            otherwise; network URLs are never loaded\n"
+      "Batches (several inputs in one process, overlapped):\n"
+      "  -o OUTDIR IN1 IN2 ...     write OUTDIR/IN1.png, ... (OUTDIR is made if missing)\n"
+      "      --batch LIST          lines 'IN OUT' (tab or space separated); '-' reads\n"
+      "                            the list from standard input\n"
+      "      --shard I/N           only inputs I, I+N, I+2N, ... (0 <= I < N), e.g. one\n"
+      "                            Slurm array task each\n"
+      "      --devices LIST        CUDA devices to use, e.g. 0,1 (default: all)\n"
+      "      --threads N           worker threads: parsing, PNG (default: one per core)\n"
+      "      --render-threads N    render threads per device (default 2 with CUDA)\n"
       "Execution:\n"
-      "      --backend B           auto, cpu or cuda (default auto: cuda when a device\n"
-      "                            exists, else cpu)\n"
+      "      --backend B           auto, cpu or cuda (default auto: the CPU when it would\n"
+      "                            finish before CUDA is ready, else cuda; see --stats)\n"
+      "      --server              hand the job to a persistent renderer of this user\n"
+      "                            (started on first use, keeps CUDA warm; also\n"
+      "                            MPVG_SERVER=1); renders here if anything is wrong\n"
       "      --stats               print per-stage timings to standard error\n"
       "  -q, --quiet               no warnings\n"
       "      --help, --version\n",
@@ -151,6 +164,31 @@ bool parse(int argc, char** argv, const char* program, const char* kind, Options
       const std::string d = value();
       if (d.empty()) throw UsageError{"--allow-read needs a folder"};
       o.allow_read.push_back(d);
+    } else if (a == "--batch") {
+      o.batch_list = value();
+      if (o.batch_list.empty()) throw UsageError{"--batch needs a list file (or '-')"};
+    } else if (a == "--shard") {
+      const std::string v = value();
+      const size_t slash = v.find('/');
+      if (slash == std::string::npos) throw UsageError{"--shard takes I/N, e.g. 0/4"};
+      o.shard_count = static_cast<int>(integer(a, v.substr(slash + 1), 1, 1000000));
+      o.shard_index = static_cast<int>(integer(a, v.substr(0, slash), 0, o.shard_count - 1));
+    } else if (a == "--devices") {
+      const std::string v = value();
+      o.devices.clear();
+      if (v != "all") {
+        for (size_t pos = 0; pos <= v.size();) {
+          const size_t end = std::min(v.find(',', pos), v.size());
+          o.devices.push_back(static_cast<int>(integer(a, v.substr(pos, end - pos), 0, 1023)));
+          pos = end + 1;
+        }
+      }
+    } else if (a == "--threads") {
+      o.threads = static_cast<int>(integer(a, value(), 1, 4096));
+    } else if (a == "--render-threads") {
+      o.render_threads = static_cast<int>(integer(a, value(), 1, 64));
+    } else if (a == "--server") {
+      o.server = true;
     } else if (a == "--stats") {
       o.stats = true;
     } else if (a == "-q" || a == "--quiet") {
@@ -161,14 +199,22 @@ bool parse(int argc, char** argv, const char* program, const char* kind, Options
       o.positional.push_back(a);
     }
   }
-  if (o.output.empty() && o.positional.size() == 2) {
+  if (!o.batch_list.empty()) {
+    if (!o.positional.empty()) throw UsageError{"--batch takes its inputs from the list, not the command line"};
+    o.batch = true;
+  } else if (!o.output.empty() && !o.positional.empty()) {
+    std::error_code ec;
+    o.batch = o.positional.size() > 1 || o.output.back() == '/' || std::filesystem::is_directory(o.output, ec);
+  } else if (o.output.empty() && o.positional.size() == 2) {
     o.output = o.positional[1];
     o.positional.pop_back();
+  } else if (o.output.empty() && o.positional.size() > 2) {
+    throw UsageError{"several inputs need -o OUTDIR"};
   }
   if (o.pattern == PatternKind::BlueNoise && o.samples && *o.samples != 8 && *o.samples != 32 && *o.samples != 64)
     throw UsageError{"blue-noise patterns have 8, 32 or 64 samples; use --pattern stratified for " +
                      std::to_string(*o.samples)};
-  if (o.positional.size() != 1 || o.output.empty())
+  if (!o.batch && (o.positional.size() != 1 || o.output.empty()))
     throw UsageError{std::string("expected an input and an output file (usage: ") + program + " [OPTIONS] INPUT." +
                      kind + " OUTPUT.png)"};
   return true;

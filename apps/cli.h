@@ -31,6 +31,17 @@ struct Options {
   std::vector<std::string> allow_read;
   std::vector<std::string> positional;
   std::string output;  // -o; else the second positional argument
+
+  // Batches (svg2png): -o OUTDIR with several inputs (or one, when OUTDIR
+  // is a folder or ends in '/'), or --batch LIST (lines "IN OUT"; "-" reads
+  // the list from standard input).
+  bool batch = false;
+  std::string batch_list;
+  int shard_index = 0, shard_count = 1;  // --shard I/N: inputs I, I+N, I+2N, ... (0-based)
+  std::vector<int> devices;              // --devices 0,2 (default: every visible one)
+  int threads = 0;                       // --threads: worker threads (0: per core)
+  int render_threads = 0;                // --render-threads per device (0: default)
+  bool server = false;                   // --server: the persistent renderer (apps/server.h)
 };
 
 // Parses argv. Returns false after printing help or version (exit 0);

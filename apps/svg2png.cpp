@@ -12,10 +12,17 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <map>
 #include <thread>
+#include <unistd.h>
 
 #include "apps/cli.h"
 #include "apps/image_io.h"
+#include "apps/pipeline.h"
 #include "core/error.h"
 #include "gpu/backend.h"
 #include "parsers/svg/svg_parser.h"
@@ -141,6 +148,149 @@ int run(const cli::Options& opt, GpuStartup& startup) {
   return 0;
 }
 
+// The batch's (input, output) pairs: from --batch LIST or the command
+// line's inputs with -o OUTDIR, then --shard's share. Two inputs that would
+// write the same output are an error before anything renders.
+std::vector<std::pair<std::string, std::string>> batch_items(const cli::Options& opt) {
+  namespace fs = std::filesystem;
+  std::vector<std::pair<std::string, std::string>> items;
+  if (!opt.batch_list.empty()) {
+    std::string text;
+    if (opt.batch_list == "-") {
+      text.assign(std::istreambuf_iterator<char>(std::cin), std::istreambuf_iterator<char>());
+    } else {
+      std::ifstream f(opt.batch_list, std::ios::binary);
+      if (!f) throw Error("cannot read the batch list '" + opt.batch_list + "'");
+      text.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+    }
+    // A line: IN and OUT separated by a tab (names with spaces), else by
+    // the last run of spaces; blank lines and lines starting with '#' skip.
+    size_t line_no = 0;
+    for (size_t pos = 0; pos < text.size();) {
+      const size_t end = std::min(text.find('\n', pos), text.size());
+      std::string line = text.substr(pos, end - pos);
+      pos = end + 1;
+      line_no++;
+      while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t')) line.pop_back();
+      const size_t lead = line.find_first_not_of(" \t");
+      if (lead == std::string::npos || line[lead] == '#') continue;
+      line = line.substr(lead);
+      size_t cut = line.find('\t');
+      if (cut == std::string::npos) cut = line.find_last_of(' ');
+      const std::string in = cut == std::string::npos ? "" : line.substr(0, line.find_last_not_of(" \t", cut) + 1);
+      const std::string out = cut == std::string::npos ? "" : line.substr(line.find_first_not_of(" \t", cut));
+      if (in.empty() || out.empty())
+        throw Error(opt.batch_list + ":" + std::to_string(line_no) + ": expected 'IN OUT'");
+      items.emplace_back(in, out);
+    }
+  } else {
+    std::error_code ec;
+    fs::create_directories(opt.output, ec);
+    if (!fs::is_directory(opt.output)) throw Error("cannot make the output folder '" + opt.output + "'");
+    for (const std::string& in : opt.positional) {
+      if (in == "-") throw Error("standard input cannot be one of several inputs (use --batch)");
+      items.emplace_back(in, (fs::path(opt.output) / fs::path(in).stem()).string() + ".png");
+    }
+  }
+  std::vector<std::pair<std::string, std::string>> mine;
+  for (size_t i = 0; i < items.size(); i++)
+    if (int(i % opt.shard_count) == opt.shard_index) mine.push_back(items[i]);
+  std::map<std::string, std::string> seen;
+  int stdin_inputs = 0, stdout_outputs = 0;
+  for (const auto& [in, out] : mine) {
+    stdin_inputs += in == "-";
+    stdout_outputs += out == "-";
+    if (out == "-") continue;
+    std::error_code ec;
+    const std::string key = fs::weakly_canonical(fs::absolute(out), ec).string();
+    auto [it, fresh] = seen.emplace(ec ? out : key, in);
+    if (!fresh) throw Error("'" + it->second + "' and '" + in + "' would both be written to '" + out + "'");
+  }
+  if (stdin_inputs > 1 || stdout_outputs > 1)
+    throw Error("standard input and standard output can each be used by one item of a batch only");
+  return mine;
+}
+
+// svg2png -o OUTDIR IN... / --batch LIST: the pipeline of apps/pipeline.h,
+// parsing and PNG on worker threads, rendering on every device asked for.
+int run_batch(const cli::Options& opt, GpuStartup& startup) {
+  const std::vector<std::pair<std::string, std::string>> items = batch_items(opt);
+  if (items.empty()) return 0;
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  // The backend: with auto, CUDA wherever a device works (a batch
+  // amortises its start-up), the CPU otherwise.
+  std::unique_ptr<FrameRenderer> first;
+  std::string why;
+  if (opt.backend != Backend::Cpu) {
+    first = startup.take(&why);
+    if (!first && opt.backend == Backend::Cuda) throw Error("CUDA backend unavailable: " + why);
+  }
+  const bool cuda = first != nullptr;
+  std::vector<int> devices = opt.devices;
+  if (cuda && devices.empty())
+    for (int d = 0; d < cuda_device_count(); d++) devices.push_back(d);
+  if (cuda)
+    for (int d : devices)
+      if (d >= cuda_device_count())
+        throw Error("no CUDA device " + std::to_string(d) + " (" + std::to_string(cuda_device_count()) + " visible)");
+  if (cuda && (devices.empty() || devices[0] != first->device())) first.reset();  // warmed on another device
+  pipeline::Config c;
+  c.program = "svg2png";
+  c.unit = "file";
+  c.prepare_names[0] = "parsing";
+  c.prepare_names[1] = "stroking";
+  c.tickets = static_cast<int>(items.size());
+  // With CUDA: a few render threads per device (each its own context state
+  // and stream), the other cores prepare and write; on the CPU every render
+  // thread renders one file on one core (a batch's files are the
+  // parallelism).
+  const int per_device = opt.render_threads > 0 ? opt.render_threads : 2;
+  c.render_threads = cuda ? per_device * static_cast<int>(devices.size()) : (opt.render_threads > 0 ? opt.render_threads : cores);
+  c.workers = opt.threads > 0 ? opt.threads : cuda ? std::max(1, cores - c.render_threads) : cores;
+  c.progress = !opt.quiet && items.size() > 1 && isatty(fileno(stderr));
+  c.stats = opt.stats;
+  c.quiet = opt.quiet;
+  c.bits = opt.bits;
+  c.gamma = opt.gamma;
+  c.label = [&](int t) { return items[t].first; };
+  c.prepare = [&](int t, int) {
+    auto job = std::make_unique<pipeline::Job>();
+    job->label = items[t].first;
+    job->out = items[t].second;
+    svg::ParseOptions parse_options;
+    parse_options.allowed_dirs = opt.allow_read;
+    parse_options.view = [&opt](double w, double h) {
+      int width, height;
+      Affine view;
+      cli::output_geometry(opt, w, h, &width, &height, &view);
+      return view;
+    };
+    const auto t0 = Clock::now();
+    svg::ParseResult doc = svg::parse_svg_file(items[t].first, parse_options);
+    job->prepare_ms[1] = doc.stroke_seconds * 1e3;
+    job->prepare_ms[0] = ms_since(t0) - job->prepare_ms[1];
+    job->warnings = std::move(doc.warnings);
+    Affine view;
+    cli::output_geometry(opt, doc.scene.width, doc.scene.height, &job->width, &job->height, &view);
+    job->options = cli::render_options(opt, job->width, job->height, view);
+    if (!cuda) job->options.threads = 1;
+    job->plan = plan_render(job->options);
+    job->scene = encode_for(doc.scene, job->plan, job->options.gamma, &job->stats);
+    return job;
+  };
+  c.make_renderer = [&](int r) -> std::unique_ptr<FrameRenderer> {
+    if (!cuda) return std::make_unique<FrameRenderer>(Backend::Cpu);
+    if (r == 0 && first) return std::move(first);
+    return std::make_unique<FrameRenderer>(Backend::Cuda, devices[r % devices.size()]);
+  };
+  const pipeline::Result result = pipeline::run(c);
+  if (opt.stats) {
+    if (!cuda && opt.backend == Backend::Auto) std::fprintf(stderr, "svg2png: on the CPU: %s\n", why.c_str());
+    std::fprintf(stderr, "%s", pipeline::summary(c, result, cuda ? "cuda" : "cpu").c_str());
+  }
+  return result.failed ? 1 : 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -157,7 +307,7 @@ int main(int argc, char** argv) {
   GpuStartup startup(opt.backend, cli::render_options(opt, 64, 64, Affine{}));
   int status = 0;
   try {
-    status = run(opt, startup);
+    status = opt.batch ? run_batch(opt, startup) : run(opt, startup);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "svg2png: %s\n", e.what());
     status = 1;

@@ -13,6 +13,8 @@ namespace mpvg {
 
 // Is a CUDA device usable? If not, *why says why (one line).
 bool cuda_available(std::string* why = nullptr);
+// How many CUDA devices are visible (0 without CUDA).
+int cuda_device_count();
 
 // Renders with options.backend: Cpu, Cuda (throws mpvg::Error when no device
 // can be used), or Auto (CUDA when available, else the CPU, with a one-line
@@ -26,12 +28,16 @@ ImageF render(const Scene& scene, const RenderOptions& options, RenderStats* sta
 // thread).
 class FrameRenderer {
  public:
-  explicit FrameRenderer(Backend backend);  // throws mpvg::Error for Cuda without a device
+  // device: which CUDA device (0-based) its frames render on; each call
+  // makes it current on the calling thread. Throws mpvg::Error for Cuda
+  // without a device or with a device number out of range.
+  explicit FrameRenderer(Backend backend, int device = 0);
   ~FrameRenderer();
   FrameRenderer(const FrameRenderer&) = delete;
   FrameRenderer& operator=(const FrameRenderer&) = delete;
 
   Backend backend() const;  // Cpu or Cuda
+  int device() const;
   const std::string& note() const;  // why Auto chose the CPU, or empty
   // scene = encode_for(s, options): the image in the integration colour space.
   ImageF render(const EncodedScene& scene, const RenderOptions& options, RenderStats* stats = nullptr);

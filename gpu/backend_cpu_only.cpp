@@ -16,16 +16,19 @@ ImageF render(const Scene& scene, const RenderOptions& options, RenderStats* sta
   return img;
 }
 
+int cuda_device_count() { return 0; }
+
 struct FrameRenderer::Impl {
   std::string note;
 };
 
-FrameRenderer::FrameRenderer(Backend backend) : impl_(std::make_unique<Impl>()) {
+FrameRenderer::FrameRenderer(Backend backend, int) : impl_(std::make_unique<Impl>()) {
   if (backend == Backend::Cuda) throw Error("CUDA backend unavailable: mpvg was built without CUDA");
   if (backend == Backend::Auto) impl_->note = "no CUDA backend in this build; rendered on the CPU";
 }
 FrameRenderer::~FrameRenderer() = default;
 Backend FrameRenderer::backend() const { return Backend::Cpu; }
+int FrameRenderer::device() const { return 0; }
 const std::string& FrameRenderer::note() const { return impl_->note; }
 ImageF FrameRenderer::render(const EncodedScene& scene, const RenderOptions& options, RenderStats* stats) {
   ImageF img = render_cpu(scene, options, stats);

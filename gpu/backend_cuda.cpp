@@ -88,13 +88,23 @@ ImageF render(const Scene& scene, const RenderOptions& options, RenderStats* sta
   return render_cuda(scene, options, st);
 }
 
+int cuda_device_count() {
+  int n = 0;
+  if (cudaGetDeviceCount(&n) != cudaSuccess) {
+    cudaGetLastError();
+    return 0;
+  }
+  return n;
+}
+
 struct FrameRenderer::Impl {
   Backend backend = Backend::Cpu;
+  int device = 0;
   std::string note;
   std::unique_ptr<gpu::Context> ctx;
 };
 
-FrameRenderer::FrameRenderer(Backend backend) : impl_(std::make_unique<Impl>()) {
+FrameRenderer::FrameRenderer(Backend backend, int device) : impl_(std::make_unique<Impl>()) {
   if (backend == Backend::Cpu) return;
   std::string why;
   if (!cuda_available(&why)) {
@@ -118,10 +128,19 @@ FrameRenderer::FrameRenderer(Backend backend) : impl_(std::make_unique<Impl>()) 
                                              : cudaDeviceScheduleAuto;
     if (flags != cudaDeviceScheduleAuto) cudaSetDeviceFlags(flags);
   });
+  if (device < 0 || device >= cuda_device_count())
+    throw Error("no CUDA device " + std::to_string(device) + " (" + std::to_string(cuda_device_count()) +
+                " visible)");
+  impl_->device = device;
+  if (cudaSetDevice(device) != cudaSuccess) throw Error("cannot use CUDA device " + std::to_string(device));
   impl_->ctx = std::make_unique<gpu::Context>();
 }
-FrameRenderer::~FrameRenderer() = default;
+FrameRenderer::~FrameRenderer() {
+  // The buffers go back to their own device's pool.
+  if (impl_ && impl_->ctx) cudaSetDevice(impl_->device);
+}
 Backend FrameRenderer::backend() const { return impl_->backend; }
+int FrameRenderer::device() const { return impl_->device; }
 const std::string& FrameRenderer::note() const { return impl_->note; }
 
 ImageF FrameRenderer::render(const EncodedScene& scene, const RenderOptions& options, RenderStats* stats) {
@@ -129,6 +148,7 @@ ImageF FrameRenderer::render(const EncodedScene& scene, const RenderOptions& opt
   RenderStats& st = stats ? *stats : local;
   st.note = impl_->note;
   if (impl_->backend == Backend::Cpu) return render_cpu(scene, options, &st);
+  cudaSetDevice(impl_->device);
   return render_cuda(*impl_->ctx, scene, plan_render(options), options, st);
 }
 
@@ -139,6 +159,7 @@ std::vector<uint8_t> FrameRenderer::render_rgba8(const EncodedScene& scene, cons
   RenderStats& st = stats ? *stats : local;
   st.note = impl_->note;
   if (impl_->backend == Backend::Cpu) return to_rgba8(render_cpu(scene, plan, options, &st), options.gamma);
+  cudaSetDevice(impl_->device);
   gpu::Context& ctx = *impl_->ctx;
   return render_cuda(ctx, scene, plan, options, st, [&](const PaintRecord& bg, gpu::GpuTimes* gt) {
     return ctx.render_rgba8(plan.integ, plan.frame, bg, options.gamma == Gamma::Linear, gt, std::move(storage));
@@ -147,6 +168,7 @@ std::vector<uint8_t> FrameRenderer::render_rgba8(const EncodedScene& scene, cons
 
 void FrameRenderer::warm_up(const RenderOptions& like, size_t pool_bytes) {
   if (impl_->backend != Backend::Cuda) return;
+  cudaSetDevice(impl_->device);
   gpu::reserve_pool(pool_bytes);
   // A filled shape with lines and a curve, a clip and an even-odd fill:
   // abstraction, subdivision, pruning, the tree and the solid sampler.

@@ -126,15 +126,19 @@ size_t Context::tree_bytes() const {
 }
 
 void use_retaining_pool() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    int dev = 0;
-    MPVG_CUDA(cudaGetDevice(&dev));
-    cudaMemPool_t pool;
-    MPVG_CUDA(cudaDeviceGetDefaultMemPool(&pool, dev));
-    uint64_t never = UINT64_MAX;
-    MPVG_CUDA(cudaMemPoolSetAttribute(pool, cudaMemPoolAttrReleaseThreshold, &never));
-  });
+  // Once per device (the calling thread's current one).
+  static std::mutex mutex;
+  static std::vector<bool> done;
+  int dev = 0;
+  MPVG_CUDA(cudaGetDevice(&dev));
+  std::lock_guard<std::mutex> lock(mutex);
+  if (size_t(dev) < done.size() && done[dev]) return;
+  cudaMemPool_t pool;
+  MPVG_CUDA(cudaDeviceGetDefaultMemPool(&pool, dev));
+  uint64_t never = UINT64_MAX;
+  MPVG_CUDA(cudaMemPoolSetAttribute(pool, cudaMemPoolAttrReleaseThreshold, &never));
+  if (done.size() <= size_t(dev)) done.resize(dev + 1);
+  done[dev] = true;
 }
 
 void reserve_pool(size_t bytes) {

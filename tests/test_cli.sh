@@ -105,5 +105,34 @@ if ! command -v nvidia-smi > /dev/null; then
   check "--backend cuda without a device: no output" test ! -e "$tmp/cuda.png"
 fi
 
+# Batches: every good file written though one is broken, the exit status
+# says one failed; outputs byte for byte those of single runs; --shard
+# parts are disjoint and cover the batch; --batch reads "IN OUT" lines.
+mkdir -p "$tmp/batch"
+for f in arcs gradient_repeat; do cp "$src/testdata/golden/$f.svg" "$tmp/batch/"; done
+printf '<svg xmlns="http://www.w3.org/2000/svg" width="10" height="10"><rect' > "$tmp/batch/broken.svg"
+cp "$src/testdata/golden/arcs.svg" "$tmp/batch/zz.svg"
+err=$("$bin" -q -o "$tmp/bout" "$tmp"/batch/*.svg 2>&1); rc=$?
+check "batch with a broken file: exit 1" test "$rc" = 1
+check "batch with a broken file: names it" grep -q "broken.svg: XML parse error" <<<"$err"
+check "batch with a broken file: the others written" test -s "$tmp/bout/arcs.png" -a -s "$tmp/bout/gradient_repeat.png" -a -s "$tmp/bout/zz.png" -a ! -e "$tmp/bout/broken.png"
+"$bin" -q "$tmp/batch/gradient_repeat.svg" "$tmp/single.png"
+check "batch output is the single run's, byte for byte" cmp -s "$tmp/single.png" "$tmp/bout/gradient_repeat.png"
+for i in 0 1 2; do "$bin" -q -o "$tmp/shard$i" --shard $i/3 "$tmp"/batch/*.svg 2>/dev/null; done
+all=$(ls "$tmp/shard0" "$tmp/shard1" "$tmp/shard2" 2>/dev/null | grep png | sort | tr '\n' ' ')
+check "--shard: the parts cover the batch, each file once" test "$all" = "arcs.png gradient_repeat.png zz.png "
+check "--shard 0/3 takes inputs 0 and 3" test "$(ls "$tmp/shard0" | tr '\n' ' ')" = "arcs.png zz.png "
+printf '%s\t%s\n# a comment\n\n%s %s\n' "$tmp/batch/arcs.svg" "$tmp/l1.png" "$tmp/batch/zz.svg" "$tmp/l2.png" > "$tmp/list.txt"
+"$bin" -q --batch "$tmp/list.txt"; rc=$?
+check "--batch LIST: exit 0, both written as single runs write them" test "$rc" = 0 -a -s "$tmp/l1.png"
+check "--batch LIST: same bytes" cmp -s "$tmp/l1.png" "$tmp/bout/arcs.png"
+"$bin" -q --batch - < "$tmp/list.txt"; rc=$?
+check "--batch -: the list from standard input" test "$rc" = 0
+mkdir -p "$tmp/other"; cp "$tmp/batch/arcs.svg" "$tmp/other/"
+err=$("$bin" -q -o "$tmp/dup" "$tmp/batch/arcs.svg" "$tmp/other/arcs.svg" 2>&1); rc=$?
+check "batch: two inputs to one output is an error, nothing written" test "$rc" = 1 -a ! -e "$tmp/dup/arcs.png"
+"$bin" -q --shard 3/3 -o "$tmp/x" "$tmp/batch/arcs.svg" 2>/dev/null; rc=$?
+check "--shard out of range: exit 2" test "$rc" = 2
+
 echo "$fails failed"
 test "$fails" = 0

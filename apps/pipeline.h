@@ -1,0 +1,73 @@
+// The batch pipeline of pdf2png (pages) and svg2png (files): items flow
+// through one process so that no stage waits for another. Worker threads
+// prepare items (a PDF page interpreted and lowered, an SVG file parsed and
+// stroked) and encode their scenes; render threads (each with its own
+// FrameRenderer: with CUDA its own context state and stream, on the device
+// it was made for) render them, lowest index first; the workers turn
+// rendered images into PNG files before they take new items, so that at
+// most `workers + 4 + render threads` items are in flight. An item that
+// fails is reported and every other one is still written.
+#pragma once
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/renderer.h"
+#include "gpu/backend.h"
+
+namespace mpvg::pipeline {
+
+// One item on its way through.
+struct Job {
+  int index = 0;       // the ticket it came from: render order, messages
+  std::string label;   // "page 3", "tiger.svg": how messages name it
+  std::string out;     // the PNG's path ("-": standard output)
+  int width = 0, height = 0;
+  RenderOptions options;
+  RenderPlan plan;
+  EncodedScene scene;
+  ImageF image;               // --bits 16
+  std::vector<uint8_t> rgba8; // --bits 8 (converted where it was rendered)
+  RenderStats stats;
+  double prepare_ms[2] = {0, 0};  // the front end's two stages (Config::prepare_names)
+  double render_ms = 0, png_ms = 0, write_ms = 0;  // png_ms includes write_ms
+  std::vector<std::string> warnings;
+};
+
+struct Config {
+  const char* program = "";  // message prefix: "pdf2png"
+  const char* unit = "";     // "page", "file": progress line and summary
+  const char* prepare_names[2] = {"", ""};  // "interpretation", "lowering"
+  int tickets = 0;           // items to go through
+  int workers = 1;
+  int render_threads = 1;
+  bool progress = false;     // a progress line on standard error (a terminal)
+  bool stats = false;        // per-item stage times and the job's summary
+  bool quiet = false;        // no warnings
+  int bits = 8;
+  Gamma gamma = Gamma::Linear;
+  // Prepares ticket t (0-based) on worker w (0 .. workers-1): the scene
+  // encoded, options, plan, size and output path set. Throws on failure.
+  std::function<std::unique_ptr<Job>(int t, int w)> prepare;
+  // How a failure of prepare names ticket t ("page 4", "a.svg").
+  std::function<std::string(int t)> label;
+  // The renderer of render thread r, made on that thread (so that it binds
+  // its device there). Throws when it cannot be made.
+  std::function<std::unique_ptr<FrameRenderer>(int r)> make_renderer;
+};
+
+// What went through; totals in ms over the items that succeeded.
+struct Result {
+  int finished = 0, failed = 0;
+  double seconds = 0;
+  double prepare[2] = {0, 0}, encode = 0, preprocess = 0, render = 0, render_wall = 0, png = 0, write = 0;
+  double render_idle = 0, worker_idle = 0;  // time the threads waited for work
+};
+
+Result run(const Config& config);
+
+// The summary --stats prints after a job (two lines).
+std::string summary(const Config& config, const Result& r, const char* backend);
+
+}  // namespace mpvg::pipeline
