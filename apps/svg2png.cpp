@@ -17,12 +17,14 @@
 #include <iostream>
 #include <iterator>
 #include <map>
+#include <optional>
 #include <thread>
 #include <unistd.h>
 
 #include "apps/cli.h"
 #include "apps/image_io.h"
 #include "apps/pipeline.h"
+#include "apps/server.h"
 #include "core/error.h"
 #include "gpu/backend.h"
 #include "parsers/svg/svg_parser.h"
@@ -44,12 +46,37 @@ int64_t epoch_ns() {
       .count();
 }
 
-int run(const cli::Options& opt, GpuStartup& startup) {
+// CUDA's start-up and, once it has finished, the renderer it made: kept
+// for every job of the process (the persistent renderer's too).
+class Renderers {
+ public:
+  Renderers(Backend backend, const RenderOptions& like) : startup_(backend, like) {}
+  GpuStartup& startup() { return startup_; }
+  // The CUDA renderer, waiting for the start-up; nullptr with *why when
+  // there is none.
+  FrameRenderer* cuda(std::string* why) {
+    if (!taken_) {
+      renderer_ = startup_.take(&why_);
+      taken_ = true;
+    }
+    if (!renderer_ && why) *why = why_;
+    return renderer_.get();
+  }
+
+ private:
+  GpuStartup startup_;
+  std::unique_ptr<FrameRenderer> renderer_;
+  bool taken_ = false;
+  std::string why_;
+};
+
+int run(const cli::Options& opt, Renderers& renderers) {
   const auto t_start = Clock::now();
+  GpuStartup& startup = renderers.startup();
   double waited_ms = 0;  // for CUDA's start-up
   auto take_gpu = [&](std::string* why) {
     const auto t = Clock::now();
-    std::unique_ptr<FrameRenderer> r = startup.take(why);
+    FrameRenderer* r = renderers.cuda(why);
     waited_ms += ms_since(t);
     return r;
   };
@@ -75,7 +102,7 @@ int run(const cli::Options& opt, GpuStartup& startup) {
   const EncodedScene enc = encode_for(doc.scene, plan, ro.gamma, &stats);
 
   // The backend.
-  std::unique_ptr<FrameRenderer> gpu;
+  FrameRenderer* gpu = nullptr;
   std::string choice_note;
   if (opt.backend == Backend::Cuda) {
     std::string why;
@@ -103,7 +130,7 @@ int run(const cli::Options& opt, GpuStartup& startup) {
       if (!gpu) choice.why = why_not;
     }
     if (choice.backend == Backend::Cpu || !gpu) {
-      gpu.reset();
+      gpu = nullptr;
       choice_note = "auto chose the CPU: " + (in.gpu_possible ? choice.why : why_not);
     } else {
       choice_note = "auto chose CUDA: " + choice.why;
@@ -126,6 +153,7 @@ int run(const cli::Options& opt, GpuStartup& startup) {
   else write_png_rgba8(opt.output, width, height, rgba8);
   const double write_ms = ms_since(t_write);
   if (opt.stats) {
+    if (server::serving()) std::fprintf(stderr, "persistent renderer: pid %d\n", static_cast<int>(getpid()));
     if (const char* t0 = std::getenv("MPVG_T0"))
       std::fprintf(stderr, "process start (exec to main) %.3f ms\n", (main_entry_ns - std::atoll(t0)) * 1e-6);
     std::fprintf(stderr, "parse %.3f ms (stroke %.3f ms, %zu strokes)\n", parse_ms, doc.stroke_seconds * 1e3,
@@ -135,8 +163,8 @@ int run(const cli::Options& opt, GpuStartup& startup) {
         std::fprintf(stderr, "CUDA start-up still running (not waited for)\n");
       } else {
         std::string why;
-        if (!gpu) startup.take(&why);
-        std::fprintf(stderr, "CUDA start-up %.3f ms from main()%s%s; waited for it %.3f ms\n", startup.ready_ms(),
+        if (!gpu) renderers.cuda(&why);
+        std::fprintf(stderr, "CUDA start-up took %.3f ms%s%s; waited for it %.3f ms\n", startup.ready_ms(),
                      why.empty() ? "" : ": ", why.c_str(), waited_ms);
       }
     }
@@ -213,19 +241,18 @@ std::vector<std::pair<std::string, std::string>> batch_items(const cli::Options&
 
 // svg2png -o OUTDIR IN... / --batch LIST: the pipeline of apps/pipeline.h,
 // parsing and PNG on worker threads, rendering on every device asked for.
-int run_batch(const cli::Options& opt, GpuStartup& startup) {
+int run_batch(const cli::Options& opt, Renderers& renderers) {
   const std::vector<std::pair<std::string, std::string>> items = batch_items(opt);
   if (items.empty()) return 0;
   const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   // The backend: with auto, CUDA wherever a device works (a batch
   // amortises its start-up), the CPU otherwise.
-  std::unique_ptr<FrameRenderer> first;
   std::string why;
+  bool cuda = false;
   if (opt.backend != Backend::Cpu) {
-    first = startup.take(&why);
-    if (!first && opt.backend == Backend::Cuda) throw Error("CUDA backend unavailable: " + why);
+    cuda = renderers.cuda(&why) != nullptr;
+    if (!cuda && opt.backend == Backend::Cuda) throw Error("CUDA backend unavailable: " + why);
   }
-  const bool cuda = first != nullptr;
   std::vector<int> devices = opt.devices;
   if (cuda && devices.empty())
     for (int d = 0; d < cuda_device_count(); d++) devices.push_back(d);
@@ -233,7 +260,6 @@ int run_batch(const cli::Options& opt, GpuStartup& startup) {
     for (int d : devices)
       if (d >= cuda_device_count())
         throw Error("no CUDA device " + std::to_string(d) + " (" + std::to_string(cuda_device_count()) + " visible)");
-  if (cuda && (devices.empty() || devices[0] != first->device())) first.reset();  // warmed on another device
   pipeline::Config c;
   c.program = "svg2png";
   c.unit = "file";
@@ -279,8 +305,9 @@ int run_batch(const cli::Options& opt, GpuStartup& startup) {
     return job;
   };
   c.make_renderer = [&](int r) -> std::unique_ptr<FrameRenderer> {
+    // Renderers of their own (the start-up's stays for the next job): the
+    // kernels are loaded and the memory pool is warm already.
     if (!cuda) return std::make_unique<FrameRenderer>(Backend::Cpu);
-    if (r == 0 && first) return std::move(first);
     return std::make_unique<FrameRenderer>(Backend::Cuda, devices[r % devices.size()]);
   };
   const pipeline::Result result = pipeline::run(c);
@@ -291,10 +318,8 @@ int run_batch(const cli::Options& opt, GpuStartup& startup) {
   return result.failed ? 1 : 0;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  main_entry_ns = epoch_ns();
+// svg2png's whole job, in-process or inside the persistent renderer.
+int svg2png_main(int argc, char** argv, std::unique_ptr<Renderers>& renderers) {
   cli::Options opt;
   try {
     if (!cli::parse(argc, argv, "svg2png", "svg", opt)) return 0;
@@ -303,19 +328,38 @@ int main(int argc, char** argv) {
     return 2;
   }
   // Begun before anything else: the driver's initialisation overlaps the
-  // document's reading and parsing.
-  GpuStartup startup(opt.backend, cli::render_options(opt, 64, 64, Affine{}));
-  int status = 0;
+  // document's reading and parsing. The persistent renderer starts it
+  // with its first job and keeps it.
+  if (!renderers) renderers = std::make_unique<Renderers>(opt.backend, cli::render_options(opt, 64, 64, Affine{}));
   try {
-    status = opt.batch ? run_batch(opt, startup) : run(opt, startup);
+    return opt.batch ? run_batch(opt, *renderers) : run(opt, *renderers);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "svg2png: %s\n", e.what());
-    status = 1;
+    return 1;
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  main_entry_ns = epoch_ns();
+  std::unique_ptr<Renderers> renderers;
+  if (argc == 2 && std::string(argv[1]) == server::kServeArgument) {
+    // The persistent renderer: CUDA starts at once, jobs come later.
+    renderers = std::make_unique<Renderers>(Backend::Auto, cli::render_options(cli::Options{}, 64, 64, Affine{}));
+    const int status = server::serve([&](int job_argc, char** job_argv) {
+      main_entry_ns = epoch_ns();
+      return svg2png_main(job_argc, job_argv, renderers);
+    });
+    std::fflush(nullptr);
+    std::_Exit(status);
+  }
+  if (server::requested(argc, argv))
+    if (const std::optional<int> status = server::forward(argc, argv)) return *status;
+  const int status = svg2png_main(argc, argv, renderers);
   // A start-up still running is not waited for (GpuStartup: no exit()).
-  if (!startup.done()) {
-    std::fflush(stdout);
-    std::fflush(stderr);
+  if (renderers && !renderers->startup().done()) {
+    std::fflush(nullptr);
     std::_Exit(status);
   }
   return status;
