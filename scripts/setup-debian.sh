@@ -13,6 +13,7 @@ PACKAGES=(
   libjpeg-dev libharfbuzz-dev zlib1g-dev
   catch2
   libpng-dev libdeflate-dev
+  python3-dev python3-numpy pybind11-dev
 )
 
 missing=()

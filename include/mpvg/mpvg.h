@@ -1,0 +1,189 @@
+// mpvg as a library: SVG documents rendered to RGBA pixels by the same
+// pipeline as svg2png, byte for byte what svg2png writes with the same
+// options on the same backend. This is the only header a program
+// includes; it needs the C++17 standard library and nothing else (no
+// CUDA, no XML parser, no internal mpvg header).
+//
+//   #include <mpvg/mpvg.h>
+//
+//   mpvg::Renderer renderer;                      // auto: CUDA if a device exists
+//   mpvg::SvgDocument doc = mpvg::SvgDocument::from_file("drawing.svg");
+//   mpvg::RenderSettings s;
+//   s.width = 512;                                // as svg2png -w 512
+//   mpvg::Bitmap image = renderer.render(doc, s);  // image.pixels8: RGBA rows
+//
+// CMake: find_package(mpvg REQUIRED) and
+// target_link_libraries(app PRIVATE mpvg::mpvg).
+//
+// Every failure (unreadable file, malformed XML, impossible size, a CUDA
+// backend asked for without a device) throws mpvg::Error with a one-line
+// message; running out of memory throws std::bad_alloc.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#if defined(__GNUC__) || defined(__clang__)
+#define MPVG_API __attribute__((visibility("default")))
+#else
+#define MPVG_API
+#endif
+
+namespace mpvg {
+
+// The library's one exception type. It is the very class the pipeline
+// throws inside the library (core/error.h; the definitions are identical,
+// and lib/mpvg_api.cpp, which sees both, skips this one), so a failure
+// deep in the parser reaches the caller unchanged.
+#ifndef MPVG_INTERNAL_ERROR_DEFINED
+class Error : public std::runtime_error {
+ public:
+  explicit Error(const std::string& what) : std::runtime_error(what) {}
+};
+#endif
+
+// Where frames are rendered. Auto takes CUDA when a device can be used and
+// the CPU otherwise (Renderer::note() says why): a Renderer pays CUDA's
+// start-up once, so unlike svg2png's auto it does not weigh the start-up
+// against the size of one frame. Cuda without a device is an error. The
+// CPU backend is the reference: both give the same pixels with the box
+// filters (1x8, 1x32) and agree within 1/255 with the wide one.
+enum class Device { Auto, Cpu, Cuda };
+
+// The paper's antialiasing modes (svg2png --aa).
+enum class Antialiasing {
+  Box1x8,          // "1x8": box filter, 8 stratified samples per pixel
+  Box1x32,         // "1x32": box filter, 32 stratified samples per pixel
+  Cardinal4x4x32,  // "4x4x32": cardinal cubic B-spline over 4x4 pixels, 32 blue-noise samples each
+};
+
+// The colour space samples are integrated in (svg2png --gamma): linear
+// light, or sRGB values as most renderers blend.
+enum class GammaMode { Linear, Srgb };
+
+// A colour with straight (not premultiplied) alpha, sRGB components in [0, 1].
+struct MPVG_API Color {
+  float r = 0, g = 0, b = 0, a = 0;
+  // Any CSS colour syntax ("white", "#ff8000", "rgba(0, 0, 255, 0.5)", ...),
+  // as svg2png -b reads it. Throws mpvg::Error for text it cannot read.
+  static Color parse(std::string_view css);
+};
+
+// How a document becomes pixels; the defaults are svg2png's.
+struct RenderSettings {
+  // Output size, as svg2png's -w, -h, -z and -a: width alone or height
+  // alone keeps the document's aspect ratio (the other side rounded), both
+  // stretch to exactly that size unless keep_aspect_ratio fits the
+  // document inside them; without either, the document's own size (CSS
+  // pixels) times zoom. Sizes must be positive, at most 32768 pixels.
+  std::optional<double> width, height;
+  double zoom = 1;
+  bool keep_aspect_ratio = false;
+
+  Antialiasing antialiasing = Antialiasing::Cardinal4x4x32;
+  std::uint32_t seed = 0;  // of the sample pattern (svg2png --seed)
+  GammaMode gamma = GammaMode::Linear;
+  Color background{0, 0, 0, 0};  // transparent
+  int bits = 8;                  // per channel: 8 or 16
+};
+
+// Pixel dimensions of an output.
+struct OutputSize {
+  int width = 0, height = 0;
+};
+
+// A rendered image: rows top to bottom, pixels RGBA with straight alpha,
+// sRGB-encoded, exactly what svg2png writes into its PNG (same options,
+// same backend). For 8 bits the pixels are in pixels8, for 16 bits in
+// pixels16 (native byte order); the other vector is empty.
+struct Bitmap {
+  int width = 0, height = 0, bits = 8;
+  std::vector<std::uint8_t> pixels8;
+  std::vector<std::uint16_t> pixels16;
+
+  // Bytes from one row to the next.
+  std::size_t stride() const { return static_cast<std::size_t>(width) * 4 * (bits / 8); }
+};
+
+// An SVG document. It is parsed when first needed, for the output size of
+// that need, and again only when a render asks for another size (strokes
+// are converted to fills for the output's pixels, so the parsed scene
+// depends on the scale): rendering a document once parses it once, as
+// svg2png does. Images it references are read from data: URIs and from
+// files in its own folder's tree or in allowed_dirs (real paths, symbolic
+// links resolved), never from the network. Safe to share between threads.
+class MPVG_API SvgDocument {
+ public:
+  // Reads the file (its folder is where relative references resolve).
+  // Throws mpvg::Error "cannot read 'PATH': reason".
+  static SvgDocument from_file(const std::string& path, const std::vector<std::string>& allowed_dirs = {});
+  // SVG text in memory (copied); base_dir is where its relative references
+  // resolve and whose tree it may read.
+  static SvgDocument from_data(std::string_view svg, const std::string& base_dir = ".",
+                               const std::vector<std::string>& allowed_dirs = {});
+
+  ~SvgDocument();
+  SvgDocument(SvgDocument&&) noexcept;
+  SvgDocument& operator=(SvgDocument&&) noexcept;
+
+  // These functions, like Renderer::render, parse the document when it has
+  // not been parsed yet, and then throw mpvg::Error for a malformed one:
+  // "XML parse error at line N: ...", or a message naming a non-SVG root
+  // or an invalid size.
+
+  // Intrinsic size in CSS pixels (the root's width and height, or its
+  // viewBox's).
+  double width() const;
+  double height() const;
+  // The output size settings give for this document (what render returns).
+  // Throws mpvg::Error for invalid settings.
+  OutputSize output_size(const RenderSettings& settings) const;
+  // One short line per feature rendered approximately or not at all
+  // (text, filters, ...), deduplicated, from the latest parse.
+  std::vector<std::string> warnings() const;
+
+ private:
+  friend class Renderer;
+  struct Impl;
+  explicit SvgDocument(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+// Renders documents one after another on one backend, keeping its state
+// between them: with CUDA the context, the kernels and the device buffers
+// (which grow to the largest frame) live as long as the Renderer. Not
+// thread-safe: one Renderer per rendering thread.
+class MPVG_API Renderer {
+ public:
+  // Throws mpvg::Error for Device::Cuda without a usable device.
+  explicit Renderer(Device device = Device::Auto);
+  ~Renderer();
+  Renderer(Renderer&&) noexcept;
+  Renderer& operator=(Renderer&&) noexcept;
+
+  // The backend in use: Cpu or Cuda (Auto resolved at construction).
+  Device device() const;
+  // Why Auto chose the CPU, or empty.
+  std::string note() const;
+
+  // Renders doc into a new bitmap of doc.output_size(settings).
+  Bitmap render(const SvgDocument& doc, const RenderSettings& settings = {});
+  // Renders into the caller's memory: height rows of width RGBA pixels
+  // (uint8_t or, for 16 bits, uint16_t channels), row r starting at byte
+  // r * stride of pixels. width and height must be doc.output_size(settings)
+  // and stride at least width * 4 * bits / 8 bytes (and even for 16 bits);
+  // bytes between rows are left alone.
+  void render(const SvgDocument& doc, const RenderSettings& settings, void* pixels, std::size_t stride, int width,
+              int height);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace mpvg

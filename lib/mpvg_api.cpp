@@ -1,0 +1,293 @@
+// The public API (include/mpvg/mpvg.h) over the internal pipeline. Each
+// step is the one svg2png takes, in the same order and with the same
+// helpers (cli::output_geometry, cli::render_options from apps/cli.cpp,
+// which this library compiles too), so that a Bitmap is byte for byte the
+// PNG's pixels.
+#include "core/error.h"
+// mpvg::Error comes from core/error.h here; the public header's identical
+// definition is skipped.
+#define MPVG_INTERNAL_ERROR_DEFINED 1
+#include "mpvg/mpvg.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <mutex>
+#include <new>
+#include <type_traits>
+#include <utility>
+
+#include "apps/cli.h"
+#include "core/renderer.h"
+#include "gpu/backend.h"
+#include "parsers/svg/svg_parser.h"
+#include "parsers/svg/svg_values.h"
+
+#define MPVG_HIDDEN __attribute__((visibility("hidden")))
+
+namespace mpvg {
+
+// The public header promises that its Error is this class; a change to
+// core/error.h that breaks the promise should stop the build here.
+static_assert(std::is_base_of_v<std::runtime_error, Error> && sizeof(Error) == sizeof(std::runtime_error) &&
+              std::is_constructible_v<Error, const std::string&> && !std::is_default_constructible_v<Error>);
+
+namespace {
+
+// Runs f, turning any other std::exception (from the standard library or
+// an image decoder) into mpvg::Error, as the public header documents.
+template <class F>
+auto guarded(F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const Error&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw Error(e.what());
+  }
+}
+
+const char* preset_name(Antialiasing aa) {
+  switch (aa) {
+    case Antialiasing::Box1x8: return "1x8";
+    case Antialiasing::Box1x32: return "1x32";
+    case Antialiasing::Cardinal4x4x32: return "4x4x32";
+  }
+  throw Error("unknown antialiasing mode");
+}
+
+// The settings as svg2png's parsed command line, checked as its option
+// parser checks them.
+cli::Options to_cli(const RenderSettings& s) {
+  cli::Options o;
+  auto positive = [](double v, const char* what) {
+    if (!(std::isfinite(v) && v > 0)) throw Error(std::string("the ") + what + " must be positive");
+  };
+  if (s.width) positive(*s.width, "width");
+  if (s.height) positive(*s.height, "height");
+  positive(s.zoom, "zoom");
+  o.width = s.width;
+  o.height = s.height;
+  o.zoom = s.zoom;
+  o.keep_aspect = s.keep_aspect_ratio;
+  const Color& c = s.background;
+  for (float v : {c.r, c.g, c.b, c.a})
+    if (!(v >= 0 && v <= 1)) throw Error("background components must lie in [0, 1]");
+  o.background = RGBA{c.r, c.g, c.b, c.a};
+  o.preset = preset_name(s.antialiasing);
+  o.seed = s.seed;
+  switch (s.gamma) {
+    case GammaMode::Linear: o.gamma = Gamma::Linear; break;
+    case GammaMode::Srgb: o.gamma = Gamma::Srgb; break;
+    default: throw Error("unknown gamma mode");
+  }
+  if (s.bits != 8 && s.bits != 16) throw Error("bits must be 8 or 16, not " + std::to_string(s.bits));
+  o.bits = s.bits;
+  return o;
+}
+
+bool same_view(const Affine& x, const Affine& y) {
+  return x.a == y.a && x.b == y.b && x.c == y.c && x.d == y.d && x.e == y.e && x.f == y.f;
+}
+
+// What svg::parse_svg_file reads, kept so that the document can be parsed
+// again for another output size.
+std::string read_file(const std::string& path) {
+  auto fail = [&](int err) { return Error("cannot read '" + path + "': " + std::strerror(err)); };
+  FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) throw fail(errno);
+  std::string data;
+  char buf[1 << 16];
+  size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) data.append(buf, n);
+  const bool failed = std::ferror(f);
+  const int err = errno;
+  std::fclose(f);
+  if (failed) throw fail(err);
+  return data;
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------ Color
+
+Color Color::parse(std::string_view css) {
+  const std::optional<RGBA> c = svg::detail::parse_color(css);
+  if (!c) throw Error("cannot parse the colour '" + std::string(css) + "'");
+  return Color{c->r, c->g, c->b, c->a};
+}
+
+// ------------------------------------------------------------ SvgDocument
+
+// The Impl classes are nested in exported classes, which would export them
+// too; they are the library's own.
+struct MPVG_HIDDEN SvgDocument::Impl {
+  std::string text, base_dir;
+  std::vector<std::string> allowed_dirs;
+
+  // The latest parse and the scene-to-pixel transform it was made for.
+  // Renders hold their own reference, so a parse for another size on
+  // another thread never pulls a scene from under an encoder.
+  std::mutex mutex;
+  std::shared_ptr<const svg::ParseResult> parsed;
+  Affine parsed_view;
+
+  // The document parsed for o's output (svg2png's steps: strokes converted
+  // for the view the output geometry gives), and that geometry.
+  std::shared_ptr<const svg::ParseResult> parse_for(const cli::Options& o, int* width, int* height, Affine* view) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (parsed) {
+      cli::output_geometry(o, parsed->scene.width, parsed->scene.height, width, height, view);
+      if (same_view(*view, parsed_view)) return parsed;
+    }
+    svg::ParseOptions po;
+    po.allowed_dirs = allowed_dirs;
+    po.view = [&o](double w, double h) {
+      int pw, ph;
+      Affine v;
+      cli::output_geometry(o, w, h, &pw, &ph, &v);
+      return v;
+    };
+    auto result = std::make_shared<const svg::ParseResult>(svg::parse_svg_string(text, base_dir, po));
+    cli::output_geometry(o, result->scene.width, result->scene.height, width, height, view);
+    parsed = std::move(result);
+    parsed_view = *view;
+    return parsed;
+  }
+
+  // The latest parse, or one at the document's own size.
+  std::shared_ptr<const svg::ParseResult> any_parse() {
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (parsed) return parsed;
+    }
+    int w, h;
+    Affine view;
+    return parse_for(cli::Options{}, &w, &h, &view);
+  }
+};
+
+SvgDocument::SvgDocument(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+SvgDocument::~SvgDocument() = default;
+SvgDocument::SvgDocument(SvgDocument&&) noexcept = default;
+SvgDocument& SvgDocument::operator=(SvgDocument&&) noexcept = default;
+
+SvgDocument SvgDocument::from_file(const std::string& path, const std::vector<std::string>& allowed_dirs) {
+  return guarded([&] {
+    auto impl = std::make_unique<Impl>();
+    impl->text = read_file(path);
+    // The folder parse_svg_file resolves against.
+    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    impl->base_dir = dir.empty() ? std::string(".") : dir.string();
+    impl->allowed_dirs = allowed_dirs;
+    return SvgDocument(std::move(impl));
+  });
+}
+
+SvgDocument SvgDocument::from_data(std::string_view svg, const std::string& base_dir,
+                                   const std::vector<std::string>& allowed_dirs) {
+  return guarded([&] {
+    auto impl = std::make_unique<Impl>();
+    impl->text = std::string(svg);
+    impl->base_dir = base_dir.empty() ? std::string(".") : base_dir;
+    impl->allowed_dirs = allowed_dirs;
+    return SvgDocument(std::move(impl));
+  });
+}
+
+double SvgDocument::width() const {
+  return guarded([&] { return impl_->any_parse()->scene.width; });
+}
+
+double SvgDocument::height() const {
+  return guarded([&] { return impl_->any_parse()->scene.height; });
+}
+
+OutputSize SvgDocument::output_size(const RenderSettings& settings) const {
+  return guarded([&] {
+    const cli::Options o = to_cli(settings);
+    const std::shared_ptr<const svg::ParseResult> doc = impl_->any_parse();
+    OutputSize size;
+    Affine view;
+    cli::output_geometry(o, doc->scene.width, doc->scene.height, &size.width, &size.height, &view);
+    return size;
+  });
+}
+
+std::vector<std::string> SvgDocument::warnings() const {
+  return guarded([&] { return impl_->any_parse()->warnings; });
+}
+
+// --------------------------------------------------------------- Renderer
+
+struct MPVG_HIDDEN Renderer::Impl {
+  std::unique_ptr<FrameRenderer> frames;
+
+  // Renders doc as svg2png does; `expect`, when given, is the size the
+  // caller's buffer has, checked before any rendering.
+  Bitmap render(SvgDocument::Impl& doc, const RenderSettings& settings, const OutputSize* expect) {
+    const cli::Options o = to_cli(settings);
+    int width, height;
+    Affine view;
+    const std::shared_ptr<const svg::ParseResult> parsed = doc.parse_for(o, &width, &height, &view);
+    if (expect && (expect->width != width || expect->height != height))
+      throw Error("the buffer is " + std::to_string(expect->width) + "x" + std::to_string(expect->height) +
+                  " pixels, the output " + std::to_string(width) + "x" + std::to_string(height));
+    const RenderOptions ro = cli::render_options(o, width, height, view);
+    Bitmap out;
+    out.width = width;
+    out.height = height;
+    out.bits = o.bits;
+    if (o.bits == 16) {
+      const EncodedScene enc = encode_for(parsed->scene, ro);
+      out.pixels16 = to_rgba16(frames->render(enc, ro), ro.gamma);
+    } else {
+      // The same bytes as to_rgba8(render(...)) (gpu/backend.h), converted
+      // on the device with CUDA.
+      const RenderPlan plan = plan_render(ro);
+      const EncodedScene enc = encode_for(parsed->scene, plan, ro.gamma);
+      out.pixels8 = frames->render_rgba8(enc, plan, ro);
+    }
+    return out;
+  }
+};
+
+Renderer::Renderer(Device device) : impl_(std::make_unique<Impl>()) {
+  guarded([&] {
+    const Backend b = device == Device::Cpu ? Backend::Cpu : device == Device::Cuda ? Backend::Cuda : Backend::Auto;
+    impl_->frames = std::make_unique<FrameRenderer>(b);
+  });
+}
+Renderer::~Renderer() = default;
+Renderer::Renderer(Renderer&&) noexcept = default;
+Renderer& Renderer::operator=(Renderer&&) noexcept = default;
+
+Device Renderer::device() const { return impl_->frames->backend() == Backend::Cuda ? Device::Cuda : Device::Cpu; }
+
+std::string Renderer::note() const { return impl_->frames->note(); }
+
+Bitmap Renderer::render(const SvgDocument& doc, const RenderSettings& settings) {
+  return guarded([&] { return impl_->render(*doc.impl_, settings, nullptr); });
+}
+
+void Renderer::render(const SvgDocument& doc, const RenderSettings& settings, void* pixels, std::size_t stride,
+                      int width, int height) {
+  guarded([&] {
+    if (!pixels || width <= 0 || height <= 0) throw Error("no pixel buffer given");
+    const size_t row = static_cast<size_t>(width) * 4 * (settings.bits / 8);
+    if (stride < row)
+      throw Error("the stride (" + std::to_string(stride) + " bytes) is shorter than a row (" + std::to_string(row) +
+                  " bytes)");
+    const OutputSize expect{width, height};
+    const Bitmap b = impl_->render(*doc.impl_, settings, &expect);
+    const uint8_t* src = b.bits == 16 ? reinterpret_cast<const uint8_t*>(b.pixels16.data()) : b.pixels8.data();
+    for (int y = 0; y < height; y++)
+      std::memcpy(static_cast<uint8_t*>(pixels) + y * stride, src + y * row, row);
+  });
+}
+
+}  // namespace mpvg

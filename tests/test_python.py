@@ -1,0 +1,209 @@
+"""The Python module against svg2png: the arrays mpvg.Renderer.render_svg
+returns are the pixels svg2png writes into its PNGs for the same options,
+exactly; bytes input, 16 bits, errors, warnings and the GIL are checked too.
+
+usage: PYTHONPATH=BUILD/python python3 test_python.py SVG2PNG SOURCE_DIR
+Exits 77 (skipped) where numpy is missing.
+"""
+import os
+import struct
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import zlib
+
+try:
+    import numpy as np
+except ImportError:
+    print("test_python: skipped, numpy is missing")
+    sys.exit(77)
+
+import mpvg
+
+SVG2PNG, SRC = sys.argv[1], sys.argv[2]
+failures = 0
+
+
+def check(ok, what):
+    global failures
+    print(("ok: " if ok else "FAILED: ") + what)
+    if not ok:
+        failures += 1
+
+
+def read_png(path):
+    """Decodes an 8- or 16-bit RGB or RGBA PNG (not interlaced) to an
+    H x W x 4 array; RGB gets an opaque alpha. By hand, so that 16-bit
+    values are read exactly."""
+    data = open(path, "rb").read()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", "not a PNG"
+    pos, idat = 8, b""
+    while pos < len(data):
+        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + length]
+        if kind == b"IHDR":
+            width, height, depth, colour, _, _, interlace = struct.unpack(">IIBBBBB", body)
+        elif kind == b"IDAT":
+            idat += body
+        pos += 12 + length
+    assert colour in (2, 6) and depth in (8, 16) and interlace == 0, "unsupported PNG"
+    channels = 4 if colour == 6 else 3
+    bpp = channels * depth // 8
+    row = width * bpp
+    raw = zlib.decompress(idat)
+    out = np.zeros((height, row), dtype=np.int32)
+    prev = np.zeros(row, dtype=np.int32)
+    for y in range(height):
+        f = raw[y * (row + 1)]
+        line = np.frombuffer(raw, dtype=np.uint8, count=row, offset=y * (row + 1) + 1).astype(np.int32)
+        if f == 0:
+            cur = line
+        elif f == 2:
+            cur = (line + prev) & 255
+        else:  # Sub, Average, Paeth depend on the bytes to the left: byte by byte
+            cur = line.copy()
+            for i in range(row):
+                a = int(cur[i - bpp]) if i >= bpp else 0
+                b = int(prev[i])
+                c = int(prev[i - bpp]) if i >= bpp else 0
+                if f == 1:
+                    pred = a
+                elif f == 3:
+                    pred = (a + b) // 2
+                else:
+                    p = a + b - c
+                    pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                    pred = a if pa <= pb and pa <= pc else (b if pb <= pc else c)
+                cur[i] = (int(line[i]) + pred) & 255
+        out[y] = cur
+        prev = cur
+    if depth == 16:
+        px = (out[:, 0::2] << 8 | out[:, 1::2]).astype(np.uint16).reshape(height, width, channels)
+    else:
+        px = out.astype(np.uint8).reshape(height, width, channels)
+    if channels == 3:
+        alpha = np.full((height, width, 1), 65535 if depth == 16 else 255, dtype=px.dtype)
+        px = np.concatenate([px, alpha], axis=2)
+    return px
+
+
+def svg2png(svg, args, tmp):
+    out = os.path.join(tmp, "out.png")
+    subprocess.run([SVG2PNG, "-q", "--backend", "cpu", *args, svg, out], check=True)
+    return read_png(out)
+
+
+renderer = mpvg.Renderer("cpu")
+check(renderer.backend == "cpu", "Renderer('cpu') renders on the CPU")
+auto = mpvg.Renderer()
+check(auto.backend in ("cpu", "cuda") and (auto.backend == "cuda" or auto.note != ""),
+      "Renderer() resolves auto, with a note when it takes the CPU: " + auto.note)
+
+golden = os.path.join(SRC, "testdata", "golden")
+cases = [
+    # (document, svg2png options, the same as keyword arguments)
+    ("opacity.svg", [], {}),
+    ("stroke_joins.svg", ["-w", "200", "--aa", "1x32", "--gamma", "srgb", "-b", "#336699"],
+     dict(width=200, aa="1x32", gamma="srgb", background="#336699")),
+    ("image_rendering.svg", ["-z", "0.75", "--aa", "1x8", "--seed", "3"], dict(zoom=0.75, aa="1x8", seed=3)),
+    ("gradient_reflect.svg", ["-w", "90", "-h", "50"], dict(width=90, height=50)),
+    ("arcs.svg", ["-w", "100", "-h", "100", "-a", "-b", "rgba(255,0,0,0.5)"],
+     dict(width=100, height=100, keep_aspect_ratio=True, background=(1.0, 0.0, 0.0, 0.5))),
+]
+with tempfile.TemporaryDirectory() as tmp:
+    for name, args, kwargs in cases:
+        path = os.path.join(golden, name)
+        want = svg2png(path, args, tmp)
+        got = renderer.render_svg(path, **kwargs)
+        check(got.dtype == np.uint8 and got.shape == want.shape and np.array_equal(got, want),
+              "%s %s: the same pixels as svg2png (%s vs %s)" % (name, " ".join(args), got.shape, want.shape))
+
+    # The document as bytes, bytearray and memoryview, and a path-like.
+    path = os.path.join(golden, "stroke_joins.svg")
+    by_path = renderer.render_svg(path, width=64)
+    text = open(path, "rb").read()
+    check(np.array_equal(renderer.render_svg(text, width=64), by_path), "bytes render as the file does")
+    check(np.array_equal(renderer.render_svg(bytearray(text), width=64), by_path), "bytearray renders as bytes")
+    check(np.array_equal(renderer.render_svg(memoryview(text), width=64), by_path), "memoryview renders as bytes")
+    import pathlib
+    check(np.array_equal(renderer.render_svg(pathlib.Path(path), width=64), by_path), "a pathlib.Path is a file")
+
+    # 16 bits, against svg2png --bits 16.
+    path = os.path.join(golden, "gradient_repeat.svg")
+    want = svg2png(path, ["--bits", "16", "--aa", "1x32"], tmp)
+    got = renderer.render_svg(path, bits=16, aa="1x32")
+    check(got.dtype == np.uint16 and got.ndim == 3 and got.shape[2] == 4, "bits=16 gives H x W x 4 uint16")
+    check(got.shape == want.shape and np.array_equal(got, want), "bits=16: the same values as svg2png --bits 16")
+    check(int(got.max()) > 255 and bool(np.any(got % 257 != 0)), "bits=16 carries more than 8 bits")
+
+    # Relative image references resolve against base_dir, inside its tree
+    # (or allow_read's) only.
+    os.makedirs(os.path.join(tmp, "doc"))
+    green = ('<svg xmlns="http://www.w3.org/2000/svg" width="4" height="4">'
+             '<rect width="4" height="4" fill="#00ff00"/></svg>')
+    for name in ("doc/inside.svg", "outside.svg"):
+        with open(os.path.join(tmp, name), "w") as f:
+            f.write(green)
+    def page(href):
+        return ('<svg xmlns="http://www.w3.org/2000/svg" width="8" height="8">'
+                '<image width="8" height="8" href="%s"/></svg>' % href).encode()
+    doc = os.path.join(tmp, "doc")
+    img = renderer.render_svg(page("inside.svg"), aa="1x8", base_dir=doc)
+    check(img[4, 4].tolist() == [0, 255, 0, 255], "an image in base_dir's tree is drawn")
+    img = renderer.render_svg(page("../outside.svg"), aa="1x8", base_dir=doc)
+    check(img[4, 4].tolist() == [0, 0, 0, 0] and len(renderer.warnings) > 0,
+          "an image outside base_dir's tree is not read, with a warning: %s" % renderer.warnings)
+    img = renderer.render_svg(page("../outside.svg"), aa="1x8", base_dir=doc, allow_read=[tmp])
+    check(img[4, 4].tolist() == [0, 255, 0, 255], "allow_read lets it be read")
+
+# Errors.
+try:
+    renderer.render_svg(b'<svg xmlns="http://www.w3.org/2000/svg"><rect</svg>')
+    check(False, "malformed SVG raises")
+except mpvg.Error as e:
+    check(isinstance(e, RuntimeError) and "XML parse error" in str(e), "malformed SVG raises mpvg.Error: %s" % e)
+try:
+    renderer.render_svg(os.path.join(SRC, "testdata", "no-such-file.svg"))
+    check(False, "a missing file raises")
+except RuntimeError as e:
+    check("cannot read" in str(e), "a missing file raises mpvg.Error: %s" % e)
+for bad in (dict(aa="2x2"), dict(gamma="log"), dict(bits=12), dict(width=-5), dict(background="notacolour")):
+    try:
+        renderer.render_svg(os.path.join(golden, "arcs.svg"), **bad)
+        check(False, "%s raises" % bad)
+    except (ValueError, mpvg.Error) as e:
+        check(True, "%s raises %s: %s" % (bad, type(e).__name__, e))
+try:
+    renderer.render_svg(42)
+    check(False, "an int raises TypeError")
+except TypeError:
+    check(True, "an int raises TypeError")
+try:
+    mpvg.Renderer("opengl")
+    check(False, "an unknown backend raises")
+except ValueError:
+    check(True, "an unknown backend raises ValueError")
+
+# The GIL is released while rendering: this thread keeps running Python
+# while another renders. Held, the longest pause here would be the whole
+# render.
+example = os.path.join(SRC, "testdata", "example.svg")
+t0 = time.perf_counter()
+renderer.render_svg(example, width=400)
+alone = time.perf_counter() - t0
+worker = threading.Thread(target=lambda: renderer.render_svg(example, width=400))
+last = time.perf_counter()
+longest = 0.0
+worker.start()
+while worker.is_alive():
+    now = time.perf_counter()
+    longest = max(longest, now - last)
+    last = now
+worker.join()
+check(alone > 0.05 and longest < alone / 2,
+      "the GIL is released while rendering (render %.0f ms, longest pause %.0f ms)" % (alone * 1e3, longest * 1e3))
+
+print("%d failure(s)" % failures)
+sys.exit(1 if failures else 0)
