@@ -66,3 +66,65 @@ for in in "${inputs[@]}"; do
     MPVG_T0=$(now) "$svg2png" --stats --backend $b -w $w "$in" "$scratch/o.png" 2>&1 | grep -vE "^(input segments|abstract|subdivide|prune|schedule) "
   done
 done
+
+# The persistent renderer: a server started by the first call (not timed),
+# then interleaved rounds as above.
+export MPVG_SERVER_DIR=$scratch/sock MPVG_SERVER_IDLE=120
+mkdir -m 700 "$MPVG_SERVER_DIR"
+"$svg2png" --server -q -w 1024 "$bench/tiger.svg" "$scratch/o.png"
+declare -A stimes
+for r in $(seq "$rounds"); do
+  for in in "${inputs[@]}"; do
+    w=1024; [ "$(basename "$in")" = tiny.svg ] && w=10
+    t0=$(now); "$svg2png" --server -q -w $w "$in" "$scratch/o.png"; t1=$(now)
+    stimes["$(basename "$in" .svg)"]+="$(( (t1 - t0) / 1000 )) "
+    if [ -n "$mutool" ]; then
+      t0=$(now); run_tool mutool "$in"; t1=$(now)
+      stimes["m|$(basename "$in" .svg)"]+="$(( (t1 - t0) / 1000 )) "
+    fi
+  done
+done
+echo "== persistent renderer (svg2png --server), wall ms: median [min-max], with mutool interleaved"
+for in in "${inputs[@]}"; do
+  name=$(basename "$in" .svg)
+  for k in "$name" "m|$name"; do
+    [ -z "${stimes[$k]:-}" ] && continue
+    echo "${stimes[$k]}" | tr ' ' '\n' | grep . | sort -n |
+      awk -v t="$k" '{a[NR]=$1} END {printf "%-28s %8.1f [%.1f-%.1f]\n", t, a[int((NR+1)/2)]/1000, a[1]/1000, a[NR]/1000}'
+  done
+done
+"$svg2png" --server --stats -w 1024 "$bench/tiger.svg" "$scratch/o.png" 2>&1 | grep -E "persistent|^wall|^render|^PNG|^parse|^auto"
+pkill -f -- "--serve-internal"
+
+# Batch: the bench inputs 45 times each and the test SVGs once, at 1024 px.
+mkdir -p "$scratch/batch" "$scratch/bout" "$scratch/mout"
+list=$scratch/list.txt
+: > "$list"
+for i in $(seq -w 45); do
+  for f in tiger boston hawaii reschart; do
+    ln -s "$bench/$f.svg" "$scratch/batch/${f}_$i.svg"
+    printf '%s\t%s\n' "$scratch/batch/${f}_$i.svg" "$scratch/bout/${f}_$i.png" >> "$list"
+  done
+done
+for f in "$root"/testdata/golden/*.svg; do
+  printf '%s\t%s\n' "$f" "$scratch/bout/golden_$(basename "$f" .svg).png" >> "$list"
+done
+n=$(wc -l < "$list")
+echo "== batch of $n files at 1024 px"
+for round in 1 2 3; do
+  rm -f "$scratch"/bout/*
+  t0=$(now)
+  "$svg2png" -q -w 1024 --stats --batch "$list" 2>&1 | grep -E "files/s|per file"
+  t1=$(now)
+  echo "svg2png batch: $(awk "BEGIN{printf \"%.1f\", $n / (($t1 - $t0) / 1e9)}") files/s wall, $(ls "$scratch/bout" | wc -l) files"
+done
+if [ -n "$mutool" ]; then
+  for round in 1 2 3; do
+    rm -f "$scratch"/mout/*
+    t0=$(now)
+    sed "s#$scratch/bout/#$scratch/mout/#" "$list" | tr '\t' ' ' |
+      LD_LIBRARY_PATH=$mutool_libs xargs -P "$(nproc)" -L 1 sh -c '"$0" draw -q -w 1024 -o "$2" "$1" 2>/dev/null' "$mutool"
+    t1=$(now)
+    echo "mutool draw, xargs -P $(nproc): $(awk "BEGIN{printf \"%.1f\", $n / (($t1 - $t0) / 1e9)}") files/s wall, $(ls "$scratch/mout" | wc -l) files"
+  done
+fi

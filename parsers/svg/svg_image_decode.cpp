@@ -26,16 +26,15 @@ struct OiioModule {
 // Where the module may be: MPVG_OIIO_MODULE_DIRS (CMake, ':'-separated: the build folder,
 // then the installed lib/mpvg), and lib/mpvg beside the executable's bin/.
 // Fixed places only: no search path a document or the environment names.
+#ifdef MPVG_OIIO_MODULE_DIRS
 std::vector<std::string> module_candidates() {
   std::vector<std::string> dirs;
-#ifdef MPVG_OIIO_MODULE_DIRS
   std::string list = MPVG_OIIO_MODULE_DIRS;
   for (size_t pos = 0; pos <= list.size();) {
     const size_t end = std::min(list.find(':', pos), list.size());
     if (end > pos) dirs.push_back(list.substr(pos, end - pos));
     pos = end + 1;
   }
-#endif
   std::error_code ec;
   const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
   if (!ec) dirs.push_back((exe.parent_path().parent_path() / "lib" / "mpvg").string());
@@ -43,6 +42,7 @@ std::vector<std::string> module_candidates() {
   for (const std::string& d : dirs) files.push_back(d + "/mpvg_oiio_decoder.so");
   return files;
 }
+#endif
 
 const OiioModule& oiio_module() {
   static OiioModule module;
