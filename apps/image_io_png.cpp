@@ -5,11 +5,16 @@
 namespace mpvg {
 
 void write_png_rgba8(const std::string& path, int width, int height, const std::vector<uint8_t>& rgba) {
-  png::write_file(path, png::encode_rgba8(width, height, rgba.data()));
+  // One image, every core: rows filtered and deflated in strips.
+  png::EncodeOptions options;
+  options.threads = 0;
+  png::write_file(path, png::encode_rgba8(width, height, rgba.data(), options));
 }
 
 void write_png_rgba16(const std::string& path, int width, int height, const std::vector<uint16_t>& rgba) {
-  png::write_file(path, png::encode_rgba16(width, height, rgba.data()));
+  png::EncodeOptions options;
+  options.threads = 0;
+  png::write_file(path, png::encode_rgba16(width, height, rgba.data(), options));
 }
 
 std::string image_io_library() { return "mpvg PNG encoder, " + png::compressor(); }

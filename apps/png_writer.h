@@ -14,6 +14,12 @@ namespace mpvg::png {
 struct EncodeOptions {
   // Deflate effort, 1 (fastest) to 9 (libdeflate goes to 12).
   int level = 2;
+  // Threads for one image (0: every core). With more than one, a large
+  // image is cut into strips of rows filtered and deflated in parallel
+  // (zlib streams ended by a sync flush, each primed with the 32 KiB
+  // before it, then joined: one valid zlib stream, a few bytes larger),
+  // for a single image on idle cores; batches keep one per image.
+  int threads = 1;
 };
 
 // Encodes straight-alpha RGBA pixels, row after row, width * height * 4

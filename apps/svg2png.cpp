@@ -131,7 +131,9 @@ int run(const cli::Options& opt, Renderers& renderers) {
     }
     if (choice.backend == Backend::Cpu || !gpu) {
       gpu = nullptr;
-      choice_note = "auto chose the CPU: " + (in.gpu_possible ? choice.why : why_not);
+      char est[64];
+      std::snprintf(est, sizeof est, " (CPU estimated %.1f ms)", choice.cpu_ms);
+      choice_note = "auto chose the CPU: " + (in.gpu_possible ? choice.why : why_not + est);
     } else {
       choice_note = "auto chose CUDA: " + choice.why;
     }
@@ -164,8 +166,10 @@ int run(const cli::Options& opt, Renderers& renderers) {
       } else {
         std::string why;
         if (!gpu) renderers.cuda(&why);
-        std::fprintf(stderr, "CUDA start-up took %.3f ms%s%s; waited for it %.3f ms\n", startup.ready_ms(),
-                     why.empty() ? "" : ": ", why.c_str(), waited_ms);
+        const std::string phases = startup.phases();
+        std::fprintf(stderr, "CUDA start-up took %.3f ms%s%s%s%s; waited for it %.3f ms\n", startup.ready_ms(),
+                     phases.empty() ? "" : " (", phases.c_str(), phases.empty() ? "" : ")",
+                     why.empty() ? "" : (": " + why).c_str(), waited_ms);
       }
     }
     if (!choice_note.empty()) std::fprintf(stderr, "%s\n", choice_note.c_str());

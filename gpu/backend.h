@@ -79,6 +79,7 @@ class GpuStartup {
   bool done() const;     // finished, with a renderer or without
   double elapsed_ms() const;  // since construction
   double ready_ms() const;    // when it finished, since construction (after done())
+  std::string phases() const; // after done(): "driver X ms, context Y ms, pool and warm-up frame Z ms"
   // Waits for it. The CUDA renderer, or nullptr with *why when there is no
   // usable device (or the start-up failed).
   std::unique_ptr<FrameRenderer> take(std::string* why);

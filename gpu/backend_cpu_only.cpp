@@ -56,6 +56,7 @@ double GpuStartup::elapsed_ms() const {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0_).count();
 }
 double GpuStartup::ready_ms() const { return 0; }
+std::string GpuStartup::phases() const { return {}; }
 std::unique_ptr<FrameRenderer> GpuStartup::take(std::string* why) {
   if (why) *why = "mpvg was built without CUDA";
   return nullptr;

@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <condition_variable>
+#include <cstdio>
 #include <cstdlib>
 #include <mutex>
 #include <string>
@@ -200,6 +201,7 @@ struct GpuStartup::State {
   double ready_ms = 0;
   std::unique_ptr<FrameRenderer> renderer;
   std::string why;
+  std::string phases;
 };
 
 // Device memory the start-up reserves for the first frame: the bench inputs
@@ -212,10 +214,21 @@ GpuStartup::GpuStartup(Backend backend, const RenderOptions& like) : t0_(std::ch
   std::thread([state = state_, like, t0 = t0_] {
     std::unique_ptr<FrameRenderer> renderer;
     std::string why;
+    char phases[160] = "";
     try {
+      using Clock = std::chrono::steady_clock;
+      auto ms = [](Clock::time_point a, Clock::time_point b) {
+        return std::chrono::duration<double, std::milli>(b - a).count();
+      };
+      const auto t_begin = Clock::now();
       if (cuda_available(&why)) {
+        const auto t_driver = Clock::now();
         renderer = std::make_unique<FrameRenderer>(Backend::Cuda);
+        const auto t_context = Clock::now();
         renderer->warm_up(like, kStartupPoolBytes);
+        const auto t_warm = Clock::now();
+        std::snprintf(phases, sizeof phases, "driver %.1f ms, context %.1f ms, pool and warm-up frame %.1f ms",
+                      ms(t_begin, t_driver), ms(t_driver, t_context), ms(t_context, t_warm));
       }
     } catch (const std::exception& e) {
       renderer.reset();
@@ -224,6 +237,7 @@ GpuStartup::GpuStartup(Backend backend, const RenderOptions& like) : t0_(std::ch
     std::lock_guard<std::mutex> lock(state->mutex);
     state->renderer = std::move(renderer);
     state->why = std::move(why);
+    state->phases = phases;
     state->ready_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     state->done = true;
     state->cv.notify_all();
@@ -242,6 +256,12 @@ bool GpuStartup::done() const {
 
 double GpuStartup::elapsed_ms() const {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0_).count();
+}
+
+std::string GpuStartup::phases() const {
+  if (!state_) return {};
+  std::lock_guard<std::mutex> lock(state_->mutex);
+  return state_->phases;
 }
 
 double GpuStartup::ready_ms() const {

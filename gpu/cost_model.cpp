@@ -3,6 +3,7 @@
 // (BENCHMARKS.md, "End to end (issue 12)"): per-thread CPU costs on the
 // 2-core development machine and the GPU host's cores, GPU costs on an H100.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "gpu/backend.h"
@@ -11,22 +12,31 @@ namespace mpvg {
 
 namespace {
 
-// CPU backend, per thread: a fixed cost per frame, per input segment (the
-// tree's build), per sample (sampling a unit area), per weighted sample
-// (integration over the filter's K^2 pixels), in ns.
+// CPU backend, fitted to the four bench inputs at 1024 px on the 2-core
+// development machine and the GPU host's 16 cores (BENCHMARKS.md, "End to
+// end (issue 12)"). The tree's build (abstract, subdivide, prune, schedule)
+// barely gains from threads: per input segment and per unit area of the
+// frame. Sampling and integration do, as threads^0.6 (2 threads: 1.5x one,
+// 16: 5.3x): per sample, and per sample and target pixel of the filter
+// (K^2: 16 for 4x4x32, which makes it ~6x 1x32). Wide filters add a fixed
+// cost (the prefilter's passes) even to a tiny frame.
 constexpr double kCpuFrameMs = 0.3;
-constexpr double kCpuSegmentNs = 2500;
-constexpr double kCpuSampleNs = 12;
-constexpr double kCpuWeightNs = 1.5;
-// CUDA backend: the launch floor of a frame (~1 000 launches), per input
-// segment, per sample, and the copy back of 8-bit pixels, in ns.
+constexpr double kCpuWideFilterMs = 2.5;
+constexpr double kCpuSegmentNs = 8000;
+constexpr double kCpuUnitAreaNs = 60;
+constexpr double kCpuSampleNs = 8;
+constexpr double kCpuSampleTargetNs = 2.2;
+constexpr double kCpuThreadExponent = 0.6;
+// CUDA backend on an H100, a warm context (the start-up's warm-up frame
+// done): a frame's floor (launches, copies), per input segment, per sample,
+// and the copy back of 8-bit pixels.
 constexpr double kGpuFrameMs = 3.0;
-constexpr double kGpuSegmentNs = 30;
+constexpr double kGpuSegmentNs = 40;
 constexpr double kGpuSampleNs = 0.05;
 constexpr double kGpuPixelNs = 0.4;
-// CUDA's start-up when nothing is known of it: driver and context, module
-// loading, the warm-up frame (the GPU host: ~250 ms).
-constexpr double kGpuStartupMs = 250;
+// CUDA's start-up when nothing is known of it: driver and context, the
+// memory pool, the warm-up frame (the GPU host: 254-268 ms).
+constexpr double kGpuStartupMs = 260;
 
 }  // namespace
 
@@ -34,11 +44,12 @@ double expected_gpu_startup_ms() { return kGpuStartupMs; }
 
 BackendChoice choose_backend(const CostInputs& in) {
   BackendChoice c;
-  const double threads = std::max(1, in.cpu_threads);
+  const double speedup = std::pow(std::max(1, in.cpu_threads), kCpuThreadExponent);
   const double samples = in.unit_areas * in.samples;
-  c.cpu_ms = kCpuFrameMs + (in.input_segments * kCpuSegmentNs + samples * kCpuSampleNs +
-                            samples * in.support * in.support * kCpuWeightNs) /
-                               threads * 1e-6;
+  const double targets = double(in.support) * in.support;
+  c.cpu_ms = kCpuFrameMs + (in.support > 1 ? kCpuWideFilterMs : 0) +
+             (in.input_segments * kCpuSegmentNs + in.unit_areas * kCpuUnitAreaNs) * 1e-6 +
+             samples * (kCpuSampleNs + targets * kCpuSampleTargetNs) / speedup * 1e-6;
   char buf[256];
   if (!in.gpu_possible) {
     c.backend = Backend::Cpu;
