@@ -289,6 +289,7 @@ int run_batch(const cli::Options& opt, Renderers& renderers) {
     job->out = items[t].second;
     svg::ParseOptions parse_options;
     parse_options.allowed_dirs = opt.allow_read;
+    parse_options.threads = 1;  // the workers are the parallelism
     parse_options.view = [&opt](double w, double h) {
       int width, height;
       Affine view;

@@ -79,6 +79,10 @@ struct ParseOptions {
   // these trees. Network URLs are never loaded.
   std::vector<std::string> allowed_dirs;
 
+  // Threads converting strokes (0: every core). Batches that parse files
+  // on every core already pass 1.
+  int threads = 0;
+
   // Options for rendering at `pixels` wide, the height rounded to keep the
   // aspect ratio (as svg2png -w does).
   static ParseOptions at_width(int pixels);

@@ -78,7 +78,7 @@ void Converter::convert_strokes() {
   }
   first_task[stroke_jobs_.size()] = tasks.size();
   std::vector<Path> pieces(tasks.size());
-  parallel_for(tasks.size(), 0, [&](size_t i) {
+  parallel_for(tasks.size(), s_.options.threads, [&](size_t i) {
     const StrokeJob& job = stroke_jobs_[tasks[i].job];
     const Path& whole = shapes_[job.source];
     const Path part = tasks[i].contour < 0 ? Path{} : whole.contour_path(static_cast<size_t>(tasks[i].contour));
