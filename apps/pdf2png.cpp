@@ -255,7 +255,10 @@ int main(int argc, char** argv) {
     };
     const pipeline::Result result = pipeline::run(c);
     if (opt.stats) std::fprintf(stderr, "%s", pipeline::summary(c, result, cuda ? "cuda" : "cpu").c_str());
-    return result.failed ? 1 : 0;
+    // Every page is written: the process ends without tearing down CUDA
+    // (100-150 ms on the GPU host; the driver frees it at exit) or MuPDF.
+    std::fflush(nullptr);
+    std::_Exit(result.failed ? 1 : 0);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "pdf2png: %s\n", e.what());
     return 1;
