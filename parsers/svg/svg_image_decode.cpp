@@ -24,7 +24,8 @@ struct OiioModule {
 };
 
 // Where the module may be: MPVG_OIIO_MODULE_DIRS (CMake, ':'-separated: the build folder,
-// then the installed lib/mpvg), and lib/mpvg beside the executable's bin/.
+// then the installed lib/mpvg), lib/mpvg beside the executable's bin/, and
+// mpvg/ beside the shared library this code is in.
 // Fixed places only: no search path a document or the environment names.
 #ifdef MPVG_OIIO_MODULE_DIRS
 std::vector<std::string> module_candidates() {
@@ -38,6 +39,11 @@ std::vector<std::string> module_candidates() {
   std::error_code ec;
   const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
   if (!ec) dirs.push_back((exe.parent_path().parent_path() / "lib" / "mpvg").string());
+  // Beside the shared object holding this code (libmpvg.so installed in
+  // another prefix, or loaded by Python): its folder's mpvg/.
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&module_candidates), &info) && info.dli_fname)
+    dirs.push_back((std::filesystem::path(info.dli_fname).parent_path() / "mpvg").string());
   std::vector<std::string> files;
   for (const std::string& d : dirs) files.push_back(d + "/mpvg_oiio_decoder.so");
   return files;
