@@ -123,6 +123,9 @@ int run(const cli::Options& opt, Renderers& renderers) {
     } else {
       in.gpu_possible = true;
       in.gpu_wait_ms = expected_gpu_startup_ms() - startup.elapsed_ms();
+      // A one-shot process pays the context's teardown at exit (the
+      // persistent renderer keeps its context).
+      if (!server::serving()) in.gpu_teardown_ms = expected_gpu_teardown_ms();
     }
     BackendChoice choice = choose_backend(in);
     if (choice.backend == Backend::Cuda && !gpu) {
@@ -131,6 +134,7 @@ int run(const cli::Options& opt, Renderers& renderers) {
     }
     if (choice.backend == Backend::Cpu || !gpu) {
       gpu = nullptr;
+      if (!server::serving()) startup.cancel();
       char est[64];
       std::snprintf(est, sizeof est, " (CPU estimated %.1f ms)", choice.cpu_ms);
       choice_note = "auto chose the CPU: " + (in.gpu_possible ? choice.why : why_not + est);

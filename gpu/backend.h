@@ -83,6 +83,10 @@ class GpuStartup {
   // Waits for it. The CUDA renderer, or nullptr with *why when there is no
   // usable device (or the start-up failed).
   std::unique_ptr<FrameRenderer> take(std::string* why);
+  // Not needed after all (the CPU renders): the start-up stops before its
+  // next phase, so that a context that was never made costs no teardown
+  // when the process exits (~130 ms on the GPU host).
+  void cancel();
 
  private:
   struct State;
@@ -102,6 +106,10 @@ struct CostInputs {
   int cpu_threads = 1;        // the CPU backend's
   bool gpu_possible = false;  // a start-up is running or has given a device
   double gpu_wait_ms = 0;     // expected time until the device is ready
+  // Teardown the process pays at exit for a context it would make only by
+  // choosing CUDA (expected_gpu_teardown_ms() for a one-shot process whose
+  // start-up has not made one yet; 0 otherwise).
+  double gpu_teardown_ms = 0;
 };
 struct BackendChoice {
   Backend backend = Backend::Cpu;
@@ -111,5 +119,7 @@ struct BackendChoice {
 BackendChoice choose_backend(const CostInputs& in);
 // Expected duration of CUDA's start-up when nothing is known of it yet, ms.
 double expected_gpu_startup_ms();
+// Expected time the driver takes to destroy a process's context at exit, ms.
+double expected_gpu_teardown_ms();
 
 }  // namespace mpvg

@@ -57,6 +57,7 @@ double GpuStartup::elapsed_ms() const {
 }
 double GpuStartup::ready_ms() const { return 0; }
 std::string GpuStartup::phases() const { return {}; }
+void GpuStartup::cancel() {}
 std::unique_ptr<FrameRenderer> GpuStartup::take(std::string* why) {
   if (why) *why = "mpvg was built without CUDA";
   return nullptr;

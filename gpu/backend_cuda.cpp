@@ -1,6 +1,7 @@
 // The backend dispatcher of a build with CUDA.
 #include <cuda_runtime.h>
 
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
@@ -195,6 +196,7 @@ void FrameRenderer::warm_up(const RenderOptions& like, size_t pool_bytes) {
 }
 
 struct GpuStartup::State {
+  std::atomic<bool> cancelled{false};
   std::mutex mutex;
   std::condition_variable cv;
   bool done = false;
@@ -221,15 +223,16 @@ GpuStartup::GpuStartup(Backend backend, const RenderOptions& like) : t0_(std::ch
         return std::chrono::duration<double, std::milli>(b - a).count();
       };
       const auto t_begin = Clock::now();
-      if (cuda_available(&why)) {
+      if (cuda_available(&why) && !state->cancelled) {
         const auto t_driver = Clock::now();
         renderer = std::make_unique<FrameRenderer>(Backend::Cuda);
         const auto t_context = Clock::now();
-        renderer->warm_up(like, kStartupPoolBytes);
+        if (!state->cancelled) renderer->warm_up(like, kStartupPoolBytes);
         const auto t_warm = Clock::now();
         std::snprintf(phases, sizeof phases, "driver %.1f ms, context %.1f ms, pool and warm-up frame %.1f ms",
                       ms(t_begin, t_driver), ms(t_driver, t_context), ms(t_context, t_warm));
       }
+      if (state->cancelled && why.empty()) why = "CUDA start-up cancelled";
     } catch (const std::exception& e) {
       renderer.reset();
       why = std::string("CUDA start-up failed: ") + e.what();
@@ -256,6 +259,10 @@ bool GpuStartup::done() const {
 
 double GpuStartup::elapsed_ms() const {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0_).count();
+}
+
+void GpuStartup::cancel() {
+  if (state_) state_->cancelled = true;
 }
 
 std::string GpuStartup::phases() const {
