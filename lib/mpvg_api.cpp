@@ -96,20 +96,7 @@ bool same_view(const Affine& x, const Affine& y) {
 
 // What svg::parse_svg_file reads, kept so that the document can be parsed
 // again for another output size.
-std::string read_file(const std::string& path) {
-  auto fail = [&](int err) { return Error("cannot read '" + path + "': " + std::strerror(err)); };
-  FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) throw fail(errno);
-  std::string data;
-  char buf[1 << 16];
-  size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) data.append(buf, n);
-  const bool failed = std::ferror(f);
-  const int err = errno;
-  std::fclose(f);
-  if (failed) throw fail(err);
-  return data;
-}
+std::string read_file(const std::string& path) { return svg::read_svg_file(path); }
 
 }  // namespace
 

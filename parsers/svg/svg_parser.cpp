@@ -531,7 +531,7 @@ ParseResult parse_svg_string(std::string_view text, const std::string& base_dir,
   return result;
 }
 
-ParseResult parse_svg_file(const std::string& path, const ParseOptions& options) {
+std::string read_svg_file(const std::string& path) {
   auto fail = [&](int err) { return Error("cannot read '" + path + "': " + std::strerror(err)); };
   FILE* f = path == "-" ? stdin : std::fopen(path.c_str(), "rb");
   if (!f) throw fail(errno);
@@ -543,6 +543,11 @@ ParseResult parse_svg_file(const std::string& path, const ParseOptions& options)
   const int err = errno;
   if (f != stdin) std::fclose(f);
   if (failed) throw fail(err);
+  return data;
+}
+
+ParseResult parse_svg_file(const std::string& path, const ParseOptions& options) {
+  const std::string data = read_svg_file(path);
   const std::filesystem::path dir =
       path == "-" ? std::filesystem::path() : std::filesystem::path(path).parent_path();
   return parse_svg_string(data, dir.empty() ? std::string(".") : dir.string(), options);

@@ -94,6 +94,10 @@ struct ParseOptions {
 // line N: ...", or a message naming a non-SVG root or an invalid root size.
 ParseResult parse_svg_file(const std::string& path, const ParseOptions& options = {});
 
+// The bytes parse_svg_file reads ("-": standard input). Throws mpvg::Error
+// ("cannot read 'x.svg': No such file or directory").
+std::string read_svg_file(const std::string& path);
+
 // Parses SVG text. base_dir is where relative references of the document
 // resolve (the document's directory); its tree may be read, as may
 // options.allowed_dirs.
