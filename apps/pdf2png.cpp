@@ -33,6 +33,7 @@
 #include <cstdlib>
 #include <deque>
 #include <exception>
+#include <filesystem>
 #include <memory>
 #include <mutex>
 #include <queue>
@@ -195,6 +196,9 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (!pdf.transparent && opt.background.a == 0) opt.background = RGBA{1, 1, 1, 1};
+  // CUDA starts on a thread of its own at once (~250 ms on the GPU host),
+  // while the document opens and the workers lower the first pages.
+  GpuStartup startup(opt.backend, cli::render_options(opt, 64, 64, Affine{}));
   try {
     const pdf::Document doc(opt.positional[0], pdf.password);
     const int count = doc.page_count();
@@ -203,12 +207,27 @@ int main(int argc, char** argv) {
     const int digits = static_cast<int>(std::to_string(count).size());
     const int range = std::max(0, last - first + 1);
     const int pages = range * pdf.repeat;
-    if (pages == 0) return 0;
-    auto first_renderer = std::make_unique<FrameRenderer>(opt.backend);
-    if (!first_renderer->note().empty() && opt.stats)
-      std::fprintf(stderr, "pdf2png: %s\n", first_renderer->note().c_str());
-    const Backend backend = first_renderer->backend();
-    const bool cuda = backend == Backend::Cuda;
+    if (pages == 0) {
+      std::fflush(nullptr);
+      std::_Exit(0);  // the start-up thread may be running (GpuStartup)
+    }
+    // The thread counts are set before CUDA's start-up has finished: with a
+    // GPU visible (its device files exist) they are CUDA's. If CUDA then
+    // fails, one render thread renders on the CPU and the others stop.
+    std::error_code ec;
+    const bool cuda = startup.started() && std::filesystem::exists("/dev/nvidiactl", ec);
+    std::once_flag started;
+    std::unique_ptr<FrameRenderer> warm;  // the start-up's renderer, for render thread 0
+    bool cuda_ok = false;
+    std::string why;
+    auto await_cuda = [&] {
+      std::call_once(started, [&] {
+        warm = startup.take(&why);
+        cuda_ok = warm != nullptr;
+        if (!cuda_ok && opt.stats && opt.backend == Backend::Auto)
+          std::fprintf(stderr, "pdf2png: %s; rendering on the CPU\n", why.c_str());
+      });
+    };
     const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     pipeline::Config c;
     c.program = "pdf2png";
@@ -250,17 +269,26 @@ int main(int argc, char** argv) {
       std::snprintf(name, sizeof name, "-%0*d.png", digits, n);
       return lower(pdf, opt, *d, n, opt.output + (pdf.singlefile ? std::string(".png") : std::string(name)));
     };
-    c.make_renderer = [&](int r) {
-      return r == 0 ? std::move(first_renderer) : std::make_unique<FrameRenderer>(backend);
+    c.make_renderer = [&](int r) -> std::unique_ptr<FrameRenderer> {
+      if (opt.backend == Backend::Cpu) return std::make_unique<FrameRenderer>(Backend::Cpu);
+      await_cuda();
+      if (cuda_ok) return r == 0 ? std::move(warm) : std::make_unique<FrameRenderer>(Backend::Cuda);
+      if (opt.backend == Backend::Cuda) {
+        if (r == 0) throw Error("CUDA backend unavailable: " + why);
+        return nullptr;
+      }
+      return r == 0 ? std::make_unique<FrameRenderer>(Backend::Cpu) : nullptr;
     };
     const pipeline::Result result = pipeline::run(c);
-    if (opt.stats) std::fprintf(stderr, "%s", pipeline::summary(c, result, cuda ? "cuda" : "cpu").c_str());
+    if (opt.stats) std::fprintf(stderr, "%s", pipeline::summary(c, result, cuda_ok ? "cuda" : "cpu").c_str());
     // Every page is written: the process ends without tearing down CUDA
     // (100-150 ms on the GPU host; the driver frees it at exit) or MuPDF.
     std::fflush(nullptr);
     std::_Exit(result.failed ? 1 : 0);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "pdf2png: %s\n", e.what());
-    return 1;
+    // Not exit(): the start-up thread may still be running (GpuStartup).
+    std::fflush(nullptr);
+    std::_Exit(1);
   }
 }

@@ -49,13 +49,15 @@ struct State {
 
   // Reports an item's end (under m): its error if any, its warnings and
   // stats, the progress line.
-  void finish(const Job* job, const std::string& error) {
+  void finish(const Job* job, const std::string& error, bool unrendered = false) {
     Result& r = result;
     r.finished++;
     in_flight--;
     if (!error.empty()) r.failed++;
     const char* nl = c.progress ? "\r\033[K" : "";
-    if (!error.empty()) std::fprintf(stderr, "%s%s: %s\n", nl, c.program, error.c_str());
+    // Items no renderer could take are counted, and reported once at the end.
+    if (unrendered) r.unrendered++;
+    else if (!error.empty()) std::fprintf(stderr, "%s%s: %s\n", nl, c.program, error.c_str());
     if (job && !c.quiet)
       for (const std::string& w : job->warnings)
         std::fprintf(stderr, "%s%s: %s: warning: %s\n", nl, c.program, job->label.c_str(), w.c_str());
@@ -147,8 +149,7 @@ struct State {
       if (job && renderers > 0) {
         to_render.push(std::move(job));
       } else {
-        if (job) error = job->label + ": nothing can render it (every renderer failed to start)";
-        finish(job.get(), error);
+        finish(job.get(), job ? job->label + ": not rendered" : error, job != nullptr);
       }
       cv.notify_all();
     }
@@ -166,8 +167,10 @@ struct State {
     }
     std::unique_lock<std::mutex> lock(m);
     if (!renderer) {
-      std::fprintf(stderr, "%s%s: render thread %d: %s\n", c.progress ? "\r\033[K" : "", c.program, r,
-                   failure.c_str());
+      // nullptr without an error: this thread is not needed (CUDA turned
+      // out to be absent and one CPU render thread does the work).
+      if (!failure.empty())
+        std::fprintf(stderr, "%s%s: %s\n", c.progress ? "\r\033[K" : "", c.program, failure.c_str());
       retire();
       return;
     }
@@ -214,7 +217,7 @@ struct State {
       while (!to_render.empty()) {
         std::unique_ptr<Job> job = std::move(const_cast<std::unique_ptr<Job>&>(to_render.top()));
         to_render.pop();
-        finish(job.get(), job->label + ": nothing can render it (every renderer failed to start)");
+        finish(job.get(), job->label + ": not rendered", true);
       }
       rendering_done = true;
     }
@@ -238,6 +241,9 @@ Result run(const Config& config) {
   if (config.progress)
     std::fprintf(stderr, "\r\033[K%s: %d %ss, %d failed\n", config.program, config.tickets, config.unit,
                  s.result.failed);
+  if (s.result.unrendered)
+    std::fprintf(stderr, "%s: %d %ss not rendered: no renderer could start\n", config.program, s.result.unrendered,
+                 config.unit);
   s.result.seconds = ms_since(s.t_start) / 1000;
   return s.result;
 }

@@ -53,13 +53,16 @@ struct Config {
   // How a failure of prepare names ticket t ("page 4", "a.svg").
   std::function<std::string(int t)> label;
   // The renderer of render thread r, made on that thread (so that it binds
-  // its device there). Throws when it cannot be made.
+  // its device there). Throws when it cannot be made (reported once); a
+  // nullptr means the thread is not needed. Items left when no render
+  // thread remains fail, counted in one line.
   std::function<std::unique_ptr<FrameRenderer>(int r)> make_renderer;
 };
 
 // What went through; totals in ms over the items that succeeded.
 struct Result {
   int finished = 0, failed = 0;
+  int unrendered = 0;  // of the failed: no renderer could take them
   double seconds = 0;
   double prepare[2] = {0, 0}, encode = 0, preprocess = 0, render = 0, render_wall = 0, png = 0, write = 0;
   double render_idle = 0, worker_idle = 0;  // time the threads waited for work
