@@ -279,6 +279,11 @@ int main(int argc, char** argv) {
       }
       return r == 0 ? std::make_unique<FrameRenderer>(Backend::Cpu) : nullptr;
     };
+    // MPVG_PDF_SYNC_START=1: wait for CUDA before the pipeline starts (the
+    // earlier behaviour; for measurements).
+    if (const char* sync = std::getenv("MPVG_PDF_SYNC_START"); sync && std::string(sync) == "1" &&
+                                                              opt.backend != Backend::Cpu)
+      await_cuda();
     const pipeline::Result result = pipeline::run(c);
     if (opt.stats) std::fprintf(stderr, "%s", pipeline::summary(c, result, cuda_ok ? "cuda" : "cpu").c_str());
     // Every page is written: the process ends without tearing down CUDA
