@@ -6,9 +6,14 @@
 
 namespace mpvg {
 
+// The public header (include/mpvg/mpvg.h) declares the same class, for
+// programs that see no internal header; whichever comes first defines it.
+#ifndef MPVG_INTERNAL_ERROR_DEFINED
+#define MPVG_INTERNAL_ERROR_DEFINED 1
 class Error : public std::runtime_error {
  public:
   explicit Error(const std::string& what) : std::runtime_error(what) {}
 };
+#endif
 
 }  // namespace mpvg

@@ -3,10 +3,7 @@
 // helpers (cli::output_geometry, cli::render_options from apps/cli.cpp,
 // which this library compiles too), so that a Bitmap is byte for byte the
 // PNG's pixels.
-#include "core/error.h"
-// mpvg::Error comes from core/error.h here; the public header's identical
-// definition is skipped.
-#define MPVG_INTERNAL_ERROR_DEFINED 1
+#include "core/error.h"  // mpvg::Error (the public header's copy is skipped)
 #include "mpvg/mpvg.h"
 
 #include <cerrno>

@@ -41,6 +41,7 @@ namespace mpvg {
 // and lib/mpvg_api.cpp, which sees both, skips this one), so a failure
 // deep in the parser reaches the caller unchanged.
 #ifndef MPVG_INTERNAL_ERROR_DEFINED
+#define MPVG_INTERNAL_ERROR_DEFINED 1
 class Error : public std::runtime_error {
  public:
   explicit Error(const std::string& what) : std::runtime_error(what) {}
