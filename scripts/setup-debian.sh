@@ -11,6 +11,7 @@ PACKAGES=(
   libopenimageio-dev
   libmupdf-dev libmujs-dev libgumbo-dev libjbig2dec0-dev libopenjp2-7-dev
   libjpeg-dev libharfbuzz-dev zlib1g-dev
+  libfontconfig-dev fonts-dejavu-core
   catch2
   libpng-dev libdeflate-dev
   python3-dev python3-numpy pybind11-dev

@@ -1,0 +1,344 @@
+// Font engine tests (text/text.h) on the DejaVu fonts of Debian's
+// fonts-dejavu-core (scripts/setup-debian.sh installs it). Each test copies
+// the files it needs into a scratch folder, so the face counts do not depend
+// on what else /usr/share/fonts holds; without the fonts every test says so
+// and passes without checking anything.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "tests/catch.h"
+#include "text/text.h"
+
+namespace fs = std::filesystem;
+namespace tx = mpvg::text;
+
+namespace {
+
+const char* kDejaVu = "/usr/share/fonts/truetype/dejavu/";
+const std::vector<std::string> kFiles = {"DejaVuSans.ttf", "DejaVuSans-Bold.ttf", "DejaVuSerif.ttf"};
+
+bool have_fonts() {
+  for (const std::string& f : kFiles)
+    if (!fs::exists(kDejaVu + f)) {
+      WARN("SKIPPED: " << kDejaVu << f << " is absent (Debian package fonts-dejavu-core)");
+      return false;
+    }
+  return true;
+}
+
+// A scratch folder with the three DejaVu files, one in a subfolder.
+struct FontDir {
+  fs::path dir;
+  FontDir() {
+    std::random_device rd;
+    dir = fs::temp_directory_path() / ("mpvg_text_" + std::to_string(rd()));
+    fs::create_directories(dir / "sub");
+    fs::copy_file(kDejaVu + kFiles[0], dir / kFiles[0]);
+    fs::copy_file(kDejaVu + kFiles[1], dir / "sub" / kFiles[1]);
+    fs::copy_file(kDejaVu + kFiles[2], dir / kFiles[2]);
+    std::ofstream(dir / "README.txt") << "not a font";
+  }
+  ~FontDir() {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+};
+
+int find_face(const tx::FontDb& db, const std::string& family, int weight) {
+  for (size_t i = 0; i < db.faces().size(); ++i)
+    if (db.faces()[i].family == family && db.faces()[i].weight == weight) return static_cast<int>(i);
+  return -1;
+}
+
+double advance_sum(const std::vector<tx::ShapedGlyph>& g) {
+  double s = 0;
+  for (const auto& x : g) s += x.x_advance;
+  return s;
+}
+
+struct Box {
+  double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+};
+Box bounds(const mpvg::Path& p) {
+  Box b;
+  for (const mpvg::Vec2& v : p.points()) {
+    b.x0 = std::min(b.x0, v.x), b.y0 = std::min(b.y0, v.y);
+    b.x1 = std::max(b.x1, v.x), b.y1 = std::max(b.y1, v.y);
+  }
+  return b;
+}
+
+uint32_t glyph_of(const tx::FontDb& db, int face, const char* utf8) {
+  const auto g = tx::shape(db, face, utf8, 1000);
+  REQUIRE(g.size() == 1);
+  return g[0].glyph;
+}
+
+}  // namespace
+
+TEST_CASE("add_dir finds every face under the folder and reads family, weight, style", "[text]") {
+  if (!have_fonts()) return;
+  FontDir d;
+  tx::FontDb db;
+  std::vector<std::string> warnings;
+  CHECK(db.add_dir(d.dir.string(), &warnings) == 3);
+  CHECK(warnings.empty());
+  REQUIRE(db.faces().size() == 3);
+  // Sorted path order: DejaVuSans.ttf, DejaVuSerif.ttf, sub/DejaVuSans-Bold.ttf.
+  CHECK(db.faces()[0].family == "DejaVu Sans");
+  CHECK(db.faces()[0].weight == 400);
+  CHECK(db.faces()[1].family == "DejaVu Serif");
+  CHECK(db.faces()[2].family == "DejaVu Sans");
+  CHECK(db.faces()[2].weight == 700);
+  for (const auto& f : db.faces()) {
+    CHECK_FALSE(f.italic);
+    CHECK(f.stretch == 5);
+    CHECK(f.index == 0);
+  }
+  // The same files again add nothing.
+  CHECK(db.add_dir(d.dir.string()) == 0);
+  CHECK(db.faces().size() == 3);
+  // An oblique face, where the system has it, reads as italic.
+  const std::string oblique = std::string(kDejaVu) + "DejaVuSans-Oblique.ttf";
+  if (fs::exists(oblique)) {
+    REQUIRE(db.add_file(oblique) == 1);
+    CHECK(db.faces().back().italic);
+  }
+}
+
+TEST_CASE("a broken font file is skipped with one warning", "[text]") {
+  if (!have_fonts()) return;
+  FontDir d;
+  {
+    std::ofstream out(d.dir / "broken.ttf", std::ios::binary);
+    std::mt19937 rng(13);
+    for (int i = 0; i < 4096; ++i) out.put(static_cast<char>(rng()));
+  }
+  std::ofstream(d.dir / "empty.otf").close();
+  tx::FontDb db;
+  std::vector<std::string> warnings;
+  CHECK(db.add_dir(d.dir.string(), &warnings) == 3);
+  REQUIRE(warnings.size() == 2);
+  CHECK(warnings[0].find("broken.ttf") != std::string::npos);
+  CHECK(warnings[1].find("empty.otf") != std::string::npos);
+  warnings.clear();
+  CHECK(db.add_file((d.dir / "missing.ttf").string(), &warnings) == 0);
+  CHECK(warnings.size() == 1);
+  warnings.clear();
+  CHECK(db.add_dir((d.dir / "nothing-here").string(), &warnings) == 0);
+  CHECK(warnings.size() == 1);
+}
+
+TEST_CASE("match follows CSS font matching", "[text]") {
+  if (!have_fonts()) return;
+  FontDir d;
+  tx::FontDb db;
+  CHECK(db.match({"DejaVu Sans"}, 400, false) == -1);  // empty db
+  db.add_dir(d.dir.string());
+  const int sans = find_face(db, "DejaVu Sans", 400);
+  const int bold = find_face(db, "DejaVu Sans", 700);
+  const int serif = find_face(db, "DejaVu Serif", 400);
+  REQUIRE(sans >= 0);
+  REQUIRE(bold >= 0);
+  REQUIRE(serif >= 0);
+
+  CHECK(db.match({"DejaVu Sans"}, 400, false) == sans);
+  CHECK(db.match({"DejaVu Sans"}, 700, false) == bold);
+  CHECK(db.match({"dejavu sans"}, 700, false) == bold);  // names are case-insensitive
+  // Weights between: 500 looks at 400..500 then down; 600 looks up first;
+  // 300 looks down, then up.
+  CHECK(db.match({"DejaVu Sans"}, 500, false) == sans);
+  CHECK(db.match({"DejaVu Sans"}, 600, false) == bold);
+  CHECK(db.match({"DejaVu Sans"}, 900, false) == bold);
+  CHECK(db.match({"DejaVu Sans"}, 300, false) == sans);
+  CHECK(db.match({"DejaVu Serif"}, 700, false) == serif);  // the only face of the family
+  // No italic face: the normal one.
+  CHECK(db.match({"DejaVu Sans"}, 700, true) == bold);
+  // The first family of the list that exists.
+  CHECK(db.match({"No Such Font", "DejaVu Serif", "DejaVu Sans"}, 400, false) == serif);
+  // Generic families through their mapping.
+  db.set_generic("serif", "DejaVu Serif");
+  db.set_generic("sans-serif", "DejaVu Sans");
+  CHECK(db.match({"Missing", "sans-serif"}, 700, false) == bold);
+  CHECK(db.match({"SERIF"}, 400, false) == serif);
+  // Nothing found: the serif mapping.
+  CHECK(db.match({"Missing"}, 400, false) == serif);
+  // Nothing found and no serif mapping present: still a face of the db.
+  db.set_generic("serif", "Noto Serif");
+  const int any = db.match({"Missing"}, 400, false);
+  CHECK(any >= 0);
+  CHECK(any < static_cast<int>(db.faces().size()));
+}
+
+TEST_CASE("match: stretch before style before weight", "[text]") {
+  if (!have_fonts()) return;
+  const std::string cond = std::string(kDejaVu) + "DejaVuSansCondensed.ttf";
+  if (!fs::exists(cond)) {
+    WARN("SKIPPED: " << cond << " is absent (fonts-dejavu-extra)");
+    return;
+  }
+  tx::FontDb db;
+  db.add_file(std::string(kDejaVu) + "DejaVuSans-Bold.ttf");
+  db.add_file(cond);
+  REQUIRE(db.faces()[1].stretch < 5);
+  REQUIRE(db.faces()[1].family == "DejaVu Sans");
+  // Normal width asked: the bold normal-width face beats the regular
+  // condensed one; condensed asked: the condensed face whatever the weight.
+  CHECK(db.match({"DejaVu Sans"}, 400, false, 5) == 0);
+  CHECK(db.match({"DejaVu Sans"}, 700, false, 3) == 1);
+}
+
+TEST_CASE("has_glyph and per-character fallback", "[text]") {
+  if (!have_fonts()) return;
+  FontDir d;
+  tx::FontDb db;
+  CHECK(db.fallback(U'A', 400, false) == -1);
+  db.add_dir(d.dir.string());
+  const int sans = find_face(db, "DejaVu Sans", 400);
+  const int bold = find_face(db, "DejaVu Sans", 700);
+  const int serif = find_face(db, "DejaVu Serif", 400);
+  CHECK(db.has_glyph(sans, U'A'));
+  CHECK(db.has_glyph(sans, U'\u03A9'));         // Greek capital omega
+  CHECK_FALSE(db.has_glyph(sans, U'\u4E00'));   // CJK: not in DejaVu
+  CHECK_FALSE(db.has_glyph(sans, U'\U0010FFFD'));
+  CHECK_FALSE(db.has_glyph(99, U'A'));          // no such face
+  // Same weight preferred.
+  CHECK(db.fallback(U'A', 700, false) == bold);
+  const int a400 = db.fallback(U'A', 400, false);
+  CHECK((a400 == sans || a400 == serif));
+  CHECK(db.fallback(U'\u4E00', 400, false) == -1);
+  // A character only DejaVu Sans has, among these three: the Braille block.
+  if (db.has_glyph(sans, U'\u2801') && !db.has_glyph(serif, U'\u2801')) {
+    const int f = db.fallback(U'\u2801', 400, false);
+    CHECK((f == sans || f == bold));
+  }
+}
+
+TEST_CASE("shape: kerning, ligatures, clusters", "[text]") {
+  if (!have_fonts()) return;
+  FontDir d;
+  tx::FontDb db;
+  db.add_dir(d.dir.string());
+  const int sans = find_face(db, "DejaVu Sans", 400);
+
+  const auto av = tx::shape(db, sans, "AV", 100);
+  tx::ShapeOptions nokern;
+  nokern.features = {"-kern"};
+  const auto av_plain = tx::shape(db, sans, "AV", 100, nokern);
+  REQUIRE(av.size() == 2);
+  REQUIRE(av_plain.size() == 2);
+  CHECK(advance_sum(av) < advance_sum(av_plain) - 1);
+  // The CSS spelling of the same.
+  nokern.features = {"\"kern\" off"};
+  CHECK(advance_sum(tx::shape(db, sans, "AV", 100, nokern)) == Approx(advance_sum(av_plain)));
+  // Advances scale with size, and are exact (no hinting).
+  CHECK(advance_sum(tx::shape(db, sans, "AV", 200, nokern)) == Approx(2 * advance_sum(av_plain)));
+  CHECK(av[0].cluster == 0);
+  CHECK(av[1].cluster == 1);
+
+  // DejaVu Sans has an "fi" ligature (uniFB01) reached through liga.
+  const bool has_fi = db.has_glyph(sans, U'\uFB01');
+  const char* lig_text = has_fi ? "fi" : "ffl";
+  const auto lig = tx::shape(db, sans, lig_text, 100);
+  tx::ShapeOptions noliga;
+  noliga.features = {"\"liga\" 0"};
+  const auto split = tx::shape(db, sans, lig_text, 100, noliga);
+  INFO("ligature text " << lig_text);
+  CHECK(lig.size() == 1);
+  CHECK(split.size() == std::string(lig_text).size());
+  CHECK(lig[0].cluster == 0);
+  for (size_t i = 0; i < split.size(); ++i) CHECK(split[i].cluster == i);
+
+  // Clusters are byte offsets in the UTF-8 input: "é" takes two bytes.
+  const auto e = tx::shape(db, sans, "\xC3\xA9" "a", 100);
+  REQUIRE(e.size() == 2);
+  CHECK(e[0].cluster == 0);
+  CHECK(e[1].cluster == 2);
+
+  // Right to left: glyphs in visual order, clusters descending.
+  tx::ShapeOptions rtl;
+  rtl.rtl = true;
+  const auto r = tx::shape(db, sans, "ab", 100, rtl);
+  REQUIRE(r.size() == 2);
+  CHECK(r[0].cluster == 1);
+  CHECK(r[1].cluster == 0);
+
+  // Vertical: advances go down (y down is positive).
+  tx::ShapeOptions vert;
+  vert.vertical = true;
+  const auto v = tx::shape(db, sans, "ab", 100, vert);
+  REQUIRE(v.size() == 2);
+  CHECK(v[0].y_advance > 0);
+  CHECK(v[0].x_advance == 0);
+
+  CHECK(tx::shape(db, sans, "", 100).empty());
+  CHECK(tx::shape(db, 42, "AV", 100).empty());
+}
+
+TEST_CASE("glyph_outline: contours, scale, y down", "[text]") {
+  if (!have_fonts()) return;
+  FontDir d;
+  tx::FontDb db;
+  db.add_dir(d.dir.string());
+  const int sans = find_face(db, "DejaVu Sans", 400);
+
+  const uint32_t o = glyph_of(db, sans, "O");
+  const mpvg::Path p100 = tx::glyph_outline(db, sans, o, 100);
+  const mpvg::Path p300 = tx::glyph_outline(db, sans, o, 300);
+  REQUIRE(p100.contours().size() == 2);
+  for (const auto& c : p100.contours()) CHECK(c.closed);
+  // TrueType: quadratic curves, no cubics.
+  size_t quads = 0;
+  for (const auto& s : p100.segments()) {
+    CHECK(s.type != mpvg::SegmentType::Cubic);
+    quads += s.type == mpvg::SegmentType::Quad;
+  }
+  CHECK(quads > 4);
+  const Box b1 = bounds(p100), b3 = bounds(p300);
+  CHECK(b3.x0 == Approx(3 * b1.x0));
+  CHECK(b3.x1 == Approx(3 * b1.x1));
+  CHECK(b3.y0 == Approx(3 * b1.y0));
+  CHECK(b3.y1 == Approx(3 * b1.y1));
+  CHECK(b1.x1 - b1.x0 > 50);
+
+  // 'H' stands on the baseline and rises to the cap height: negative y.
+  const uint32_t h = glyph_of(db, sans, "H");
+  const Box bh = bounds(tx::glyph_outline(db, sans, h, 1000));
+  const tx::Metrics m = tx::metrics(db, sans, 1000);
+  CHECK(bh.y1 == Approx(0).margin(1e-9));
+  CHECK(bh.y0 == Approx(-m.cap_height).margin(1));
+  CHECK(bh.y0 < -600);
+
+  // The space has no outline.
+  CHECK(tx::glyph_outline(db, sans, glyph_of(db, sans, " "), 100).empty());
+  CHECK(tx::glyph_outline(db, 42, o, 100).empty());
+}
+
+TEST_CASE("metrics from the font's tables", "[text]") {
+  if (!have_fonts()) return;
+  FontDir d;
+  tx::FontDb db;
+  db.add_dir(d.dir.string());
+  const int sans = find_face(db, "DejaVu Sans", 400);
+  const tx::Metrics m = tx::metrics(db, sans, 2048);
+  CHECK(m.units_per_em == 2048);
+  // DejaVu Sans: hhea ascender 1901, descender -483 (font units, 2048/em).
+  CHECK(m.ascent == Approx(1901));
+  CHECK(m.descent == Approx(483));
+  CHECK(m.x_height > 1000);
+  CHECK(m.x_height < m.cap_height);
+  CHECK(m.cap_height < m.ascent);
+  CHECK(m.underline_position > 0);
+  CHECK(m.underline_thickness > 0);
+  CHECK(m.strikeout_position < 0);
+  CHECK(-m.strikeout_position < m.x_height);
+  CHECK(m.strikeout_thickness > 0);
+  const tx::Metrics half = tx::metrics(db, sans, 1024);
+  CHECK(half.ascent == Approx(m.ascent / 2));
+  CHECK(half.underline_position == Approx(m.underline_position / 2));
+}

@@ -1,0 +1,653 @@
+// FontDb, shaping, outlines and metrics (text.h). Every FreeType and
+// HarfBuzz call runs under the db's mutex: an FT_Library and its faces are
+// not thread-safe, and HarfBuzz reads the tables through FreeType (hb-ft).
+#include "text/text.h"
+
+#include <ft2build.h>
+#include FT_FREETYPE_H
+#include FT_MULTIPLE_MASTERS_H
+#include FT_OUTLINE_H
+#include FT_SFNT_NAMES_H
+#include FT_TRUETYPE_IDS_H
+#include FT_TRUETYPE_TABLES_H
+
+#include <hb-ft.h>
+#include <hb-ot.h>
+#include <hb.h>
+
+#ifdef MPVG_HAVE_FONTCONFIG
+#include <fontconfig/fontconfig.h>
+#endif
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <set>
+
+namespace mpvg::text {
+
+namespace {
+
+std::string lower(std::string_view s) {
+  std::string r(s);
+  for (char& c : r) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return r;
+}
+
+void append_utf8(std::string& out, uint32_t c) {
+  if (c < 0x80) {
+    out += static_cast<char>(c);
+  } else if (c < 0x800) {
+    out += static_cast<char>(0xC0 | (c >> 6));
+    out += static_cast<char>(0x80 | (c & 0x3F));
+  } else if (c < 0x10000) {
+    out += static_cast<char>(0xE0 | (c >> 12));
+    out += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
+    out += static_cast<char>(0x80 | (c & 0x3F));
+  } else {
+    out += static_cast<char>(0xF0 | (c >> 18));
+    out += static_cast<char>(0x80 | ((c >> 12) & 0x3F));
+    out += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
+    out += static_cast<char>(0x80 | (c & 0x3F));
+  }
+}
+
+// A name-table string: UTF-16BE on the Unicode and Windows platforms, one
+// byte per character (read as Latin-1, exact for ASCII) on the Mac platform.
+std::string sfnt_string(const FT_SfntName& n) {
+  std::string out;
+  if (n.platform_id == TT_PLATFORM_MICROSOFT || n.platform_id == TT_PLATFORM_APPLE_UNICODE) {
+    for (FT_UInt i = 0; i + 1 < n.string_len; i += 2) {
+      uint32_t c = (uint32_t(n.string[i]) << 8) | n.string[i + 1];
+      if (c >= 0xD800 && c < 0xDC00 && i + 3 < n.string_len) {
+        const uint32_t lo = (uint32_t(n.string[i + 2]) << 8) | n.string[i + 3];
+        if (lo >= 0xDC00 && lo < 0xE000) {
+          c = 0x10000 + ((c - 0xD800) << 10) + (lo - 0xDC00);
+          i += 2;
+        }
+      }
+      append_utf8(out, c);
+    }
+  } else {
+    for (FT_UInt i = 0; i < n.string_len; ++i) append_utf8(out, n.string[i]);
+  }
+  return out;
+}
+
+// The typographic family (name ID 16), English (Windows, US) preferred,
+// else any language; empty when the font has none.
+std::string typographic_family(FT_Face f) {
+  std::string best;
+  int best_rank = -1;
+  const FT_UInt count = FT_Get_Sfnt_Name_Count(f);
+  for (FT_UInt i = 0; i < count; ++i) {
+    FT_SfntName n;
+    if (FT_Get_Sfnt_Name(f, i, &n) != 0 || n.name_id != TT_NAME_ID_TYPOGRAPHIC_FAMILY) continue;
+    int rank = 0;
+    if (n.platform_id == TT_PLATFORM_MICROSOFT) rank = n.language_id == 0x409 ? 3 : 2;
+    else if (n.platform_id == TT_PLATFORM_MACINTOSH && n.encoding_id == TT_MAC_ID_ROMAN) rank = n.language_id == 0 ? 1 : 0;
+    else if (n.platform_id != TT_PLATFORM_APPLE_UNICODE) continue;
+    if (rank > best_rank) {
+      std::string s = sfnt_string(n);
+      if (!s.empty()) best = std::move(s), best_rank = rank;
+    }
+  }
+  return best;
+}
+
+FaceInfo read_info(FT_Face f, const std::string& path, int index) {
+  FaceInfo info;
+  info.path = path;
+  info.index = index;
+  info.family = typographic_family(f);
+  if (info.family.empty() && f->family_name) info.family = f->family_name;
+  info.italic = (f->style_flags & FT_STYLE_FLAG_ITALIC) != 0;
+  info.weight = (f->style_flags & FT_STYLE_FLAG_BOLD) ? 700 : 400;
+  if (const auto* os2 = static_cast<const TT_OS2*>(FT_Get_Sfnt_Table(f, FT_SFNT_OS2));
+      os2 && os2->version != 0xFFFF) {
+    int w = os2->usWeightClass;
+    if (w >= 1 && w <= 9) w *= 100;  // some old fonts store 1..9
+    if (w >= 1 && w <= 1000) info.weight = w;
+    if (os2->usWidthClass >= 1 && os2->usWidthClass <= 9) info.stretch = os2->usWidthClass;
+    // fsSelection bit 0: italic, bit 9: oblique (CSS matches oblique to italic).
+    if (os2->fsSelection & ((1u << 0) | (1u << 9))) info.italic = true;
+  }
+  return info;
+}
+
+// CSS Fonts 4 §5.2 step 4.c, font-weight: the weight among `available`
+// nearest to `desired` in the order the specification searches.
+int nearest_weight(const std::vector<int>& available, int desired) {
+  auto below = [&](int limit, bool inclusive) {  // the largest weight < (<=) limit
+    int best = -1;
+    for (int w : available)
+      if ((inclusive ? w <= limit : w < limit) && w > best) best = w;
+    return best;
+  };
+  auto above = [&](int from, int to, bool inclusive) {  // the smallest weight > (>=) from, <= to
+    int best = -1;
+    for (int w : available)
+      if ((inclusive ? w >= from : w > from) && w <= to && (best < 0 || w < best)) best = w;
+    return best;
+  };
+  int w = -1;
+  if (desired >= 400 && desired <= 500) {
+    // Weights from desired up to 500 ascending, then below desired
+    // descending, then above 500 ascending.
+    if ((w = above(desired, 500, true)) >= 0) return w;
+    if ((w = below(desired, false)) >= 0) return w;
+    return above(500, 100000, false);
+  }
+  if (desired < 400) {
+    if ((w = below(desired, true)) >= 0) return w;
+    return above(desired, 100000, false);
+  }
+  if ((w = above(desired, 100000, true)) >= 0) return w;
+  return below(desired, false);
+}
+
+// CSS Fonts 4 §5.2 step 4.a, font-stretch: at or below normal, narrower
+// widths are checked first (nearest first), then wider ones; above normal
+// the other way round.
+int nearest_stretch(const std::vector<int>& available, int desired) {
+  int narrower = -1, wider = -1;  // nearest <= desired, nearest >= desired
+  for (int s : available) {
+    if (s <= desired && s > narrower) narrower = s;
+    if (s >= desired && (wider < 0 || s < wider)) wider = s;
+  }
+  if (desired <= 5) return narrower >= 0 ? narrower : wider;
+  return wider >= 0 ? wider : narrower;
+}
+
+bool is_font_file(const std::filesystem::path& p) {
+  const std::string ext = lower(p.extension().string());
+  return ext == ".ttf" || ext == ".otf" || ext == ".ttc" || ext == ".otc";
+}
+
+// One CSS font-feature-settings item, or HarfBuzz's "-kern" / "aalt=2".
+bool parse_feature(std::string_view s, hb_feature_t& out) {
+  auto trim = [](std::string_view v) {
+    while (!v.empty() && std::isspace(static_cast<unsigned char>(v.front()))) v.remove_prefix(1);
+    while (!v.empty() && std::isspace(static_cast<unsigned char>(v.back()))) v.remove_suffix(1);
+    return v;
+  };
+  s = trim(s);
+  uint32_t value = 1;
+  if (!s.empty() && (s[0] == '-' || s[0] == '+')) {
+    value = s[0] == '-' ? 0 : 1;
+    s.remove_prefix(1);
+  }
+  std::string_view tag;
+  if (!s.empty() && (s[0] == '"' || s[0] == '\'')) {
+    const size_t end = s.find(s[0], 1);
+    if (end == std::string_view::npos) return false;
+    tag = s.substr(1, end - 1);
+    s.remove_prefix(end + 1);
+  } else {
+    size_t end = 0;
+    while (end < s.size() && (std::isalnum(static_cast<unsigned char>(s[end])) || s[end] == '_' || s[end] == ' ') &&
+           end < 4)
+      ++end;
+    tag = s.substr(0, end);
+    s.remove_prefix(end);
+  }
+  if (tag.empty() || tag.size() > 4) return false;
+  s = trim(s);
+  if (!s.empty() && s[0] == '=') s = trim(s.substr(1));
+  if (!s.empty()) {
+    const std::string v = lower(s);
+    if (v == "on") {
+      value = 1;
+    } else if (v == "off") {
+      value = 0;
+    } else {
+      char* end = nullptr;
+      const unsigned long n = std::strtoul(v.c_str(), &end, 10);
+      if (end == v.c_str() || *end != '\0') return false;
+      value = static_cast<uint32_t>(n);
+    }
+  }
+  out.tag = hb_tag_from_string(tag.data(), static_cast<int>(tag.size()));
+  out.value = value;
+  out.start = HB_FEATURE_GLOBAL_START;
+  out.end = HB_FEATURE_GLOBAL_END;
+  return true;
+}
+
+}  // namespace
+
+struct FontDb::Impl {
+  mutable std::mutex mu;
+  FT_Library lib = nullptr;
+  std::vector<FaceInfo> faces;
+  // Opened on first use, one per face (nullptr until then, or when the file
+  // went away since it was scanned).
+  mutable std::vector<FT_Face> ft;
+  mutable std::vector<hb_font_t*> hb;
+  mutable std::vector<bool> open_failed;
+  std::set<std::pair<std::string, int>> known;
+  std::map<std::string, std::string> generic = {
+      {"serif", "Noto Serif"},         {"sans-serif", "Noto Sans"},
+      {"cursive", "Yellowtail"},       {"fantasy", "Sedgwick Ave Display"},
+      {"monospace", "Noto Mono"},
+  };
+
+  // Under mu.
+  FT_Face face(int i) const {
+    if (i < 0 || static_cast<size_t>(i) >= faces.size()) return nullptr;
+    if (!ft[i] && !open_failed[i]) {
+      FT_Face f = nullptr;
+      if (FT_New_Face(lib, faces[i].path.c_str(), faces[i].index, &f) == 0) ft[i] = f;
+      else open_failed[i] = true;
+    }
+    return ft[i];
+  }
+
+  // Under mu. HarfBuzz reads the tables through FreeType (hb-ft) and
+  // positions with its own OpenType functions at a scale of 64 per font
+  // unit: unhinted, with HVAR/gvar variations, exact to 1/64 unit.
+  hb_font_t* font(int i) const {
+    FT_Face f = face(i);
+    if (!f) return nullptr;
+    if (!hb[i]) {
+      hb_face_t* hf = hb_ft_face_create_referenced(f);
+      hb_font_t* font = hb_font_create(hf);
+      hb_face_destroy(hf);
+      hb_ot_font_set_funcs(font);
+      const int upem = static_cast<int>(hb_face_get_upem(hb_font_get_face(font)));
+      hb_font_set_scale(font, upem * 64, upem * 64);
+      hb[i] = font;
+    }
+    return hb[i];
+  }
+
+  std::vector<int> family_faces(const std::string& name_lower) const {
+    std::vector<int> r;
+    for (size_t i = 0; i < faces.size(); ++i)
+      if (lower(faces[i].family) == name_lower) r.push_back(static_cast<int>(i));
+    return r;
+  }
+
+  // A family for `generic` when its mapping is absent: names that say the
+  // class, else a sans face, else the first face's family.
+  std::vector<int> heuristic_family(const std::string& generic) const {
+    auto find = [&](auto pred) -> std::vector<int> {
+      for (const FaceInfo& f : faces)
+        if (pred(lower(f.family))) return family_faces(lower(f.family));
+      return {};
+    };
+    auto has = [](const std::string& s, const char* w) { return s.find(w) != std::string::npos; };
+    std::vector<int> r;
+    if (generic == "monospace") r = find([&](const std::string& s) { return has(s, "mono") || has(s, "courier"); });
+    else if (generic == "serif") r = find([&](const std::string& s) { return has(s, "serif") && !has(s, "sans"); });
+    else if (generic == "cursive") r = find([&](const std::string& s) { return has(s, "script") || has(s, "hand"); });
+    if (r.empty())
+      r = find([&](const std::string& s) { return has(s, "sans") && !has(s, "mono") && !has(s, "serif"); });
+    if (r.empty() && !faces.empty()) r = family_faces(lower(faces[0].family));
+    return r;
+  }
+
+  int select(const std::vector<int>& candidates, int weight, bool italic, int stretch) const {
+    std::vector<int> stretches;
+    for (int i : candidates) stretches.push_back(faces[i].stretch);
+    const int s = nearest_stretch(stretches, stretch);
+    std::vector<int> c;
+    for (int i : candidates)
+      if (faces[i].stretch == s) c.push_back(i);
+    // Style: the requested one, else the other (oblique faces count as
+    // italic: FaceInfo does not tell them apart).
+    std::vector<int> styled;
+    for (int i : c)
+      if (faces[i].italic == italic) styled.push_back(i);
+    if (styled.empty()) styled = c;
+    std::vector<int> weights;
+    for (int i : styled) weights.push_back(faces[i].weight);
+    const int w = nearest_weight(weights, weight);
+    for (int i : styled)
+      if (faces[i].weight == w) return i;
+    return styled.empty() ? -1 : styled[0];
+  }
+};
+
+FontDb::FontDb() : impl_(std::make_unique<Impl>()) {
+  if (FT_Init_FreeType(&impl_->lib) != 0) impl_->lib = nullptr;
+}
+
+FontDb::~FontDb() {
+  for (hb_font_t* f : impl_->hb)
+    if (f) hb_font_destroy(f);
+  for (FT_Face f : impl_->ft)
+    if (f) FT_Done_Face(f);
+  if (impl_->lib) FT_Done_FreeType(impl_->lib);
+}
+
+size_t FontDb::add_file(const std::string& path, std::vector<std::string>* warnings) {
+  Impl& m = *impl_;
+  std::lock_guard<std::mutex> lock(m.mu);
+  auto warn = [&](const std::string& w) {
+    if (warnings) warnings->push_back(path + ": " + w);
+  };
+  if (!m.lib) {
+    warn("FreeType could not be initialised");
+    return 0;
+  }
+  FT_Face f = nullptr;
+  if (FT_Error e = FT_New_Face(m.lib, path.c_str(), 0, &f); e != 0) {
+    warn("not a readable font (FreeType error " + std::to_string(e) + "), skipped");
+    return 0;
+  }
+  const long count = f->num_faces;
+  size_t added = 0;
+  for (long i = 0; i < count; ++i) {
+    if (i > 0) {
+      f = nullptr;
+      if (FT_New_Face(m.lib, path.c_str(), i, &f) != 0) {
+        warn("face " + std::to_string(i) + " of the collection is broken, skipped");
+        continue;
+      }
+    }
+    const int index = static_cast<int>(i);
+    if (m.known.insert({path, index}).second) {
+      m.faces.push_back(read_info(f, path, index));
+      m.ft.push_back(nullptr);
+      m.hb.push_back(nullptr);
+      m.open_failed.push_back(false);
+      ++added;
+    }
+    // Closed until first use: a system's fonts would hold thousands open.
+    FT_Done_Face(f);
+  }
+  return added;
+}
+
+size_t FontDb::add_dir(const std::string& dir, std::vector<std::string>* warnings) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  std::vector<std::string> files;
+  fs::recursive_directory_iterator it(dir, fs::directory_options::skip_permission_denied, ec);
+  if (ec) {
+    if (warnings) warnings->push_back(dir + ": cannot read the folder (" + ec.message() + ")");
+    return 0;
+  }
+  for (const fs::recursive_directory_iterator end; it != end; it.increment(ec)) {
+    if (ec) break;
+    std::error_code fe;
+    if (it->is_regular_file(fe) && is_font_file(it->path())) files.push_back(it->path().string());
+  }
+  std::sort(files.begin(), files.end());
+  size_t added = 0;
+  for (const std::string& f : files) added += add_file(f, warnings);
+  return added;
+}
+
+size_t FontDb::add_system_fonts() {
+#ifdef MPVG_HAVE_FONTCONFIG
+  FcConfig* config = FcInitLoadConfigAndFonts();
+  if (!config) return 0;
+  FcPattern* pattern = FcPatternCreate();
+  FcObjectSet* objects = FcObjectSetBuild(FC_FILE, nullptr);
+  FcFontSet* set = FcFontList(config, pattern, objects);
+  std::vector<std::string> files;
+  if (set) {
+    for (int i = 0; i < set->nfont; ++i) {
+      FcChar8* file = nullptr;
+      if (FcPatternGetString(set->fonts[i], FC_FILE, 0, &file) == FcResultMatch && file)
+        files.emplace_back(reinterpret_cast<const char*>(file));
+    }
+    FcFontSetDestroy(set);
+  }
+  FcObjectSetDestroy(objects);
+  FcPatternDestroy(pattern);
+  FcConfigDestroy(config);
+  std::sort(files.begin(), files.end());
+  files.erase(std::unique(files.begin(), files.end()), files.end());
+  size_t added = 0;
+  for (const std::string& f : files) added += add_file(f, nullptr);
+  return added;
+#else
+  return 0;
+#endif
+}
+
+void FontDb::set_generic(const std::string& generic, const std::string& family) {
+  std::lock_guard<std::mutex> lock(impl_->mu);
+  impl_->generic[lower(generic)] = family;
+}
+
+const std::vector<FaceInfo>& FontDb::faces() const { return impl_->faces; }
+
+int FontDb::match(const std::vector<std::string>& families, int weight, bool italic, int stretch) const {
+  const Impl& m = *impl_;
+  std::lock_guard<std::mutex> lock(m.mu);
+  if (m.faces.empty()) return -1;
+  std::string first_generic;
+  for (const std::string& name : families) {
+    std::string key = lower(name);
+    if (auto g = m.generic.find(key); g != m.generic.end()) {
+      if (first_generic.empty()) first_generic = key;
+      key = lower(g->second);
+    }
+    const std::vector<int> c = m.family_faces(key);
+    if (!c.empty()) return m.select(c, weight, italic, stretch);
+  }
+  std::vector<int> c;
+  if (auto g = m.generic.find("serif"); g != m.generic.end()) c = m.family_faces(lower(g->second));
+  if (c.empty()) c = m.heuristic_family(first_generic.empty() ? "serif" : first_generic);
+  return m.select(c, weight, italic, stretch);
+}
+
+bool FontDb::has_glyph(int face, char32_t c) const {
+  std::lock_guard<std::mutex> lock(impl_->mu);
+  FT_Face f = impl_->face(face);
+  return f && FT_Get_Char_Index(f, c) != 0;
+}
+
+int FontDb::fallback(char32_t c, int weight, bool italic) const {
+  const Impl& m = *impl_;
+  std::lock_guard<std::mutex> lock(m.mu);
+  int best = -1;
+  long best_cost = 0;
+  for (size_t i = 0; i < m.faces.size(); ++i) {
+    const long cost = (m.faces[i].italic != italic ? 10000 : 0) + std::abs(m.faces[i].weight - weight) * 10 +
+                      std::abs(m.faces[i].stretch - 5);
+    if (best >= 0 && cost >= best_cost) continue;
+    FT_Face f = m.face(static_cast<int>(i));
+    if (f && FT_Get_Char_Index(f, c) != 0) best = static_cast<int>(i), best_cost = cost;
+  }
+  return best;
+}
+
+namespace {
+
+// Sets (or, with an empty list, resets) the variation coordinates of an
+// FT_Face from (tag, value) pairs; axes not named keep their defaults.
+void set_ft_variations(FT_Library lib, FT_Face f, const std::vector<std::pair<std::string, double>>& v) {
+  if (!FT_HAS_MULTIPLE_MASTERS(f)) return;
+  if (v.empty()) {
+    FT_Set_Var_Design_Coordinates(f, 0, nullptr);
+    return;
+  }
+  FT_MM_Var* mm = nullptr;
+  if (FT_Get_MM_Var(f, &mm) != 0) return;
+  std::vector<FT_Fixed> coords(mm->num_axis);
+  for (FT_UInt a = 0; a < mm->num_axis; ++a) {
+    coords[a] = mm->axis[a].def;
+    for (const auto& [tag, value] : v) {
+      if (tag.size() == 4 && FT_MAKE_TAG(tag[0], tag[1], tag[2], tag[3]) == mm->axis[a].tag) {
+        const double lo = mm->axis[a].minimum / 65536.0, hi = mm->axis[a].maximum / 65536.0;
+        coords[a] = static_cast<FT_Fixed>(std::lround(std::clamp(value, lo, hi) * 65536.0));
+      }
+    }
+  }
+  FT_Set_Var_Design_Coordinates(f, mm->num_axis, coords.data());
+  FT_Done_MM_Var(lib, mm);
+}
+
+struct OutlineSink {
+  Path path;
+  double scale = 1;
+  bool open = false;
+  Vec2 pt(const FT_Vector* v) const { return {v->x * scale, -v->y * scale}; }
+};
+
+int sink_move(const FT_Vector* to, void* user) {
+  auto* s = static_cast<OutlineSink*>(user);
+  if (s->open) s->path.close();
+  s->path.move_to(s->pt(to));
+  s->open = true;
+  return 0;
+}
+int sink_line(const FT_Vector* to, void* user) {
+  auto* s = static_cast<OutlineSink*>(user);
+  s->path.line_to(s->pt(to));
+  return 0;
+}
+int sink_conic(const FT_Vector* c, const FT_Vector* to, void* user) {
+  auto* s = static_cast<OutlineSink*>(user);
+  s->path.quad_to(s->pt(c), s->pt(to));
+  return 0;
+}
+int sink_cubic(const FT_Vector* c1, const FT_Vector* c2, const FT_Vector* to, void* user) {
+  auto* s = static_cast<OutlineSink*>(user);
+  s->path.cubic_to(s->pt(c1), s->pt(c2), s->pt(to));
+  return 0;
+}
+
+}  // namespace
+
+std::vector<ShapedGlyph> shape(const FontDb& db, int face, std::string_view utf8, double size,
+                               const ShapeOptions& o) {
+  FontDb::Impl& m = db.impl();
+  std::lock_guard<std::mutex> lock(m.mu);
+  hb_font_t* font = m.font(face);
+  std::vector<ShapedGlyph> out;
+  if (!font || utf8.empty()) return out;
+
+  std::vector<hb_variation_t> vars;
+  for (const auto& [tag, value] : o.variations)
+    if (tag.size() == 4)
+      vars.push_back({hb_tag_from_string(tag.data(), 4), static_cast<float>(value)});
+  hb_font_set_variations(font, vars.data(), static_cast<unsigned>(vars.size()));
+
+  std::vector<hb_feature_t> features;
+  for (const std::string& s : o.features) {
+    hb_feature_t f;
+    if (parse_feature(s, f)) features.push_back(f);
+  }
+
+  hb_buffer_t* buf = hb_buffer_create();
+  hb_buffer_add_utf8(buf, utf8.data(), static_cast<int>(utf8.size()), 0, static_cast<int>(utf8.size()));
+  hb_buffer_set_direction(buf, o.vertical ? HB_DIRECTION_TTB : o.rtl ? HB_DIRECTION_RTL : HB_DIRECTION_LTR);
+  if (!o.language.empty())
+    hb_buffer_set_language(buf, hb_language_from_string(o.language.data(), static_cast<int>(o.language.size())));
+  hb_buffer_guess_segment_properties(buf);
+  hb_shape(font, buf, features.data(), static_cast<unsigned>(features.size()));
+
+  unsigned n = 0;
+  const hb_glyph_info_t* info = hb_buffer_get_glyph_infos(buf, &n);
+  const hb_glyph_position_t* pos = hb_buffer_get_glyph_positions(buf, nullptr);
+  int x_scale = 0, y_scale = 0;
+  hb_font_get_scale(font, &x_scale, &y_scale);
+  const double kx = size / x_scale, ky = size / y_scale;
+  out.resize(n);
+  for (unsigned i = 0; i < n; ++i) {
+    ShapedGlyph& g = out[i];
+    g.glyph = info[i].codepoint;
+    g.cluster = info[i].cluster;
+    // HarfBuzz's y points up.
+    g.x_advance = pos[i].x_advance * kx;
+    g.y_advance = -pos[i].y_advance * ky;
+    g.x_offset = pos[i].x_offset * kx;
+    g.y_offset = -pos[i].y_offset * ky;
+  }
+  hb_buffer_destroy(buf);
+  if (!vars.empty()) hb_font_set_variations(font, nullptr, 0);
+  return out;
+}
+
+Path glyph_outline(const FontDb& db, int face, uint32_t glyph, double size,
+                   const std::vector<std::pair<std::string, double>>& variations) {
+  FontDb::Impl& m = db.impl();
+  std::lock_guard<std::mutex> lock(m.mu);
+  OutlineSink sink;
+  FT_Face f = m.face(face);
+  if (!f) return sink.path;
+  if (!variations.empty()) set_ft_variations(m.lib, f, variations);
+  if (FT_Load_Glyph(f, glyph, FT_LOAD_NO_SCALE | FT_LOAD_NO_HINTING | FT_LOAD_NO_BITMAP) == 0 &&
+      f->glyph->format == FT_GLYPH_FORMAT_OUTLINE && f->glyph->outline.n_contours > 0) {
+    sink.scale = size / (f->units_per_EM ? f->units_per_EM : 1000);
+    FT_Outline_Funcs funcs{};
+    funcs.move_to = sink_move;
+    funcs.line_to = sink_line;
+    funcs.conic_to = sink_conic;
+    funcs.cubic_to = sink_cubic;
+    funcs.shift = 0;
+    funcs.delta = 0;
+    if (FT_Outline_Decompose(&f->glyph->outline, &funcs, &sink) == 0) {
+      if (sink.open) sink.path.close();
+    } else {
+      sink.path = Path();
+    }
+  }
+  if (!variations.empty()) set_ft_variations(m.lib, f, {});
+  return sink.path;
+}
+
+Metrics metrics(const FontDb& db, int face, double size) {
+  FontDb::Impl& m = db.impl();
+  std::lock_guard<std::mutex> lock(m.mu);
+  Metrics r;
+  FT_Face f = m.face(face);
+  if (!f) return r;
+  const double upem = f->units_per_EM ? f->units_per_EM : 1000;
+  const double k = size / upem;
+  r.units_per_em = upem;
+  const auto* os2 = static_cast<const TT_OS2*>(FT_Get_Sfnt_Table(f, FT_SFNT_OS2));
+  if (os2 && os2->version == 0xFFFF) os2 = nullptr;
+
+  // FreeType's ascender/descender come from hhea (OS/2 typo values when hhea
+  // has none); USE_TYPO_METRICS (fsSelection bit 7) asks for the typo ones.
+  double asc = f->ascender, desc = -f->descender;
+  if (os2 && (os2->fsSelection & (1u << 7)) && os2->sTypoAscender != 0) {
+    asc = os2->sTypoAscender;
+    desc = -os2->sTypoDescender;
+  }
+  if (asc == 0 && desc == 0) asc = 0.8 * upem, desc = 0.2 * upem;
+  r.ascent = asc * k;
+  r.descent = desc * k;
+
+  // The top of a glyph's unscaled outline, or 0 when the font lacks it.
+  auto glyph_top = [&](char32_t c) -> double {
+    const FT_UInt g = FT_Get_Char_Index(f, c);
+    if (!g || FT_Load_Glyph(f, g, FT_LOAD_NO_SCALE | FT_LOAD_NO_HINTING | FT_LOAD_NO_BITMAP) != 0) return 0;
+    if (f->glyph->format != FT_GLYPH_FORMAT_OUTLINE) return 0;
+    FT_BBox box;
+    FT_Outline_Get_CBox(&f->glyph->outline, &box);
+    return static_cast<double>(box.yMax);
+  };
+  double xh = os2 && os2->version >= 2 ? os2->sxHeight : 0;
+  double caph = os2 && os2->version >= 2 ? os2->sCapHeight : 0;
+  if (xh <= 0) xh = glyph_top(U'x');
+  if (caph <= 0) caph = glyph_top(U'H');
+  if (xh <= 0) xh = 0.5 * upem;
+  if (caph <= 0) caph = 0.7 * upem;
+  r.x_height = xh * k;
+  r.cap_height = caph * k;
+
+  // post: underlinePosition is the top of the line, y up (negative below).
+  double ut = f->underline_thickness > 0 ? f->underline_thickness : upem / 14.0;
+  double up = f->underline_position != 0 ? f->underline_position : -0.1 * upem;
+  r.underline_thickness = ut * k;
+  r.underline_position = -up * k;
+  double st = os2 && os2->yStrikeoutSize > 0 ? os2->yStrikeoutSize : ut;
+  double sp = os2 && os2->yStrikeoutPosition > 0 ? os2->yStrikeoutPosition : xh / 2;
+  r.strikeout_thickness = st * k;
+  r.strikeout_position = -sp * k;
+  return r;
+}
+
+}  // namespace mpvg::text

@@ -1,0 +1,123 @@
+// mpvg's font engine: a database of font faces (FreeType), CSS font matching,
+// HarfBuzz shaping and glyph outlines as mpvg::Path. It knows nothing of SVG:
+// the frontends resolve their styles to the calls below.
+//
+// Units: every length is in user units for a font `size` of user units per
+// em, with y pointing down (as in a scene), origin at the pen position on the
+// baseline.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "core/scene.h"
+
+namespace mpvg::text {
+
+struct FaceInfo {
+  std::string family;  // typographic family (name ID 16) if present, else FreeType's family_name
+  int weight = 400;    // OS/2 usWeightClass
+  bool italic = false;
+  int stretch = 5;     // 1..9, CSS font-stretch keywords (OS/2 usWidthClass)
+  std::string path;
+  int index = 0;       // face index inside a collection
+};
+
+// Thread-safe: one mutex serialises every FreeType and HarfBuzz call on the
+// db's FT_Library. faces() and the add_* / set_generic calls must not run
+// concurrently with each other (build the db first, then share it).
+class FontDb {
+ public:
+  FontDb();
+  ~FontDb();
+  FontDb(const FontDb&) = delete;
+  FontDb& operator=(const FontDb&) = delete;
+
+  // Every font file (ttf, otf, ttc/otc: every face of a collection) directly
+  // in dir and its subfolders, in sorted path order; unreadable or broken
+  // files are skipped with one warning each. Returns the faces added (a face
+  // already in the db, same path and index, is not added again).
+  size_t add_dir(const std::string& dir, std::vector<std::string>* warnings = nullptr);
+  size_t add_file(const std::string& path, std::vector<std::string>* warnings = nullptr);
+  // fontconfig's list of fonts (0 when mpvg was built without fontconfig).
+  size_t add_system_fonts();
+
+  // Generic families (serif, sans-serif, cursive, fantasy, monospace; names
+  // case-insensitive). Defaults are resvg's test-suite mapping: Noto Serif,
+  // Noto Sans, Yellowtail, Sedgwick Ave Display, Noto Mono. When the mapped
+  // family is absent, match() takes a family by name heuristics.
+  void set_generic(const std::string& generic, const std::string& family);
+
+  const std::vector<FaceInfo>& faces() const;
+
+  // CSS Fonts 4 §5.2 font matching: the first family of the list (names
+  // case-insensitive, generic names mapped) that has faces; among its faces
+  // the nearest stretch, then style, then weight by the CSS rules. No family
+  // found: the "serif" mapping, else a family chosen by name heuristics.
+  // -1 only when the db is empty.
+  int match(const std::vector<std::string>& families, int weight, bool italic, int stretch = 5) const;
+
+  bool has_glyph(int face, char32_t c) const;
+
+  // Per-character fallback: the face with a glyph for c that is nearest in
+  // style, then weight (the earliest such face of the db); -1 if none has it.
+  int fallback(char32_t c, int weight, bool italic) const;
+
+  // Internal: the FreeType and HarfBuzz state (text.cpp), for the free
+  // functions below.
+  struct Impl;
+  Impl& impl() const { return *impl_; }
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+struct ShapedGlyph {
+  uint32_t glyph = 0;
+  uint32_t cluster = 0;  // byte offset in the utf8 input
+  double x_advance = 0, y_advance = 0, x_offset = 0, y_offset = 0;  // user units at `size`, y down
+};
+
+struct ShapeOptions {
+  bool rtl = false;
+  bool vertical = false;
+  std::string language;  // BCP 47; empty: HarfBuzz's default
+  // CSS font-feature-settings items: "\"liga\" 0", "smcp", "'kern' off",
+  // and HarfBuzz's forms "-kern", "+liga", "aalt=2".
+  std::vector<std::string> features;
+  std::vector<std::pair<std::string, double>> variations;  // {"wght", 700}
+};
+
+// HarfBuzz shaping of one run in one face at `size` user units per em. The
+// script is guessed (hb_buffer_guess_segment_properties); the direction comes
+// from the options. Positions are unhinted, exact to 1/64 font unit.
+std::vector<ShapedGlyph> shape(const FontDb& db, int face, std::string_view utf8, double size,
+                               const ShapeOptions& o = {});
+
+// The glyph's outline at `size`: TrueType quadratics as quad_to, CFF cubics
+// as cubic_to, from the unhinted, unscaled outline scaled by size / units
+// per em in double precision. Every contour is closed. Empty for blank
+// glyphs (and bitmap-only ones).
+mpvg::Path glyph_outline(const FontDb& db, int face, uint32_t glyph, double size,
+                         const std::vector<std::pair<std::string, double>>& variations = {});
+
+struct Metrics {
+  double ascent = 0, descent = 0;  // descent positive below the baseline
+  double x_height = 0, cap_height = 0;
+  double underline_position = 0;  // y down: positive below the baseline
+  double underline_thickness = 0;
+  double strikeout_position = 0;  // negative: above the baseline
+  double strikeout_thickness = 0;
+  double units_per_em = 1000;     // the font's, not scaled
+};
+
+// From the hhea / OS/2 / post tables, with fallbacks (glyph bounds of 'x' and
+// 'H', fractions of the em) where a table or field is missing.
+Metrics metrics(const FontDb& db, int face, double size);
+
+}  // namespace mpvg::text
