@@ -52,6 +52,9 @@ void usage(const char* program, const char* kind) {
       "      --devices LIST        CUDA devices to use, e.g. 0,1 (default: all)\n"
       "      --threads N           worker threads: parsing, PNG (default: one per core)\n"
       "      --render-threads N    render threads per device (default 2 with CUDA)\n"
+      "Text:\n"
+      "      --font-dir DIR        fonts for <text>: every font file in DIR's tree\n"
+      "                            (repeatable), before the system's fonts\n"
       "Execution:\n"
       "      --backend B           auto, cpu or cuda (default auto: the CPU when it would\n"
       "                            finish before CUDA is ready, else cuda; see --stats)\n"
@@ -160,6 +163,10 @@ bool parse(int argc, char** argv, const char* program, const char* kind, Options
       else if (b == "cpu") o.backend = Backend::Cpu;
       else if (b == "cuda") o.backend = Backend::Cuda;
       else throw UsageError{"unknown backend '" + b + "' (auto, cpu or cuda)"};
+    } else if (a == "--font-dir") {
+      const std::string d = value();
+      if (d.empty()) throw UsageError{"--font-dir needs a folder"};
+      o.font_dirs.push_back(d);
     } else if (a == "--allow-read") {
       const std::string d = value();
       if (d.empty()) throw UsageError{"--allow-read needs a folder"};

@@ -29,6 +29,7 @@ struct Options {
   // --allow-read: folders whose files the document may read (images)
   // besides its own folder tree.
   std::vector<std::string> allow_read;
+  std::vector<std::string> font_dirs;  // --font-dir (repeatable)
   std::vector<std::string> positional;
   std::string output;  // -o; else the second positional argument
 

@@ -83,6 +83,7 @@ int run(const cli::Options& opt, Renderers& renderers) {
   // Strokes are converted for the output's pixels (tolerance, hairlines).
   svg::ParseOptions parse_options;
   parse_options.allowed_dirs = opt.allow_read;
+  parse_options.font_dirs = opt.font_dirs;
   parse_options.view = [&opt](double w, double h) {
     int width, height;
     Affine view;
@@ -293,6 +294,7 @@ int run_batch(const cli::Options& opt, Renderers& renderers) {
     job->out = items[t].second;
     svg::ParseOptions parse_options;
     parse_options.allowed_dirs = opt.allow_read;
+    parse_options.font_dirs = opt.font_dirs;
     parse_options.threads = 1;  // the workers are the parallelism
     parse_options.view = [&opt](double w, double h) {
       int width, height;

@@ -136,6 +136,17 @@ struct Inherited {
   PaintOrder paint_order = kNormalPaintOrder;
   // font-size in user units (CSS Fonts 4; medium = 16px): em and ex lengths.
   double font_size = 16;
+  // Text (svg_text.cpp): font-family as a list (generic names kept as
+  // such), font-weight 1-1000, font-style italic/oblique, font-stretch 1-9
+  // (CSS keywords ultra-condensed .. ultra-expanded), text-anchor,
+  // letter-spacing and word-spacing in user units, xml:space="preserve".
+  std::vector<std::string> font_family{"serif"};
+  int font_weight = 400;
+  bool font_italic = false;
+  int font_stretch = 5;
+  enum class Anchor : uint8_t { Start, Middle, End } text_anchor = Anchor::Start;
+  double letter_spacing = 0, word_spacing = 0;
+  bool space_preserve = false;
   FillRule clip_rule = FillRule::NonZero;
   bool visible = true;
   RGBA color{0, 0, 0, 1};
@@ -208,7 +219,7 @@ std::optional<std::string> parse_keyword(std::string_view s);
 
 bool same(const Affine& l, const Affine& r);
 
-enum class Kind { Container, Shape, Use, Image, Unsupported, Ignored };
+enum class Kind { Container, Shape, Use, Image, Text, Unsupported, Ignored };
 
 Kind classify(const Element& e);
 
@@ -413,6 +424,13 @@ class Converter {
   bool place(const Element& e, Kind kind, const Context& ctx, Placed& out);
   void render(const Element& e, const Context& ctx, int depth);
   void shape_paint(const Element& e, const Style& st, const Affine& space);
+  // shapes_[shape] filled (unless !fillable) and stroked with st, in
+  // paint-order.
+  void paint_shape(uint32_t shape, const Style& st, const Affine& space, bool fillable);
+
+  // ------------------------------------------------------------ text (svg_text.cpp)
+
+  void text(const Element& e, const Style& st, const Affine& space, const Context& ctx);
 
   // ------------------------------------------------------------ groups and masks (svg_masks.cpp)
 

@@ -75,9 +75,23 @@ class TreeBuilder {
       e->name = std::string(local);
       e->parent = parent;
       copy_attributes(x, *e);
-      for (const tinyxml2::XMLElement* c = x->FirstChildElement(); c; c = c->NextSiblingElement()) {
-        if (auto child = build(c, e.get())) e->children.push_back(std::move(child));
+      // Character data is kept inside text content elements only, as
+      // children named "#text" (svg_text.cpp lays them out).
+      const bool text_content = in_text_ || e->name == "text";
+      const bool was_in_text = in_text_;
+      in_text_ = text_content;
+      for (const tinyxml2::XMLNode* c = x->FirstChild(); c; c = c->NextSibling()) {
+        if (const tinyxml2::XMLElement* ce = c->ToElement()) {
+          if (auto child = build(ce, e.get())) e->children.push_back(std::move(child));
+        } else if (const tinyxml2::XMLText* t = c->ToText(); t && text_content) {
+          auto node = std::make_unique<Element>();
+          node->name = "#text";
+          node->text = t->Value();
+          node->parent = e.get();
+          e->children.push_back(std::move(node));
+        }
       }
+      in_text_ = was_in_text;
     }
     ns_.release(mark);
     return e;
@@ -97,6 +111,8 @@ class TreeBuilder {
         // An undeclared "xlink" prefix is a common slip; honour it.
         if ((uri && *uri == kXlinkNs) || (!uri && prefix == "xlink"))
           name = "xlink:" + std::string(local);
+        else if (prefix == "xml")  // bound to the XML namespace by definition (xml:space)
+          name = "xml:" + std::string(local);
         else if (uri && *uri == kSvgNs)
           name = std::string(local);
         else
@@ -114,6 +130,7 @@ class TreeBuilder {
   Document& doc_;
   NamespaceScope ns_;
   bool no_namespaces_ = false;
+  bool in_text_ = false;  // inside a <text>
 };
 
 }  // namespace

@@ -23,6 +23,9 @@ struct Element {
   std::vector<std::pair<std::string, std::string>> declarations;
   const Element* parent = nullptr;
   std::vector<std::unique_ptr<Element>> children;
+  // Character data, for the children named "#text" that text content
+  // elements (text and what it holds) keep.
+  std::string text;
 
   const std::string* attribute(std::string_view name) const;
 };

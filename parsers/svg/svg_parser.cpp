@@ -32,6 +32,9 @@ Kind classify(const Element& e) {
     return Kind::Shape;
   if (n == "use") return Kind::Use;
   if (n == "image") return Kind::Image;
+#if MPVG_HAVE_TEXT
+  if (n == "text") return Kind::Text;
+#endif
   if (n == "text" || n == "switch" || n == "foreignObject" || n == "style")
     return Kind::Unsupported;
   // defs, clipPath, symbol, gradients, patterns, masks, filters, markers,
@@ -337,6 +340,7 @@ void Converter::render(const Element& e, const Context& ctx, int depth) {
       break;
     case Kind::Use: render(*target, inner, depth + 1); break;
     case Kind::Image: image(e, st, space); break;
+    case Kind::Text: text(e, st, space, inner); break;
     default: shape_paint(e, st, space); break;
   }
   s_.active.pop_back();
@@ -352,6 +356,12 @@ void Converter::render(const Element& e, const Context& ctx, int depth) {
 void Converter::shape_paint(const Element& e, const Style& st, const Affine& space) {
   const int shape = shape_index(e, st.inh.font_size);
   if (shape < 0) return;
+  // A line encloses no area (SVG 2 shapes.html#LineElement): it can only
+  // be stroked.
+  paint_shape(static_cast<uint32_t>(shape), st, space, e.name != "line");
+}
+
+void Converter::paint_shape(uint32_t shape, const Style& st, const Affine& space, bool fillable) {
   Op fill = Op::of(OpKind::Bounds);
   fill.shape = static_cast<uint32_t>(shape);
   fill.xf = space;
@@ -359,9 +369,7 @@ void Converter::shape_paint(const Element& e, const Style& st, const Affine& spa
   // Paint servers in objectBoundingBox units use the box of the fill
   // geometry, for the stroke too (SVG 2 coords.html#BoundingBoxes).
   ShapeBox bbox{shapes_, static_cast<uint32_t>(shape), std::nullopt};
-  // A line encloses no area (SVG 2 shapes.html#LineElement): it can only
-  // be stroked.
-  if (e.name != "line" && !shapes_[shape].empty() && st.inh.visible) {
+  if (fillable && !shapes_[shape].empty() && st.inh.visible) {
     if (const auto paint = make_paint(st.inh.fill, st.inh.fill_opacity, bbox, space)) {
       fill.kind = OpKind::Fill;
       fill.paint = *paint;

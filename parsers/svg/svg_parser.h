@@ -79,6 +79,12 @@ struct ParseOptions {
   // these trees. Network URLs are never loaded.
   std::vector<std::string> allowed_dirs;
 
+  // Fonts for text: every font file in these folders (and their
+  // subfolders), then the system's (fontconfig) unless system_fonts is
+  // false.
+  std::vector<std::string> font_dirs;
+  bool system_fonts = true;
+
   // Threads converting strokes (0: every core). Batches that parse files
   // on every core already pass 1.
   int threads = 0;

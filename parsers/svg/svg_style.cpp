@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include <charconv>
+#include <cmath>
+
 #include "parsers/svg/svg_converter.h"
 
 namespace mpvg::svg::detail {
@@ -120,6 +123,95 @@ std::optional<std::string> parse_keyword(std::string_view s) {
   return k;
 }
 
+// The inherited text properties (CSS Fonts 4, CSS Text 3, SVG 2 text.html).
+void text_style(const Element& e, const Context& ctx, Inherited& inh) {
+  if (const auto f = property<std::vector<std::string>>(e, "font-family", [](std::string_view v) {
+        // A comma-separated list of names, quoted or not.
+        std::vector<std::string> out;
+        for (size_t pos = 0; pos <= v.size();) {
+          size_t end = pos;
+          std::string name;
+          const size_t lead = v.find_first_not_of(" \t\n\r", pos);
+          if (lead != std::string_view::npos && (v[lead] == '"' || v[lead] == '\'')) {
+            const size_t close = v.find(v[lead], lead + 1);
+            if (close == std::string_view::npos) return std::optional<std::vector<std::string>>();
+            name = std::string(v.substr(lead + 1, close - lead - 1));
+            end = v.find(',', close);
+          } else {
+            end = v.find(',', pos);
+            name = std::string(trim(v.substr(pos, end == std::string_view::npos ? std::string_view::npos : end - pos)));
+            // Unquoted names: runs of spaces are one.
+            std::string c;
+            for (char ch : name)
+              if (!(ch == ' ' && !c.empty() && c.back() == ' ')) c += ch;
+            name = c;
+          }
+          if (!name.empty()) out.push_back(name);
+          if (end == std::string_view::npos) break;
+          pos = end + 1;
+        }
+        return out.empty() ? std::optional<std::vector<std::string>>() : std::optional(out);
+      });
+      f.state == Prop<std::vector<std::string>>::Set)
+    inh.font_family = f.value;
+  if (const auto w = property<int>(e, "font-weight", [&](std::string_view v) -> std::optional<int> {
+        const auto k = parse_keyword(v);
+        const int parent = ctx.inh.font_weight;
+        if (k == "normal") return 400;
+        if (k == "bold") return 700;
+        // CSS Fonts 4 §2.2's table for bolder and lighter.
+        if (k == "bolder") return parent < 350 ? 400 : parent < 550 ? 700 : parent < 900 ? 900 : parent;
+        if (k == "lighter") return parent < 100 ? parent : parent < 550 ? 100 : parent < 750 ? 400 : 700;
+        double n = 0;
+        const std::string t(trim(v));
+        const auto r = std::from_chars(t.data(), t.data() + t.size(), n);
+        if (r.ec == std::errc() && r.ptr == t.data() + t.size() && n >= 1 && n <= 1000) return int(std::lround(n));
+        return std::nullopt;
+      });
+      w.state == Prop<int>::Set)
+    inh.font_weight = w.value;
+  if (const auto it = property<bool>(e, "font-style", [](std::string_view v) -> std::optional<bool> {
+        const auto k = parse_keyword(v);
+        if (k == "normal") return false;
+        if (k == "italic" || k == "oblique") return true;
+        return std::nullopt;
+      });
+      it.state == Prop<bool>::Set)
+    inh.font_italic = it.value;
+  if (const auto fs = property<int>(e, "font-stretch", [](std::string_view v) -> std::optional<int> {
+        static const char* names[] = {"ultra-condensed", "extra-condensed", "condensed", "semi-condensed", "normal",
+                                      "semi-expanded",   "expanded",        "extra-expanded", "ultra-expanded"};
+        const auto k = parse_keyword(v);
+        for (int i = 0; i < 9; i++)
+          if (k == names[i]) return i + 1;
+        return std::nullopt;
+      });
+      fs.state == Prop<int>::Set)
+    inh.font_stretch = fs.value;
+  if (const auto a = property<Inherited::Anchor>(e, "text-anchor", [](std::string_view v) {
+        const auto k = parse_keyword(v);
+        using A = Inherited::Anchor;
+        return k == "start" ? std::optional(A::Start) : k == "middle" ? std::optional(A::Middle)
+                                                      : k == "end"    ? std::optional(A::End)
+                                                                      : std::optional<A>();
+      });
+      a.state == Prop<Inherited::Anchor>::Set)
+    inh.text_anchor = a.value;
+  for (const char* name : {"letter-spacing", "word-spacing"}) {
+    const auto sp = property<double>(e, name, [&](std::string_view v) -> std::optional<double> {
+      if (parse_keyword(v) == "normal") return 0.0;
+      const auto l = parse_length(v);
+      if (!l) return std::nullopt;
+      if (l->unit == Unit::Em) return l->value * inh.font_size;
+      if (l->unit == Unit::Ex) return l->value * inh.font_size / 2;
+      return length_to_px(*l, inh.font_size);
+    });
+    if (sp.state == Prop<double>::Set) (name[0] == 'l' ? inh.letter_spacing : inh.word_spacing) = sp.value;
+  }
+  // xml:space is an attribute, inherited (XML 1.0 §2.10).
+  if (const std::string* xs = e.attribute("xml:space")) inh.space_preserve = *xs == "preserve";
+}
+
 Style Converter::compute_style(const Element& e, const Context& ctx) {
   Style st;
   st.inh = ctx.inh;
@@ -164,6 +256,7 @@ Style Converter::compute_style(const Element& e, const Context& ctx) {
   if (const auto ir = property<TextureFilter>(e, "image-rendering", parse_image_rendering);
       ir.state == Prop<TextureFilter>::Set)
     inh.image_rendering = ir.value;
+  text_style(e, ctx, inh);
 
   // Non-inherited properties.
   const auto opacity = property<double>(e, "opacity", parse_alpha);

@@ -1,0 +1,290 @@
+// SVG text (SVG 2 text.html, SVG 1.1 §10): the characters of a <text> and
+// the tspans inside it, white space handled (xml:space), positioned by the
+// x, y, dx, dy and rotate lists, cut into chunks at absolute positions and
+// anchored (text-anchor), shaped by HarfBuzz in the faces CSS font matching
+// picks (text/text.h, per-character fallback), and drawn as glyph outlines
+// kept as curves: each span's glyphs become one shape painted with that
+// span's fill and stroke, like any path.
+//
+// Not yet: textPath, tref, baselines other than the alphabetic one,
+// text-decoration, vertical writing, bidi reordering across spans,
+// textLength, font-variant and feature settings, text inside clip paths.
+#include <cmath>
+#include <functional>
+#include <map>
+#include <mutex>
+
+#include "parsers/svg/svg_converter.h"
+#include "parsers/svg/svg_values.h"
+#include "text/text.h"
+
+namespace mpvg::svg::detail {
+
+namespace {
+
+// Font databases by their folders, shared by every document of the process
+// (a batch scans its fonts once).
+const text::FontDb& font_db(const std::vector<std::string>& dirs, bool system, std::vector<std::string>* warnings) {
+  static std::mutex mutex;
+  static std::map<std::pair<std::vector<std::string>, bool>, std::unique_ptr<text::FontDb>> dbs;
+  std::lock_guard<std::mutex> lock(mutex);
+  auto& db = dbs[{dirs, system}];
+  if (!db) {
+    db = std::make_unique<text::FontDb>();
+    for (const std::string& d : dirs) db->add_dir(d, warnings);
+    if (system) db->add_system_fonts();
+  }
+  return *db;
+}
+
+// UTF-8 to code points, with each one's byte offset; invalid bytes become
+// U+FFFD.
+void decode_utf8(const std::string& s, std::vector<char32_t>& cps) {
+  for (size_t i = 0; i < s.size();) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    int n = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 0;
+    char32_t cp = n == 1 ? c : n == 2 ? (c & 0x1f) : n == 3 ? (c & 0x0f) : (c & 0x07);
+    bool ok = n > 0 && i + n <= s.size();
+    for (int k = 1; ok && k < n; k++) {
+      const unsigned char d = static_cast<unsigned char>(s[i + k]);
+      ok = (d >> 6) == 2;
+      cp = (cp << 6) | (d & 0x3f);
+    }
+    cps.push_back(ok ? cp : 0xfffd);
+    i += ok ? n : 1;
+  }
+}
+
+void encode_utf8(char32_t c, std::string& out) {
+  if (c < 0x80) {
+    out += char(c);
+  } else if (c < 0x800) {
+    out += char(0xc0 | (c >> 6));
+    out += char(0x80 | (c & 0x3f));
+  } else if (c < 0x10000) {
+    out += char(0xe0 | (c >> 12));
+    out += char(0x80 | ((c >> 6) & 0x3f));
+    out += char(0x80 | (c & 0x3f));
+  } else {
+    out += char(0xf0 | (c >> 18));
+    out += char(0x80 | ((c >> 12) & 0x3f));
+    out += char(0x80 | ((c >> 6) & 0x3f));
+    out += char(0x80 | (c & 0x3f));
+  }
+}
+
+// One character of the text, after white-space handling.
+struct Char {
+  char32_t c = 0;
+  int span = 0;  // index into the spans
+  std::optional<double> x, y;
+  double dx = 0, dy = 0;
+  std::optional<double> rotate;
+};
+
+// A text content element with its computed style.
+struct Span {
+  const Element* e = nullptr;
+  Style st;
+  int first = 0, end = 0;  // its characters (descendants' included)
+};
+
+std::vector<double> number_list(const Element& e, const char* name, const std::function<double(const Length&)>& user) {
+  std::vector<double> out;
+  const std::string* v = e.attribute(name);
+  if (!v) return out;
+  // Lengths separated by white space and/or a comma; the list stops at the
+  // first that does not parse.
+  const std::string& t = *v;
+  for (size_t pos = 0; pos < t.size();) {
+    const size_t begin = t.find_first_not_of(" \t\n\r,", pos);
+    if (begin == std::string::npos) break;
+    size_t end = t.find_first_of(" \t\n\r,", begin);
+    if (end == std::string::npos) end = t.size();
+    const auto l = parse_length(std::string_view(t).substr(begin, end - begin));
+    if (!l) break;
+    out.push_back(user(*l));
+    pos = end;
+  }
+  return out;
+}
+
+}  // namespace
+
+void Converter::text(const Element& root, const Style& root_style, const Affine& space, const Context& ctx) {
+  std::vector<std::string> font_warnings;
+  const text::FontDb& db = font_db(s_.options.font_dirs, s_.options.system_fonts, &font_warnings);
+  for (const std::string& w : font_warnings) warn(w);
+  if (db.faces().empty()) {
+    warn("no fonts found (see --font-dir): text not rendered");
+    return;
+  }
+
+  // The characters, in document order, with white space handled (SVG 2
+  // text.html#WhiteSpace, the xml:space rules of SVG 1.1 §10.15): newlines
+  // removed and tabs made spaces; unless preserved, runs of spaces become
+  // one and the text's leading and trailing spaces go.
+  std::vector<Span> spans;
+  std::vector<Char> chars;
+  bool last_space = true;  // at the start, a space is leading
+  std::function<void(const Element&, const Style&, const Context&, int)> collect =
+      [&](const Element& e, const Style& st, const Context& parent_ctx, int depth) {
+        const int index = static_cast<int>(spans.size());
+        spans.push_back({&e, st, static_cast<int>(chars.size()), 0});
+        const Context inner = child_context(st, space, false);
+        for (const auto& c : e.children) {
+          if (c->name == "#text") {
+            std::vector<char32_t> cps;
+            decode_utf8(c->text, cps);
+            for (char32_t cp : cps) {
+              if (cp == '\n' || cp == '\r') {
+                if (st.inh.space_preserve) cp = ' ';
+                else continue;
+              }
+              if (cp == '\t') cp = ' ';
+              if (cp == ' ' && !st.inh.space_preserve && last_space) continue;
+              last_space = cp == ' ';
+              Char ch;
+              ch.c = cp;
+              ch.span = index;
+              chars.push_back(ch);
+            }
+          } else if (c->name == "tspan" || c->name == "a") {
+            if (depth > 64) continue;
+            const Style cs = compute_style(*c, inner);
+            if (cs.display_none) continue;
+            collect(*c, cs, inner, depth + 1);
+          } else if (c->name == "textPath" || c->name == "tref") {
+            warn("<" + c->name + "> is not supported: ignored");
+          }
+        }
+        spans[index].end = static_cast<int>(chars.size());
+        (void)parent_ctx;
+      };
+  collect(root, root_style, ctx, 0);
+  if (!root_style.inh.space_preserve)
+    while (!chars.empty() && chars.back().c == ' ' && !spans[chars.back().span].st.inh.space_preserve) {
+      chars.pop_back();
+      for (Span& sp : spans) sp.end = std::min(sp.end, static_cast<int>(chars.size()));
+    }
+  if (chars.empty()) return;
+
+  // Positions: each element's lists apply to its characters in order,
+  // descendants' own values over their ancestors' (spans are in pre-order,
+  // so later assignments are the deeper ones).
+  for (const Span& sp : spans) {
+    const double em = sp.st.inh.font_size;
+    auto ux = [&](const Length& l) { return to_user(l, Axis::X, em); };
+    auto uy = [&](const Length& l) { return to_user(l, Axis::Y, em); };
+    const auto xs = number_list(*sp.e, "x", ux), ys = number_list(*sp.e, "y", uy);
+    const auto dxs = number_list(*sp.e, "dx", ux), dys = number_list(*sp.e, "dy", uy);
+    const auto rs = number_list(*sp.e, "rotate", [](const Length& l) { return l.value; });
+    for (int i = sp.first; i < sp.end; i++) {
+      const size_t k = size_t(i - sp.first);
+      if (k < xs.size()) chars[i].x = xs[k];
+      if (k < ys.size()) chars[i].y = ys[k];
+      if (k < dxs.size()) chars[i].dx = dxs[k];
+      if (k < dys.size()) chars[i].dy = dys[k];
+      // rotate's last value holds for the characters after it.
+      if (!rs.empty()) chars[i].rotate = rs[std::min(k, rs.size() - 1)];
+    }
+  }
+
+  // Layout: chunks start at characters with an absolute x or y; within a
+  // chunk, runs of one span and one face are shaped together.
+  struct Glyph {
+    int span;
+    int face;
+    uint32_t id;
+    double x, y, size;
+    double rotate;
+  };
+  std::vector<Glyph> glyphs;
+  double pen_x = 0, pen_y = 0;
+  size_t chunk_start = 0;  // first glyph of the chunk
+  double chunk_x = 0;
+  Inherited::Anchor chunk_anchor = Inherited::Anchor::Start;
+  auto end_chunk = [&]() {
+    const double width = pen_x - chunk_x;
+    const double shift = chunk_anchor == Inherited::Anchor::Middle ? -width / 2
+                         : chunk_anchor == Inherited::Anchor::End  ? -width
+                                                                   : 0;
+    for (size_t g = chunk_start; g < glyphs.size(); g++) glyphs[g].x += shift;
+    chunk_start = glyphs.size();
+  };
+  auto face_for = [&](const Inherited& inh, char32_t c) {
+    const int face = db.match(inh.font_family, inh.font_weight, inh.font_italic, inh.font_stretch);
+    if (face < 0 || c == ' ' || db.has_glyph(face, c)) return face;
+    const int other = db.fallback(c, inh.font_weight, inh.font_italic);
+    return other >= 0 ? other : face;
+  };
+  for (size_t i = 0; i < chars.size();) {
+    const Char& first = chars[i];
+    if (i == 0 || first.x || first.y) {
+      if (i > 0) end_chunk();
+      if (first.x) pen_x = *first.x;
+      if (first.y) pen_y = *first.y;
+      chunk_x = pen_x;
+      chunk_anchor = spans[first.span].st.inh.text_anchor;
+    }
+    // The run: same span and face, no new chunk, no rotation change.
+    const Inherited& inh = spans[first.span].st.inh;
+    const int face = face_for(inh, first.c);
+    size_t j = i + 1;
+    while (j < chars.size() && chars[j].span == first.span && !chars[j].x && !chars[j].y &&
+           face_for(inh, chars[j].c) == face)
+      j++;
+    if (face < 0) {
+      i = j;
+      continue;
+    }
+    std::string utf8;
+    std::vector<size_t> char_of_byte;  // byte offset -> character index
+    for (size_t k = i; k < j; k++) {
+      const size_t before = utf8.size();
+      encode_utf8(chars[k].c, utf8);
+      char_of_byte.resize(utf8.size(), k);
+      (void)before;
+    }
+    const double size = inh.font_size;
+    const std::vector<text::ShapedGlyph> shaped = text::shape(db, face, utf8, size);
+    size_t last_char = SIZE_MAX;
+    for (const text::ShapedGlyph& g : shaped) {
+      const size_t k = g.cluster < char_of_byte.size() ? char_of_byte[g.cluster] : i;
+      if (k != last_char) {
+        // dx and dy move the pen before the cluster's first glyph.
+        pen_x += chars[k].dx;
+        pen_y += chars[k].dy;
+      }
+      glyphs.push_back({first.span, face, g.glyph, pen_x + g.x_offset, pen_y + g.y_offset, size,
+                        chars[k].rotate.value_or(0)});
+      pen_x += g.x_advance;
+      pen_y += g.y_advance;
+      if (k != last_char) {
+        pen_x += inh.letter_spacing;
+        if (chars[k].c == ' ') pen_x += inh.word_spacing;
+      }
+      last_char = k;
+    }
+    i = j;
+  }
+  end_chunk();
+
+  // Each span's glyphs as one shape, painted with the span's style.
+  std::vector<Path> paths(spans.size());
+  for (const Glyph& g : glyphs) {
+    const Path outline = text::glyph_outline(db, g.face, g.id, g.size);
+    if (outline.empty()) continue;
+    Affine place = Affine::translate(g.x, g.y);
+    if (g.rotate != 0) place = place * Affine::rotate_degrees(g.rotate);
+    paths[g.span].append(outline.transformed(place));
+  }
+  for (size_t k = 0; k < spans.size(); k++) {
+    if (paths[k].empty() || !spans[k].st.inh.visible) continue;
+    const uint32_t shape = static_cast<uint32_t>(shapes_.size());
+    shapes_.push_back(std::move(paths[k]));
+    paint_shape(shape, spans[k].st, space, true);
+  }
+}
+
+}  // namespace mpvg::svg::detail
