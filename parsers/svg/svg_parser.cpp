@@ -468,7 +468,7 @@ bool Converter::clip_items(const Element& cp, const Affine& space, LazyBounds& b
 // model); groups and everything else are not valid children.
 void Converter::clip_child(const Element& e, const Context& ctx, int depth) {
   const Kind kind = classify(e);
-  if (kind != Kind::Shape && kind != Kind::Use) {
+  if (kind != Kind::Shape && kind != Kind::Use && kind != Kind::Text) {
     if (e.name == "text") warn("<text> elements are not supported: ignored");
     return;
   }
@@ -483,6 +483,8 @@ void Converter::clip_child(const Element& e, const Context& ctx, int depth) {
     s_.active.push_back(&e);
     clip_child(*target, child_context(st, space, true), depth + 1);
     s_.active.pop_back();
+  } else if (kind == Kind::Text) {
+    clip_text(e, st, space, child_context(st, space, true));
   } else {
     const int shape = shape_index(e, st.inh.font_size);
     // A shape without segments ("M p Z") has no area to clip with.

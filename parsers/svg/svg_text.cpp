@@ -111,13 +111,15 @@ std::vector<double> number_list(const Element& e, const char* name, const std::f
 
 }  // namespace
 
-void Converter::text(const Element& root, const Style& root_style, const Affine& space, const Context& ctx) {
+std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, const Style& root_style,
+                                                        const Affine& space, const Context& ctx) {
+  std::vector<TextPiece> pieces;
   std::vector<std::string> font_warnings;
   const text::FontDb& db = font_db(s_.options.font_dirs, s_.options.system_fonts, &font_warnings);
   for (const std::string& w : font_warnings) warn(w);
   if (db.faces().empty()) {
     warn("no fonts found (see --font-dir): text not rendered");
-    return;
+    return pieces;
   }
 
   // The characters, in document order, with white space handled (SVG 2
@@ -167,7 +169,7 @@ void Converter::text(const Element& root, const Style& root_style, const Affine&
       chars.pop_back();
       for (Span& sp : spans) sp.end = std::min(sp.end, static_cast<int>(chars.size()));
     }
-  if (chars.empty()) return;
+  if (chars.empty()) return pieces;
 
   // Positions: each element's lists apply to its characters in order,
   // descendants' own values over their ancestors' (spans are in pre-order,
@@ -279,11 +281,28 @@ void Converter::text(const Element& root, const Style& root_style, const Affine&
     if (g.rotate != 0) place = place * Affine::rotate_degrees(g.rotate);
     paths[g.span].append(outline.transformed(place));
   }
-  for (size_t k = 0; k < spans.size(); k++) {
-    if (paths[k].empty() || !spans[k].st.inh.visible) continue;
+  for (size_t k = 0; k < spans.size(); k++)
+    if (!paths[k].empty() && spans[k].st.inh.visible) pieces.push_back({std::move(paths[k]), spans[k].st});
+  return pieces;
+}
+
+void Converter::text(const Element& e, const Style& st, const Affine& space, const Context& ctx) {
+  for (TextPiece& piece : layout_text(e, st, space, ctx)) {
     const uint32_t shape = static_cast<uint32_t>(shapes_.size());
-    shapes_.push_back(std::move(paths[k]));
-    paint_shape(shape, spans[k].st, space, true);
+    shapes_.push_back(std::move(piece.path));
+    paint_shape(shape, piece.st, space, true);
+  }
+}
+
+void Converter::clip_text(const Element& e, const Style& st, const Affine& space, const Context& ctx) {
+  // Each span's glyphs clip with its clip-rule; the clip path is their union.
+  for (TextPiece& piece : layout_text(e, st, space, ctx)) {
+    Op op = Op::of(OpKind::Clip);
+    op.shape = static_cast<uint32_t>(shapes_.size());
+    shapes_.push_back(std::move(piece.path));
+    op.xf = space;
+    op.rule = piece.st.inh.clip_rule;
+    ops_.push_back(op);
   }
 }
 
