@@ -1,0 +1,145 @@
+// SVG text layout (parsers/svg/svg_text.cpp) through the parser: where the
+// glyph outlines land for positioning lists, chunks and anchors, spacing,
+// white space and clip paths. The font is DejaVu Sans from Debian's
+// fonts-dejavu-core (the set-up script installs it); without it the tests
+// say so and skip.
+#include <filesystem>
+#include <limits>
+#include <string>
+
+#include "parsers/svg/svg_parser.h"
+#include "tests/catch.h"
+
+namespace {
+
+const char* kFontDir = "/usr/share/fonts/truetype/dejavu";
+
+bool have_font() { return std::filesystem::exists(std::string(kFontDir) + "/DejaVuSans.ttf"); }
+
+mpvg::svg::ParseResult parse(const std::string& body) {
+  mpvg::svg::ParseOptions o;
+  o.font_dirs = {kFontDir};
+  o.system_fonts = false;
+  return mpvg::svg::parse_svg_string(
+      "<svg xmlns='http://www.w3.org/2000/svg' width='400' height='200' font-family='DejaVu Sans' font-size='20'>" +
+          body + "</svg>",
+      ".", o);
+}
+
+struct Box {
+  double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+  bool empty() const { return x0 > x1; }
+};
+
+// The bounding box of the control points of path instance i (in scene
+// units), or of all fills.
+Box box_of(const mpvg::Scene& s, int only = -1) {
+  Box b;
+  for (size_t i = 0; i < s.paths.size(); i++) {
+    if (only >= 0 && int(i) != only) continue;
+    const mpvg::ScenePath& p = s.paths[i];
+    for (const mpvg::Vec2& q : s.geometries[p.geometry].points()) {
+      const mpvg::Vec2 t = p.xf.apply(q);
+      b.x0 = std::min(b.x0, t.x);
+      b.x1 = std::max(b.x1, t.x);
+      b.y0 = std::min(b.y0, t.y);
+      b.y1 = std::max(b.y1, t.y);
+    }
+  }
+  return b;
+}
+
+#define REQUIRE_FONT()                                                                   \
+  if (!have_font()) {                                                                    \
+    WARN("skipped: DejaVu Sans is not installed (Debian package fonts-dejavu-core)"); \
+    return;                                                                              \
+  }
+
+}  // namespace
+
+TEST_CASE("text: glyphs sit on the baseline at x, y, as curves", "[svg][text]") {
+  REQUIRE_FONT();
+  const auto r = parse("<text x='50' y='100'>H</text>");
+  CHECK(r.warnings.empty());
+  REQUIRE(r.scene.paths.size() == 1);
+  const Box b = box_of(r.scene);
+  // DejaVu Sans 'H': left bearing ~0.1 em, cap height 0.729 em, on the baseline.
+  CHECK(b.x0 > 50);
+  CHECK(b.x0 < 50 + 0.2 * 20);
+  CHECK(b.y1 == Approx(100).margin(1e-9));
+  CHECK(b.y0 == Approx(100 - 0.729 * 20).margin(0.2));
+  // 'O' keeps its curves: quadratic segments, two contours.
+  const auto o = parse("<text x='50' y='100'>O</text>");
+  const mpvg::Path& g = o.scene.geometries[o.scene.paths[0].geometry];
+  CHECK(g.contours().size() == 2);
+  bool curves = false;
+  for (const auto& seg : g.segments()) curves |= seg.type == mpvg::SegmentType::Quad;
+  CHECK(curves);
+}
+
+TEST_CASE("text: text-anchor moves the chunk by its advance", "[svg][text]") {
+  REQUIRE_FONT();
+  const Box start = box_of(parse("<text x='200' y='100'>Hello</text>").scene);
+  const Box middle = box_of(parse("<text x='200' y='100' text-anchor='middle'>Hello</text>").scene);
+  const Box end = box_of(parse("<text x='200' y='100' text-anchor='end'>Hello</text>").scene);
+  const double advance = start.x0 - end.x0;  // the chunk's width
+  CHECK(advance > 40);
+  CHECK(start.x0 - middle.x0 == Approx(advance / 2).margin(1e-6));
+  CHECK(end.x1 < 200 + 1e-6);
+  CHECK(end.x1 > 200 - 0.2 * 20);
+}
+
+TEST_CASE("text: x lists place characters; dx and dy shift them; chunks anchor apart", "[svg][text]") {
+  REQUIRE_FONT();
+  const auto a = parse("<text x='10 100 200' y='50'>HHH</text>");
+  REQUIRE(a.scene.paths.size() == 1);
+  const Box b = box_of(a.scene);
+  CHECK(b.x1 > 200);  // the third H at 200
+  CHECK(b.x1 < 200 + 20);
+  const Box plain = box_of(parse("<text x='10' y='50'>HH</text>").scene);
+  const Box shifted = box_of(parse("<text x='10' y='50' dx='0 30' dy='0 7'>HH</text>").scene);
+  CHECK(shifted.x1 - plain.x1 == Approx(30).margin(1e-6));
+  CHECK(shifted.y1 - plain.y1 == Approx(7).margin(1e-6));
+  // A tspan's own list wins for its characters; its dx moves what follows too.
+  const Box t = box_of(parse("<text x='10' y='50'>H<tspan dx='40'>H</tspan>H</text>").scene);
+  CHECK(t.x1 - box_of(parse("<text x='10' y='50'>HHH</text>").scene).x1 == Approx(40).margin(1e-6));
+}
+
+TEST_CASE("text: each span is a path of its own with its own paint", "[svg][text]") {
+  REQUIRE_FONT();
+  const auto r = parse("<text x='10' y='50' fill='red'>Ab<tspan fill='blue'>Cd</tspan>Ef</text>");
+  REQUIRE(r.scene.paths.size() == 2);
+  std::vector<mpvg::RGBA> colours;
+  for (const mpvg::ScenePath& p : r.scene.paths) colours.push_back(r.scene.paints[p.paint].color);
+  CHECK(((colours[0].r == 1 && colours[1].b == 1) || (colours[0].b == 1 && colours[1].r == 1)));
+}
+
+TEST_CASE("text: white space collapses unless xml:space='preserve'", "[svg][text]") {
+  REQUIRE_FONT();
+  const Box one = box_of(parse("<text x='10' y='50'>a b</text>").scene);
+  const Box many = box_of(parse("<text x='10' y='50'>\n   a  \n\t  b   </text>").scene);
+  CHECK(many.x0 == Approx(one.x0));
+  CHECK(many.x1 == Approx(one.x1));
+  const Box kept = box_of(parse("<text x='10' y='50' xml:space='preserve'>a   b</text>").scene);
+  CHECK(kept.x1 > one.x1 + 10);
+}
+
+TEST_CASE("text: letter-spacing and word-spacing widen the line", "[svg][text]") {
+  REQUIRE_FONT();
+  const Box plain = box_of(parse("<text x='10' y='50'>ab cd</text>").scene);
+  const Box letters = box_of(parse("<text x='10' y='50' letter-spacing='5'>ab cd</text>").scene);
+  const Box words = box_of(parse("<text x='10' y='50' word-spacing='12'>ab cd</text>").scene);
+  CHECK(letters.x1 - plain.x1 == Approx(4 * 5).margin(1e-6));  // after each of the first four characters
+  CHECK(words.x1 - plain.x1 == Approx(12).margin(1e-6));
+}
+
+TEST_CASE("text: text in a clip path clips", "[svg][text]") {
+  REQUIRE_FONT();
+  const auto r = parse(
+      "<clipPath id='c'><text x='10' y='50'>H</text></clipPath>"
+      "<rect width='400' height='200' clip-path='url(#c)'/>");
+  CHECK(r.warnings.empty());
+  int clips = 0;
+  for (const mpvg::ScenePath& p : r.scene.paths) clips += p.is_clip;
+  CHECK(clips == 1);
+}
