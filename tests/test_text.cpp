@@ -9,6 +9,7 @@
 #include <fstream>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "tests/catch.h"
@@ -79,6 +80,46 @@ uint32_t glyph_of(const tx::FontDb& db, int face, const char* utf8) {
   return g[0].glyph;
 }
 
+std::vector<unsigned char> read_bytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+uint32_t be32(const std::vector<unsigned char>& b, size_t at) {
+  return (uint32_t(b[at]) << 24) | (uint32_t(b[at + 1]) << 16) | (uint32_t(b[at + 2]) << 8) | b[at + 3];
+}
+void put32(std::vector<unsigned char>& b, uint32_t v) {
+  for (int s = 24; s >= 0; s -= 8) b.push_back(static_cast<unsigned char>(v >> s));
+}
+void set32(std::vector<unsigned char>& b, size_t at, uint32_t v) {
+  for (int i = 0; i < 4; ++i) b[at + i] = static_cast<unsigned char>(v >> (24 - 8 * i));
+}
+
+// A TrueType collection of whole TrueType files (OpenType spec, "TTC
+// header" version 1.0): each font's table directory, copied, then its
+// tables, with the directory's offsets made absolute in the new file.
+std::vector<unsigned char> make_ttc(const std::vector<std::vector<unsigned char>>& fonts) {
+  std::vector<unsigned char> out = {'t', 't', 'c', 'f', 0, 1, 0, 0};
+  put32(out, static_cast<uint32_t>(fonts.size()));
+  const size_t offsets_at = out.size();
+  for (size_t i = 0; i < fonts.size(); ++i) put32(out, 0);
+  for (size_t i = 0; i < fonts.size(); ++i) {
+    const auto& f = fonts[i];
+    const size_t tables = (size_t(f[4]) << 8) | f[5];
+    const size_t dir_at = out.size();
+    set32(out, offsets_at + 4 * i, static_cast<uint32_t>(dir_at));
+    out.insert(out.end(), f.begin(), f.begin() + 12 + 16 * tables);
+    for (size_t t = 0; t < tables; ++t) {
+      const size_t rec = 12 + 16 * t;
+      const uint32_t off = be32(f, rec + 8), len = be32(f, rec + 12);
+      while (out.size() % 4) out.push_back(0);
+      set32(out, dir_at + rec + 8, static_cast<uint32_t>(out.size()));
+      out.insert(out.end(), f.begin() + off, f.begin() + off + len);
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 TEST_CASE("add_dir finds every face under the folder and reads family, weight, style", "[text]") {
@@ -109,6 +150,37 @@ TEST_CASE("add_dir finds every face under the folder and reads family, weight, s
     REQUIRE(db.add_file(oblique) == 1);
     CHECK(db.faces().back().italic);
   }
+}
+
+TEST_CASE("every face of a collection", "[text]") {
+  if (!have_fonts()) return;
+  FontDir d;
+  const auto ttc = make_ttc({read_bytes(std::string(kDejaVu) + kFiles[2]), read_bytes(std::string(kDejaVu) + kFiles[1])});
+  const fs::path dir = d.dir / "collection";
+  fs::create_directories(dir);
+  {
+    std::ofstream out(dir / "Pair.TTC", std::ios::binary);
+    out.write(reinterpret_cast<const char*>(ttc.data()), static_cast<std::streamsize>(ttc.size()));
+  }
+  tx::FontDb db;
+  std::vector<std::string> warnings;
+  REQUIRE(db.add_dir(dir.string(), &warnings) == 2);
+  CHECK(warnings.empty());
+  CHECK(db.faces()[0].family == "DejaVu Serif");
+  CHECK(db.faces()[0].index == 0);
+  CHECK(db.faces()[1].family == "DejaVu Sans");
+  CHECK(db.faces()[1].weight == 700);
+  CHECK(db.faces()[1].index == 1);
+  CHECK(db.match({"DejaVu Sans"}, 400, false) == 1);
+  // The second face really is the bold one: its 'l' is wider than the
+  // regular face's.
+  REQUIRE(db.add_file(std::string(kDejaVu) + kFiles[0]) == 1);
+  const auto l1 = tx::shape(db, 1, "l", 100), l2 = tx::shape(db, 2, "l", 100);
+  REQUIRE(l1.size() == 1);
+  REQUIRE(l2.size() == 1);
+  CHECK(l1[0].x_advance > l2[0].x_advance);
+  CHECK(tx::glyph_outline(db, 1, l1[0].glyph, 100).contours().size() == 1);
+  CHECK(db.has_glyph(1, U'A'));
 }
 
 TEST_CASE("a broken font file is skipped with one warning", "[text]") {
@@ -341,4 +413,30 @@ TEST_CASE("metrics from the font's tables", "[text]") {
   const tx::Metrics half = tx::metrics(db, sans, 1024);
   CHECK(half.ascent == Approx(m.ascent / 2));
   CHECK(half.underline_position == Approx(m.underline_position / 2));
+}
+
+TEST_CASE("one db shared by threads gives the single-threaded results", "[text]") {
+  if (!have_fonts()) return;
+  FontDir d;
+  tx::FontDb db;
+  db.add_dir(d.dir.string());
+  const std::string text = "Waffle AV fi Typography";
+  auto work = [&](int face) {
+    double sum = 0;
+    for (const auto& g : tx::shape(db, face, text, 37))
+      sum += g.x_advance + static_cast<double>(tx::glyph_outline(db, face, g.glyph, 37).points().size());
+    return sum + tx::metrics(db, face, 37).ascent + (db.has_glyph(face, U'W') ? 1 : 0);
+  };
+  std::vector<double> expected;
+  for (int f = 0; f < 3; ++f) expected.push_back(work(f));
+  std::vector<double> got(12);
+  {
+    std::vector<std::thread> threads;
+    for (int t = 0; t < 12; ++t)
+      threads.emplace_back([&, t] {
+        for (int k = 0; k < 20; ++k) got[t] = work(t % 3);
+      });
+    for (auto& t : threads) t.join();
+  }
+  for (int t = 0; t < 12; ++t) CHECK(got[t] == expected[t % 3]);
 }
