@@ -340,7 +340,9 @@ void Converter::render(const Element& e, const Context& ctx, int depth) {
       break;
     case Kind::Use: render(*target, inner, depth + 1); break;
     case Kind::Image: image(e, st, space); break;
+#if MPVG_HAVE_TEXT
     case Kind::Text: text(e, st, space, inner); break;
+#endif
     default: shape_paint(e, st, space); break;
   }
   s_.active.pop_back();
@@ -483,8 +485,10 @@ void Converter::clip_child(const Element& e, const Context& ctx, int depth) {
     s_.active.push_back(&e);
     clip_child(*target, child_context(st, space, true), depth + 1);
     s_.active.pop_back();
+#if MPVG_HAVE_TEXT
   } else if (kind == Kind::Text) {
     clip_text(e, st, space, child_context(st, space, true));
+#endif
   } else {
     const int shape = shape_index(e, st.inh.font_size);
     // A shape without segments ("M p Z") has no area to clip with.
