@@ -143,3 +143,30 @@ TEST_CASE("text: text in a clip path clips", "[svg][text]") {
   for (const mpvg::ScenePath& p : r.scene.paths) clips += p.is_clip;
   CHECK(clips == 1);
 }
+
+TEST_CASE("text: decorations are bars under, over and through the glyphs, painted in order", "[svg][text]") {
+  REQUIRE_FONT();
+  const auto plain = parse("<text x='10' y='100'>Hello</text>");
+  const auto under = parse("<text x='10' y='100' text-decoration='underline'>Hello</text>");
+  REQUIRE(under.scene.paths.size() == 2);
+  // The stream lists top-most first: the glyphs over the underline.
+  const mpvg::Scene& s = under.scene;
+  const int bar = int(s.stream[1].path), glyphs = int(s.stream[0].path);
+  const Box b = box_of(s, bar), g = box_of(s, glyphs);
+  CHECK((b.y0 + b.y1) / 2 > 100);  // centred below the baseline (the post table's position)
+  CHECK(b.y1 < 100 + 5);           // DejaVu's underline: close under it
+  CHECK(b.x0 == Approx(10).margin(1e-9));  // from the pen's start
+  CHECK(b.x1 > g.x1);       // to its end, past the last glyph's ink
+  CHECK(box_of(plain.scene).x1 == Approx(g.x1));
+  // One bar for the run: a stroked decoration has no joins.
+  CHECK(s.geometries[s.paths[bar].geometry].contours().size() == 1);
+  // A line-through goes over the glyphs, above the baseline.
+  const auto through = parse("<text x='10' y='100' text-decoration='line-through'>Hello</text>");
+  const Box t = box_of(through.scene, int(through.scene.stream[0].path));
+  CHECK(t.y1 < 100);
+  CHECK(t.y0 > 100 - 0.729 * 20);
+  // Declared outside the text, painted with the text's paint.
+  const auto outside = parse("<g text-decoration='overline' fill='red'><text x='10' y='100' fill='blue'>Hi</text></g>");
+  REQUIRE(outside.scene.paths.size() == 2);
+  for (const mpvg::ScenePath& p : outside.scene.paths) CHECK(outside.scene.paints[p.paint].color.b == 1);
+}

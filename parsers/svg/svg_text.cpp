@@ -200,6 +200,8 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
     uint32_t id;
     double x, y, size;
     double rotate;
+    int ch;          // its cluster's first character
+    double advance;  // the pen's move after it (letter spacing included)
   };
   std::vector<Glyph> glyphs;
   double pen_x = 0, pen_y = 0;
@@ -259,13 +261,15 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
         pen_y += chars[k].dy;
       }
       glyphs.push_back({first.span, face, g.glyph, pen_x + g.x_offset, pen_y + g.y_offset, size,
-                        chars[k].rotate.value_or(0)});
+                        chars[k].rotate.value_or(0), static_cast<int>(k), 0});
+      const double before = pen_x;
       pen_x += g.x_advance;
       pen_y += g.y_advance;
       if (k != last_char) {
         pen_x += inh.letter_spacing;
         if (chars[k].c == ' ') pen_x += inh.word_spacing;
       }
+      glyphs.back().advance = pen_x - before;
       last_char = k;
     }
     i = j;
@@ -281,8 +285,99 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
     if (g.rotate != 0) place = place * Affine::rotate_degrees(g.rotate);
     paths[g.span].append(outline.transformed(place));
   }
+  // text-decoration (CSS Text Decoration 3, SVG 2 text.html#TextDecorationProperties):
+  // a decoration on the text or outside it is painted with the text's
+  // style, one on a tspan with the tspan's, under every glyph of the
+  // element (each at its own baseline: dy moves the line with it), from
+  // the metrics of the element's font. Underlines and overlines go under
+  // the glyphs, line-throughs over them.
+  enum Line { Under = 1, Over = 2, Through = 4 };
+  auto decoration_of = [](const Element& e) {
+    const auto d = property<int>(e, "text-decoration", [](std::string_view v) -> std::optional<int> {
+      int lines = 0;
+      for (size_t pos = 0; pos < v.size();) {
+        const size_t b = v.find_first_not_of(" \t\n\r", pos);
+        if (b == std::string_view::npos) break;
+        size_t end = v.find_first_of(" \t\n\r", b);
+        if (end == std::string_view::npos) end = v.size();
+        const std::string_view w = v.substr(b, end - b);
+        if (w == "underline") lines |= Under;
+        else if (w == "overline") lines |= Over;
+        else if (w == "line-through") lines |= Through;
+        else if (w != "none") return std::nullopt;
+        pos = end;
+      }
+      return lines;
+    });
+    return d.state == Prop<int>::Set ? d.value : 0;
+  };
+  struct Decoration {
+    int span;   // whose characters, and whose style paints it
+    int lines;
+  };
+  std::vector<Decoration> decorations;
+  {
+    int outer = 0;
+    for (const Element* a = &root; a; a = a->parent) outer |= decoration_of(*a);
+    if (outer) decorations.push_back({0, outer});
+    for (size_t k = 1; k < spans.size(); k++)
+      if (const int d = decoration_of(*spans[k].e)) decorations.push_back({static_cast<int>(k), d});
+  }
+  auto decoration_path = [&](const Decoration& d, int line) {
+    Path p;
+    const Span& sp = spans[d.span];
+    const int face = db.match(sp.st.inh.font_family, sp.st.inh.font_weight, sp.st.inh.font_italic,
+                              sp.st.inh.font_stretch);
+    if (face < 0) return p;
+    const text::Metrics m = text::metrics(db, face, sp.st.inh.font_size);
+    double offset, thickness;
+    if (line == Under) {
+      // FreeType's position is the post table's moved down by half the
+      // thickness; the line is centred on the table's own (as resvg draws it).
+      offset = m.underline_position - m.underline_thickness / 2;
+      thickness = m.underline_thickness;
+    } else if (line == Over) {
+      offset = -m.ascent;  // centred on the ascent line
+      thickness = m.underline_thickness;
+    } else {
+      offset = m.strikeout_position;
+      thickness = m.strikeout_thickness;
+    }
+    // The lines' centres at offset (y down; FreeType gives the stems'
+    // centres), one rectangle per run of glyphs that touch at one baseline
+    // (so that a stroked decoration has no joins).
+    bool open = false;
+    double rx0 = 0, rx1 = 0, ry = 0;
+    auto flush = [&] {
+      if (open) p.append(Path::rectangle(rx0, ry - thickness / 2, rx1, ry + thickness / 2));
+      open = false;
+    };
+    for (const Glyph& g : glyphs) {
+      if (g.ch < sp.first || g.ch >= sp.end || g.advance == 0) continue;
+      const double x0 = std::min(g.x, g.x + g.advance), x1 = std::max(g.x, g.x + g.advance), y = g.y + offset;
+      if (open && y == ry && std::abs(x0 - rx1) < 1e-9 * std::max(1.0, std::abs(x0))) {
+        rx1 = x1;
+        continue;
+      }
+      flush();
+      open = true;
+      rx0 = x0, rx1 = x1, ry = y;
+    }
+    flush();
+    return p;
+  };
+  auto add_decorations = [&](bool over) {
+    for (const Decoration& d : decorations)
+      for (int line : {Under, Over, Through}) {
+        if (!(d.lines & line) || (line == Through) != over || !spans[d.span].st.inh.visible) continue;
+        Path p = decoration_path(d, line);
+        if (!p.empty()) pieces.push_back({std::move(p), spans[d.span].st});
+      }
+  };
+  add_decorations(false);
   for (size_t k = 0; k < spans.size(); k++)
     if (!paths[k].empty() && spans[k].st.inh.visible) pieces.push_back({std::move(paths[k]), spans[k].st});
+  add_decorations(true);
   return pieces;
 }
 
