@@ -208,8 +208,10 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
   size_t chunk_start = 0;  // first glyph of the chunk
   double chunk_x = 0;
   Inherited::Anchor chunk_anchor = Inherited::Anchor::Start;
+  double trailing_spacing = 0;  // letter spacing after the chunk's last character
   auto end_chunk = [&]() {
-    const double width = pen_x - chunk_x;
+    // The chunk's advance, without the spacing after its last character.
+    const double width = pen_x - chunk_x - trailing_spacing;
     const double shift = chunk_anchor == Inherited::Anchor::Middle ? -width / 2
                          : chunk_anchor == Inherited::Anchor::End  ? -width
                                                                    : 0;
@@ -267,6 +269,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
       pen_y += g.y_advance;
       if (k != last_char) {
         pen_x += inh.letter_spacing;
+        trailing_spacing = inh.letter_spacing;
         if (chars[k].c == ' ') pen_x += inh.word_spacing;
       }
       glyphs.back().advance = pen_x - before;
@@ -376,7 +379,13 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
   };
   add_decorations(false);
   for (size_t k = 0; k < spans.size(); k++)
-    if (!paths[k].empty() && spans[k].st.inh.visible) pieces.push_back({std::move(paths[k]), spans[k].st});
+    if (!paths[k].empty() && spans[k].st.inh.visible) {
+      // fill-rule does not apply to text (SVG 2 text.html#TextRenderingOrder):
+      // glyphs fill by non-zero winding, overlapping contours included.
+      Style st = spans[k].st;
+      st.inh.fill_rule = FillRule::NonZero;
+      pieces.push_back({std::move(paths[k]), st});
+    }
   add_decorations(true);
   return pieces;
 }
