@@ -147,6 +147,8 @@ struct Inherited {
   enum class Anchor : uint8_t { Start, Middle, End } text_anchor = Anchor::Start;
   double letter_spacing = 0, word_spacing = 0;
   bool space_preserve = false;
+  // font-variation-settings (CSS Fonts 4 §6.12): axis tag and value pairs.
+  std::vector<std::pair<std::string, double>> font_variations;
   FillRule clip_rule = FillRule::NonZero;
   bool visible = true;
   RGBA color{0, 0, 0, 1};

@@ -208,6 +208,28 @@ void text_style(const Element& e, const Context& ctx, Inherited& inh) {
     });
     if (sp.state == Prop<double>::Set) (name[0] == 'l' ? inh.letter_spacing : inh.word_spacing) = sp.value;
   }
+  using Variations = std::vector<std::pair<std::string, double>>;
+  if (const auto fv = property<Variations>(e, "font-variation-settings", [](std::string_view v) -> std::optional<Variations> {
+        Variations out;
+        if (parse_keyword(v) == "normal") return out;
+        // "'wght' 100, 'wdth' 75": a quoted four-letter tag and a number each.
+        for (size_t pos = 0; pos < v.size();) {
+          const size_t q = v.find_first_of("'\"", pos);
+          if (q == std::string_view::npos) break;
+          const size_t close = v.find(v[q], q + 1);
+          if (close == std::string_view::npos || close - q - 1 != 4) return std::nullopt;
+          const std::string tag(v.substr(q + 1, 4));
+          size_t end = v.find(',', close);
+          if (end == std::string_view::npos) end = v.size();
+          const auto n = parse_number(trim(v.substr(close + 1, end - close - 1)));
+          if (!n) return std::nullopt;
+          out.emplace_back(tag, *n);
+          pos = end + 1;
+        }
+        return out;
+      });
+      fv.state == Prop<Variations>::Set)
+    inh.font_variations = fv.value;
   // xml:space is an attribute, inherited (XML 1.0 §2.10).
   if (const std::string* xs = e.attribute("xml:space")) inh.space_preserve = *xs == "preserve";
 }

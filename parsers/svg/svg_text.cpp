@@ -9,6 +9,7 @@
 // Not yet: textPath, tref, baselines other than the alphabetic one,
 // text-decoration, vertical writing, bidi reordering across spans,
 // textLength, font-variant and feature settings, text inside clip paths.
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -71,6 +72,24 @@ void encode_utf8(char32_t c, std::string& out) {
     out += char(0x80 | ((c >> 6) & 0x3f));
     out += char(0x80 | (c & 0x3f));
   }
+}
+
+// A variable font's axes (CSS Fonts 4 §6.12, font-optical-sizing auto):
+// the weight, width and size the style asks for, then
+// font-variation-settings over them. Axes a face lacks are ignored.
+std::vector<std::pair<std::string, double>> variations_of(const Inherited& inh) {
+  static const double widths[9] = {50, 62.5, 75, 87.5, 100, 112.5, 125, 150, 200};
+  std::vector<std::pair<std::string, double>> v = {
+      {"wght", double(inh.font_weight)},
+      {"wdth", widths[std::clamp(inh.font_stretch, 1, 9) - 1]},
+      {"opsz", inh.font_size}};
+  for (const auto& [tag, value] : inh.font_variations) {
+    bool replaced = false;
+    for (auto& [t, x] : v)
+      if (t == tag) x = value, replaced = true;
+    if (!replaced) v.emplace_back(tag, value);
+  }
+  return v;
 }
 
 // One character of the text, after white-space handling.
@@ -253,7 +272,9 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
       (void)before;
     }
     const double size = inh.font_size;
-    const std::vector<text::ShapedGlyph> shaped = text::shape(db, face, utf8, size);
+    text::ShapeOptions so;
+    so.variations = variations_of(inh);
+    const std::vector<text::ShapedGlyph> shaped = text::shape(db, face, utf8, size, so);
     size_t last_char = SIZE_MAX;
     for (const text::ShapedGlyph& g : shaped) {
       const size_t k = g.cluster < char_of_byte.size() ? char_of_byte[g.cluster] : i;
@@ -282,7 +303,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
   // Each span's glyphs as one shape, painted with the span's style.
   std::vector<Path> paths(spans.size());
   for (const Glyph& g : glyphs) {
-    const Path outline = text::glyph_outline(db, g.face, g.id, g.size);
+    const Path outline = text::glyph_outline(db, g.face, g.id, g.size, variations_of(spans[g.span].st.inh));
     if (outline.empty()) continue;
     Affine place = Affine::translate(g.x, g.y);
     if (g.rotate != 0) place = place * Affine::rotate_degrees(g.rotate);
