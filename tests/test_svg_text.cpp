@@ -3,6 +3,7 @@
 // white space and clip paths. The font is DejaVu Sans from Debian's
 // fonts-dejavu-core (the set-up script installs it); without it the tests
 // say so and skip.
+#include <algorithm>
 #include <filesystem>
 #include <limits>
 #include <string>
@@ -169,4 +170,22 @@ TEST_CASE("text: decorations are bars under, over and through the glyphs, painte
   const auto outside = parse("<g text-decoration='overline' fill='red'><text x='10' y='100' fill='blue'>Hi</text></g>");
   REQUIRE(outside.scene.paths.size() == 2);
   for (const mpvg::ScenePath& p : outside.scene.paths) CHECK(outside.scene.paints[p.paint].color.b == 1);
+}
+
+TEST_CASE("text: baseline-shift raises a span, nested shifts add; dominant-baseline moves the run", "[svg][text]") {
+  REQUIRE_FONT();
+  const auto r = parse("<text x='10' y='100'>H<tspan baseline-shift='5'>H<tspan baseline-shift='50%'>H</tspan></tspan></text>");
+  REQUIRE(r.scene.paths.size() == 3);
+  std::vector<double> bottoms;
+  for (int i = 0; i < 3; i++) bottoms.push_back(box_of(r.scene, i).y1);
+  std::sort(bottoms.begin(), bottoms.end());
+  CHECK(bottoms[0] == Approx(100 - 5 - 10).margin(1e-9));  // 5 + 50% of 20
+  CHECK(bottoms[1] == Approx(100 - 5).margin(1e-9));
+  CHECK(bottoms[2] == Approx(100).margin(1e-9));
+  // text-before-edge: the ascent line on y, the glyphs below it.
+  const Box top = box_of(parse("<text x='10' y='100' dominant-baseline='text-before-edge'>H</text>").scene);
+  CHECK(top.y0 > 100);
+  const Box mid = box_of(parse("<text x='10' y='100' dominant-baseline='central'>H</text>").scene);
+  CHECK(mid.y0 < 100);
+  CHECK(mid.y1 > 100);
 }

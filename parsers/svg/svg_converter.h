@@ -147,6 +147,9 @@ struct Inherited {
   enum class Anchor : uint8_t { Start, Middle, End } text_anchor = Anchor::Start;
   double letter_spacing = 0, word_spacing = 0;
   bool space_preserve = false;
+  // dominant-baseline (inherited, CSS Inline 3 as SVG 2 uses it).
+  enum class Baseline : uint8_t { Alphabetic, Middle, Central, Hanging, Mathematical, TextTop, TextBottom,
+                                  Ideographic } dominant_baseline = Baseline::Alphabetic;
   // font-variation-settings (CSS Fonts 4 §6.12): axis tag and value pairs.
   std::vector<std::pair<std::string, double>> font_variations;
   FillRule clip_rule = FillRule::NonZero;

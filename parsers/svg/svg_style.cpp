@@ -230,6 +230,21 @@ void text_style(const Element& e, const Context& ctx, Inherited& inh) {
       });
       fv.state == Prop<Variations>::Set)
     inh.font_variations = fv.value;
+  if (const auto db = property<Inherited::Baseline>(e, "dominant-baseline", [](std::string_view v) {
+        using B = Inherited::Baseline;
+        const auto k = parse_keyword(v);
+        if (k == "auto" || k == "alphabetic") return std::optional(B::Alphabetic);
+        if (k == "middle") return std::optional(B::Middle);
+        if (k == "central") return std::optional(B::Central);
+        if (k == "hanging") return std::optional(B::Hanging);
+        if (k == "mathematical") return std::optional(B::Mathematical);
+        if (k == "text-before-edge" || k == "text-top") return std::optional(B::TextTop);
+        if (k == "text-after-edge" || k == "text-bottom") return std::optional(B::TextBottom);
+        if (k == "ideographic") return std::optional(B::Ideographic);
+        return std::optional<B>();
+      });
+      db.state == Prop<Inherited::Baseline>::Set)
+    inh.dominant_baseline = db.value;
   // xml:space is an attribute, inherited (XML 1.0 §2.10).
   if (const std::string* xs = e.attribute("xml:space")) inh.space_preserve = *xs == "preserve";
 }

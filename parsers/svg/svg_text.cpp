@@ -106,6 +106,7 @@ struct Span {
   const Element* e = nullptr;
   Style st;
   int first = 0, end = 0;  // its characters (descendants' included)
+  double shift = 0;        // baseline-shift, its ancestors' included (y up)
 };
 
 std::vector<double> number_list(const Element& e, const char* name, const std::function<double(const Length&)>& user) {
@@ -148,10 +149,30 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
   std::vector<Span> spans;
   std::vector<Char> chars;
   bool last_space = true;  // at the start, a space is leading
+  double parent_shift = 0;
   std::function<void(const Element&, const Style&, const Context&, int)> collect =
       [&](const Element& e, const Style& st, const Context& parent_ctx, int depth) {
         const int index = static_cast<int>(spans.size());
-        spans.push_back({&e, st, static_cast<int>(chars.size()), 0});
+        // baseline-shift (not inherited; nested shifts add up): a length,
+        // a percentage of the font size, or baseline. sub and super use the
+        // usual 1/3 and 1/5 of an em as no metrics give them here.
+        double shift = depth == 0 || !e.parent ? 0 : parent_shift;
+        if (depth > 0) {
+          const auto bs = property<double>(e, "baseline-shift", [&](std::string_view v) -> std::optional<double> {
+            const auto k = parse_keyword(v);
+            if (k == "baseline") return 0.0;
+            if (k == "sub") return -st.inh.font_size / 5;
+            if (k == "super") return st.inh.font_size / 3;
+            const auto l = parse_length(v);
+            if (!l) return std::nullopt;
+            if (l->unit == Unit::Percent) return l->value / 100 * st.inh.font_size;
+            return to_user(*l, Axis::Y, st.inh.font_size);
+          });
+          if (bs.state == Prop<double>::Set) shift += bs.value;
+        }
+        spans.push_back({&e, st, static_cast<int>(chars.size()), 0, shift});
+        const double saved_shift = parent_shift;
+        parent_shift = shift;
         const Context inner = child_context(st, space, false);
         for (const auto& c : e.children) {
           if (c->name == "#text") {
@@ -180,6 +201,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
           }
         }
         spans[index].end = static_cast<int>(chars.size());
+        parent_shift = saved_shift;
         (void)parent_ctx;
       };
   collect(root, root_style, ctx, 0);
@@ -274,6 +296,24 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
     const double size = inh.font_size;
     text::ShapeOptions so;
     so.variations = variations_of(inh);
+    // The run's baseline: dominant-baseline from the face's metrics (y
+    // down: how far the alphabetic baseline sits below the chosen one),
+    // then baseline-shift.
+    double baseline_offset = -spans[first.span].shift;
+    {
+      const text::Metrics m = text::metrics(db, face, size);
+      using B = Inherited::Baseline;
+      switch (inh.dominant_baseline) {
+        case B::Alphabetic: break;
+        case B::Middle: baseline_offset += m.x_height / 2; break;
+        case B::Central: baseline_offset += (m.ascent - m.descent) / 2; break;
+        case B::Hanging: baseline_offset += 0.8 * m.ascent; break;
+        case B::Mathematical: baseline_offset += 0.5 * m.ascent; break;
+        case B::TextTop: baseline_offset += m.ascent; break;
+        case B::TextBottom:
+        case B::Ideographic: baseline_offset -= m.descent; break;
+      }
+    }
     const std::vector<text::ShapedGlyph> shaped = text::shape(db, face, utf8, size, so);
     size_t last_char = SIZE_MAX;
     for (const text::ShapedGlyph& g : shaped) {
@@ -283,7 +323,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
         pen_x += chars[k].dx;
         pen_y += chars[k].dy;
       }
-      glyphs.push_back({first.span, face, g.glyph, pen_x + g.x_offset, pen_y + g.y_offset, size,
+      glyphs.push_back({first.span, face, g.glyph, pen_x + g.x_offset, pen_y + g.y_offset + baseline_offset, size,
                         chars[k].rotate.value_or(0), static_cast<int>(k), 0});
       const double before = pen_x;
       pen_x += g.x_advance;
