@@ -107,6 +107,9 @@ struct Span {
   Style st;
   int first = 0, end = 0;  // its characters (descendants' included)
   double shift = 0;        // baseline-shift, its ancestors' included (y up)
+  // alignment-baseline of the span or the nearest span around it (its
+  // content aligns as one box), over dominant-baseline.
+  std::optional<Inherited::Baseline> align;
 };
 
 std::vector<double> number_list(const Element& e, const char* name, const std::function<double(const Length&)>& user) {
@@ -150,6 +153,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
   std::vector<Char> chars;
   bool last_space = true;  // at the start, a space is leading
   double parent_shift = 0;
+  std::optional<Inherited::Baseline> parent_align;
   std::function<void(const Element&, const Style&, const Context&, int)> collect =
       [&](const Element& e, const Style& st, const Context& parent_ctx, int depth) {
         const int index = static_cast<int>(spans.size());
@@ -170,9 +174,31 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
           });
           if (bs.state == Prop<double>::Set) shift += bs.value;
         }
-        spans.push_back({&e, st, static_cast<int>(chars.size()), 0, shift});
+        std::optional<Inherited::Baseline> align = parent_align;
+        if (depth > 0) {
+          const auto ab = property<int>(e, "alignment-baseline", [](std::string_view v) -> std::optional<int> {
+            using B = Inherited::Baseline;
+            const auto k = parse_keyword(v);
+            if (k == "auto" || k == "baseline") return -1;
+            if (k == "alphabetic") return int(B::Alphabetic);
+            if (k == "middle") return int(B::Middle);
+            if (k == "central") return int(B::Central);
+            if (k == "hanging") return int(B::Hanging);
+            if (k == "mathematical") return int(B::Mathematical);
+            if (k == "text-before-edge" || k == "before-edge" || k == "text-top" || k == "top") return int(B::TextTop);
+            if (k == "text-after-edge" || k == "after-edge" || k == "text-bottom" || k == "bottom")
+              return int(B::TextBottom);
+            if (k == "ideographic") return int(B::Ideographic);
+            return std::nullopt;
+          });
+          if (ab.state == Prop<int>::Set)
+            align = ab.value < 0 ? std::nullopt : std::optional(static_cast<Inherited::Baseline>(ab.value));
+        }
+        spans.push_back({&e, st, static_cast<int>(chars.size()), 0, shift, align});
         const double saved_shift = parent_shift;
+        const std::optional<Inherited::Baseline> saved_align = parent_align;
         parent_shift = shift;
+        parent_align = align;
         const Context inner = child_context(st, space, false);
         for (const auto& c : e.children) {
           if (c->name == "#text") {
@@ -202,6 +228,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
         }
         spans[index].end = static_cast<int>(chars.size());
         parent_shift = saved_shift;
+        parent_align = saved_align;
         (void)parent_ctx;
       };
   collect(root, root_style, ctx, 0);
@@ -303,7 +330,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
     {
       const text::Metrics m = text::metrics(db, face, size);
       using B = Inherited::Baseline;
-      switch (inh.dominant_baseline) {
+      switch (spans[first.span].align.value_or(inh.dominant_baseline)) {
         case B::Alphabetic: break;
         case B::Middle: baseline_offset += m.x_height / 2; break;
         case B::Central: baseline_offset += (m.ascent - m.descent) / 2; break;
