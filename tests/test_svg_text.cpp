@@ -189,3 +189,25 @@ TEST_CASE("text: baseline-shift raises a span, nested shifts add; dominant-basel
   CHECK(mid.y0 < 100);
   CHECK(mid.y1 > 100);
 }
+
+TEST_CASE("text: textPath lays glyphs along the path", "[svg][text]") {
+  REQUIRE_FONT();
+  // On a straight path the glyphs are those of plain text at startOffset.
+  const Box straight = box_of(
+      parse("<defs><path id='p' d='M 20 100 L 380 100'/></defs><text><textPath href='#p' startOffset='30'>Hello</textPath></text>")
+          .scene);
+  const Box plain = box_of(parse("<text x='50' y='100'>Hello</text>").scene);
+  CHECK(straight.x0 == Approx(plain.x0).margin(1e-6));
+  CHECK(straight.x1 == Approx(plain.x1).margin(1e-6));
+  CHECK(straight.y0 == Approx(plain.y0).margin(1e-6));
+  // A vertical path turns them a quarter turn: they stack down along x = 200.
+  const Box down = box_of(
+      parse("<defs><path id='p' d='M 200 10 L 200 190'/></defs><text><textPath href='#p'>Hello</textPath></text>").scene);
+  CHECK(down.y1 - down.y0 > down.x1 - down.x0);
+  // Turned clockwise with the path: what was above the baseline is right of it.
+  CHECK(down.x0 > 200 - 0.3 * 20);
+  CHECK(down.x1 > 200 + 0.5 * 20);
+  // Glyphs past the path's end are not drawn.
+  const auto shortp = parse("<defs><path id='p' d='M 20 100 L 40 100'/></defs><text><textPath href='#p'>Hello</textPath></text>");
+  CHECK(box_of(shortp.scene).x1 < 45);
+}

@@ -92,6 +92,77 @@ std::vector<std::pair<std::string, double>> variations_of(const Inherited& inh) 
   return v;
 }
 
+// A textPath's path as straight pieces with their lengths, in the text's
+// user space: curves sampled finely (32 pieces each), a closed contour's
+// closing line added, the moves between subpaths not counted.
+struct Polyline {
+  struct Piece {
+    Vec2 a, b;
+    double start, length;  // distance along the path where it starts
+  };
+  std::vector<Piece> pieces;
+  double total = 0;
+
+  explicit Polyline(const Path& path) {
+    const auto& pts = path.points();
+    const auto& w = path.weights();
+    auto add = [&](Vec2 a, Vec2 b) {
+      const double l = std::hypot(b.x - a.x, b.y - a.y);
+      if (l <= 0) return;
+      pieces.push_back({a, b, total, l});
+      total += l;
+    };
+    for (const Path::Contour& c : path.contours()) {
+      Vec2 last = pts[c.start_point];
+      for (uint32_t k = 0; k < c.segment_count; k++) {
+        const Path::Segment& sg = path.segments()[c.first_segment + k];
+        const Vec2* q = &pts[sg.first_point];
+        if (sg.type == SegmentType::Line) {
+          add(q[0], q[1]);
+          last = q[1];
+          continue;
+        }
+        const int n = 32;
+        Vec2 prev = q[0];
+        for (int i = 1; i <= n; i++) {
+          const double t = double(i) / n, u = 1 - t;
+          Vec2 p;
+          if (sg.type == SegmentType::Quad) {
+            p = {u * u * q[0].x + 2 * u * t * q[1].x + t * t * q[2].x, u * u * q[0].y + 2 * u * t * q[1].y + t * t * q[2].y};
+          } else if (sg.type == SegmentType::RQuad) {
+            const double wm = w[sg.first_weight], d = u * u + 2 * wm * u * t + t * t;
+            p = {(u * u * q[0].x + 2 * wm * u * t * q[1].x + t * t * q[2].x) / d,
+                 (u * u * q[0].y + 2 * wm * u * t * q[1].y + t * t * q[2].y) / d};
+          } else {
+            p = {u * u * u * q[0].x + 3 * u * u * t * q[1].x + 3 * u * t * t * q[2].x + t * t * t * q[3].x,
+                 u * u * u * q[0].y + 3 * u * u * t * q[1].y + 3 * u * t * t * q[2].y + t * t * t * q[3].y};
+          }
+          add(prev, p);
+          prev = p;
+        }
+        last = prev;
+      }
+      if (c.closed) add(last, pts[c.start_point]);
+    }
+  }
+
+  // The point and direction (radians) at distance d; false off the path.
+  bool at(double d, Vec2& p, double& angle) const {
+    if (pieces.empty() || d < 0 || d > total) return false;
+    size_t lo = 0, hi = pieces.size() - 1;
+    while (lo < hi) {  // the last piece starting at or before d
+      const size_t mid = (lo + hi + 1) / 2;
+      if (pieces[mid].start <= d) lo = mid;
+      else hi = mid - 1;
+    }
+    const Piece& pc = pieces[lo];
+    const double t = std::clamp((d - pc.start) / pc.length, 0.0, 1.0);
+    p = {pc.a.x + (pc.b.x - pc.a.x) * t, pc.a.y + (pc.b.y - pc.a.y) * t};
+    angle = std::atan2(pc.b.y - pc.a.y, pc.b.x - pc.a.x);
+    return true;
+  }
+};
+
 // One character of the text, after white-space handling.
 struct Char {
   char32_t c = 0;
@@ -110,6 +181,8 @@ struct Span {
   // alignment-baseline of the span or the nearest span around it (its
   // content aligns as one box), over dominant-baseline.
   std::optional<Inherited::Baseline> align;
+  int path = -1;            // the textPath it is in (index into the polylines), or -1
+  double start_offset = 0;  // that textPath's startOffset, resolved
 };
 
 std::vector<double> number_list(const Element& e, const char* name, const std::function<double(const Length&)>& user) {
@@ -154,6 +227,9 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
   bool last_space = true;  // at the start, a space is leading
   double parent_shift = 0;
   std::optional<Inherited::Baseline> parent_align;
+  std::vector<Polyline> polylines;  // the textPaths' paths
+  int current_path = -1;
+  double current_offset = 0;
   std::function<void(const Element&, const Style&, const Context&, int)> collect =
       [&](const Element& e, const Style& st, const Context& parent_ctx, int depth) {
         const int index = static_cast<int>(spans.size());
@@ -194,7 +270,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
           if (ab.state == Prop<int>::Set)
             align = ab.value < 0 ? std::nullopt : std::optional(static_cast<Inherited::Baseline>(ab.value));
         }
-        spans.push_back({&e, st, static_cast<int>(chars.size()), 0, shift, align});
+        spans.push_back({&e, st, static_cast<int>(chars.size()), 0, shift, align, current_path, current_offset});
         const double saved_shift = parent_shift;
         const std::optional<Inherited::Baseline> saved_align = parent_align;
         parent_shift = shift;
@@ -222,8 +298,36 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
             const Style cs = compute_style(*c, inner);
             if (cs.display_none) continue;
             collect(*c, cs, inner, depth + 1);
-          } else if (c->name == "textPath" || c->name == "tref") {
-            warn("<" + c->name + "> is not supported: ignored");
+          } else if (c->name == "textPath" && depth == 0) {
+            // SVG 2 text.html#TextPathElement: the path (or basic shape) it
+            // names, with that element's own transform.
+            const std::string* href = c->attribute("href");
+            if (!href) href = c->attribute("xlink:href");
+            const Element* target = nullptr;
+            if (href && href->size() > 1 && (*href)[0] == '#') {
+              const auto it = s_.doc.ids.find(href->substr(1));
+              if (it != s_.doc.ids.end()) target = it->second;
+            }
+            if (!target) continue;  // renders nothing (resvg: no-link)
+            std::optional<Path> shape = build_shape(*target, st.inh.font_size);
+            if (!shape) continue;
+            Affine xf;
+            if (const std::string* t = target->attribute("transform"))
+              if (const auto m = parse_transform(*t)) xf = *m;
+            polylines.emplace_back(shape->transformed(xf));
+            const Style cs = compute_style(*c, inner);
+            if (cs.display_none) continue;
+            const double total = polylines.back().total;
+            double offset = 0;
+            if (const std::string* so = c->attribute("startOffset"))
+              if (const auto l = parse_length(*so))
+                offset = l->unit == Unit::Percent ? l->value / 100 * total : to_user(*l, Axis::X, cs.inh.font_size);
+            current_path = static_cast<int>(polylines.size()) - 1;
+            current_offset = offset;
+            collect(*c, cs, inner, depth + 1);
+            current_path = -1;
+          } else if (c->name == "tref" || c->name == "textPath") {
+            warn("<" + c->name + "> is not supported here: ignored");
           }
         }
         spans[index].end = static_cast<int>(chars.size());
@@ -294,8 +398,14 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
   };
   for (size_t i = 0; i < chars.size();) {
     const Char& first = chars[i];
-    if (i == 0 || first.x || first.y) {
+    const bool path_change = i > 0 && spans[first.span].path != spans[chars[i - 1].span].path;
+    if (i == 0 || first.x || first.y || path_change) {
       if (i > 0) end_chunk();
+      if (spans[first.span].path >= 0 && (i == 0 || path_change)) {
+        // Along a path: x is the distance along it, y the offset across.
+        pen_x = 0;
+        pen_y = 0;
+      }
       if (first.x) pen_x = *first.x;
       if (first.y) pen_y = *first.y;
       chunk_x = pen_x;
@@ -373,6 +483,19 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
     const Path outline = text::glyph_outline(db, g.face, g.id, g.size, variations_of(spans[g.span].st.inh));
     if (outline.empty()) continue;
     Affine place = Affine::translate(g.x, g.y);
+    if (const Span& sp = spans[g.span]; sp.path >= 0) {
+      // The glyph's middle on the path, turned with it; glyphs whose
+      // middle falls off the path are not drawn.
+      Vec2 p, p0, p1;
+      double angle, a0, a1;
+      const double d = sp.start_offset + g.x;
+      if (!polylines[sp.path].at(d + g.advance / 2, p, angle)) continue;
+      // Turned by the chord from the glyph's start to its end on the path.
+      if (polylines[sp.path].at(d, p0, a0) && polylines[sp.path].at(d + g.advance, p1, a1))
+        angle = std::atan2(p1.y - p0.y, p1.x - p0.x);
+      place = Affine::translate(p.x, p.y) * Affine::rotate_degrees(angle * 180 / M_PI) *
+              Affine::translate(-g.advance / 2, g.y);
+    }
     if (g.rotate != 0) place = place * Affine::rotate_degrees(g.rotate);
     paths[g.span].append(outline.transformed(place));
   }
