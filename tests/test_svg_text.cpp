@@ -211,3 +211,12 @@ TEST_CASE("text: textPath lays glyphs along the path", "[svg][text]") {
   const auto shortp = parse("<defs><path id='p' d='M 20 100 L 40 100'/></defs><text><textPath href='#p'>Hello</textPath></text>");
   CHECK(box_of(shortp.scene).x1 < 45);
 }
+
+TEST_CASE("text: tref draws the referenced element's characters with its own style", "[svg][text]") {
+  REQUIRE_FONT();
+  const Box plain = box_of(parse("<text x='10' y='100'>Text</text>").scene);
+  const auto r = parse("<defs><text id='t'>Te<tspan>xt</tspan></text></defs><text x='10' y='100' fill='blue'><tref href='#t'/></text>");
+  REQUIRE(r.scene.paths.size() == 1);
+  CHECK(box_of(r.scene).x1 == Approx(plain.x1).margin(1e-6));
+  CHECK(r.scene.paints[r.scene.paths[0].paint].color.b == 1);
+}

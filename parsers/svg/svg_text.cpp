@@ -276,7 +276,30 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
         parent_shift = shift;
         parent_align = align;
         const Context inner = child_context(st, space, false);
-        for (const auto& c : e.children) {
+        // A tref (SVG 1.1 §10.6) holds the character data of the element it
+        // references, every descendant's, as if it were its own.
+        std::string referenced;
+        if (e.name == "tref") {
+          const std::string* href = e.attribute("href");
+          if (!href) href = e.attribute("xlink:href");
+          if (href && href->size() > 1 && (*href)[0] == '#') {
+            const auto it = s_.doc.ids.find(href->substr(1));
+            std::function<void(const Element&)> gather = [&](const Element& x) {
+              for (const auto& k : x.children) {
+                if (k->name == "#text") referenced += k->text;
+                else if (k->name != "tref") gather(*k);
+              }
+            };
+            if (it != s_.doc.ids.end()) gather(*it->second);
+          }
+        }
+        Element tref_text;
+        tref_text.name = "#text";
+        tref_text.text = referenced;
+        std::vector<const Element*> children;
+        for (const auto& c : e.children) children.push_back(c.get());
+        if (e.name == "tref") children = {&tref_text};
+        for (const Element* c : children) {
           if (c->name == "#text") {
             std::vector<char32_t> cps;
             decode_utf8(c->text, cps);
@@ -293,7 +316,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
               ch.span = index;
               chars.push_back(ch);
             }
-          } else if (c->name == "tspan" || c->name == "a") {
+          } else if (c->name == "tspan" || c->name == "a" || (c->name == "tref" && depth < 2)) {
             if (depth > 64) continue;
             const Style cs = compute_style(*c, inner);
             if (cs.display_none) continue;
@@ -326,8 +349,8 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
             current_offset = offset;
             collect(*c, cs, inner, depth + 1);
             current_path = -1;
-          } else if (c->name == "tref" || c->name == "textPath") {
-            warn("<" + c->name + "> is not supported here: ignored");
+          } else if (c->name == "textPath") {
+            warn("<textPath> inside another text content element is not supported: ignored");
           }
         }
         spans[index].end = static_cast<int>(chars.size());
