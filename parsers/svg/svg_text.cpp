@@ -375,7 +375,14 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
     auto uy = [&](const Length& l) { return to_user(l, Axis::Y, em); };
     const auto xs = number_list(*sp.e, "x", ux), ys = number_list(*sp.e, "y", uy);
     const auto dxs = number_list(*sp.e, "dx", ux), dys = number_list(*sp.e, "dy", uy);
-    const auto rs = number_list(*sp.e, "rotate", [](const Length& l) { return l.value; });
+    // rotate takes plain numbers (degrees): a list with anything else
+    // (a unit) is invalid as a whole and ignored.
+    bool rotate_valid = true;
+    auto rs = number_list(*sp.e, "rotate", [&](const Length& l) {
+      if (l.unit != Unit::None) rotate_valid = false;
+      return l.value;
+    });
+    if (!rotate_valid) rs.clear();
     for (int i = sp.first; i < sp.end; i++) {
       const size_t k = size_t(i - sp.first);
       if (k < xs.size()) chars[i].x = xs[k];
