@@ -70,6 +70,23 @@ class Renderers {
   std::string why_;
 };
 
+// What the parser needs from the options: the read policy, the fonts, and
+// the output's pixels (strokes are converted for them: tolerance,
+// hairlines); `threads` converts strokes (0: every core).
+svg::ParseOptions parse_options_for(const cli::Options& opt, int threads) {
+  svg::ParseOptions o;
+  o.allowed_dirs = opt.allow_read;
+  o.font_dirs = opt.font_dirs;
+  o.threads = threads;
+  o.view = [&opt](double w, double h) {
+    int width, height;
+    Affine view;
+    cli::output_geometry(opt, w, h, &width, &height, &view);
+    return view;
+  };
+  return o;
+}
+
 int run(const cli::Options& opt, Renderers& renderers) {
   const auto t_start = Clock::now();
   GpuStartup& startup = renderers.startup();
@@ -80,17 +97,7 @@ int run(const cli::Options& opt, Renderers& renderers) {
     waited_ms += ms_since(t);
     return r;
   };
-  // Strokes are converted for the output's pixels (tolerance, hairlines).
-  svg::ParseOptions parse_options;
-  parse_options.allowed_dirs = opt.allow_read;
-  parse_options.font_dirs = opt.font_dirs;
-  parse_options.view = [&opt](double w, double h) {
-    int width, height;
-    Affine view;
-    cli::output_geometry(opt, w, h, &width, &height, &view);
-    return view;
-  };
-  svg::ParseResult doc = svg::parse_svg_file(opt.positional[0], parse_options);
+  svg::ParseResult doc = svg::parse_svg_file(opt.positional[0], parse_options_for(opt, 0));
   const double parse_ms = ms_since(t_start);
   if (!opt.quiet)
     for (const std::string& w : doc.warnings) std::fprintf(stderr, "svg2png: warning: %s\n", w.c_str());
@@ -292,18 +299,9 @@ int run_batch(const cli::Options& opt, Renderers& renderers) {
     auto job = std::make_unique<pipeline::Job>();
     job->label = items[t].first;
     job->out = items[t].second;
-    svg::ParseOptions parse_options;
-    parse_options.allowed_dirs = opt.allow_read;
-    parse_options.font_dirs = opt.font_dirs;
-    parse_options.threads = 1;  // the workers are the parallelism
-    parse_options.view = [&opt](double w, double h) {
-      int width, height;
-      Affine view;
-      cli::output_geometry(opt, w, h, &width, &height, &view);
-      return view;
-    };
     const auto t0 = Clock::now();
-    svg::ParseResult doc = svg::parse_svg_file(items[t].first, parse_options);
+    // One thread each: the workers are the parallelism.
+    svg::ParseResult doc = svg::parse_svg_file(items[t].first, parse_options_for(opt, 1));
     job->prepare_ms[1] = doc.stroke_seconds * 1e3;
     job->prepare_ms[0] = ms_since(t0) - job->prepare_ms[1];
     job->warnings = std::move(doc.warnings);
