@@ -435,15 +435,15 @@ class Converter {
 
   // ------------------------------------------------------------ text (svg_text.cpp)
 
-  void text(const Element& e, const Style& st, const Affine& space, const Context& ctx);
+  void text(const Element& e, const Style& st, const Affine& space);
   // The text's glyphs inside a clipPath.
-  void clip_text(const Element& e, const Style& st, const Affine& space, const Context& ctx);
+  void clip_text(const Element& e, const Style& st, const Affine& space);
   // Each span's glyph outlines (user space) with its style.
   struct TextPiece {
     Path path;
     Style st;
   };
-  std::vector<TextPiece> layout_text(const Element& e, const Style& st, const Affine& space, const Context& ctx);
+  std::vector<TextPiece> layout_text(const Element& e, const Style& st, const Affine& space);
 
   // ------------------------------------------------------------ groups and masks (svg_masks.cpp)
 

@@ -341,7 +341,7 @@ void Converter::render(const Element& e, const Context& ctx, int depth) {
     case Kind::Use: render(*target, inner, depth + 1); break;
     case Kind::Image: image(e, st, space); break;
 #if MPVG_HAVE_TEXT
-    case Kind::Text: text(e, st, space, inner); break;
+    case Kind::Text: text(e, st, space); break;
 #endif
     default: shape_paint(e, st, space); break;
   }
@@ -487,7 +487,7 @@ void Converter::clip_child(const Element& e, const Context& ctx, int depth) {
     s_.active.pop_back();
 #if MPVG_HAVE_TEXT
   } else if (kind == Kind::Text) {
-    clip_text(e, st, space, child_context(st, space, true));
+    clip_text(e, st, space);
 #endif
   } else {
     const int shape = shape_index(e, st.inh.font_size);

@@ -208,7 +208,7 @@ std::vector<double> number_list(const Element& e, const char* name, const std::f
 }  // namespace
 
 std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, const Style& root_style,
-                                                        const Affine& space, const Context& ctx) {
+                                                        const Affine& space) {
   std::vector<TextPiece> pieces;
   std::vector<std::string> font_warnings;
   const text::FontDb& db = font_db(s_.options.font_dirs, s_.options.system_fonts, &font_warnings);
@@ -230,8 +230,8 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
   std::vector<Polyline> polylines;  // the textPaths' paths
   int current_path = -1;
   double current_offset = 0;
-  std::function<void(const Element&, const Style&, const Context&, int)> collect =
-      [&](const Element& e, const Style& st, const Context& parent_ctx, int depth) {
+  std::function<void(const Element&, const Style&, int)> collect =
+      [&](const Element& e, const Style& st, int depth) {
         const int index = static_cast<int>(spans.size());
         // baseline-shift (not inherited; nested shifts add up): a length,
         // a percentage of the font size, or baseline. sub and super use the
@@ -320,7 +320,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
             if (depth > 64) continue;
             const Style cs = compute_style(*c, inner);
             if (cs.display_none) continue;
-            collect(*c, cs, inner, depth + 1);
+            collect(*c, cs, depth + 1);
           } else if (c->name == "textPath" && depth == 0) {
             // SVG 2 text.html#TextPathElement: the path (or basic shape) it
             // names, with that element's own transform.
@@ -347,7 +347,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
                 offset = l->unit == Unit::Percent ? l->value / 100 * total : to_user(*l, Axis::X, cs.inh.font_size);
             current_path = static_cast<int>(polylines.size()) - 1;
             current_offset = offset;
-            collect(*c, cs, inner, depth + 1);
+            collect(*c, cs, depth + 1);
             current_path = -1;
           } else if (c->name == "textPath") {
             warn("<textPath> inside another text content element is not supported: ignored");
@@ -356,9 +356,8 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
         spans[index].end = static_cast<int>(chars.size());
         parent_shift = saved_shift;
         parent_align = saved_align;
-        (void)parent_ctx;
       };
-  collect(root, root_style, ctx, 0);
+  collect(root, root_style, 0);
   if (!root_style.inh.space_preserve)
     while (!chars.empty() && chars.back().c == ' ' && !spans[chars.back().span].st.inh.space_preserve) {
       chars.pop_back();
@@ -420,8 +419,19 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
     for (size_t g = chunk_start; g < glyphs.size(); g++) glyphs[g].x += shift;
     chunk_start = glyphs.size();
   };
-  auto face_for = [&](const Inherited& inh, char32_t c) {
-    const int face = db.match(inh.font_family, inh.font_weight, inh.font_italic, inh.font_stretch);
+  // Each span's face, matched once (a character the face lacks falls back
+  // on its own).
+  std::vector<int> span_face(spans.size(), -2);
+  auto matched_face = [&](int span) {
+    if (span_face[span] == -2) {
+      const Inherited& inh = spans[span].st.inh;
+      span_face[span] = db.match(inh.font_family, inh.font_weight, inh.font_italic, inh.font_stretch);
+    }
+    return span_face[span];
+  };
+  auto face_for = [&](int span, char32_t c) {
+    const Inherited& inh = spans[span].st.inh;
+    const int face = matched_face(span);
     if (face < 0 || c == ' ' || db.has_glyph(face, c)) return face;
     const int other = db.fallback(c, inh.font_weight, inh.font_italic);
     return other >= 0 ? other : face;
@@ -443,10 +453,10 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
     }
     // The run: same span and face, no new chunk, no rotation change.
     const Inherited& inh = spans[first.span].st.inh;
-    const int face = face_for(inh, first.c);
+    const int face = face_for(first.span, first.c);
     size_t j = i + 1;
     while (j < chars.size() && chars[j].span == first.span && !chars[j].x && !chars[j].y &&
-           face_for(inh, chars[j].c) == face)
+           face_for(first.span, chars[j].c) == face)
       j++;
     if (face < 0) {
       i = j;
@@ -570,8 +580,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
   auto decoration_path = [&](const Decoration& d, int line) {
     Path p;
     const Span& sp = spans[d.span];
-    const int face = db.match(sp.st.inh.font_family, sp.st.inh.font_weight, sp.st.inh.font_italic,
-                              sp.st.inh.font_stretch);
+    const int face = matched_face(d.span);
     if (face < 0) return p;
     const text::Metrics m = text::metrics(db, face, sp.st.inh.font_size);
     double offset, thickness;
@@ -631,17 +640,17 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
   return pieces;
 }
 
-void Converter::text(const Element& e, const Style& st, const Affine& space, const Context& ctx) {
-  for (TextPiece& piece : layout_text(e, st, space, ctx)) {
+void Converter::text(const Element& e, const Style& st, const Affine& space) {
+  for (TextPiece& piece : layout_text(e, st, space)) {
     const uint32_t shape = static_cast<uint32_t>(shapes_.size());
     shapes_.push_back(std::move(piece.path));
     paint_shape(shape, piece.st, space, true);
   }
 }
 
-void Converter::clip_text(const Element& e, const Style& st, const Affine& space, const Context& ctx) {
+void Converter::clip_text(const Element& e, const Style& st, const Affine& space) {
   // Each span's glyphs clip with its clip-rule; the clip path is their union.
-  for (TextPiece& piece : layout_text(e, st, space, ctx)) {
+  for (TextPiece& piece : layout_text(e, st, space)) {
     Op op = Op::of(OpKind::Clip);
     op.shape = static_cast<uint32_t>(shapes_.size());
     shapes_.push_back(std::move(piece.path));
