@@ -10,7 +10,7 @@ PACKAGES=(
   libfreetype-dev
   libopenimageio-dev
   libmupdf-dev libmujs-dev libgumbo-dev libjbig2dec0-dev libopenjp2-7-dev
-  libjpeg-dev libharfbuzz-dev zlib1g-dev
+  libjpeg-dev libharfbuzz-dev libfribidi-dev zlib1g-dev
   libfontconfig-dev fonts-dejavu-core
   catch2
   libpng-dev libdeflate-dev

@@ -15,6 +15,8 @@
 #include <hb-ot.h>
 #include <hb.h>
 
+#include <fribidi.h>
+
 #ifdef MPVG_HAVE_FONTCONFIG
 #include <fontconfig/fontconfig.h>
 #endif
@@ -519,6 +521,108 @@ int sink_cubic(const FT_Vector* c1, const FT_Vector* c2, const FT_Vector* to, vo
 
 }  // namespace
 
+namespace {
+
+// One run of one direction, shaped; glyphs appended to out in visual order
+// with clusters as byte offsets into the whole input (run_start added).
+void shape_run(hb_font_t* font, std::string_view utf8, size_t run_start, size_t run_len, bool rtl, double size,
+               const ShapeOptions& o, const std::vector<hb_feature_t>& features, std::vector<ShapedGlyph>& out) {
+  hb_buffer_t* buf = hb_buffer_create();
+  // The whole text as context, the run as the part shaped: joining (Arabic)
+  // across a run boundary sees its neighbours.
+  hb_buffer_add_utf8(buf, utf8.data(), static_cast<int>(utf8.size()), static_cast<unsigned>(run_start),
+                     static_cast<int>(run_len));
+  hb_buffer_set_direction(buf, o.vertical ? HB_DIRECTION_TTB : rtl ? HB_DIRECTION_RTL : HB_DIRECTION_LTR);
+  if (!o.language.empty())
+    hb_buffer_set_language(buf, hb_language_from_string(o.language.data(), static_cast<int>(o.language.size())));
+  hb_buffer_guess_segment_properties(buf);
+  hb_shape(font, buf, features.data(), static_cast<unsigned>(features.size()));
+
+  unsigned n = 0;
+  const hb_glyph_info_t* info = hb_buffer_get_glyph_infos(buf, &n);
+  const hb_glyph_position_t* pos = hb_buffer_get_glyph_positions(buf, nullptr);
+  int x_scale = 0, y_scale = 0;
+  hb_font_get_scale(font, &x_scale, &y_scale);
+  const double kx = size / x_scale, ky = size / y_scale;
+  for (unsigned i = 0; i < n; ++i) {
+    ShapedGlyph g;
+    g.glyph = info[i].codepoint;
+    g.cluster = info[i].cluster;  // already an offset into the whole buffer text
+    // HarfBuzz's y points up.
+    g.x_advance = pos[i].x_advance * kx;
+    g.y_advance = -pos[i].y_advance * ky;
+    g.x_offset = pos[i].x_offset * kx;
+    g.y_offset = -pos[i].y_offset * ky;
+    out.push_back(g);
+  }
+  hb_buffer_destroy(buf);
+}
+
+// The input's level runs in visual order (Unicode bidi algorithm, UAX #9,
+// through FriBiDi; paragraph level left-to-right): byte start, byte length,
+// right-to-left.
+struct LevelRun {
+  size_t start, len;
+  bool rtl;
+};
+
+std::vector<LevelRun> visual_runs(std::string_view utf8) {
+  std::vector<LevelRun> runs;
+  // Code points and their byte offsets.
+  std::vector<FriBidiChar> cps;
+  std::vector<size_t> offs;
+  for (size_t i = 0; i < utf8.size();) {
+    const unsigned char c = static_cast<unsigned char>(utf8[i]);
+    const int n = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 1;
+    char32_t cp = n == 1 ? c : n == 2 ? (c & 0x1f) : n == 3 ? (c & 0x0f) : (c & 0x07);
+    for (int k = 1; k < n && i + k < utf8.size(); k++) cp = (cp << 6) | (static_cast<unsigned char>(utf8[i + k]) & 0x3f);
+    cps.push_back(cp);
+    offs.push_back(i);
+    i += n;
+  }
+  offs.push_back(utf8.size());
+  const FriBidiStrIndex len = static_cast<FriBidiStrIndex>(cps.size());
+  std::vector<FriBidiCharType> types(cps.size());
+  std::vector<FriBidiBracketType> brackets(cps.size());
+  std::vector<FriBidiLevel> levels(cps.size(), 0);
+  fribidi_get_bidi_types(cps.data(), len, types.data());
+  fribidi_get_bracket_types(cps.data(), len, types.data(), brackets.data());
+  FriBidiParType base = FRIBIDI_PAR_LTR;
+  if (len > 0 && !fribidi_get_par_embedding_levels_ex(types.data(), brackets.data(), len, &base, levels.data()))
+    std::fill(levels.begin(), levels.end(), 0);
+  struct R {
+    size_t a, b;  // code point range
+    int level;
+  };
+  std::vector<R> rs;
+  for (size_t i = 0; i < cps.size(); i++) {
+    if (rs.empty() || rs.back().level != levels[i]) rs.push_back({i, i + 1, levels[i]});
+    else rs.back().b = i + 1;
+  }
+  // UAX #9 L2: from the highest level down to the lowest odd one, reverse
+  // every sequence of runs at that level or above.
+  int hi = 0, lo_odd = 1 << 30;
+  for (const R& r : rs) {
+    hi = std::max(hi, r.level);
+    if (r.level % 2) lo_odd = std::min(lo_odd, r.level);
+  }
+  for (int lvl = hi; lvl >= lo_odd && lvl > 0; lvl--)
+    for (size_t i = 0; i < rs.size();) {
+      if (rs[i].level < lvl) {
+        i++;
+        continue;
+      }
+      size_t j = i;
+      while (j < rs.size() && rs[j].level >= lvl) j++;
+      std::reverse(rs.begin() + static_cast<long>(i), rs.begin() + static_cast<long>(j));
+      i = j;
+    }
+  for (const R& r : rs) runs.push_back({offs[r.a], offs[r.b] - offs[r.a], (r.level % 2) != 0});
+  return runs;
+}
+
+}  // namespace
+
 std::vector<ShapedGlyph> shape(const FontDb& db, int face, std::string_view utf8, double size,
                                const ShapeOptions& o) {
   FontDb::Impl& m = db.impl();
@@ -538,35 +642,68 @@ std::vector<ShapedGlyph> shape(const FontDb& db, int face, std::string_view utf8
     hb_feature_t f;
     if (parse_feature(s, f)) features.push_back(f);
   }
-
-  hb_buffer_t* buf = hb_buffer_create();
-  hb_buffer_add_utf8(buf, utf8.data(), static_cast<int>(utf8.size()), 0, static_cast<int>(utf8.size()));
-  hb_buffer_set_direction(buf, o.vertical ? HB_DIRECTION_TTB : o.rtl ? HB_DIRECTION_RTL : HB_DIRECTION_LTR);
-  if (!o.language.empty())
-    hb_buffer_set_language(buf, hb_language_from_string(o.language.data(), static_cast<int>(o.language.size())));
-  hb_buffer_guess_segment_properties(buf);
-  hb_shape(font, buf, features.data(), static_cast<unsigned>(features.size()));
-
-  unsigned n = 0;
-  const hb_glyph_info_t* info = hb_buffer_get_glyph_infos(buf, &n);
-  const hb_glyph_position_t* pos = hb_buffer_get_glyph_positions(buf, nullptr);
-  int x_scale = 0, y_scale = 0;
-  hb_font_get_scale(font, &x_scale, &y_scale);
-  const double kx = size / x_scale, ky = size / y_scale;
-  out.resize(n);
-  for (unsigned i = 0; i < n; ++i) {
-    ShapedGlyph& g = out[i];
-    g.glyph = info[i].codepoint;
-    g.cluster = info[i].cluster;
-    // HarfBuzz's y points up.
-    g.x_advance = pos[i].x_advance * kx;
-    g.y_advance = -pos[i].y_advance * ky;
-    g.x_offset = pos[i].x_offset * kx;
-    g.y_offset = -pos[i].y_offset * ky;
+  if (o.bidi && !o.vertical) {
+    for (const LevelRun& r : visual_runs(utf8)) shape_run(font, utf8, r.start, r.len, r.rtl, size, o, features, out);
+  } else {
+    shape_run(font, utf8, 0, utf8.size(), o.rtl, size, o, features, out);
   }
-  hb_buffer_destroy(buf);
   if (!vars.empty()) hb_font_set_variations(font, nullptr, 0);
   return out;
+}
+
+bool letter_spacing_applies(char32_t c) {
+  // CSS Text 3 §8.2 (cursive tracking): scripts whose letters join are not
+  // spaced apart.
+  switch (hb_unicode_script(hb_unicode_funcs_get_default(), c)) {
+    case HB_SCRIPT_ARABIC:
+    case HB_SCRIPT_SYRIAC:
+    case HB_SCRIPT_NKO:
+    case HB_SCRIPT_MANICHAEAN:
+    case HB_SCRIPT_PSALTER_PAHLAVI:
+    case HB_SCRIPT_MANDAIC:
+    case HB_SCRIPT_MONGOLIAN:
+    case HB_SCRIPT_PHAGS_PA:
+    case HB_SCRIPT_DEVANAGARI:
+    case HB_SCRIPT_BENGALI:
+    case HB_SCRIPT_GURMUKHI:
+    case HB_SCRIPT_MODI:
+    case HB_SCRIPT_SHARADA:
+    case HB_SCRIPT_SYLOTI_NAGRI:
+    case HB_SCRIPT_TIRHUTA:
+    case HB_SCRIPT_OGHAM: return false;
+    default: return true;
+  }
+}
+
+bool upright_in_vertical(char32_t c) {
+  // Unicode's Vertical_Orientation (UAX #50) value U, by ranges: CJK,
+  // Hangul, kana, their symbols and punctuation, fullwidth forms, emoji.
+  // Brackets, dashes and the prolonged sound mark (Tr) and small kana and
+  // full stops (Tu) are not U and turn with the line.
+  struct Range {
+    char32_t a, b;
+  };
+  static const Range not_upright[] = {
+      {0x3001, 0x3002}, {0x3008, 0x3011}, {0x3014, 0x301F}, {0x3030, 0x3030}, {0x3041, 0x3041},
+      {0x3043, 0x3043}, {0x3045, 0x3045}, {0x3047, 0x3047}, {0x3049, 0x3049}, {0x3063, 0x3063},
+      {0x3083, 0x3083}, {0x3085, 0x3085}, {0x3087, 0x3087}, {0x308E, 0x308E}, {0x3095, 0x3096},
+      {0x309B, 0x309C}, {0x30A0, 0x30A1}, {0x30A3, 0x30A3}, {0x30A5, 0x30A5}, {0x30A7, 0x30A7},
+      {0x30A9, 0x30A9}, {0x30C3, 0x30C3}, {0x30E3, 0x30E3}, {0x30E5, 0x30E5}, {0x30E7, 0x30E7},
+      {0x30EE, 0x30EE}, {0x30F5, 0x30F6}, {0x30FC, 0x30FC}, {0xFF08, 0xFF09}, {0xFF0C, 0xFF0E},
+      {0xFF1A, 0xFF1E}, {0xFF3B, 0xFF3B}, {0xFF3D, 0xFF3F}, {0xFF5B, 0xFF60}, {0xFF61, 0xFFDF},
+  };
+  static const Range upright[] = {
+      {0x00A7, 0x00A7}, {0x00A9, 0x00A9}, {0x00AE, 0x00AE}, {0x00B1, 0x00B1}, {0x00BC, 0x00BE},
+      {0x00D7, 0x00D7}, {0x00F7, 0x00F7}, {0x1100, 0x11FF}, {0x1401, 0x167F}, {0x18B0, 0x18FF},
+      {0x2E80, 0x2FFF}, {0x3000, 0x31FF}, {0x3200, 0x4DBF}, {0x4E00, 0xA4CF}, {0xA960, 0xA97F},
+      {0xAC00, 0xD7FF}, {0xE000, 0xFAFF}, {0xFE10, 0xFE1F}, {0xFE30, 0xFE4F}, {0xFF00, 0xFFEF},
+      {0x1F000, 0x1FAFF}, {0x20000, 0x3FFFD},
+  };
+  for (const Range& r : not_upright)
+    if (c >= r.a && c <= r.b) return false;
+  for (const Range& r : upright)
+    if (c >= r.a && c <= r.b) return true;
+  return false;
 }
 
 Path glyph_outline(const FontDb& db, int face, uint32_t glyph, double size,
@@ -647,6 +784,8 @@ Metrics metrics(const FontDb& db, int face, double size) {
   double sp = os2 && os2->yStrikeoutPosition > 0 ? os2->yStrikeoutPosition : xh / 2;
   r.strikeout_thickness = st * k;
   r.strikeout_position = -sp * k;
+  r.subscript_offset = (os2 && os2->ySubscriptYOffset != 0 ? os2->ySubscriptYOffset : upem / 5.0) * k;
+  r.superscript_offset = (os2 && os2->ySuperscriptYOffset != 0 ? os2->ySuperscriptYOffset : upem / 3.0) * k;
   return r;
 }
 

@@ -86,6 +86,10 @@ struct ShapedGlyph {
 struct ShapeOptions {
   bool rtl = false;
   bool vertical = false;
+  // Unicode bidi algorithm (FriBiDi) over the input, paragraph level
+  // left-to-right: each level run shaped in its direction (rtl ignored),
+  // the runs in visual order.
+  bool bidi = false;
   std::string language;  // BCP 47; empty: HarfBuzz's default
   // CSS font-feature-settings items: "\"liga\" 0", "smcp", "'kern' off",
   // and HarfBuzz's forms "-kern", "+liga", "aalt=2".
@@ -93,9 +97,11 @@ struct ShapeOptions {
   std::vector<std::pair<std::string, double>> variations;  // {"wght", 700}
 };
 
-// HarfBuzz shaping of one run in one face at `size` user units per em. The
+// HarfBuzz shaping of text in one face at `size` user units per em. The
 // script is guessed (hb_buffer_guess_segment_properties); the direction comes
-// from the options. Positions are unhinted, exact to 1/64 font unit.
+// from the options (or the bidi algorithm). Glyphs are in visual order,
+// clusters are byte offsets into utf8. Positions are unhinted, exact to
+// 1/64 font unit.
 std::vector<ShapedGlyph> shape(const FontDb& db, int face, std::string_view utf8, double size,
                                const ShapeOptions& o = {});
 
@@ -106,6 +112,15 @@ std::vector<ShapedGlyph> shape(const FontDb& db, int face, std::string_view utf8
 mpvg::Path glyph_outline(const FontDb& db, int face, uint32_t glyph, double size,
                          const std::vector<std::pair<std::string, double>>& variations = {});
 
+// Whether CSS letter-spacing applies to c's script: not to the cursive
+// ones, whose letters join (Arabic, Syriac, Devanagari, ...; CSS Text 3 §8.2).
+bool letter_spacing_applies(char32_t c);
+
+// Whether c stands upright in vertical text (Unicode Vertical_Orientation
+// U: CJK ideographs, kana, Hangul, fullwidth forms, emoji); other
+// characters turn with the line.
+bool upright_in_vertical(char32_t c);
+
 struct Metrics {
   double ascent = 0, descent = 0;  // descent positive below the baseline
   double x_height = 0, cap_height = 0;
@@ -113,6 +128,9 @@ struct Metrics {
   double underline_thickness = 0;
   double strikeout_position = 0;  // negative: above the baseline
   double strikeout_thickness = 0;
+  // OS/2 ySubscriptYOffset (down) and ySuperscriptYOffset (up), both
+  // positive; 1/5 and 1/3 of the em where the table lacks them.
+  double subscript_offset = 0, superscript_offset = 0;
   double units_per_em = 1000;     // the font's, not scaled
 };
 

@@ -152,6 +152,13 @@ struct Inherited {
                                   Ideographic } dominant_baseline = Baseline::Alphabetic;
   // font-variation-settings (CSS Fonts 4 §6.12): axis tag and value pairs.
   std::vector<std::pair<std::string, double>> font_variations;
+  // writing-mode: vertical (tb, tb-rl, vertical-rl, vertical-lr) or not;
+  // font-variant small-caps; font-kerning (false: none);
+  // font-feature-settings items as written.
+  bool vertical = false;
+  bool small_caps = false;
+  bool kerning = true;
+  std::vector<std::string> font_features;
   FillRule clip_rule = FillRule::NonZero;
   bool visible = true;
   RGBA color{0, 0, 0, 1};
@@ -431,7 +438,9 @@ class Converter {
   void shape_paint(const Element& e, const Style& st, const Affine& space);
   // shapes_[shape] filled (unless !fillable) and stroked with st, in
   // paint-order.
-  void paint_shape(uint32_t shape, const Style& st, const Affine& space, bool fillable);
+  // box: the bounding box for objectBoundingBox paint servers when it is
+  // not the shape's own (a text's spans use the whole text's).
+  void paint_shape(uint32_t shape, const Style& st, const Affine& space, bool fillable, const Bounds* box = nullptr);
 
   // ------------------------------------------------------------ text (svg_text.cpp)
 

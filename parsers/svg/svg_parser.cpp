@@ -363,14 +363,14 @@ void Converter::shape_paint(const Element& e, const Style& st, const Affine& spa
   paint_shape(static_cast<uint32_t>(shape), st, space, e.name != "line");
 }
 
-void Converter::paint_shape(uint32_t shape, const Style& st, const Affine& space, bool fillable) {
+void Converter::paint_shape(uint32_t shape, const Style& st, const Affine& space, bool fillable, const Bounds* box) {
   Op fill = Op::of(OpKind::Bounds);
   fill.shape = static_cast<uint32_t>(shape);
   fill.xf = space;
   fill.rule = st.inh.fill_rule;
   // Paint servers in objectBoundingBox units use the box of the fill
   // geometry, for the stroke too (SVG 2 coords.html#BoundingBoxes).
-  ShapeBox bbox{shapes_, static_cast<uint32_t>(shape), std::nullopt};
+  ShapeBox bbox{shapes_, static_cast<uint32_t>(shape), box ? std::optional<Bounds>(*box) : std::nullopt};
   if (fillable && !shapes_[shape].empty() && st.inh.visible) {
     if (const auto paint = make_paint(st.inh.fill, st.inh.fill_opacity, bbox, space)) {
       fill.kind = OpKind::Fill;

@@ -124,7 +124,7 @@ std::optional<std::string> parse_keyword(std::string_view s) {
 }
 
 // The inherited text properties (CSS Fonts 4, CSS Text 3, SVG 2 text.html).
-void text_style(const Element& e, const Context& ctx, Inherited& inh) {
+void text_style(const Element& e, const Context& ctx, Inherited& inh, double diagonal) {
   if (const auto f = property<std::vector<std::string>>(e, "font-family", [](std::string_view v) {
         // A comma-separated list of names, quoted or not.
         std::vector<std::string> out;
@@ -204,10 +204,56 @@ void text_style(const Element& e, const Context& ctx, Inherited& inh) {
       if (!l) return std::nullopt;
       if (l->unit == Unit::Em) return l->value * inh.font_size;
       if (l->unit == Unit::Ex) return l->value * inh.font_size / 2;
-      return length_to_px(*l, inh.font_size);
+      // A percentage of the viewport's normalised diagonal, as resvg resolves it.
+      return length_to_px(*l, diagonal);
     });
     if (sp.state == Prop<double>::Set) (name[0] == 'l' ? inh.letter_spacing : inh.word_spacing) = sp.value;
   }
+  // writing-mode (SVG 1.1 keywords and CSS Writing Modes 3): vertical or not.
+  if (const auto wm = property<bool>(e, "writing-mode", [](std::string_view v) -> std::optional<bool> {
+        const auto k = parse_keyword(v);
+        if (k == "lr" || k == "lr-tb" || k == "rl" || k == "rl-tb" || k == "horizontal-tb") return false;
+        if (k == "tb" || k == "tb-rl" || k == "vertical-rl" || k == "vertical-lr") return true;
+        return std::nullopt;
+      });
+      wm.state == Prop<bool>::Set)
+    inh.vertical = wm.value;
+  // font-variant: small-caps (the font's smcp feature); font-kerning: none
+  // (and SVG 1.1's kerning="0") turns kerning off.
+  if (const auto fv = property<bool>(e, "font-variant", [](std::string_view v) -> std::optional<bool> {
+        const auto k = parse_keyword(v);
+        if (k == "small-caps") return true;
+        if (k == "normal") return false;
+        return std::nullopt;
+      });
+      fv.state == Prop<bool>::Set)
+    inh.small_caps = fv.value;
+  if (const auto fk = property<bool>(e, "font-kerning", [](std::string_view v) -> std::optional<bool> {
+        const auto k = parse_keyword(v);
+        if (k == "none") return false;
+        if (k == "auto" || k == "normal") return true;
+        return std::nullopt;
+      });
+      fk.state == Prop<bool>::Set)
+    inh.kerning = fk.value;
+  if (const std::string* k = e.attribute("kerning"))
+    if (const auto l = parse_length(*k); l && l->value == 0) inh.kerning = false;
+  // font-feature-settings: "normal" or a comma-separated list of items.
+  if (const auto ff = property<std::vector<std::string>>(
+          e, "font-feature-settings", [](std::string_view v) -> std::optional<std::vector<std::string>> {
+            std::vector<std::string> out;
+            if (parse_keyword(v) == "normal") return out;
+            for (size_t pos = 0; pos <= v.size();) {
+              size_t end = v.find(',', pos);
+              if (end == std::string_view::npos) end = v.size();
+              const std::string_view item = trim(v.substr(pos, end - pos));
+              if (!item.empty()) out.emplace_back(item);
+              pos = end + 1;
+            }
+            return out;
+          });
+      ff.state == Prop<std::vector<std::string>>::Set)
+    inh.font_features = ff.value;
   using Variations = std::vector<std::pair<std::string, double>>;
   if (const auto fv = property<Variations>(e, "font-variation-settings", [](std::string_view v) -> std::optional<Variations> {
         Variations out;
@@ -293,7 +339,7 @@ Style Converter::compute_style(const Element& e, const Context& ctx) {
   if (const auto ir = property<TextureFilter>(e, "image-rendering", parse_image_rendering);
       ir.state == Prop<TextureFilter>::Set)
     inh.image_rendering = ir.value;
-  text_style(e, ctx, inh);
+  text_style(e, ctx, inh, percent_base(Axis::Diagonal));
 
   // Non-inherited properties.
   const auto opacity = property<double>(e, "opacity", parse_alpha);

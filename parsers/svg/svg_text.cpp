@@ -92,10 +92,10 @@ std::vector<std::pair<std::string, double>> variations_of(const Inherited& inh) 
   return v;
 }
 
-// A textPath's path as straight pieces with their lengths, in the text's
-// user space: curves sampled finely (32 pieces each), a closed contour's
-// closing line added, the moves between subpaths not counted.
-struct Polyline {
+// A textPath's path measured: straight pieces with their lengths, in the
+// text's user space; curves cut into 64 pieces each, a closed contour's
+// closing line included, the moves between subpaths not counted.
+struct PathMeasure {
   struct Piece {
     Vec2 a, b;
     double start, length;  // distance along the path where it starts
@@ -103,7 +103,7 @@ struct Polyline {
   std::vector<Piece> pieces;
   double total = 0;
 
-  explicit Polyline(const Path& path) {
+  explicit PathMeasure(const Path& path) {
     const auto& pts = path.points();
     const auto& w = path.weights();
     auto add = [&](Vec2 a, Vec2 b) {
@@ -122,7 +122,7 @@ struct Polyline {
           last = q[1];
           continue;
         }
-        const int n = 32;
+        const int n = 64;
         Vec2 prev = q[0];
         for (int i = 1; i <= n; i++) {
           const double t = double(i) / n, u = 1 - t;
@@ -146,7 +146,7 @@ struct Polyline {
     }
   }
 
-  // The point and direction (radians) at distance d; false off the path.
+  // The point and the direction (degrees) at distance d; false off the path.
   bool at(double d, Vec2& p, double& angle) const {
     if (pieces.empty() || d < 0 || d > total) return false;
     size_t lo = 0, hi = pieces.size() - 1;
@@ -158,31 +158,79 @@ struct Polyline {
     const Piece& pc = pieces[lo];
     const double t = std::clamp((d - pc.start) / pc.length, 0.0, 1.0);
     p = {pc.a.x + (pc.b.x - pc.a.x) * t, pc.a.y + (pc.b.y - pc.a.y) * t};
-    angle = std::atan2(pc.b.y - pc.a.y, pc.b.x - pc.a.x);
+    angle = std::atan2(pc.b.y - pc.a.y, pc.b.x - pc.a.x) * 180 / M_PI;
     return true;
   }
 };
 
-// One character of the text, after white-space handling.
-struct Char {
-  char32_t c = 0;
-  int span = 0;  // index into the spans
-  std::optional<double> x, y;
-  double dx = 0, dy = 0;
-  std::optional<double> rotate;
-};
-
-// A text content element with its computed style.
-struct Span {
+// A text content element (text, tspan, tref, a, textPath) with its style.
+struct TextElem {
   const Element* e = nullptr;
   Style st;
-  int first = 0, end = 0;  // its characters (descendants' included)
-  double shift = 0;        // baseline-shift, its ancestors' included (y up)
-  // alignment-baseline of the span or the nearest span around it (its
-  // content aligns as one box), over dominant-baseline.
-  std::optional<Inherited::Baseline> align;
-  int path = -1;            // the textPath it is in (index into the polylines), or -1
-  double start_offset = 0;  // that textPath's startOffset, resolved
+  int parent = -1;  // index of the enclosing text content element
+};
+
+// The characters of one text node (a tref's referenced text counts as
+// one), styled by the element holding it.
+struct Span {
+  int elem = 0;
+  int first = 0, end = 0;  // characters
+  int flow = -1;           // the textPath it lies on, or -1
+};
+
+struct Char {
+  char32_t c = 0;
+  int span = 0;
+  bool split = false;  // first character of a textPath, or the first after one
+  std::optional<double> x, y, dx, dy;
+  double rotate = 0;
+};
+
+// One text chunk (SVG 2 text.html#TextLayoutAlgorithm): characters laid
+// out together from one absolute position, anchored as a whole.
+struct Chunk {
+  int first = 0, end = 0;
+  std::optional<double> x, y;
+  Inherited::Anchor anchor = Inherited::Anchor::Start;
+  int flow = -1;
+};
+
+// How a span's characters are shaped: the same key shapes the same.
+struct ShapeKey {
+  int face = -1;
+  std::vector<std::pair<std::string, double>> variations;
+  std::vector<std::string> features;
+  bool operator==(const ShapeKey& o) const {
+    return face == o.face && variations == o.variations && features == o.features;
+  }
+};
+
+// A glyph as shaped at 1 user unit per em.
+struct RawGlyph {
+  int face = -1;
+  uint32_t id = 0;
+  int ch = 0;  // its cluster's first character (logical order)
+  int key = 0;
+  double advance = 0, dx = 0, dy = 0;
+};
+
+struct PlacedGlyph {
+  int face;
+  uint32_t id;
+  int key;
+  Vec2 at;  // in the cluster, user units at the span's size
+};
+
+// A glyph cluster (the glyphs of one or more characters shaped together):
+// the unit of positioning, spacing and rotation.
+struct Cluster {
+  int ch = 0;
+  std::vector<PlacedGlyph> glyphs;
+  double width = 0, advance = 0;
+  double ascent = 0, descent = 0;  // y up: descent negative
+  Affine transform, path_transform;
+  bool visible = true;
+  bool relative_shift = false;  // positioned by dx or dy, or on a path: decorations break here
 };
 
 std::vector<double> number_list(const Element& e, const char* name, const std::function<double(const Length&)>& user) {
@@ -205,6 +253,73 @@ std::vector<double> number_list(const Element& e, const char* name, const std::f
   return out;
 }
 
+bool is_word_separator(char32_t c) {
+  // CSS Text 3 §8.1: the word-separator characters.
+  return c == 0x20 || c == 0xA0 || c == 0x1361 || c == 0x10100 || c == 0x10101 || c == 0x1039F || c == 0x1091F;
+}
+
+double anchor_offset(Inherited::Anchor a, double width) {
+  return a == Inherited::Anchor::Middle ? -width / 2 : a == Inherited::Anchor::End ? -width : 0;
+}
+
+enum Line { Under = 1, Over = 2, Through = 4 };
+
+int decoration_of(const Element& e) {
+  const auto d = property<int>(e, "text-decoration", [](std::string_view v) -> std::optional<int> {
+    int lines = 0;
+    for (size_t pos = 0; pos < v.size();) {
+      const size_t b = v.find_first_not_of(" \t\n\r", pos);
+      if (b == std::string_view::npos) break;
+      size_t end = v.find_first_of(" \t\n\r", b);
+      if (end == std::string_view::npos) end = v.size();
+      const std::string_view w = v.substr(b, end - b);
+      if (w == "underline") lines |= Under;
+      else if (w == "overline") lines |= Over;
+      else if (w == "line-through") lines |= Through;
+      else if (w != "none") return std::nullopt;
+      pos = end;
+    }
+    return lines;
+  });
+  return d.state == Prop<int>::Set ? d.value : 0;
+}
+
+using Baseline = Inherited::Baseline;
+
+// alignment-baseline keywords; -1 for auto and baseline (the dominant
+// baseline applies).
+std::optional<int> parse_alignment_baseline(std::string_view v) {
+  const auto k = parse_keyword(v);
+  if (k == "auto" || k == "baseline") return -1;
+  if (k == "alphabetic") return int(Baseline::Alphabetic);
+  if (k == "middle") return int(Baseline::Middle);
+  if (k == "central") return int(Baseline::Central);
+  if (k == "hanging") return int(Baseline::Hanging);
+  if (k == "mathematical") return int(Baseline::Mathematical);
+  if (k == "text-before-edge" || k == "before-edge" || k == "text-top" || k == "top") return int(Baseline::TextTop);
+  if (k == "text-after-edge" || k == "after-edge" || k == "text-bottom" || k == "bottom")
+    return int(Baseline::TextBottom);
+  if (k == "ideographic") return int(Baseline::Ideographic);
+  return std::nullopt;
+}
+
+// How far (y down) the alphabetic baseline moves to align baseline b with
+// the line's: resvg's and Chrome's reading of CSS Inline 3 from the
+// font's metrics.
+double baseline_offset(Baseline b, const text::Metrics& m) {
+  switch (b) {
+    case Baseline::Alphabetic: return 0;
+    case Baseline::Middle: return m.x_height / 2;
+    case Baseline::Central: return (m.ascent - m.descent) / 2;
+    case Baseline::Hanging: return 0.8 * m.ascent;
+    case Baseline::Mathematical: return 0.5 * m.ascent;
+    case Baseline::TextTop: return m.ascent;
+    case Baseline::TextBottom:
+    case Baseline::Ideographic: return -m.descent;
+  }
+  return 0;
+}
+
 }  // namespace
 
 std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, const Style& root_style,
@@ -217,434 +332,577 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
     warn("no fonts found (see --font-dir): text not rendered");
     return pieces;
   }
+  const bool vertical = root_style.inh.vertical;
 
-  // The characters, in document order, with white space handled (SVG 2
+  // 1. The characters, in document order, with white space handled (SVG 2
   // text.html#WhiteSpace, the xml:space rules of SVG 1.1 §10.15): newlines
   // removed and tabs made spaces; unless preserved, runs of spaces become
   // one and the text's leading and trailing spaces go.
+  std::vector<TextElem> elems;
   std::vector<Span> spans;
   std::vector<Char> chars;
+  std::vector<int> elem_first, elem_end;  // each element's characters
+  std::vector<PathMeasure> paths;         // the textPaths' paths
+  std::vector<double> start_offsets;
   bool last_space = true;  // at the start, a space is leading
-  double parent_shift = 0;
-  std::optional<Inherited::Baseline> parent_align;
-  std::vector<Polyline> polylines;  // the textPaths' paths
-  int current_path = -1;
-  double current_offset = 0;
-  std::function<void(const Element&, const Style&, int)> collect =
-      [&](const Element& e, const Style& st, int depth) {
-        const int index = static_cast<int>(spans.size());
-        // baseline-shift (not inherited; nested shifts add up): a length,
-        // a percentage of the font size, or baseline. sub and super use the
-        // usual 1/3 and 1/5 of an em as no metrics give them here.
-        double shift = depth == 0 || !e.parent ? 0 : parent_shift;
-        if (depth > 0) {
-          const auto bs = property<double>(e, "baseline-shift", [&](std::string_view v) -> std::optional<double> {
-            const auto k = parse_keyword(v);
-            if (k == "baseline") return 0.0;
-            if (k == "sub") return -st.inh.font_size / 5;
-            if (k == "super") return st.inh.font_size / 3;
-            const auto l = parse_length(v);
-            if (!l) return std::nullopt;
-            if (l->unit == Unit::Percent) return l->value / 100 * st.inh.font_size;
-            return to_user(*l, Axis::Y, st.inh.font_size);
-          });
-          if (bs.state == Prop<double>::Set) shift += bs.value;
-        }
-        std::optional<Inherited::Baseline> align = parent_align;
-        if (depth > 0) {
-          const auto ab = property<int>(e, "alignment-baseline", [](std::string_view v) -> std::optional<int> {
-            using B = Inherited::Baseline;
-            const auto k = parse_keyword(v);
-            if (k == "auto" || k == "baseline") return -1;
-            if (k == "alphabetic") return int(B::Alphabetic);
-            if (k == "middle") return int(B::Middle);
-            if (k == "central") return int(B::Central);
-            if (k == "hanging") return int(B::Hanging);
-            if (k == "mathematical") return int(B::Mathematical);
-            if (k == "text-before-edge" || k == "before-edge" || k == "text-top" || k == "top") return int(B::TextTop);
-            if (k == "text-after-edge" || k == "after-edge" || k == "text-bottom" || k == "bottom")
-              return int(B::TextBottom);
-            if (k == "ideographic") return int(B::Ideographic);
-            return std::nullopt;
-          });
-          if (ab.state == Prop<int>::Set)
-            align = ab.value < 0 ? std::nullopt : std::optional(static_cast<Inherited::Baseline>(ab.value));
-        }
-        spans.push_back({&e, st, static_cast<int>(chars.size()), 0, shift, align, current_path, current_offset});
-        const double saved_shift = parent_shift;
-        const std::optional<Inherited::Baseline> saved_align = parent_align;
-        parent_shift = shift;
-        parent_align = align;
-        const Context inner = child_context(st, space, false);
-        // A tref (SVG 1.1 §10.6) holds the character data of the element it
-        // references, every descendant's, as if it were its own.
-        std::string referenced;
-        if (e.name == "tref") {
-          const std::string* href = e.attribute("href");
-          if (!href) href = e.attribute("xlink:href");
-          if (href && href->size() > 1 && (*href)[0] == '#') {
-            const auto it = s_.doc.ids.find(href->substr(1));
-            std::function<void(const Element&)> gather = [&](const Element& x) {
-              for (const auto& k : x.children) {
-                if (k->name == "#text") referenced += k->text;
-                else if (k->name != "tref") gather(*k);
-              }
-            };
-            if (it != s_.doc.ids.end()) gather(*it->second);
+  bool split_next = false;
+  int current_flow = -1;
+  std::function<void(const Element&, const Style&, int, int)> collect = [&](const Element& e, const Style& st,
+                                                                            int parent, int depth) {
+    const int index = static_cast<int>(elems.size());
+    elems.push_back({&e, st, parent});
+    elem_first.push_back(static_cast<int>(chars.size()));
+    elem_end.push_back(0);
+    const Context inner = child_context(st, space, false);
+    // A tref (SVG 1.1 §10.6) holds the character data of the element it
+    // references, every descendant's, as if it were its own.
+    std::string referenced;
+    if (e.name == "tref") {
+      const std::string* href = e.attribute("href");
+      if (!href) href = e.attribute("xlink:href");
+      if (href && href->size() > 1 && (*href)[0] == '#') {
+        const auto it = s_.doc.ids.find(href->substr(1));
+        std::function<void(const Element&)> gather = [&](const Element& x) {
+          for (const auto& k : x.children) {
+            if (k->name == "#text") referenced += k->text;
+            else if (k->name != "tref") gather(*k);
           }
-        }
-        Element tref_text;
-        tref_text.name = "#text";
-        tref_text.text = referenced;
-        std::vector<const Element*> children;
-        for (const auto& c : e.children) children.push_back(c.get());
-        if (e.name == "tref") children = {&tref_text};
-        for (const Element* c : children) {
-          if (c->name == "#text") {
-            std::vector<char32_t> cps;
-            decode_utf8(c->text, cps);
-            for (char32_t cp : cps) {
-              if (cp == '\n' || cp == '\r') {
-                if (st.inh.space_preserve) cp = ' ';
-                else continue;
-              }
-              if (cp == '\t') cp = ' ';
-              if (cp == ' ' && !st.inh.space_preserve && last_space) continue;
-              last_space = cp == ' ';
-              Char ch;
-              ch.c = cp;
-              ch.span = index;
-              chars.push_back(ch);
-            }
-          } else if (c->name == "tspan" || c->name == "a" || (c->name == "tref" && depth < 2)) {
-            if (depth > 64) continue;
-            const Style cs = compute_style(*c, inner);
-            if (cs.display_none) continue;
-            collect(*c, cs, depth + 1);
-          } else if (c->name == "textPath" && depth == 0) {
-            // SVG 2 text.html#TextPathElement: the path (or basic shape) it
-            // names, with that element's own transform.
-            const std::string* href = c->attribute("href");
-            if (!href) href = c->attribute("xlink:href");
-            const Element* target = nullptr;
-            if (href && href->size() > 1 && (*href)[0] == '#') {
-              const auto it = s_.doc.ids.find(href->substr(1));
-              if (it != s_.doc.ids.end()) target = it->second;
-            }
-            if (!target) continue;  // renders nothing (resvg: no-link)
-            std::optional<Path> shape = build_shape(*target, st.inh.font_size);
-            if (!shape) continue;
-            Affine xf;
-            if (const std::string* t = target->attribute("transform"))
-              if (const auto m = parse_transform(*t)) xf = *m;
-            polylines.emplace_back(shape->transformed(xf));
-            const Style cs = compute_style(*c, inner);
-            if (cs.display_none) continue;
-            const double total = polylines.back().total;
-            double offset = 0;
-            if (const std::string* so = c->attribute("startOffset"))
-              if (const auto l = parse_length(*so))
-                offset = l->unit == Unit::Percent ? l->value / 100 * total : to_user(*l, Axis::X, cs.inh.font_size);
-            current_path = static_cast<int>(polylines.size()) - 1;
-            current_offset = offset;
-            collect(*c, cs, depth + 1);
-            current_path = -1;
-          } else if (c->name == "textPath") {
-            warn("<textPath> inside another text content element is not supported: ignored");
-          }
-        }
-        spans[index].end = static_cast<int>(chars.size());
-        parent_shift = saved_shift;
-        parent_align = saved_align;
-      };
-  collect(root, root_style, 0);
-  if (!root_style.inh.space_preserve)
-    while (!chars.empty() && chars.back().c == ' ' && !spans[chars.back().span].st.inh.space_preserve) {
-      chars.pop_back();
-      for (Span& sp : spans) sp.end = std::min(sp.end, static_cast<int>(chars.size()));
+        };
+        if (it != s_.doc.ids.end()) gather(*it->second);
+      }
     }
+    Element tref_text;
+    tref_text.name = "#text";
+    tref_text.text = referenced;
+    std::vector<const Element*> children;
+    for (const auto& c : e.children) children.push_back(c.get());
+    if (e.name == "tref") children = {&tref_text};
+    for (const Element* c : children) {
+      if (c->name == "#text") {
+        if (!(st.inh.font_size > 0)) continue;  // a span of no size shows nothing
+        std::vector<char32_t> cps;
+        decode_utf8(c->text, cps);
+        Span sp{index, static_cast<int>(chars.size()), 0, current_flow};
+        for (char32_t cp : cps) {
+          if (cp == '\n' || cp == '\r') {
+            if (st.inh.space_preserve) cp = ' ';
+            else continue;
+          }
+          if (cp == '\t') cp = ' ';
+          if (cp == ' ' && !st.inh.space_preserve && last_space) continue;
+          last_space = cp == ' ';
+          Char ch;
+          ch.c = cp;
+          ch.span = static_cast<int>(spans.size());
+          ch.split = split_next;
+          split_next = false;
+          chars.push_back(ch);
+        }
+        sp.end = static_cast<int>(chars.size());
+        if (sp.end > sp.first) spans.push_back(sp);
+      } else if (c->name == "tspan" || c->name == "a" || (c->name == "tref" && depth < 2)) {
+        if (depth > 64) continue;
+        const Style cs = compute_style(*c, inner);
+        if (cs.display_none) continue;
+        collect(*c, cs, index, depth + 1);
+      } else if (c->name == "textPath" && depth == 0) {
+        // SVG 2 text.html#TextPathElement: the path (or basic shape) it
+        // names, with that element's own transform. Without one it
+        // renders nothing.
+        const std::string* href = c->attribute("href");
+        if (!href) href = c->attribute("xlink:href");
+        const Element* target = nullptr;
+        if (href && href->size() > 1 && (*href)[0] == '#') {
+          const auto it = s_.doc.ids.find(href->substr(1));
+          if (it != s_.doc.ids.end()) target = it->second;
+        }
+        if (!target) continue;
+        std::optional<Path> shape = build_shape(*target, st.inh.font_size);
+        if (!shape || shape->empty()) continue;
+        Affine xf;
+        if (const std::string* t = target->attribute("transform"))
+          if (const auto m = parse_transform(*t)) xf = *m;
+        PathMeasure measure(shape->transformed(xf));
+        if (measure.pieces.empty()) continue;
+        const Style cs = compute_style(*c, inner);
+        if (cs.display_none) continue;
+        double offset = 0;
+        if (const std::string* so = c->attribute("startOffset"))
+          if (const auto l = parse_length(*so))
+            offset = l->unit == Unit::Percent ? l->value / 100 * measure.total : to_user(*l, Axis::X, cs.inh.font_size);
+        paths.push_back(std::move(measure));
+        start_offsets.push_back(offset);
+        current_flow = static_cast<int>(paths.size()) - 1;
+        split_next = true;
+        collect(*c, cs, index, depth + 1);
+        current_flow = -1;
+        split_next = true;
+      } else if (c->name == "textPath") {
+        warn("<textPath> inside another text content element is not supported: ignored");
+      }
+    }
+    elem_end[index] = static_cast<int>(chars.size());
+  };
+  collect(root, root_style, -1, 0);
+  // Trailing spaces go (unless preserved).
+  while (!chars.empty() && chars.back().c == ' ' && !elems[spans[chars.back().span].elem].st.inh.space_preserve) {
+    chars.pop_back();
+    const int n = static_cast<int>(chars.size());
+    for (Span& sp : spans) sp.end = std::min(sp.end, n);
+    for (int& e : elem_end) e = std::min(e, n);
+  }
+  while (!spans.empty() && spans.back().end <= spans.back().first) spans.pop_back();
   if (chars.empty()) return pieces;
+  const int nchars = static_cast<int>(chars.size());
 
-  // Positions: each element's lists apply to its characters in order,
-  // descendants' own values over their ancestors' (spans are in pre-order,
-  // so later assignments are the deeper ones).
-  for (const Span& sp : spans) {
-    const double em = sp.st.inh.font_size;
-    auto ux = [&](const Length& l) { return to_user(l, Axis::X, em); };
-    auto uy = [&](const Length& l) { return to_user(l, Axis::Y, em); };
-    const auto xs = number_list(*sp.e, "x", ux), ys = number_list(*sp.e, "y", uy);
-    const auto dxs = number_list(*sp.e, "dx", ux), dys = number_list(*sp.e, "dy", uy);
-    // rotate takes plain numbers (degrees): a list with anything else
-    // (a unit) is invalid as a whole and ignored.
-    bool rotate_valid = true;
-    auto rs = number_list(*sp.e, "rotate", [&](const Length& l) {
-      if (l.unit != Unit::None) rotate_valid = false;
-      return l.value;
-    });
-    if (!rotate_valid) rs.clear();
-    for (int i = sp.first; i < sp.end; i++) {
-      const size_t k = size_t(i - sp.first);
-      if (k < xs.size()) chars[i].x = xs[k];
-      if (k < ys.size()) chars[i].y = ys[k];
-      if (k < dxs.size()) chars[i].dx = dxs[k];
-      if (k < dys.size()) chars[i].dy = dys[k];
-      // rotate's last value holds for the characters after it.
-      if (!rs.empty()) chars[i].rotate = rs[std::min(k, rs.size() - 1)];
+  // 2. Positions: each text or tspan element's x, y, dx and dy lists give
+  // its characters' values in order (a textPath's are ignored); the deeper
+  // element's win (elements are in pre-order). rotate: every element's
+  // list, its last value (or the last value given before) holding for the
+  // characters after it.
+  {
+    double last_rotate = 0;
+    for (size_t k = 0; k < elems.size(); k++) {
+      const Element& e = *elems[k].e;
+      const int first = elem_first[k], end = std::min(elem_end[k], nchars);
+      const double em = elems[k].st.inh.font_size;
+      if (e.name != "textPath") {
+        auto ux = [&](const Length& l) { return to_user(l, Axis::X, em); };
+        auto uy = [&](const Length& l) { return to_user(l, Axis::Y, em); };
+        const auto xs = number_list(e, "x", ux), ys = number_list(e, "y", uy);
+        const auto dxs = number_list(e, "dx", ux), dys = number_list(e, "dy", uy);
+        for (int i = first; i < end; i++) {
+          const size_t n = size_t(i - first);
+          if (n < xs.size()) chars[i].x = xs[n];
+          if (n < ys.size()) chars[i].y = ys[n];
+          if (n < dxs.size()) chars[i].dx = dxs[n];
+          if (n < dys.size()) chars[i].dy = dys[n];
+        }
+      }
+      // rotate takes plain numbers (degrees): a list with anything else
+      // (a unit) is invalid as a whole and ignored.
+      if (!e.attribute("rotate")) continue;
+      bool valid = true;
+      const auto rs = number_list(e, "rotate", [&](const Length& l) {
+        if (l.unit != Unit::None) valid = false;
+        return l.value;
+      });
+      if (!valid) continue;
+      for (int i = first; i < end; i++) {
+        const size_t n = size_t(i - first);
+        if (n < rs.size()) last_rotate = rs[n];
+        chars[i].rotate = last_rotate;
+      }
     }
   }
 
-  // Layout: chunks start at characters with an absolute x or y; within a
-  // chunk, runs of one span and one face are shaped together.
-  struct Glyph {
-    int span;
-    int face;
-    uint32_t id;
-    double x, y, size;
-    double rotate;
-    int ch;          // its cluster's first character
-    double advance;  // the pen's move after it (letter spacing included)
-  };
-  std::vector<Glyph> glyphs;
-  double pen_x = 0, pen_y = 0;
-  size_t chunk_start = 0;  // first glyph of the chunk
-  double chunk_x = 0;
-  Inherited::Anchor chunk_anchor = Inherited::Anchor::Start;
-  double trailing_spacing = 0;  // letter spacing after the chunk's last character
-  auto end_chunk = [&]() {
-    // The chunk's advance, without the spacing after its last character.
-    const double width = pen_x - chunk_x - trailing_spacing;
-    const double shift = chunk_anchor == Inherited::Anchor::Middle ? -width / 2
-                         : chunk_anchor == Inherited::Anchor::End  ? -width
-                                                                   : 0;
-    for (size_t g = chunk_start; g < glyphs.size(); g++) glyphs[g].x += shift;
-    chunk_start = glyphs.size();
-  };
-  // Each span's face, matched once (a character the face lacks falls back
-  // on its own).
-  std::vector<int> span_face(spans.size(), -2);
-  auto matched_face = [&](int span) {
-    if (span_face[span] == -2) {
-      const Inherited& inh = spans[span].st.inh;
-      span_face[span] = db.match(inh.font_family, inh.font_weight, inh.font_italic, inh.font_stretch);
+  // 3. Chunks: a new one at the first character, at each character with an
+  // absolute x or y, and where a textPath starts or ends.
+  std::vector<Chunk> chunks;
+  for (int i = 0; i < nchars; i++) {
+    const Char& c = chars[i];
+    if (i == 0 || c.x || c.y || c.split) {
+      if (!chunks.empty()) chunks.back().end = i;
+      Chunk ch;
+      ch.first = i;
+      ch.x = c.x;
+      ch.y = c.y;
+      ch.anchor = elems[spans[c.span].elem].st.inh.text_anchor;
+      ch.flow = spans[c.span].flow;
+      chunks.push_back(ch);
     }
-    return span_face[span];
+  }
+  chunks.back().end = nchars;
+
+  // Per span: the face CSS matching picks, how it shapes, its baseline.
+  std::vector<ShapeKey> keys;
+  std::vector<int> span_key(spans.size());
+  for (size_t k = 0; k < spans.size(); k++) {
+    const Inherited& inh = elems[spans[k].elem].st.inh;
+    ShapeKey key;
+    key.face = db.match(inh.font_family, inh.font_weight, inh.font_italic, inh.font_stretch);
+    key.variations = variations_of(inh);
+    key.features = inh.font_features;
+    if (inh.small_caps) key.features.push_back("smcp");
+    if (!inh.kerning) key.features.push_back("-kern");
+    const auto it = std::find(keys.begin(), keys.end(), key);
+    span_key[k] = static_cast<int>(it - keys.begin());
+    if (it == keys.end()) keys.push_back(std::move(key));
+  }
+  std::map<std::pair<int, double>, text::Metrics> metrics_cache;
+  auto metrics = [&](int face, double size) -> const text::Metrics& {
+    auto it = metrics_cache.find({face, size});
+    if (it == metrics_cache.end()) it = metrics_cache.emplace(std::pair(face, size), text::metrics(db, face, size)).first;
+    return it->second;
   };
-  auto face_for = [&](int span, char32_t c) {
-    const Inherited& inh = spans[span].st.inh;
-    const int face = matched_face(span);
-    if (face < 0 || c == ' ' || db.has_glyph(face, c)) return face;
-    const int other = db.fallback(c, inh.font_weight, inh.font_italic);
-    return other >= 0 ? other : face;
-  };
-  for (size_t i = 0; i < chars.size();) {
-    const Char& first = chars[i];
-    const bool path_change = i > 0 && spans[first.span].path != spans[chars[i - 1].span].path;
-    if (i == 0 || first.x || first.y || path_change) {
-      if (i > 0) end_chunk();
-      if (spans[first.span].path >= 0 && (i == 0 || path_change)) {
-        // Along a path: x is the distance along it, y the offset across.
-        pen_x = 0;
-        pen_y = 0;
+  auto span_size = [&](int span) { return elems[spans[span].elem].st.inh.font_size; };
+  // The span's baseline (y down from the line's alphabetic baseline):
+  // baseline-shift of its element and its ancestors below the text (a
+  // length, a percentage of that element's font size, sub or super from the
+  // span's font), then, in horizontal text, alignment-baseline (the
+  // element's or its parent's) or else dominant-baseline.
+  auto span_baseline = [&](int span) {
+    const Span& sp = spans[span];
+    const int face = keys[span_key[span]].face;
+    const text::Metrics& m = metrics(face, span_size(span));
+    double up = 0;
+    for (int k = sp.elem; k > 0; k = elems[k].parent) {
+      // "inherit" takes the parent's specified value.
+      int at = k;
+      Prop<double> bs;
+      for (;;) {
+        const double em = elems[at].st.inh.font_size;
+        bs = property<double>(*elems[at].e, "baseline-shift", [&](std::string_view v) -> std::optional<double> {
+          const auto kw = parse_keyword(v);
+          if (kw == "baseline") return 0.0;
+          if (kw == "sub") return -m.subscript_offset;
+          if (kw == "super") return m.superscript_offset;
+          const auto l = parse_length(v);
+          if (!l) return std::nullopt;
+          if (l->unit == Unit::Percent) return l->value / 100 * em;
+          return to_user(*l, Axis::Y, em);
+        });
+        if (bs.state != Prop<double>::Inherit || elems[at].parent < 0) break;
+        at = elems[at].parent;
       }
-      if (first.x) pen_x = *first.x;
-      if (first.y) pen_y = *first.y;
-      chunk_x = pen_x;
-      chunk_anchor = spans[first.span].st.inh.text_anchor;
+      if (bs.state == Prop<double>::Set) up += bs.value;
     }
-    // The run: same span and face, no new chunk, no rotation change.
-    const Inherited& inh = spans[first.span].st.inh;
-    const int face = face_for(first.span, first.c);
-    size_t j = i + 1;
-    while (j < chars.size() && chars[j].span == first.span && !chars[j].x && !chars[j].y &&
-           face_for(first.span, chars[j].c) == face)
-      j++;
-    if (face < 0) {
+    double down = -up;
+    if (!vertical) {
+      std::optional<int> align;
+      for (int k = sp.elem, n = 0; k >= 0 && n < 2 && !align; k = elems[k].parent, n++) {
+        const auto ab = property<int>(*elems[k].e, "alignment-baseline", parse_alignment_baseline);
+        if (ab.state == Prop<int>::Set) align = ab.value;
+      }
+      const Baseline b =
+          align && *align >= 0 ? static_cast<Baseline>(*align) : elems[sp.elem].st.inh.dominant_baseline;
+      down += baseline_offset(b, m);
+    }
+    return down;
+  };
+
+  // Glyph outlines, each span's glyphs as one shape.
+  std::vector<Path> glyph_paths(spans.size());
+  std::vector<Path> decoration_paths(spans.size() * 3);
+  double last_x = 0, last_y = 0;
+  for (const Chunk& chunk : chunks) {
+    // The spans of the chunk (the first and last may be cut by it).
+    std::vector<int> chunk_spans;
+    for (int i = chunk.first; i < chunk.end; i++)
+      if (chunk_spans.empty() || chunk_spans.back() != chars[i].span) chunk_spans.push_back(chars[i].span);
+    std::string utf8;
+    std::vector<int> char_of_byte;
+    for (int i = chunk.first; i < chunk.end; i++) {
+      encode_utf8(chars[i].c, utf8);
+      char_of_byte.resize(utf8.size(), i);
+    }
+
+    // 4. Shaping: the whole chunk at once in the first span's face (the
+    // bidi algorithm's runs in visual order, with per-cluster fallback to
+    // faces that have the glyphs), then each span in another face or with
+    // other features shaped whole again and its clusters taken from that.
+    std::map<int, std::vector<RawGlyph>> shaped;
+    auto shape_with = [&](int key_index, int span) -> const std::vector<RawGlyph>& {
+      auto found = shaped.find(key_index);
+      if (found != shaped.end()) return found->second;
+      const ShapeKey& key = keys[key_index];
+      text::ShapeOptions so;
+      so.bidi = true;
+      so.variations = key.variations;
+      so.features = key.features;
+      auto run = [&](int face) {
+        std::vector<RawGlyph> out;
+        for (const text::ShapedGlyph& g : text::shape(db, face, utf8, 1.0, so))
+          out.push_back({face, g.glyph, g.cluster < char_of_byte.size() ? char_of_byte[g.cluster] : chunk.first,
+                         key_index, g.x_advance, g.x_offset, g.y_offset});
+        return out;
+      };
+      std::vector<RawGlyph> glyphs = key.face >= 0 ? run(key.face) : std::vector<RawGlyph>{};
+      std::vector<int> used{key.face};
+      const Inherited& inh = elems[spans[span].elem].st.inh;
+      for (int tries = 0; tries < 16 && key.face >= 0; tries++) {
+        const auto missing = std::find_if(glyphs.begin(), glyphs.end(), [](const RawGlyph& g) { return g.id == 0; });
+        if (missing == glyphs.end()) break;
+        const int other = db.fallback(chars[missing->ch].c, inh.font_weight, inh.font_italic);
+        if (other < 0 || std::find(used.begin(), used.end(), other) != used.end()) break;
+        used.push_back(other);
+        std::vector<RawGlyph> again = run(other);
+        if (std::none_of(again.begin(), again.end(), [](const RawGlyph& g) { return g.id == 0; })) {
+          glyphs = std::move(again);
+          break;
+        }
+        if (again.size() != glyphs.size()) break;
+        for (size_t i = 0; i < glyphs.size(); i++)
+          if (glyphs[i].id == 0 && again[i].id != 0) glyphs[i] = again[i];
+      }
+      return shaped.emplace(key_index, std::move(glyphs)).first->second;
+    };
+    std::vector<RawGlyph> glyphs = shape_with(span_key[chunk_spans[0]], chunk_spans[0]);
+    for (size_t s = 1; s < chunk_spans.size(); s++) {
+      const int span = chunk_spans[s];
+      if (span_key[span] == span_key[chunk_spans[0]]) continue;
+      const std::vector<RawGlyph>& other = shape_with(span_key[span], span);
+      const int a = std::max(spans[span].first, chunk.first), b = std::min(spans[span].end, chunk.end);
+      for (size_t i = 0; i < other.size();) {
+        size_t j = i;
+        while (j < other.size() && other[j].ch == other[i].ch) j++;
+        if (other[i].ch >= a && other[i].ch < b) {
+          const auto at = std::find_if(glyphs.begin(), glyphs.end(), [&](const RawGlyph& g) { return g.ch == other[i].ch; });
+          if (at != glyphs.end()) {
+            auto end = at;
+            while (end != glyphs.end() && end->ch == at->ch) ++end;
+            const auto pos = glyphs.erase(at, end);
+            glyphs.insert(pos, other.begin() + static_cast<long>(i), other.begin() + static_cast<long>(j));
+          }
+        }
+        i = j;
+      }
+    }
+
+    // 5. Clusters: consecutive glyphs of one first character, scaled to
+    // their span's font size.
+    std::vector<Cluster> clusters;
+    for (size_t i = 0; i < glyphs.size();) {
+      size_t j = i;
+      while (j < glyphs.size() && glyphs[j].ch == glyphs[i].ch) j++;
+      Cluster cl;
+      cl.ch = glyphs[i].ch;
+      const double size = span_size(chars[cl.ch].span);
+      double x = 0;
+      for (size_t k = i; k < j; k++) {
+        const RawGlyph& g = glyphs[k];
+        if (g.face >= 0 && g.id != 0)
+          cl.glyphs.push_back({g.face, g.id, g.key, {(x + g.dx) * size, g.dy * size}});
+        x += g.advance;
+        cl.width = std::max(cl.width, g.advance * size);
+      }
+      cl.advance = cl.width;
+      if (glyphs[i].face >= 0) {
+        const text::Metrics& m = metrics(glyphs[i].face, size);
+        cl.ascent = m.ascent;
+        cl.descent = -m.descent;
+      }
+      clusters.push_back(std::move(cl));
       i = j;
+    }
+    if (clusters.empty()) {
       continue;
     }
-    std::string utf8;
-    std::vector<size_t> char_of_byte;  // byte offset -> character index
-    for (size_t k = i; k < j; k++) {
-      const size_t before = utf8.size();
-      encode_utf8(chars[k].c, utf8);
-      char_of_byte.resize(utf8.size(), k);
-      (void)before;
-    }
-    const double size = inh.font_size;
-    text::ShapeOptions so;
-    so.variations = variations_of(inh);
-    // The run's baseline: dominant-baseline from the face's metrics (y
-    // down: how far the alphabetic baseline sits below the chosen one),
-    // then baseline-shift.
-    double baseline_offset = -spans[first.span].shift;
-    {
-      const text::Metrics m = text::metrics(db, face, size);
-      using B = Inherited::Baseline;
-      switch (spans[first.span].align.value_or(inh.dominant_baseline)) {
-        case B::Alphabetic: break;
-        case B::Middle: baseline_offset += m.x_height / 2; break;
-        case B::Central: baseline_offset += (m.ascent - m.descent) / 2; break;
-        case B::Hanging: baseline_offset += 0.8 * m.ascent; break;
-        case B::Mathematical: baseline_offset += 0.5 * m.ascent; break;
-        case B::TextTop: baseline_offset += m.ascent; break;
-        case B::TextBottom:
-        case B::Ideographic: baseline_offset -= m.descent; break;
-      }
-    }
-    const std::vector<text::ShapedGlyph> shaped = text::shape(db, face, utf8, size, so);
-    size_t last_char = SIZE_MAX;
-    for (const text::ShapedGlyph& g : shaped) {
-      const size_t k = g.cluster < char_of_byte.size() ? char_of_byte[g.cluster] : i;
-      if (k != last_char) {
-        // dx and dy move the pen before the cluster's first glyph.
-        pen_x += chars[k].dx;
-        pen_y += chars[k].dy;
-      }
-      glyphs.push_back({first.span, face, g.glyph, pen_x + g.x_offset, pen_y + g.y_offset + baseline_offset, size,
-                        chars[k].rotate.value_or(0), static_cast<int>(k), 0});
-      const double before = pen_x;
-      pen_x += g.x_advance;
-      pen_y += g.y_advance;
-      if (k != last_char) {
-        pen_x += inh.letter_spacing;
-        trailing_spacing = inh.letter_spacing;
-        if (chars[k].c == ' ') pen_x += inh.word_spacing;
-      }
-      glyphs.back().advance = pen_x - before;
-      last_char = k;
-    }
-    i = j;
-  }
-  end_chunk();
 
-  // Each span's glyphs as one shape, painted with the span's style.
-  std::vector<Path> paths(spans.size());
-  for (const Glyph& g : glyphs) {
-    const Path outline = text::glyph_outline(db, g.face, g.id, g.size, variations_of(spans[g.span].st.inh));
-    if (outline.empty()) continue;
-    Affine place = Affine::translate(g.x, g.y);
-    if (const Span& sp = spans[g.span]; sp.path >= 0) {
-      // The glyph's middle on the path, turned with it; glyphs whose
-      // middle falls off the path are not drawn.
-      Vec2 p, p0, p1;
-      double angle, a0, a1;
-      const double d = sp.start_offset + g.x;
-      if (!polylines[sp.path].at(d + g.advance / 2, p, angle)) continue;
-      // Turned by the chord from the glyph's start to its end on the path.
-      if (polylines[sp.path].at(d, p0, a0) && polylines[sp.path].at(d + g.advance, p1, a1))
-        angle = std::atan2(p1.y - p0.y, p1.x - p0.x);
-      place = Affine::translate(p.x, p.y) * Affine::rotate_degrees(angle * 180 / M_PI) *
-              Affine::translate(-g.advance / 2, g.y);
-    }
-    if (g.rotate != 0) place = place * Affine::rotate_degrees(g.rotate);
-    paths[g.span].append(outline.transformed(place));
-  }
-  // text-decoration (CSS Text Decoration 3, SVG 2 text.html#TextDecorationProperties):
-  // a decoration on the text or outside it is painted with the text's
-  // style, one on a tspan with the tspan's, under every glyph of the
-  // element (each at its own baseline: dy moves the line with it), from
-  // the metrics of the element's font. Underlines and overlines go under
-  // the glyphs, line-throughs over them.
-  enum Line { Under = 1, Over = 2, Through = 4 };
-  auto decoration_of = [](const Element& e) {
-    const auto d = property<int>(e, "text-decoration", [](std::string_view v) -> std::optional<int> {
-      int lines = 0;
-      for (size_t pos = 0; pos < v.size();) {
-        const size_t b = v.find_first_not_of(" \t\n\r", pos);
-        if (b == std::string_view::npos) break;
-        size_t end = v.find_first_of(" \t\n\r", b);
-        if (end == std::string_view::npos) end = v.size();
-        const std::string_view w = v.substr(b, end - b);
-        if (w == "underline") lines |= Under;
-        else if (w == "overline") lines |= Over;
-        else if (w == "line-through") lines |= Through;
-        else if (w != "none") return std::nullopt;
-        pos = end;
+    // 6. Vertical writing: upright characters turned back and centred on
+    // the line, the others moved down by half their height (as resvg and
+    // browsers shift them).
+    if (vertical)
+      for (Cluster& cl : clusters) {
+        const double mid = (cl.ascent + cl.descent) / 2;
+        if (text::upright_in_vertical(chars[cl.ch].c)) {
+          cl.path_transform = Affine::translate(0, mid) * Affine::translate(cl.width / 2, -mid) *
+                              Affine::rotate_degrees(-90) * Affine::translate(-cl.width / 2, mid);
+          cl.ascent = cl.width / 2;
+          cl.descent = -cl.width / 2;
+        } else {
+          cl.transform = cl.transform * Affine::translate(0, mid);
+        }
       }
-      return lines;
-    });
-    return d.state == Prop<int>::Set ? d.value : 0;
-  };
-  struct Decoration {
-    int span;   // whose characters, and whose style paints it
-    int lines;
-  };
-  std::vector<Decoration> decorations;
-  {
-    int outer = 0;
-    for (const Element* a = &root; a; a = a->parent) outer |= decoration_of(*a);
-    if (outer) decorations.push_back({0, outer});
-    for (size_t k = 1; k < spans.size(); k++)
-      if (const int d = decoration_of(*spans[k].e)) decorations.push_back({static_cast<int>(k), d});
-  }
-  auto decoration_path = [&](const Decoration& d, int line) {
-    Path p;
-    const Span& sp = spans[d.span];
-    const int face = matched_face(d.span);
-    if (face < 0) return p;
-    const text::Metrics m = text::metrics(db, face, sp.st.inh.font_size);
-    double offset, thickness;
-    if (line == Under) {
-      // FreeType's position is the post table's moved down by half the
-      // thickness; the line is centred on the table's own (as resvg draws it).
-      offset = m.underline_position - m.underline_thickness / 2;
-      thickness = m.underline_thickness;
-    } else if (line == Over) {
-      offset = -m.ascent;  // centred on the ascent line
-      thickness = m.underline_thickness;
+
+    // 7. letter-spacing after every cluster but the chunk's last (not in
+    // cursive scripts), word-spacing after word separators.
+    for (size_t i = 0; i < clusters.size(); i++) {
+      Cluster& cl = clusters[i];
+      const Inherited& inh = elems[spans[chars[cl.ch].span].elem].st.inh;
+      if (inh.letter_spacing != 0 && text::letter_spacing_applies(chars[cl.ch].c)) {
+        if (i + 1 != clusters.size()) cl.advance += inh.letter_spacing;
+        if (!(cl.advance > 0)) {
+          // A negative advance: nothing of the cluster shows (as Chrome).
+          cl.width = cl.advance = 0;
+          cl.glyphs.clear();
+        }
+      }
+      if (is_word_separator(chars[cl.ch].c)) cl.advance += inh.word_spacing;
+    }
+
+    // 8. textLength and lengthAdjust, per span: spacing spreads the
+    // difference between the clusters; spacingAndGlyphs scales them.
+    for (int span : chunk_spans) {
+      const Element& e = *elems[spans[span].elem].e;
+      const std::string* tl = e.attribute("textLength");
+      if (!tl) continue;
+      const auto l = parse_length(*tl);
+      if (!l) continue;
+      const double target = to_user(*l, Axis::Diagonal, span_size(span));
+      if (!(target >= 0)) continue;
+      std::vector<size_t> mine;
+      double width = 0;
+      for (size_t i = 0; i < clusters.size(); i++)
+        if (chars[clusters[i].ch].span == span) mine.push_back(i), width += clusters[i].width;
+      if (mine.empty()) continue;
+      const std::string* la = e.attribute("lengthAdjust");
+      if (la && trim(*la) == "spacingAndGlyphs") {
+        const double f = target / width;
+        if (!(f >= 0.001)) continue;
+        for (size_t i : mine) {
+          clusters[i].transform = clusters[i].transform * Affine::scale(f, 1);
+          if (chunk.flow >= 0) clusters[i].advance *= f, clusters[i].width *= f;
+        }
+      } else {
+        const double f = mine.size() > 1 ? (target - width) / double(mine.size() - 1) : 0;
+        for (size_t i : mine) clusters[i].advance = clusters[i].width + f;
+      }
+    }
+
+    double length = 0;
+    for (const Cluster& cl : clusters) length += cl.advance;
+    double end_x = 0, end_y = 0;
+    if (chunk.flow < 0) {
+      // 9a. Along a line: anchored by the chunk's advance; dx and dy move
+      // the pen before their cluster (across and along the line when
+      // vertical); rotate turns the cluster about its origin.
+      double x = anchor_offset(chunk.anchor, length), y = 0;
+      for (Cluster& cl : clusters) {
+        const Char& c = chars[cl.ch];
+        if (vertical) y += c.dx.value_or(0), x += c.dy.value_or(0);
+        else x += c.dx.value_or(0), y += c.dy.value_or(0);
+        cl.relative_shift = c.dx || c.dy;
+        cl.transform = cl.transform * Affine::translate(x, y);
+        if (c.rotate != 0) cl.transform = cl.transform * Affine::rotate_degrees(c.rotate);
+        x += cl.advance;
+      }
+      end_x = x, end_y = y;
     } else {
-      offset = m.strikeout_position;
-      thickness = m.strikeout_thickness;
-    }
-    // The lines' centres at offset (y down; FreeType gives the stems'
-    // centres), one rectangle per run of glyphs that touch at one baseline
-    // (so that a stroked decoration has no joins).
-    bool open = false;
-    double rx0 = 0, rx1 = 0, ry = 0;
-    auto flush = [&] {
-      if (open) p.append(Path::rectangle(rx0, ry - thickness / 2, rx1, ry + thickness / 2));
-      open = false;
-    };
-    for (const Glyph& g : glyphs) {
-      if (g.ch < sp.first || g.ch >= sp.end || g.advance == 0) continue;
-      const double x0 = std::min(g.x, g.x + g.advance), x1 = std::max(g.x, g.x + g.advance), y = g.y + offset;
-      if (open && y == ry && std::abs(x0 - rx1) < 1e-9 * std::max(1.0, std::abs(x0))) {
-        rx1 = x1;
-        continue;
+      // 9b. Along a path (SVG 2 text.html#TextpathLayoutRules): the
+      // chunk's x (y when vertical), startOffset and the anchor give the
+      // distance where it starts; each cluster's middle goes on the path
+      // at its distance, turned with the path's direction there; dy and
+      // the baseline move it across. Clusters off the path are hidden.
+      const PathMeasure& path = paths[chunk.flow];
+      double advance = (vertical ? chunk.y : chunk.x).value_or(0) + start_offsets[chunk.flow] +
+                       anchor_offset(chunk.anchor, length);
+      double dy = 0;
+      for (Cluster& cl : clusters) {
+        const Char& c = chars[cl.ch];
+        advance += c.dx.value_or(0);
+        const double half = cl.width / 2, mid = advance + half;
+        advance += cl.advance;
+        Vec2 p;
+        double angle;
+        if (mid < 0 || !path.at(mid, p, angle)) {
+          cl.visible = false;
+          continue;
+        }
+        cl.relative_shift = true;
+        const Affine own = cl.transform;
+        cl.transform = Affine::translate(p.x, p.y) * Affine::rotate_degrees(angle) * Affine::translate(-half, 0);
+        dy += c.dy.value_or(0);
+        const double shift = dy + span_baseline(c.span);
+        if (shift != 0) cl.transform = cl.transform * Affine::translate(0, shift);
+        if (c.rotate != 0) cl.transform = cl.transform * Affine::rotate_degrees(c.rotate);
+        cl.transform = cl.transform * own;
+        end_x = p.x + cl.advance, end_y = p.y;
       }
-      flush();
-      open = true;
-      rx0 = x0, rx1 = x1, ry = y;
     }
-    flush();
-    return p;
-  };
-  auto add_decorations = [&](bool over) {
-    for (const Decoration& d : decorations)
+
+    // 10. Each span's glyphs and decorations. A horizontal line's spans
+    // sit on their baselines; a vertical line is the horizontal one turned
+    // by 90° about its start.
+    const double x0 = chunk.flow < 0 ? chunk.x.value_or(last_x) : 0;
+    const double y0 = chunk.flow < 0 ? chunk.y.value_or(last_y) : 0;
+    Affine text_ts;
+    if (vertical && chunk.flow < 0)
+      text_ts = Affine::translate(x0, y0) * Affine::rotate_degrees(90) * Affine::translate(-x0, -y0);
+    for (int span : chunk_spans) {
+      Affine span_ts = text_ts * Affine::translate(x0, y0);
+      if (chunk.flow < 0) span_ts = span_ts * Affine::translate(0, span_baseline(span));
+      const Inherited& inh = elems[spans[span].elem].st.inh;
+      const int face = keys[span_key[span]].face;
+      for (const Cluster& cl : clusters) {
+        if (!cl.visible || chars[cl.ch].span != span) continue;
+        const Affine ts = span_ts * cl.transform * cl.path_transform;
+        for (const PlacedGlyph& g : cl.glyphs) {
+          const Path outline = text::glyph_outline(db, g.face, g.id, inh.font_size, keys[g.key].variations);
+          if (!outline.empty()) glyph_paths[span].append(outline.transformed(ts * Affine::translate(g.at.x, g.at.y)));
+        }
+      }
+      // text-decoration (CSS Text Decoration 3): one rectangle per run of
+      // clusters not moved apart (dx, dy, a path), from the span's font's
+      // metrics; all three lines as thick as the underline.
+      if (face < 0) continue;
+      int lines = 0;
+      for (const Element* a = elems[spans[span].elem].e; a; a = a->parent) lines |= decoration_of(*a);
+      if (!lines) continue;
+      const text::Metrics& m = metrics(face, inh.font_size);
+      const double thickness = m.underline_thickness;
       for (int line : {Under, Over, Through}) {
-        if (!(d.lines & line) || (line == Through) != over || !spans[d.span].st.inh.visible) continue;
-        Path p = decoration_path(d, line);
-        if (!p.empty()) pieces.push_back({std::move(p), spans[d.span].st});
+        if (!(lines & line)) continue;
+        double offset;
+        if (line == Under) offset = vertical ? (m.ascent + m.descent) / 2 : m.underline_position - m.underline_thickness / 2;
+        else if (line == Over) offset = vertical ? -(m.ascent + m.descent) / 2 : -m.ascent;
+        else offset = vertical ? 0 : m.strikeout_position;
+        Path& out = decoration_paths[span * 3 + (line == Under ? 0 : line == Over ? 1 : 2)];
+        bool started = false;
+        double width = 0;
+        Affine at;
+        auto flush = [&] {
+          if (started && width > 0)
+            out.append(Path::rectangle(0, -thickness / 2, width, thickness / 2)
+                           .transformed(span_ts * at * Affine::translate(0, offset)));
+          started = false;
+        };
+        for (const Cluster& cl : clusters) {
+          if (cl.visible && chars[cl.ch].span == span) {
+            if (started && cl.relative_shift) flush();
+            if (!started) started = true, width = cl.width, at = cl.transform;
+            else width += cl.width;
+          } else if (started) {
+            flush();
+          }
+        }
+        flush();
       }
+    }
+    if (vertical && chunk.flow < 0) std::swap(end_x, end_y);
+    last_x = x0 + end_x;
+    last_y = y0 + end_y;
+  }
+
+  // 11. The pieces in paint order, span by span: underline, overline, the
+  // glyphs, line-through. A decoration is painted with the style of the
+  // nearest element, from the span's own up to the text, that sets it
+  // (else the text's).
+  auto decorating_style = [&](int span, int line) -> const Style& {
+    for (int k = spans[span].elem; k >= 0; k = elems[k].parent)
+      if ((decoration_of(*elems[k].e) & line) || k == 0) return elems[k].st;
+    return elems[0].st;
   };
-  add_decorations(false);
-  for (size_t k = 0; k < spans.size(); k++)
-    if (!paths[k].empty() && spans[k].st.inh.visible) {
+  for (size_t k = 0; k < spans.size(); k++) {
+    const Style& own = elems[spans[k].elem].st;
+    if (!own.inh.visible) continue;
+    auto add_decoration = [&](int slot, int line) {
+      Path& p = decoration_paths[k * 3 + slot];
+      if (!p.empty()) pieces.push_back({std::move(p), decorating_style(static_cast<int>(k), line)});
+    };
+    add_decoration(0, Under);
+    add_decoration(1, Over);
+    if (!glyph_paths[k].empty()) {
       // fill-rule does not apply to text (SVG 2 text.html#TextRenderingOrder):
       // glyphs fill by non-zero winding, overlapping contours included.
-      Style st = spans[k].st;
+      Style st = own;
       st.inh.fill_rule = FillRule::NonZero;
-      pieces.push_back({std::move(paths[k]), st});
+      pieces.push_back({std::move(glyph_paths[k]), st});
     }
-  add_decorations(true);
+    add_decoration(2, Through);
+  }
   return pieces;
 }
 
 void Converter::text(const Element& e, const Style& st, const Affine& space) {
-  for (TextPiece& piece : layout_text(e, st, space)) {
+  std::vector<TextPiece> pieces = layout_text(e, st, space);
+  // Paint servers in objectBoundingBox units use the box of the whole text.
+  Bounds box;
+  for (const TextPiece& piece : pieces) add_path_bounds(piece.path, Affine{}, box);
+  for (TextPiece& piece : pieces) {
     const uint32_t shape = static_cast<uint32_t>(shapes_.size());
     shapes_.push_back(std::move(piece.path));
-    paint_shape(shape, piece.st, space, true);
+    paint_shape(shape, piece.st, space, true, &box);
   }
 }
 
