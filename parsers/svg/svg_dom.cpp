@@ -10,6 +10,8 @@
 
 namespace mpvg::svg::detail {
 
+std::string unmark_white_space(const char* text);
+
 namespace {
 
 constexpr std::string_view kSvgNs = "http://www.w3.org/2000/svg";
@@ -86,7 +88,7 @@ class TreeBuilder {
         } else if (const tinyxml2::XMLText* t = c->ToText(); t && text_content) {
           auto node = std::make_unique<Element>();
           node->name = "#text";
-          node->text = t->Value();
+          node->text = unmark_white_space(t->Value());
           node->parent = e.get();
           e->children.push_back(std::move(node));
         }
@@ -263,8 +265,48 @@ std::string expand_internal_entities(std::string_view text) {
   return out;
 }
 
+// tinyxml2 (9.x, Debian 12's) drops text nodes made only of white space,
+// which text layout needs ("<tspan>a</tspan> <tspan>b</tspan>" has a space
+// between the words). Inside the root element, such runs between two tags
+// get the Unicode noncharacter U+FDD0 in front (never interchanged, so no
+// document has it), which makes tinyxml2 keep them (with their newlines, so
+// error line numbers stay right); the tree builder removes it again.
+std::string mark_white_space_text(const std::string& xml) {
+  // The root element's start: the first '<' followed by a name character.
+  size_t root = 0;
+  for (;;) {
+    root = xml.find('<', root);
+    if (root == std::string::npos || root + 1 >= xml.size()) return xml;
+    const char c = xml[root + 1];
+    if (c != '?' && c != '!') break;
+    root++;
+  }
+  std::string out;
+  out.reserve(xml.size() + xml.size() / 8);
+  for (size_t i = 0; i < xml.size();) {
+    const char c = xml[i++];
+    out += c;
+    if (c != '>' || i <= root) continue;
+    // After a tag's '>' (not the end of a comment, CDATA section or
+    // processing instruction): white space up to the next '<'.
+    if (i >= 3 && (xml.compare(i - 3, 3, "-->") == 0 || xml.compare(i - 3, 3, "]]>") == 0)) continue;
+    if (i >= 2 && xml[i - 2] == '?') continue;
+    size_t j = i;
+    while (j < xml.size() && (xml[j] == ' ' || xml[j] == '\t' || xml[j] == '\n' || xml[j] == '\r')) j++;
+    if (j > i && j < xml.size() && xml[j] == '<') out += "\xef\xb7\x90";  // U+FDD0
+  }
+  return out;
+}
+
+// The text without mark_white_space_text's marks.
+std::string unmark_white_space(const char* text) {
+  std::string out = text;
+  for (size_t at; (at = out.find("\xef\xb7\x90")) != std::string::npos;) out.erase(at, 3);
+  return out;
+}
+
 Document parse_document(std::string_view raw) {
-  const std::string text = expand_internal_entities(raw);
+  const std::string text = mark_white_space_text(expand_internal_entities(raw));
   tinyxml2::XMLDocument xml;
   const tinyxml2::XMLError err = xml.Parse(text.data(), text.size());
   if (err != tinyxml2::XML_SUCCESS) {

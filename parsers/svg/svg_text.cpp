@@ -92,75 +92,177 @@ std::vector<std::pair<std::string, double>> variations_of(const Inherited& inh) 
   return v;
 }
 
-// A textPath's path measured: straight pieces with their lengths, in the
-// text's user space; curves cut into 64 pieces each, a closed contour's
-// closing line included, the moves between subpaths not counted.
-struct PathMeasure {
-  struct Piece {
-    Vec2 a, b;
-    double start, length;  // distance along the path where it starts
+// A textPath's path measured as resvg measures it, so that text on a path
+// lands where resvg (the suite's reference) puts it: every segment a cubic
+// (lines with inner points at 0.33 and 0.66, quadratics raised, conic arcs
+// split into cubics), a closed contour's closing line included, moves not
+// counted; each cubic's length by 9-point Gauss-Legendre quadrature,
+// subdivided until its error estimate is under the accuracy; a distance
+// found on a cubic by ITP root finding to that accuracy (kurbo's
+// ParamCurveArclen, which resvg uses). The accuracy is 0.5 user units
+// over the text's scale (at least 1).
+class PathMeasure {
+ public:
+  struct Cubic {
+    Vec2 p0, p1, p2, p3;
+    Vec2 eval(double t) const {
+      const double mt = 1 - t;
+      return {p0.x * (mt * mt * mt) + (p1.x * (mt * mt * 3) + (p2.x * (mt * 3) + p3.x * t) * t) * t,
+              p0.y * (mt * mt * mt) + (p1.y * (mt * mt * 3) + (p2.y * (mt * 3) + p3.y * t) * t) * t};
+    }
+    Vec2 deriv(double t) const {  // the derivative, a quadratic
+      const Vec2 a{3 * (p1.x - p0.x), 3 * (p1.y - p0.y)}, b{3 * (p2.x - p1.x), 3 * (p2.y - p1.y)},
+          c{3 * (p3.x - p2.x), 3 * (p3.y - p2.y)};
+      const double mt = 1 - t;
+      return {a.x * mt * mt + 2 * b.x * mt * t + c.x * t * t, a.y * mt * mt + 2 * b.y * mt * t + c.y * t * t};
+    }
+    Cubic subsegment(double t0, double t1) const {
+      const Vec2 a = eval(t0), d = eval(t1), da = deriv(t0), dd = deriv(t1);
+      const double k = (t1 - t0) * (1.0 / 3.0);
+      return {a, {a.x + k * da.x, a.y + k * da.y}, {d.x - k * dd.x, d.y - k * dd.y}, d};
+    }
+    double gauss9() const {
+      static const double c[9][2] = {{0.3302393550012598, 0.0000000000000000},  {0.1806481606948574, -0.8360311073266358},
+                                     {0.1806481606948574, 0.8360311073266358},  {0.0812743883615744, -0.9681602395076261},
+                                     {0.0812743883615744, 0.9681602395076261},  {0.3123470770400029, -0.3242534234038089},
+                                     {0.3123470770400029, 0.3242534234038089},  {0.2606106964029354, -0.6133714327005904},
+                                     {0.2606106964029354, 0.6133714327005904}};
+      double sum = 0;
+      for (const auto& w : c) {
+        const Vec2 d = deriv(0.5 * (w[1] + 1));
+        sum += w[0] * std::hypot(d.x, d.y);
+      }
+      return sum * 0.5;
+    }
+    double error_estimate() const {
+      // The second derivative (a line) squared over the chord, to the 8th.
+      const Vec2 s{6 * (p2.x - 2 * p1.x + p0.x), 6 * (p2.y - 2 * p1.y + p0.y)};
+      const Vec2 e{6 * (p3.x - 2 * p2.x + p1.x), 6 * (p3.y - 2 * p2.y + p1.y)};
+      const Vec2 dd{e.x - s.x, e.y - s.y};
+      const double norm = s.x * s.x + s.y * s.y + (s.x * dd.x + s.y * dd.y) + (dd.x * dd.x + dd.y * dd.y) * (1.0 / 3.0);
+      const double lc = std::hypot(p3.x - p0.x, p3.y - p0.y);
+      const double lp = std::hypot(p1.x - p0.x, p1.y - p0.y) + std::hypot(p2.x - p1.x, p2.y - p1.y) +
+                        std::hypot(p3.x - p2.x, p3.y - p2.y);
+      return 2.56e-8 * std::pow(norm / (lc * lc), 8) * lp;
+    }
+    double arclen(double accuracy, int depth = 0) const {
+      if (depth == 16 || error_estimate() < accuracy) return gauss9();
+      const Cubic a = subsegment(0, 0.5), b = subsegment(0.5, 1);
+      return a.arclen(accuracy * 0.5, depth + 1) + b.arclen(accuracy * 0.5, depth + 1);
+    }
+    // The parameter at arc length s (ITP root finding, tolerance accuracy).
+    double inv_arclen(double s, double accuracy, double total) const {
+      if (s <= 0) return 0;
+      if (s >= total) return 1;
+      double t_last = 0, s_last = 0;
+      const double epsilon = accuracy / total;
+      const double n = 1 - std::min(std::ceil(std::log2(epsilon)), 0.0);
+      const double inner = accuracy / n;
+      auto f = [&](double t) {
+        if (t > t_last) s_last += subsegment(t_last, t).arclen(inner);
+        else s_last -= subsegment(t, t_last).arclen(inner);
+        t_last = t;
+        return s_last - s;
+      };
+      double a = 0, b = 1, ya = -s, yb = total - s;
+      const int nmax = 1 + std::max(0, static_cast<int>(std::ceil(std::log2((b - a) / epsilon)) - 1));
+      double scaled = epsilon * std::ldexp(1.0, nmax);
+      while (b - a > 2 * epsilon) {
+        const double mid = 0.5 * (a + b), r = scaled - 0.5 * (b - a);
+        const double xf = (yb * a - ya * b) / (yb - ya), sigma = mid - xf;
+        const double delta = 0.2 * (b - a) * (b - a);
+        const double xt = delta <= std::abs(mid - xf) ? xf + std::copysign(delta, sigma) : mid;
+        const double x = std::abs(xt - mid) <= r ? xt : mid - std::copysign(r, sigma);
+        const double y = f(x);
+        if (y > 0) b = x, yb = y;
+        else if (y < 0) a = x, ya = y;
+        else return x;
+        scaled *= 0.5;
+      }
+      return 0.5 * (a + b);
+    }
   };
-  std::vector<Piece> pieces;
-  double total = 0;
 
-  explicit PathMeasure(const Path& path) {
+  PathMeasure(const Path& path, double accuracy) : accuracy_(accuracy) {
     const auto& pts = path.points();
     const auto& w = path.weights();
-    auto add = [&](Vec2 a, Vec2 b) {
-      const double l = std::hypot(b.x - a.x, b.y - a.y);
-      if (l <= 0) return;
-      pieces.push_back({a, b, total, l});
-      total += l;
+    auto line = [&](Vec2 a, Vec2 b) {
+      add({a, {a.x + (b.x - a.x) * 0.33, a.y + (b.y - a.y) * 0.33}, {a.x + (b.x - a.x) * 0.66, a.y + (b.y - a.y) * 0.66}, b});
     };
     for (const Path::Contour& c : path.contours()) {
       Vec2 last = pts[c.start_point];
       for (uint32_t k = 0; k < c.segment_count; k++) {
         const Path::Segment& sg = path.segments()[c.first_segment + k];
         const Vec2* q = &pts[sg.first_point];
-        if (sg.type == SegmentType::Line) {
-          add(q[0], q[1]);
-          last = q[1];
-          continue;
-        }
-        const int n = 64;
-        Vec2 prev = q[0];
-        for (int i = 1; i <= n; i++) {
-          const double t = double(i) / n, u = 1 - t;
-          Vec2 p;
-          if (sg.type == SegmentType::Quad) {
-            p = {u * u * q[0].x + 2 * u * t * q[1].x + t * t * q[2].x, u * u * q[0].y + 2 * u * t * q[1].y + t * t * q[2].y};
-          } else if (sg.type == SegmentType::RQuad) {
-            const double wm = w[sg.first_weight], d = u * u + 2 * wm * u * t + t * t;
-            p = {(u * u * q[0].x + 2 * wm * u * t * q[1].x + t * t * q[2].x) / d,
-                 (u * u * q[0].y + 2 * wm * u * t * q[1].y + t * t * q[2].y) / d};
-          } else {
-            p = {u * u * u * q[0].x + 3 * u * u * t * q[1].x + 3 * u * t * t * q[2].x + t * t * t * q[3].x,
-                 u * u * u * q[0].y + 3 * u * u * t * q[1].y + 3 * u * t * t * q[2].y + t * t * t * q[3].y};
+        switch (sg.type) {
+          case SegmentType::Line: line(q[0], q[1]); last = q[1]; break;
+          case SegmentType::Quad:
+            add({q[0], {q[0].x + 2.0 / 3 * (q[1].x - q[0].x), q[0].y + 2.0 / 3 * (q[1].y - q[0].y)},
+                 {q[2].x + 2.0 / 3 * (q[1].x - q[2].x), q[2].y + 2.0 / 3 * (q[1].y - q[2].y)}, q[2]});
+            last = q[2];
+            break;
+          case SegmentType::RQuad: {
+            // A conic (an elliptical arc): four cubics, each matching the
+            // conic's points and tangents at its ends.
+            const double wm = w[sg.first_weight];
+            auto at = [&](double t) {
+              const double u = 1 - t, d = u * u + 2 * wm * u * t + t * t;
+              return Vec2{(u * u * q[0].x + 2 * wm * u * t * q[1].x + t * t * q[2].x) / d,
+                          (u * u * q[0].y + 2 * wm * u * t * q[1].y + t * t * q[2].y) / d};
+            };
+            auto tangent = [&](double t) {  // numerical, scaled to the piece below
+              const double h = 1e-6;
+              const Vec2 a = at(std::max(0.0, t - h)), b = at(std::min(1.0, t + h));
+              const double dt = std::min(1.0, t + h) - std::max(0.0, t - h);
+              return Vec2{(b.x - a.x) / dt, (b.y - a.y) / dt};
+            };
+            const int n = 4;
+            for (int i = 0; i < n; i++) {
+              const double t0 = double(i) / n, t1 = double(i + 1) / n, k = (t1 - t0) / 3;
+              const Vec2 a = at(t0), b = at(t1), da = tangent(t0), db = tangent(t1);
+              add({a, {a.x + k * da.x, a.y + k * da.y}, {b.x - k * db.x, b.y - k * db.y}, b});
+            }
+            last = q[2];
+            break;
           }
-          add(prev, p);
-          prev = p;
+          case SegmentType::Cubic: add({q[0], q[1], q[2], q[3]}); last = q[3]; break;
         }
-        last = prev;
       }
-      if (c.closed) add(last, pts[c.start_point]);
+      if (c.closed) line(last, pts[c.start_point]);
     }
   }
 
-  // The point and the direction (degrees) at distance d; false off the path.
+  bool empty() const { return cubics_.empty(); }
+  double total() const { return total_; }
+
+  // The point and the direction (degrees) at distance d: on the first
+  // cubic whose span holds d; false off the path.
   bool at(double d, Vec2& p, double& angle) const {
-    if (pieces.empty() || d < 0 || d > total) return false;
-    size_t lo = 0, hi = pieces.size() - 1;
-    while (lo < hi) {  // the last piece starting at or before d
-      const size_t mid = (lo + hi + 1) / 2;
-      if (pieces[mid].start <= d) lo = mid;
-      else hi = mid - 1;
+    if (d < 0) return false;
+    for (size_t i = 0; i < cubics_.size(); i++) {
+      if (d >= starts_[i] && d <= starts_[i] + lengths_[i]) {
+        const double t = std::clamp(cubics_[i].inv_arclen(d - starts_[i], accuracy_, lengths_[i]), 0.0, 1.0);
+        p = cubics_[i].eval(t);
+        const Vec2 v = cubics_[i].deriv(t);
+        angle = std::atan2(v.x, -v.y) * 180 / M_PI - 90;
+        return true;
+      }
     }
-    const Piece& pc = pieces[lo];
-    const double t = std::clamp((d - pc.start) / pc.length, 0.0, 1.0);
-    p = {pc.a.x + (pc.b.x - pc.a.x) * t, pc.a.y + (pc.b.y - pc.a.y) * t};
-    angle = std::atan2(pc.b.y - pc.a.y, pc.b.x - pc.a.x) * 180 / M_PI;
-    return true;
+    return false;
   }
+
+ private:
+  void add(const Cubic& c) {
+    const double l = c.arclen(accuracy_);
+    cubics_.push_back(c);
+    starts_.push_back(total_);
+    lengths_.push_back(l);
+    total_ += l;
+  }
+  double accuracy_;
+  std::vector<Cubic> cubics_;
+  std::vector<double> starts_, lengths_;
+  double total_ = 0;
 };
 
 // A text content element (text, tspan, tref, a, textPath) with its style.
@@ -416,20 +518,31 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
           const auto it = s_.doc.ids.find(href->substr(1));
           if (it != s_.doc.ids.end()) target = it->second;
         }
-        if (!target) continue;
+        // An invalid textPath draws nothing; the white space on either
+        // side of it stays (resvg collapses spaces within each text node
+        // and across nesting levels, not between sibling nodes).
+        auto skip = [&] { last_space = false; };
+        if (!target) {
+          skip();
+          continue;
+        }
         std::optional<Path> shape = build_shape(*target, st.inh.font_size);
-        if (!shape || shape->empty()) continue;
+        if (!shape || shape->empty()) {
+          skip();
+          continue;
+        }
         Affine xf;
         if (const std::string* t = target->attribute("transform"))
           if (const auto m = parse_transform(*t)) xf = *m;
-        PathMeasure measure(shape->transformed(xf));
-        if (measure.pieces.empty()) continue;
+        const double scale = std::sqrt(std::hypot(space.a, space.b) * std::hypot(space.c, space.d));
+        PathMeasure measure(shape->transformed(xf), 0.5 / std::max(scale, 1.0));
+        if (measure.empty()) continue;
         const Style cs = compute_style(*c, inner);
         if (cs.display_none) continue;
         double offset = 0;
         if (const std::string* so = c->attribute("startOffset"))
           if (const auto l = parse_length(*so))
-            offset = l->unit == Unit::Percent ? l->value / 100 * measure.total : to_user(*l, Axis::X, cs.inh.font_size);
+            offset = l->unit == Unit::Percent ? l->value / 100 * measure.total() : to_user(*l, Axis::X, cs.inh.font_size);
         paths.push_back(std::move(measure));
         start_offsets.push_back(offset);
         current_flow = static_cast<int>(paths.size()) - 1;
@@ -537,7 +650,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
   };
   auto span_size = [&](int span) { return elems[spans[span].elem].st.inh.font_size; };
   // The span's baseline (y down from the line's alphabetic baseline):
-  // baseline-shift of its element and its ancestors below the text (a
+  // baseline-shift of its element and its ancestors up to the text (a
   // length, a percentage of that element's font size, sub or super from the
   // span's font), then, in horizontal text, alignment-baseline (the
   // element's or its parent's) or else dominant-baseline.
@@ -546,13 +659,13 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
     const int face = keys[span_key[span]].face;
     const text::Metrics& m = metrics(face, span_size(span));
     double up = 0;
-    for (int k = sp.elem; k > 0; k = elems[k].parent) {
+    for (int k = sp.elem; k >= 0; k = elems[k].parent) {
       // "inherit" takes the parent's specified value.
-      int at = k;
+      const Element* at = elems[k].e;
+      const double em = elems[k].st.inh.font_size;
       Prop<double> bs;
       for (;;) {
-        const double em = elems[at].st.inh.font_size;
-        bs = property<double>(*elems[at].e, "baseline-shift", [&](std::string_view v) -> std::optional<double> {
+        bs = property<double>(*at, "baseline-shift", [&](std::string_view v) -> std::optional<double> {
           const auto kw = parse_keyword(v);
           if (kw == "baseline") return 0.0;
           if (kw == "sub") return -m.subscript_offset;
@@ -562,8 +675,8 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
           if (l->unit == Unit::Percent) return l->value / 100 * em;
           return to_user(*l, Axis::Y, em);
         });
-        if (bs.state != Prop<double>::Inherit || elems[at].parent < 0) break;
-        at = elems[at].parent;
+        if (bs.state != Prop<double>::Inherit || !at->parent) break;
+        at = at->parent;
       }
       if (bs.state == Prop<double>::Set) up += bs.value;
     }
