@@ -95,7 +95,7 @@ std::vector<std::pair<std::string, double>> variations_of(const Inherited& inh) 
 // A textPath's path measured as resvg measures it, so that text on a path
 // lands where resvg (the suite's reference) puts it: every segment a cubic
 // (lines with inner points at 0.33 and 0.66, quadratics raised, conic arcs
-// split into cubics), a closed contour's closing line included, moves not
+// as kurbo's arc cubics), a closed contour's closing line included, moves not
 // counted; each cubic's length by 9-point Gauss-Legendre quadrature,
 // subdivided until its error estimate is under the accuracy; a distance
 // found on a cubic by ITP root finding to that accuracy (kurbo's
@@ -202,26 +202,15 @@ class PathMeasure {
             last = q[2];
             break;
           case SegmentType::RQuad: {
-            // A conic (an elliptical arc): four cubics, each matching the
-            // conic's points and tangents at its ends.
-            const double wm = w[sg.first_weight];
-            auto at = [&](double t) {
-              const double u = 1 - t, d = u * u + 2 * wm * u * t + t * t;
-              return Vec2{(u * u * q[0].x + 2 * wm * u * t * q[1].x + t * t * q[2].x) / d,
-                          (u * u * q[0].y + 2 * wm * u * t * q[1].y + t * t * q[2].y) / d};
-            };
-            auto tangent = [&](double t) {  // numerical, scaled to the piece below
-              const double h = 1e-6;
-              const Vec2 a = at(std::max(0.0, t - h)), b = at(std::min(1.0, t + h));
-              const double dt = std::min(1.0, t + h) - std::max(0.0, t - h);
-              return Vec2{(b.x - a.x) / dt, (b.y - a.y) / dt};
-            };
-            const int n = 4;
-            for (int i = 0; i < n; i++) {
-              const double t0 = double(i) / n, t1 = double(i + 1) / n, k = (t1 - t0) / 3;
-              const Vec2 a = at(t0), b = at(t1), da = tangent(t0), db = tangent(t1);
-              add({a, {a.x + k * da.x, a.y + k * da.y}, {b.x - k * db.x, b.y - k * db.y}, b});
-            }
+            // A conic is a piece of an elliptical arc of angle 2 acos(w)
+            // (at most 90°: the arcs' split matches kurbo's for radii under
+            // ~360); as a cubic its arms are 4/3 tan(angle / 4) of the
+            // tangent, tan(angle / 2) of which reaches the conic's control
+            // point.
+            const double half = std::acos(std::clamp(w[sg.first_weight], -1.0, 1.0));
+            const double k = half > 1e-12 ? 4.0 / 3.0 * std::tan(half / 2) / std::tan(half) : 2.0 / 3.0;
+            add({q[0], {q[0].x + k * (q[1].x - q[0].x), q[0].y + k * (q[1].y - q[0].y)},
+                 {q[2].x + k * (q[1].x - q[2].x), q[2].y + k * (q[1].y - q[2].y)}, q[2]});
             last = q[2];
             break;
           }
