@@ -745,10 +745,20 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
       if (span_key[span] == span_key[chunk_spans[0]]) continue;
       const std::vector<RawGlyph>& other = shape_with(span_key[span], span);
       const int a = std::max(spans[span].first, chunk.first), b = std::min(spans[span].end, chunk.end);
+      // Each of its clusters covers the characters up to the next one's
+      // (a ligature several): those go from the first shaping.
+      std::vector<int> starts;
+      for (const RawGlyph& g : other) starts.push_back(g.ch);
+      std::sort(starts.begin(), starts.end());
       for (size_t i = 0; i < other.size();) {
         size_t j = i;
         while (j < other.size() && other[j].ch == other[i].ch) j++;
         if (other[i].ch >= a && other[i].ch < b) {
+          const auto next = std::upper_bound(starts.begin(), starts.end(), other[i].ch);
+          const int covered_end = next == starts.end() ? chunk.end : *next;
+          glyphs.erase(std::remove_if(glyphs.begin(), glyphs.end(),
+                                      [&](const RawGlyph& g) { return g.ch > other[i].ch && g.ch < covered_end; }),
+                       glyphs.end());
           const auto at = std::find_if(glyphs.begin(), glyphs.end(), [&](const RawGlyph& g) { return g.ch == other[i].ch; });
           if (at != glyphs.end()) {
             auto end = at;
