@@ -226,3 +226,85 @@ TEST_CASE("text: tref draws the referenced element's characters with its own sty
   CHECK(box_of(r.scene).x1 == Approx(plain.x1).margin(1e-6));
   CHECK(r.scene.paints[r.scene.paths[0].paint].color.b == 1);
 }
+
+TEST_CASE("text: decorations break where dx moves a cluster", "[svg][text]") {
+  REQUIRE_FONT();
+  // One underline rectangle for a run of clusters, a new one after dx.
+  // (The stream lists top-most first: the glyphs, then the underline.)
+  auto rectangles = [](const mpvg::Scene& s) {
+    return s.geometries[s.paths[s.stream[1].path].geometry].contours().size();
+  };
+  CHECK(rectangles(parse("<text x='10' y='50' text-decoration='underline'>Hello</text>").scene) == 1);
+  // Every character with a dx value (0 too) starts a piece, as in resvg:
+  // "H", "e", "llo".
+  const auto broken = parse("<text x='10' y='50' text-decoration='underline' dx='0 0 20'>Hello</text>");
+  CHECK(rectangles(broken.scene) == 3);
+  // The pieces cover the advances, with the gap of 20 before "llo".
+  const mpvg::Scene& s = broken.scene;
+  const Box whole = box_of(s, int(s.stream[1].path));
+  const Box plain = box_of(parse("<text x='10' y='50' text-decoration='underline'>Hello</text>").scene,
+                           int(parse("<text x='10' y='50' text-decoration='underline'>Hello</text>").scene.stream[1].path));
+  CHECK(whole.x0 == Approx(10).margin(1e-9));
+  CHECK(whole.x1 - plain.x1 == Approx(20).margin(1e-6));
+}
+
+TEST_CASE("text: letter-spacing does not pull cursive scripts apart", "[svg][text]") {
+  REQUIRE_FONT();
+  const double arabic = box_of(parse("<text x='10' y='50'>\u0628\u064A\u062A</text>").scene).x1;
+  const double spaced = box_of(parse("<text x='10' y='50' letter-spacing='20'>\u0628\u064A\u062A</text>").scene).x1;
+  CHECK(spaced == Approx(arabic).margin(1e-9));
+  const double latin = box_of(parse("<text x='10' y='50'>HHH</text>").scene).x1;
+  const double latin_spaced = box_of(parse("<text x='10' y='50' letter-spacing='20'>HHH</text>").scene).x1;
+  CHECK(latin_spaced - latin == Approx(40).margin(1e-6));  // not after the last
+}
+
+TEST_CASE("text: textLength stretches the spacing or the glyphs", "[svg][text]") {
+  REQUIRE_FONT();
+  const Box plain = box_of(parse("<text x='10' y='50'>HHHH</text>").scene);
+  const Box spacing = box_of(parse("<text x='10' y='50' textLength='200'>HHHH</text>").scene);
+  const Box glyphs = box_of(parse("<text x='10' y='50' textLength='200' lengthAdjust='spacingAndGlyphs'>HHHH</text>").scene);
+  // Both end near 10 + 200, where the advances end (less the last glyph's
+  // right side bearing).
+  CHECK(spacing.x1 > 200);
+  CHECK(spacing.x1 < 210);
+  CHECK(glyphs.x1 > 200);
+  CHECK(glyphs.x1 < 210);
+  // spacingAndGlyphs widens the glyphs, not their height; spacing keeps
+  // the first glyph where it was.
+  CHECK(glyphs.y1 - glyphs.y0 == Approx(plain.y1 - plain.y0));
+  CHECK(spacing.x0 == Approx(plain.x0));
+  CHECK(glyphs.x0 - 10 > 2 * (plain.x0 - 10));
+}
+
+TEST_CASE("text: vertical writing runs down from x, y", "[svg][text]") {
+  REQUIRE_FONT();
+  const Box across = box_of(parse("<text x='100' y='20'>HHHH</text>").scene);
+  const Box down = box_of(parse("<text x='100' y='20' writing-mode='tb'>HHHH</text>").scene);
+  CHECK(across.x1 - across.x0 > across.y1 - across.y0);
+  CHECK(down.y1 - down.y0 > down.x1 - down.x0);
+  CHECK(down.y0 > 20 - 1);
+  CHECK(down.y1 - down.y0 == Approx(across.x1 - across.x0).margin(2));
+  // Latin turns clockwise: its ascenders point right... from the line at x.
+  CHECK(down.x0 < 100);
+}
+
+TEST_CASE("text: textPath side='right' walks the path backwards", "[svg][text]") {
+  REQUIRE_FONT();
+  const char* path = "<defs><path id='p' d='M 20 100 L 380 100'/></defs>";
+  const Box left = box_of(parse(std::string(path) + "<text><textPath href='#p'>Hello</textPath></text>").scene);
+  const Box right = box_of(parse(std::string(path) + "<text><textPath href='#p' side='right'>Hello</textPath></text>").scene);
+  // From the path's end, upside down: below the line, ending at x = 380.
+  CHECK(left.y1 <= 100 + 5);
+  CHECK(right.y0 >= 100 - 5);
+  CHECK(right.x1 == Approx(380).margin(3));
+  CHECK(right.x1 - right.x0 == Approx(left.x1 - left.x0).margin(1));
+}
+
+TEST_CASE("text: white space between tspans is kept", "[svg][text]") {
+  REQUIRE_FONT();
+  const Box joined = box_of(parse("<text x='10' y='50'><tspan>a</tspan><tspan>b</tspan></text>").scene);
+  const Box spaced = box_of(parse("<text x='10' y='50'><tspan>a</tspan> <tspan>b</tspan></text>").scene);
+  const Box one = box_of(parse("<text x='10' y='50'>a b</text>").scene);
+  CHECK(spaced.x1 == Approx(one.x1));
+  CHECK(spaced.x1 > joined.x1 + 3);
+}

@@ -352,6 +352,49 @@ TEST_CASE("shape: kerning, ligatures, clusters", "[text]") {
   CHECK(tx::shape(db, 42, "AV", 100).empty());
 }
 
+TEST_CASE("shape with bidi: level runs shaped in their direction, in visual order", "[text]") {
+  if (!have_fonts()) return;
+  FontDir d;
+  tx::FontDb db;
+  db.add_dir(d.dir.string());
+  const int sans = find_face(db, "DejaVu Sans", 400);
+  // "ab " then three Hebrew letters (2 bytes each, at bytes 3, 5, 7), then
+  // " cd": the paragraph is left to right, the Hebrew run right to left.
+  const std::string text = "ab \u05D0\u05D1\u05D2 cd";
+  tx::ShapeOptions o;
+  o.bidi = true;
+  const auto g = tx::shape(db, sans, text, 100, o);
+  std::vector<uint32_t> clusters;
+  for (const auto& x : g) clusters.push_back(x.cluster);
+  CHECK(clusters == std::vector<uint32_t>{0, 1, 2, 7, 5, 3, 9, 10, 11});
+  // Without bidi the buffer is one left-to-right run, in logical order.
+  const auto plain = tx::shape(db, sans, text, 100);
+  std::vector<uint32_t> logical;
+  for (const auto& x : plain) logical.push_back(x.cluster);
+  CHECK(std::is_sorted(logical.begin(), logical.end()));
+  // An all-Arabic word is one right-to-left run: clusters descend, and the
+  // letters take their joining forms (other glyphs than isolated ones).
+  const auto word = tx::shape(db, sans, "\u0628\u064A\u062A", 100, o);
+  REQUIRE(word.size() == 3);
+  CHECK(word[0].cluster == 4);
+  CHECK(word[2].cluster == 0);
+  const auto isolated = tx::shape(db, sans, "\u0628", 100, o);
+  REQUIRE(isolated.size() == 1);
+  CHECK(word[2].glyph != isolated[0].glyph);
+}
+
+TEST_CASE("letter_spacing_applies and upright_in_vertical", "[text]") {
+  CHECK(tx::letter_spacing_applies(U'a'));
+  CHECK(tx::letter_spacing_applies(U'\u05D0'));   // Hebrew does not join
+  CHECK(!tx::letter_spacing_applies(U'\u0628'));  // Arabic does
+  CHECK(!tx::letter_spacing_applies(U'\u0915'));  // Devanagari
+  CHECK(tx::upright_in_vertical(U'\u65E5'));      // 日
+  CHECK(tx::upright_in_vertical(U'\u30C6'));      // テ
+  CHECK(!tx::upright_in_vertical(U'\u30FC'));     // ー turns with the line
+  CHECK(!tx::upright_in_vertical(U'A'));
+  CHECK(!tx::upright_in_vertical(U'\u3002'));     // 。
+}
+
 TEST_CASE("glyph_outline: contours, scale, y down", "[text]") {
   if (!have_fonts()) return;
   FontDir d;

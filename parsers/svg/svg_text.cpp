@@ -1,14 +1,23 @@
-// SVG text (SVG 2 text.html, SVG 1.1 §10): the characters of a <text> and
-// the tspans inside it, white space handled (xml:space), positioned by the
-// x, y, dx, dy and rotate lists, cut into chunks at absolute positions and
-// anchored (text-anchor), shaped by HarfBuzz in the faces CSS font matching
-// picks (text/text.h, per-character fallback), and drawn as glyph outlines
-// kept as curves: each span's glyphs become one shape painted with that
-// span's fill and stroke, like any path.
+// SVG text (SVG 2 text.html, SVG 1.1 §10), laid out as resvg lays it out
+// (usvg's text layout is the model; the suite's references are resvg's):
+//  1. the characters of a <text>, its tspans, trefs and textPaths, white
+//     space handled (xml:space), in spans (one per text node);
+//  2. x, y, dx, dy and rotate lists resolved per character;
+//  3. text chunks: a new one at each absolute position and around textPaths;
+//  4. each chunk shaped whole by HarfBuzz (text/text.h: FriBiDi's visual
+//     runs, fallback faces for missing glyphs), spans in other faces or
+//     with other features reshaped and their clusters swapped in;
+//  5-8. glyph clusters, vertical orientation, letter- and word-spacing,
+//     textLength / lengthAdjust;
+//  9. positions along the line (anchored) or along a path (textPath:
+//     startOffset, side, the path measured as resvg measures it);
+//  10-11. each span's glyph outlines (kept as curves) at its baseline
+//     (dominant-baseline, alignment-baseline, baseline-shift), with its
+//     decorations, painted with the span's fill and stroke.
 //
-// Not yet: textPath, tref, baselines other than the alphabetic one,
-// text-decoration, vertical writing, bidi reordering across spans,
-// textLength, font-variant and feature settings, text inside clip paths.
+// Not yet: textPath's method and spacing, and its SVG 2 path attribute (as
+// resvg and Chrome); colour fonts (COLR, CBDT, sbix) are drawn from their
+// outlines only; text-rendering="optimizeSpeed" is antialiased like the rest.
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -218,6 +227,21 @@ class PathMeasure {
         }
       }
       if (c.closed) line(last, pts[c.start_point]);
+    }
+  }
+
+  // The same path walked from its end (textPath side="right").
+  void reverse() {
+    std::vector<Cubic> cubics(cubics_.rbegin(), cubics_.rend());
+    std::vector<double> lengths(lengths_.rbegin(), lengths_.rend());
+    cubics_.clear(), starts_.clear(), lengths_.clear();
+    total_ = 0;
+    for (size_t i = 0; i < cubics.size(); i++) {
+      const Cubic& c = cubics[i];
+      cubics_.push_back({c.p3, c.p2, c.p1, c.p0});
+      starts_.push_back(total_);
+      lengths_.push_back(lengths[i]);
+      total_ += lengths[i];
     }
   }
 
@@ -526,6 +550,9 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
         const double scale = std::sqrt(std::hypot(space.a, space.b) * std::hypot(space.c, space.d));
         PathMeasure measure(shape->transformed(xf), 0.5 / std::max(scale, 1.0));
         if (measure.empty()) continue;
+        // side="right" (SVG 2): the text goes on the other side of the
+        // path, i.e. along it reversed.
+        if (const std::string* side = c->attribute("side"); side && trim(*side) == "right") measure.reverse();
         const Style cs = compute_style(*c, inner);
         if (cs.display_none) continue;
         double offset = 0;
@@ -786,8 +813,11 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
         if (g.face >= 0 && g.id != 0)
           cl.glyphs.push_back({g.face, g.id, g.key, {(x + g.dx) * size, g.dy * size}});
         x += g.advance;
-        cl.width = std::max(cl.width, g.advance * size);
       }
+      // The pen's advance through the cluster (resvg takes the largest
+      // glyph advance instead, which overlaps the next cluster where an
+      // Indic cluster has two advancing glyphs).
+      cl.width = x * size;
       cl.advance = cl.width;
       if (glyphs[i].face >= 0) {
         const text::Metrics& m = metrics(glyphs[i].face, size);

@@ -1,0 +1,87 @@
+#!/usr/bin/env python3
+"""Builds testdata/fonts/MpvgTestVF.ttf: a tiny variable TrueType font made
+for mpvg's tests (Debian 12 packages no variable font). One axis, wght
+100..900 (default 400); glyphs for 'I', 'L', 'T', 'space': rectangles
+whose stems are 40 units thin at wght 100 and 240 thick at 900, so a test
+can tell the weights apart by their ink. Needs python3-fonttools; the font
+is committed, so the tests do not run this.
+
+    python3 scripts/make-test-font.py testdata/fonts/MpvgTestVF.ttf
+"""
+import sys
+
+from fontTools.fontBuilder import FontBuilder
+from fontTools.pens.ttGlyphPen import TTGlyphPen
+from fontTools.ttLib.tables.TupleVariation import TupleVariation
+
+
+def rects(rs):
+    pen = TTGlyphPen(None)
+    for x0, y0, x1, y1 in rs:
+        pen.moveTo((x0, y0))
+        pen.lineTo((x0, y1))
+        pen.lineTo((x1, y1))
+        pen.lineTo((x1, y0))
+        pen.closePath()
+    return pen.glyph()
+
+
+# Glyphs at the default (wght 400): stem 100 units.
+STEM = 100
+glyphs = {
+    ".notdef": rects([(50, 0, 450, 700)]),
+    "space": rects([]),
+    "I": rects([(100, 0, 100 + STEM, 700)]),
+    "L": rects([(100, 0, 100 + STEM, 700), (100, 0, 500, STEM)]),
+    "T": rects([(250, 0, 250 + STEM, 700), (50, 700 - STEM, 550, 700)]),
+}
+advances = {".notdef": 500, "space": 300, "I": 300, "L": 550, "T": 600}
+order = [".notdef", "space", "I", "L", "T"]
+
+fb = FontBuilder(1000, isTTF=True)
+fb.setupGlyphOrder(order)
+fb.setupCharacterMap({0x20: "space", ord("I"): "I", ord("L"): "L", ord("T"): "T"})
+fb.setupGlyf(glyphs)
+fb.setupHorizontalMetrics({g: (advances[g], 0) for g in order})
+fb.setupHorizontalHeader(ascent=800, descent=-200)
+fb.setupNameTable({"familyName": "Mpvg Test VF", "styleName": "Regular"})
+fb.setupOS2(sTypoAscender=800, sTypoDescender=-200, usWinAscent=800, usWinDescent=200, sxHeight=500,
+            sCapHeight=700, usWeightClass=400)
+fb.setupPost()
+fb.setupFvar(axes=[("wght", 100, 400, 900, "Weight")], instances=[])
+
+
+def deltas(name, amount):
+    """Per-point deltas that thicken every stem by `amount` (right/top edges move)."""
+    g = glyphs[name]
+    if g.numberOfContours <= 0:
+        return [(0, 0)] * 4  # phantom points only
+    coords = g.coordinates
+    out = []
+    # Each rectangle: points (x0,y0) (x0,y1) (x1,y1) (x1,y0); thicken along
+    # its thin side (vertical stems: x1 moves; horizontal bars: y moves).
+    for c in range(g.numberOfContours):
+        pts = [coords[4 * c + k] for k in range(4)]
+        (x0, y0), _, (x1, y1), _ = pts
+        if x1 - x0 <= y1 - y0:  # a vertical stem: its right edge moves
+            out += [(0, 0), (0, 0), (amount, 0), (amount, 0)]
+        elif y0 == 0:  # a bar on the baseline: its top moves up
+            out += [(0, 0), (0, amount), (0, amount), (0, 0)]
+        else:  # a bar at the top: its bottom moves down
+            out += [(0, -amount), (0, 0), (0, 0), (0, -amount)]
+    return out + [(0, 0)] * 4  # phantom points
+
+
+variations = {}
+for name in order:
+    variations[name] = [
+        # At wght 900 stems are 240 thick, at 100 they are 40.
+        TupleVariation({"wght": (0, 1, 1)}, deltas(name, 140)),
+        TupleVariation({"wght": (-1, -1, 0)}, deltas(name, 60)),
+    ]
+# The negative region's deltas thin the stems: flip their sign.
+for name in order:
+    tv = variations[name][1]
+    tv.coordinates = [(-x, -y) for x, y in tv.coordinates]
+fb.setupGvar(variations)
+fb.save(sys.argv[1] if len(sys.argv) > 1 else "MpvgTestVF.ttf")
