@@ -6,13 +6,21 @@ whose stems are 40 units thin at wght 100 and 240 thick at 900, so a test
 can tell the weights apart by their ink. Needs python3-fonttools; the font
 is committed, so the tests do not run this.
 
-    python3 scripts/make-test-font.py testdata/fonts/MpvgTestVF.ttf
+    python3 scripts/make-test-font.py testdata/fonts/MpvgTestVF.ttf testdata/fonts/MpvgTestColor.ttf
+
+The second font (colour glyphs: COLR version 0 and sbix) is described at
+color_font() below.
 """
 import sys
 
 from fontTools.fontBuilder import FontBuilder
 from fontTools.pens.ttGlyphPen import TTGlyphPen
 from fontTools.ttLib.tables.TupleVariation import TupleVariation
+
+
+def lsb(glyph):
+    """The left side bearing that keeps the outline where it is drawn."""
+    return min((x for x, _ in glyph.coordinates), default=0) if glyph.numberOfContours > 0 else 0
 
 
 def rects(rs):
@@ -42,7 +50,7 @@ fb = FontBuilder(1000, isTTF=True)
 fb.setupGlyphOrder(order)
 fb.setupCharacterMap({0x20: "space", ord("I"): "I", ord("L"): "L", ord("T"): "T"})
 fb.setupGlyf(glyphs)
-fb.setupHorizontalMetrics({g: (advances[g], 0) for g in order})
+fb.setupHorizontalMetrics({g: (advances[g], lsb(glyphs[g])) for g in order})
 fb.setupHorizontalHeader(ascent=800, descent=-200)
 fb.setupNameTable({"familyName": "Mpvg Test VF", "styleName": "Regular"})
 fb.setupOS2(sTypoAscender=800, sTypoDescender=-200, usWinAscent=800, usWinDescent=200, sxHeight=500,
@@ -85,3 +93,59 @@ for name in order:
     tv.coordinates = [(-x, -y) for x, y in tv.coordinates]
 fb.setupGvar(variations)
 fb.save(sys.argv[1] if len(sys.argv) > 1 else "MpvgTestVF.ttf")
+
+
+def color_font(path):
+    """testdata/fonts/MpvgTestColor.ttf, "Mpvg Test Color": 'O' is a COLR
+    version 0 glyph of two layers (a red square from palette entry 0, under
+    a foreground bar filled with the text's colour); 'E' has an sbix bitmap
+    (8 x 8 pixels at 8 ppem: blue over green halves) and an outline box from
+    y = -100 to 700, where the bitmap's lower left corner goes."""
+    import io
+
+    from fontTools.colorLib.builder import buildCOLR, buildCPAL
+    from fontTools.ttLib.tables import sbixGlyph, sbixStrike
+    from fontTools.ttLib import newTable
+    from PIL import Image
+
+    order = [".notdef", "space", "O", "E", "O.red", "O.bar"]
+    g = {
+        ".notdef": rects([(50, 0, 450, 700)]),
+        "space": rects([]),
+        "O": rects([(50, 0, 650, 600)]),
+        "E": rects([(0, -100, 800, 700)]),
+        "O.red": rects([(50, 0, 650, 600)]),
+        "O.bar": rects([(250, 0, 450, 600)]),
+    }
+    fb = FontBuilder(1000, isTTF=True)
+    fb.setupGlyphOrder(order)
+    fb.setupCharacterMap({0x20: "space", ord("O"): "O", ord("E"): "E"})
+    fb.setupGlyf(g)
+    fb.setupHorizontalMetrics({n: (700 if n != "E" else 800, lsb(g[n])) for n in order})
+    fb.setupHorizontalHeader(ascent=800, descent=-200)
+    fb.setupNameTable({"familyName": "Mpvg Test Color", "styleName": "Regular"})
+    fb.setupOS2(sTypoAscender=800, sTypoDescender=-200, usWinAscent=800, usWinDescent=200)
+    fb.setupPost()
+    font = fb.font
+    font["COLR"] = buildCOLR({"O": [("O.red", 0), ("O.bar", 0xFFFF)]})
+    font["CPAL"] = buildCPAL([[(1.0, 0.0, 0.0, 1.0)]])
+    im = Image.new("RGBA", (8, 8), (0, 0, 255, 255))
+    for y in range(4, 8):
+        for x in range(8):
+            im.putpixel((x, y), (0, 160, 0, 255))
+    png = io.BytesIO()
+    im.save(png, format="PNG")
+    sbix = newTable("sbix")
+    strike = sbixStrike.Strike(ppem=8, resolution=72)
+    for name in order:
+        glyph = sbixGlyph.Glyph(glyphName=name)
+        if name == "E":
+            glyph = sbixGlyph.Glyph(glyphName=name, graphicType="png ", imageData=png.getvalue())
+        strike.glyphs[name] = glyph
+    sbix.strikes[8] = strike
+    font["sbix"] = sbix
+    font.save(path)
+
+
+if len(sys.argv) > 2:
+    color_font(sys.argv[2])

@@ -308,3 +308,51 @@ TEST_CASE("text: white space between tspans is kept", "[svg][text]") {
   CHECK(spaced.x1 == Approx(one.x1));
   CHECK(spaced.x1 > joined.x1 + 3);
 }
+
+namespace {
+
+// testdata/fonts (scripts/make-test-font.py): colour glyphs.
+mpvg::svg::ParseResult parse_color(const std::string& body) {
+  mpvg::svg::ParseOptions o;
+  o.font_dirs = {std::string(MPVG_SOURCE_DIR) + "/testdata/fonts"};
+  o.system_fonts = false;
+  return mpvg::svg::parse_svg_string(
+      "<svg xmlns='http://www.w3.org/2000/svg' width='400' height='200' font-family='Mpvg Test Color' "
+      "font-size='50'>" + body + "</svg>", ".", o);
+}
+
+}  // namespace
+
+TEST_CASE("text: COLR glyphs are their layers, palette colours and the text's fill", "[svg][text]") {
+  const auto r = parse_color("<text x='10' y='60' fill='blue' stroke='black'>O</text>");
+  REQUIRE(r.scene.paths.size() == 2);
+  // The stream lists top-most first: the foreground bar over the red square.
+  const mpvg::Scene& s = r.scene;
+  const mpvg::ScenePath& square = s.paths[s.stream[1].path];
+  const mpvg::ScenePath& bar = s.paths[s.stream[0].path];
+  CHECK(s.paints[square.paint].color.r == 1);
+  CHECK(s.paints[square.paint].color.b == 0);
+  CHECK(s.paints[bar.paint].color.b == 1);
+  // Layers are filled only; the square is 50..650 of 1000 units at 50.
+  const Box b = box_of(s, int(s.stream[1].path));
+  CHECK(b.x0 == Approx(10 + 2.5));
+  CHECK(b.x1 == Approx(10 + 32.5));
+  CHECK(b.y1 == Approx(60));
+  CHECK(box_of(s, int(s.stream[0].path)).x0 == Approx(10 + 12.5));
+}
+
+TEST_CASE("text: bitmap glyphs are images on their rectangle", "[svg][text]") {
+  const auto r = parse_color("<text x='10' y='60'>E</text>");
+  REQUIRE(r.scene.paths.size() == 1);
+  const mpvg::Scene& s = r.scene;
+  CHECK(s.paints[s.paths[0].paint].type == mpvg::PaintType::Texture);
+  REQUIRE(s.textures.size() == 1);
+  CHECK(s.textures[0].image->width == 8);
+  // 8 pixels at 8 per em: 50 units square, its lower left corner at the
+  // outline box's (0, -100) units, i.e. 5 below the baseline.
+  const Box b = box_of(s, 0);
+  CHECK(b.x0 == Approx(10).margin(0.01));
+  CHECK(b.x1 == Approx(60).margin(0.01));
+  CHECK(b.y1 == Approx(65).margin(0.5));
+  CHECK(b.y1 - b.y0 == Approx(50).margin(0.01));
+}

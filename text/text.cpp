@@ -5,6 +5,7 @@
 
 #include <ft2build.h>
 #include FT_FREETYPE_H
+#include FT_COLOR_H
 #include FT_MULTIPLE_MASTERS_H
 #include FT_OUTLINE_H
 #include FT_SFNT_NAMES_H
@@ -28,6 +29,7 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 
 namespace mpvg::text {
@@ -448,6 +450,12 @@ bool FontDb::has_glyph(int face, char32_t c) const {
   return f && FT_Get_Char_Index(f, c) != 0;
 }
 
+bool FontDb::has_color_bitmaps(int face) const {
+  std::lock_guard<std::mutex> lock(impl_->mu);
+  FT_Face f = impl_->face(face);
+  return f && FT_HAS_COLOR(f) && FT_HAS_FIXED_SIZES(f);
+}
+
 int FontDb::fallback(char32_t c, int weight, bool italic) const {
   const Impl& m = *impl_;
   std::lock_guard<std::mutex> lock(m.mu);
@@ -732,6 +740,109 @@ Path glyph_outline(const FontDb& db, int face, uint32_t glyph, double size,
   }
   if (!variations.empty()) set_ft_variations(m.lib, f, {});
   return sink.path;
+}
+
+std::vector<ColorLayer> color_layers(const FontDb& db, int face, uint32_t glyph) {
+  FontDb::Impl& m = db.impl();
+  std::lock_guard<std::mutex> lock(m.mu);
+  std::vector<ColorLayer> out;
+  FT_Face f = m.face(face);
+  if (!f || !FT_HAS_COLOR(f)) return out;
+  FT_Color* palette = nullptr;
+  FT_Palette_Data pd;
+  if (FT_Palette_Data_Get(f, &pd) == 0 && pd.num_palettes > 0) FT_Palette_Select(f, 0, &palette);
+  FT_LayerIterator it;
+  it.p = nullptr;
+  FT_UInt layer_glyph = 0, color_index = 0;
+  while (FT_Get_Color_Glyph_Layer(f, glyph, &layer_glyph, &color_index, &it)) {
+    ColorLayer l;
+    l.glyph = layer_glyph;
+    if (color_index == 0xFFFF || !palette || color_index >= pd.num_palette_entries) {
+      l.foreground = true;
+    } else {
+      const FT_Color& c = palette[color_index];
+      l.color = {c.red / 255.0f, c.green / 255.0f, c.blue / 255.0f, c.alpha / 255.0f};
+    }
+    out.push_back(l);
+  }
+  return out;
+}
+
+GlyphBitmap glyph_bitmap(const FontDb& db, int face, uint32_t glyph, double size) {
+  FontDb::Impl& m = db.impl();
+  std::lock_guard<std::mutex> lock(m.mu);
+  GlyphBitmap out;
+  FT_Face f = m.face(face);
+  if (!f || !FT_HAS_COLOR(f) || !FT_HAS_FIXED_SIZES(f) || f->num_fixed_sizes <= 0) return out;
+  // The largest strike (as resvg; the texture filter scales it down).
+  int best = 0;
+  for (int i = 1; i < f->num_fixed_sizes; i++)
+    if (f->available_sizes[i].y_ppem > f->available_sizes[best].y_ppem) best = i;
+  (void)size;
+  // sbix (Apple): the image's lower left corner at the glyph's origin
+  // offset plus, where it has an outline, the outline box's lower left
+  // corner, as Skia and resvg place it; FreeType's own placement rounds to
+  // whole strike pixels and ignores CFF outlines, so it is done here.
+  std::optional<Vec2> sbix_corner;  // font units, y up
+  FT_ULong sbix_length = 0;
+  if (FT_Load_Sfnt_Table(f, FT_MAKE_TAG('s', 'b', 'i', 'x'), 0, nullptr, &sbix_length) == 0 && sbix_length >= 8) {
+    std::vector<unsigned char> t(sbix_length);
+    FT_Load_Sfnt_Table(f, FT_MAKE_TAG('s', 'b', 'i', 'x'), 0, t.data(), &sbix_length);
+    auto u16 = [&](size_t o) { return o + 2 <= t.size() ? unsigned(t[o] << 8 | t[o + 1]) : 0u; };
+    auto u32 = [&](size_t o) {
+      return o + 4 <= t.size() ? (uint32_t(t[o]) << 24 | uint32_t(t[o + 1]) << 16 | uint32_t(t[o + 2]) << 8 | t[o + 3])
+                               : 0u;
+    };
+    const int want = f->available_sizes[best].y_ppem / 64;
+    for (uint32_t i = 0, n = u32(4); i < n && !sbix_corner; i++) {
+      const size_t strike = u32(8 + 4 * size_t(i));
+      if (int(u16(strike)) != want) continue;
+      const size_t data = strike + u32(strike + 4 + 4 * size_t(glyph));
+      if (data + 4 > t.size()) break;
+      Vec2 corner{double(int16_t(u16(data))), double(int16_t(u16(data + 2)))};
+      if (FT_Load_Glyph(f, glyph, FT_LOAD_NO_SCALE | FT_LOAD_NO_HINTING | FT_LOAD_NO_BITMAP) == 0 &&
+          f->glyph->format == FT_GLYPH_FORMAT_OUTLINE && f->glyph->outline.n_points > 0) {
+        FT_BBox box;
+        FT_Outline_Get_CBox(&f->glyph->outline, &box);
+        corner.x += box.xMin;
+        corner.y += box.yMin;
+      }
+      sbix_corner = corner;
+    }
+  }
+  if (FT_Select_Size(f, best) != 0) return out;
+  const bool loaded = FT_Load_Glyph(f, glyph, FT_LOAD_COLOR) == 0;
+  const FT_Bitmap& b = f->glyph->bitmap;
+  if (loaded && f->glyph->format == FT_GLYPH_FORMAT_BITMAP && b.pixel_mode == FT_PIXEL_MODE_BGRA && b.width > 0 &&
+      b.rows > 0) {
+    auto im = std::make_shared<Image>();
+    im->width = static_cast<int>(b.width);
+    im->height = static_cast<int>(b.rows);
+    im->rgba8.resize(size_t(b.width) * b.rows * 4);
+    for (unsigned y = 0; y < b.rows; y++) {
+      const unsigned char* row = b.buffer + static_cast<ptrdiff_t>(y) * b.pitch;
+      for (unsigned x = 0; x < b.width; x++) {
+        // FreeType's BGRA is premultiplied; Image is straight.
+        const unsigned bl = row[4 * x], g = row[4 * x + 1], r = row[4 * x + 2], a = row[4 * x + 3];
+        uint8_t* q = &im->rgba8[(size_t(y) * b.width + x) * 4];
+        q[0] = static_cast<uint8_t>(a ? std::min(255u, (r * 255 + a / 2) / a) : 0);
+        q[1] = static_cast<uint8_t>(a ? std::min(255u, (g * 255 + a / 2) / a) : 0);
+        q[2] = static_cast<uint8_t>(a ? std::min(255u, (bl * 255 + a / 2) / a) : 0);
+        q[3] = static_cast<uint8_t>(a);
+      }
+    }
+    const double ppem = f->size->metrics.y_ppem > 0 ? f->size->metrics.y_ppem : f->available_sizes[best].y_ppem / 64.0;
+    out.scale = size / ppem;
+    out.x = f->glyph->bitmap_left * out.scale;
+    out.y = -f->glyph->bitmap_top * out.scale;
+    if (sbix_corner) {
+      const double k = size / (f->units_per_EM ? f->units_per_EM : 1000);
+      out.x = sbix_corner->x * k;
+      out.y = -sbix_corner->y * k - b.rows * out.scale;
+    }
+    out.image = std::move(im);
+  }
+  return out;  // (outlines load unscaled: the strike chosen does not matter to them)
 }
 
 Metrics metrics(const FontDb& db, int face, double size) {

@@ -63,6 +63,8 @@ class FontDb {
   int match(const std::vector<std::string>& families, int weight, bool italic, int stretch = 5) const;
 
   bool has_glyph(int face, char32_t c) const;
+  // Whether the face has colour bitmap strikes (CBDT, sbix).
+  bool has_color_bitmaps(int face) const;
 
   // Per-character fallback: the face with a glyph for c that is nearest in
   // style, then weight (the earliest such face of the db); -1 if none has it.
@@ -120,6 +122,28 @@ bool letter_spacing_applies(char32_t c);
 // U: CJK ideographs, kana, Hangul, fullwidth forms, emoji); other
 // characters turn with the line.
 bool upright_in_vertical(char32_t c);
+
+// A colour glyph's layers (OpenType COLR version 0), bottom first: each an
+// outline glyph filled with a palette colour (palette 0) or, where
+// `foreground` is set, with the text's own fill. Empty for glyphs without
+// COLR layers (and in fonts without the table).
+struct ColorLayer {
+  uint32_t glyph = 0;
+  bool foreground = false;
+  RGBA color;  // sRGB, straight alpha
+};
+std::vector<ColorLayer> color_layers(const FontDb& db, int face, uint32_t glyph);
+
+// A bitmap glyph (colour emoji: CBDT, sbix) from the face's largest strike
+// (as resvg; the texture filter scales it down), as straight RGBA, placed in
+// user units at `size`: its top-left corner at (x, y) from the pen (y down),
+// each pixel `scale` user units wide; an sbix image sits at its glyph's
+// outline box. Empty for outline glyphs and fonts without colour bitmaps.
+struct GlyphBitmap {
+  std::shared_ptr<const Image> image;
+  double x = 0, y = 0, scale = 1;
+};
+GlyphBitmap glyph_bitmap(const FontDb& db, int face, uint32_t glyph, double size);
 
 struct Metrics {
   double ascent = 0, descent = 0;  // descent positive below the baseline

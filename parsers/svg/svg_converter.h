@@ -451,6 +451,10 @@ class Converter {
   struct TextPiece {
     Path path;
     Style st;
+    // A bitmap glyph instead (colour emoji): its image, filling `path` (its
+    // rectangle), texel (i, j) mapped to user space by image_xf.
+    std::shared_ptr<const Image> image;
+    Affine image_xf;
   };
   std::vector<TextPiece> layout_text(const Element& e, const Style& st, const Affine& space);
 

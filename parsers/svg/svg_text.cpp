@@ -16,8 +16,9 @@
 //     decorations, painted with the span's fill and stroke.
 //
 // Not yet: textPath's method and spacing, and its SVG 2 path attribute (as
-// resvg and Chrome); colour fonts (COLR, CBDT, sbix) are drawn from their
-// outlines only; text-rendering="optimizeSpeed" is antialiased like the rest.
+// resvg and Chrome); colour fonts: COLR version 0 layers and bitmap glyphs
+// (CBDT, sbix) are drawn, COLR version 1 paints and SVG glyphs are not;
+// text-rendering="optimizeSpeed" is antialiased like the rest.
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -713,6 +714,15 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
   // Glyph outlines, each span's glyphs as one shape.
   std::vector<Path> glyph_paths(spans.size());
   std::vector<Path> decoration_paths(spans.size() * 3);
+  std::vector<std::vector<std::pair<Path, text::ColorLayer>>> color_paths(spans.size());
+  std::map<std::pair<int, uint32_t>, std::vector<text::ColorLayer>> color_layer_cache;
+  std::vector<std::vector<TextPiece>> bitmap_pieces(spans.size());
+  std::map<int, bool> bitmap_faces;
+  auto db_has_bitmaps = [&](int face) {
+    auto it = bitmap_faces.find(face);
+    if (it == bitmap_faces.end()) it = bitmap_faces.emplace(face, db.has_color_bitmaps(face)).first;
+    return it->second;
+  };
   double last_x = 0, last_y = 0;
   for (const Chunk& chunk : chunks) {
     // The spans of the chunk (the first and last may be cut by it).
@@ -960,8 +970,29 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
         if (!cl.visible || chars[cl.ch].span != span) continue;
         const Affine ts = span_ts * cl.transform * cl.path_transform;
         for (const PlacedGlyph& g : cl.glyphs) {
+          const Affine at = ts * Affine::translate(g.at.x, g.at.y);
+          if (db_has_bitmaps(g.face)) {
+            const text::GlyphBitmap bm = text::glyph_bitmap(db, g.face, g.id, inh.font_size);
+            if (bm.image) {
+              const Affine texel = at * Affine::translate(bm.x, bm.y) * Affine::scale(bm.scale, bm.scale);
+              Path rect = Path::rectangle(0, 0, bm.image->width, bm.image->height).transformed(texel);
+              bitmap_pieces[span].push_back({std::move(rect), Style{}, bm.image, texel});
+              continue;
+            }
+          }
+          auto layers = color_layer_cache.find({g.face, g.id});
+          if (layers == color_layer_cache.end())
+            layers = color_layer_cache.emplace(std::pair(g.face, g.id), text::color_layers(db, g.face, g.id)).first;
+          if (!layers->second.empty()) {
+            // A colour glyph (COLR): its layers one above the other.
+            for (const text::ColorLayer& l : layers->second) {
+              const Path outline = text::glyph_outline(db, g.face, l.glyph, inh.font_size, keys[g.key].variations);
+              if (!outline.empty()) color_paths[span].push_back({outline.transformed(at), l});
+            }
+            continue;
+          }
           const Path outline = text::glyph_outline(db, g.face, g.id, inh.font_size, keys[g.key].variations);
-          if (!outline.empty()) glyph_paths[span].append(outline.transformed(ts * Affine::translate(g.at.x, g.at.y)));
+          if (!outline.empty()) glyph_paths[span].append(outline.transformed(at));
         }
       }
       // text-decoration (CSS Text Decoration 3): one rectangle per run of
@@ -1031,6 +1062,19 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
       st.inh.fill_rule = FillRule::NonZero;
       pieces.push_back({std::move(glyph_paths[k]), st});
     }
+    for (TextPiece& piece : bitmap_pieces[k]) {
+      piece.st = own;
+      pieces.push_back(std::move(piece));
+    }
+    for (auto& [path, layer] : color_paths[k]) {
+      // A palette colour, or the text's fill for the foreground layers;
+      // layers are filled, not stroked.
+      Style st = own;
+      st.inh.fill_rule = FillRule::NonZero;
+      if (!layer.foreground) st.inh.fill = PaintSpec::solid(layer.color);
+      st.inh.stroke = PaintSpec();
+      pieces.push_back({std::move(path), st});
+    }
     add_decoration(2, Through);
   }
   return pieces;
@@ -1044,12 +1088,34 @@ void Converter::text(const Element& e, const Style& st, const Affine& space) {
   for (TextPiece& piece : pieces) {
     const uint32_t shape = static_cast<uint32_t>(shapes_.size());
     shapes_.push_back(std::move(piece.path));
-    paint_shape(shape, piece.st, space, true, &box);
+    if (!piece.image) {
+      paint_shape(shape, piece.st, space, true, &box);
+      continue;
+    }
+    // A bitmap glyph: its image on its rectangle, with the span's
+    // fill-opacity (as a tint's alpha) and image-rendering.
+    Texture t;
+    t.image = piece.image;
+    t.xf = space * piece.image_xf;
+    t.filter = piece.st.inh.image_rendering;
+    t.wrap_x = t.wrap_y = TextureWrap::Clamp;
+    t.tint = {1, 1, 1, static_cast<float>(piece.st.inh.fill_opacity)};
+    textures_.push_back(std::move(t));
+    Paint paint;
+    paint.type = PaintType::Texture;
+    paint.index = static_cast<uint32_t>(textures_.size() - 1);
+    paints_.push_back(paint);
+    Op fill = Op::of(OpKind::Fill);
+    fill.shape = shape;
+    fill.xf = space;
+    fill.paint = static_cast<uint32_t>(paints_.size() - 1);
+    ops_.push_back(fill);
   }
 }
 
 void Converter::clip_text(const Element& e, const Style& st, const Affine& space) {
-  // Each span's glyphs clip with its clip-rule; the clip path is their union.
+  // Each span's glyphs clip with its clip-rule; the clip path is their union
+  // (a bitmap glyph clips with its rectangle).
   for (TextPiece& piece : layout_text(e, st, space)) {
     Op op = Op::of(OpKind::Clip);
     op.shape = static_cast<uint32_t>(shapes_.size());
