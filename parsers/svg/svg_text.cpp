@@ -20,6 +20,7 @@
 // (CBDT, sbix) are drawn, COLR version 1 paints and SVG glyphs are not;
 // text-rendering="optimizeSpeed" is antialiased like the rest.
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -655,6 +656,21 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
     key.features = inh.font_features;
     if (inh.small_caps) key.features.push_back("smcp");
     if (!inh.kerning) key.features.push_back("-kern");
+    // A list naming only families the database lacks: say which face
+    // stands in (a generic family always counts as found).
+    if (key.face >= 0) {
+      static const char* generics[] = {"serif", "sans-serif", "cursive", "fantasy", "monospace", "system-ui"};
+      const std::string& got = db.faces()[key.face].family;
+      bool found = false;
+      for (const std::string& f : inh.font_family)
+        found = found || iequals(f, got) ||
+                std::any_of(std::begin(generics), std::end(generics), [&](const char* g) { return iequals(f, g); });
+      if (!found && !inh.font_family.empty()) {
+        std::string list;
+        for (const std::string& f : inh.font_family) list += (list.empty() ? "" : ", ") + f;
+        warn("font-family '" + list + "' not found: using " + got);
+      }
+    }
     const auto it = std::find(keys.begin(), keys.end(), key);
     span_key[k] = static_cast<int>(it - keys.begin());
     if (it == keys.end()) keys.push_back(std::move(key));
@@ -774,6 +790,12 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
         for (size_t i = 0; i < glyphs.size(); i++)
           if (glyphs[i].id == 0 && again[i].id != 0) glyphs[i] = again[i];
       }
+      for (const RawGlyph& g : glyphs)
+        if (g.id == 0 && chars[g.ch].c != ' ') {
+          char code[16];
+          std::snprintf(code, sizeof code, "U+%04X", unsigned(chars[g.ch].c));
+          warn(std::string("no font has a glyph for ") + code + ": not drawn");
+        }
       return shaped.emplace(key_index, std::move(glyphs)).first->second;
     };
     std::vector<RawGlyph> glyphs = shape_with(span_key[chunk_spans[0]], chunk_spans[0]);
