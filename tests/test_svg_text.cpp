@@ -356,3 +356,32 @@ TEST_CASE("text: bitmap glyphs are images on their rectangle", "[svg][text]") {
   CHECK(b.y1 == Approx(65).margin(0.5));
   CHECK(b.y1 - b.y0 == Approx(50).margin(0.01));
 }
+
+TEST_CASE("text: synthetic oblique and bold where the family has no such face", "[svg][text]") {
+  // Lohit Devanagari has one face, regular and upright.
+  const char* lohit = "/usr/share/fonts/truetype/lohit-devanagari";
+  if (!std::filesystem::exists(lohit)) {
+    WARN("skipped: Lohit Devanagari is not installed (Debian package fonts-lohit-deva)");
+    return;
+  }
+  mpvg::svg::ParseOptions o;
+  o.font_dirs = {lohit};
+  o.system_fonts = false;
+  auto lo = [&](const char* style) {
+    return box_of(mpvg::svg::parse_svg_string(std::string("<svg xmlns='http://www.w3.org/2000/svg' width='400' height='200' "
+                                                          "font-family='Lohit Devanagari' font-size='20'><text x='10' y='100' ") +
+                                                  style + ">l</text></svg>",
+                                              ".", o)
+                      .scene);
+  };
+  // Italic slants the upright face by a quarter of the height, to the right
+  // above the baseline; the stem's foot stays.
+  const Box upright = lo(""), slanted = lo("font-style='italic'");
+  CHECK(slanted.y0 == Approx(upright.y0));
+  CHECK(slanted.x1 - upright.x1 == Approx(0.25 * (100 - upright.y0)).margin(1e-6));
+  CHECK(slanted.x0 == Approx(upright.x0));
+  // Bold grows the outlines by 1/32 em (20 / 32 units) overall.
+  const Box bold = lo("font-weight='bold'");
+  CHECK((bold.x1 - bold.x0) - (upright.x1 - upright.x0) == Approx(20.0 / 32).margin(0.05));
+  CHECK((bold.y1 - bold.y0) - (upright.y1 - upright.y0) == Approx(20.0 / 32).margin(0.05));
+}

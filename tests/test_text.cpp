@@ -383,6 +383,28 @@ TEST_CASE("shape with bidi: level runs shaped in their direction, in visual orde
   CHECK(word[2].glyph != isolated[0].glyph);
 }
 
+TEST_CASE("shape: one script per HarfBuzz buffer", "[text]") {
+  // Latin then Devanagari in one call: the Devanagari word is shaped as
+  // Devanagari (its vowel sign i drawn before the consonant), not as Latin.
+  const char* lohit = "/usr/share/fonts/truetype/lohit-devanagari/Lohit-Devanagari.ttf";
+  if (!fs::exists(lohit)) {
+    WARN("SKIPPED: " << lohit << " is absent (Debian package fonts-lohit-deva)");
+    return;
+  }
+  tx::FontDb db;
+  REQUIRE(db.add_file(lohit) == 1);
+  tx::ShapeOptions o;
+  o.bidi = true;
+  const auto alone = tx::shape(db, 0, "\u0939\u093F", 100, o);  // हि
+  const auto mixed = tx::shape(db, 0, "Te \u0939\u093F", 100, o);
+  REQUIRE(alone.size() == 2);
+  REQUIRE(mixed.size() == 5);
+  CHECK(mixed[3].glyph == alone[0].glyph);
+  CHECK(mixed[4].glyph == alone[1].glyph);
+  // The sign comes first: reordered.
+  CHECK(alone[0].glyph != tx::shape(db, 0, "\u0939", 100, o)[0].glyph);
+}
+
 TEST_CASE("letter_spacing_applies and upright_in_vertical", "[text]") {
   CHECK(tx::letter_spacing_applies(U'a'));
   CHECK(tx::letter_spacing_applies(U'\u05D0'));   // Hebrew does not join

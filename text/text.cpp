@@ -650,10 +650,32 @@ std::vector<ShapedGlyph> shape(const FontDb& db, int face, std::string_view utf8
     hb_feature_t f;
     if (parse_feature(s, f)) features.push_back(f);
   }
-  if (o.bidi && !o.vertical) {
-    for (const LevelRun& r : visual_runs(utf8)) shape_run(font, utf8, r.start, r.len, r.rtl, size, o, features, out);
-  } else {
-    shape_run(font, utf8, 0, utf8.size(), o.rtl, size, o, features, out);
+  std::vector<LevelRun> runs;
+  if (o.bidi && !o.vertical) runs = visual_runs(utf8);
+  else runs.push_back({0, utf8.size(), o.rtl});
+  // Each run cut where the script changes (HarfBuzz shapes one script per
+  // buffer: "Text हिन्दी" needs Devanagari's reordering for its second word);
+  // characters of no script (spaces, punctuation, marks) go with the run
+  // they are in. A right-to-left run's pieces go in reverse order.
+  for (const LevelRun& r : runs) {
+    std::vector<LevelRun> pieces;
+    hb_script_t current = HB_SCRIPT_INVALID;
+    for (size_t i = r.start; i < r.start + r.len;) {
+      const unsigned char c = static_cast<unsigned char>(utf8[i]);
+      const int n = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 1;
+      char32_t cp = n == 1 ? c : n == 2 ? (c & 0x1f) : n == 3 ? (c & 0x0f) : (c & 0x07);
+      for (int k = 1; k < n && i + k < utf8.size(); k++) cp = (cp << 6) | (static_cast<unsigned char>(utf8[i + k]) & 0x3f);
+      const hb_script_t sc = hb_unicode_script(hb_unicode_funcs_get_default(), cp);
+      const bool neutral = sc == HB_SCRIPT_COMMON || sc == HB_SCRIPT_INHERITED || sc == HB_SCRIPT_UNKNOWN;
+      if (pieces.empty() || (!neutral && current != HB_SCRIPT_INVALID && sc != current)) {
+        pieces.push_back({i, 0, r.rtl});
+      }
+      if (!neutral) current = sc;
+      pieces.back().len = i + n - pieces.back().start;
+      i += n;
+    }
+    if (r.rtl) std::reverse(pieces.begin(), pieces.end());
+    for (const LevelRun& p : pieces) shape_run(font, utf8, p.start, p.len, p.rtl, size, o, features, out);
   }
   if (!vars.empty()) hb_font_set_variations(font, nullptr, 0);
   return out;
@@ -714,8 +736,22 @@ bool upright_in_vertical(char32_t c) {
   return false;
 }
 
+bool has_axis(const FontDb& db, int face, const char* tag) {
+  FontDb::Impl& m = db.impl();
+  std::lock_guard<std::mutex> lock(m.mu);
+  FT_Face f = m.face(face);
+  if (!f || !FT_HAS_MULTIPLE_MASTERS(f)) return false;
+  FT_MM_Var* mm = nullptr;
+  if (FT_Get_MM_Var(f, &mm) != 0) return false;
+  bool found = false;
+  for (FT_UInt a = 0; a < mm->num_axis; ++a)
+    found = found || mm->axis[a].tag == FT_MAKE_TAG(tag[0], tag[1], tag[2], tag[3]);
+  FT_Done_MM_Var(m.lib, mm);
+  return found;
+}
+
 Path glyph_outline(const FontDb& db, int face, uint32_t glyph, double size,
-                   const std::vector<std::pair<std::string, double>>& variations) {
+                   const std::vector<std::pair<std::string, double>>& variations, double embolden) {
   FontDb::Impl& m = db.impl();
   std::lock_guard<std::mutex> lock(m.mu);
   OutlineSink sink;
@@ -725,6 +761,10 @@ Path glyph_outline(const FontDb& db, int face, uint32_t glyph, double size,
   if (FT_Load_Glyph(f, glyph, FT_LOAD_NO_SCALE | FT_LOAD_NO_HINTING | FT_LOAD_NO_BITMAP) == 0 &&
       f->glyph->format == FT_GLYPH_FORMAT_OUTLINE && f->glyph->outline.n_contours > 0) {
     sink.scale = size / (f->units_per_EM ? f->units_per_EM : 1000);
+    if (embolden > 0) {
+      const FT_Pos strength = static_cast<FT_Pos>(std::lround(embolden * (f->units_per_EM ? f->units_per_EM : 1000)));
+      FT_Outline_EmboldenXY(&f->glyph->outline, strength, strength);
+    }
     FT_Outline_Funcs funcs{};
     funcs.move_to = sink_move;
     funcs.line_to = sink_line;

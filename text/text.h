@@ -111,8 +111,15 @@ std::vector<ShapedGlyph> shape(const FontDb& db, int face, std::string_view utf8
 // as cubic_to, from the unhinted, unscaled outline scaled by size / units
 // per em in double precision. Every contour is closed. Empty for blank
 // glyphs (and bitmap-only ones).
+// embolden > 0: the outline grown by that fraction of the em in width and
+// height (FT_Outline_EmboldenXY; synthetic bold uses 1/32, as Skia at large
+// sizes).
 mpvg::Path glyph_outline(const FontDb& db, int face, uint32_t glyph, double size,
-                         const std::vector<std::pair<std::string, double>>& variations = {});
+                         const std::vector<std::pair<std::string, double>>& variations = {},
+                         double embolden = 0);
+
+// Whether the face has the variation axis `tag` ("wght", "wdth", ...).
+bool has_axis(const FontDb& db, int face, const char* tag);
 
 // Whether CSS letter-spacing applies to c's script: not to the cursive
 // ones, whose letters join (Arabic, Syriac, Devanagari, ...; CSS Text 3 §8.2).

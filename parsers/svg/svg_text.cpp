@@ -675,6 +675,20 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
     span_key[k] = static_cast<int>(it - keys.begin());
     if (it == keys.end()) keys.push_back(std::move(key));
   }
+  // Synthetic bold and oblique (CSS Fonts 4 §5.5, font-synthesis auto):
+  // bold asked for (600 or more) of a face at 500 or less that has no
+  // weight axis: outlines grown by 1/32 em; italic or oblique asked for of
+  // an upright face: outlines slanted by a quarter of their height (14°).
+  std::vector<uint8_t> synth_bold(spans.size(), 0), synth_oblique(spans.size(), 0);
+  for (size_t k = 0; k < spans.size(); k++) {
+    const Inherited& inh = elems[spans[k].elem].st.inh;
+    const int face = keys[span_key[k]].face;
+    if (face < 0) continue;
+    const text::FaceInfo& info = db.faces()[face];
+    synth_bold[k] = inh.font_weight >= 600 && info.weight <= 500 && !text::has_axis(db, face, "wght");
+    synth_oblique[k] = inh.font_italic && !info.italic && !text::has_axis(db, face, "slnt") &&
+                       !text::has_axis(db, face, "ital");
+  }
   std::map<std::pair<int, double>, text::Metrics> metrics_cache;
   auto metrics = [&](int face, double size) -> const text::Metrics& {
     auto it = metrics_cache.find({face, size});
@@ -1013,8 +1027,10 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
             }
             continue;
           }
-          const Path outline = text::glyph_outline(db, g.face, g.id, inh.font_size, keys[g.key].variations);
-          if (!outline.empty()) glyph_paths[span].append(outline.transformed(at));
+          const Path outline = text::glyph_outline(db, g.face, g.id, inh.font_size, keys[g.key].variations,
+                                                   synth_bold[span] ? 1.0 / 32 : 0);
+          const Affine slant = synth_oblique[span] ? Affine{1, 0, -0.25, 1, 0, 0} : Affine{};
+          if (!outline.empty()) glyph_paths[span].append(outline.transformed(at * slant));
         }
       }
       // text-decoration (CSS Text Decoration 3): one rectangle per run of
