@@ -385,3 +385,21 @@ TEST_CASE("text: synthetic oblique and bold where the family has no such face", 
   CHECK((bold.x1 - bold.x0) - (upright.x1 - upright.x0) == Approx(20.0 / 32).margin(0.05));
   CHECK((bold.y1 - bold.y0) - (upright.y1 - upright.y0) == Approx(20.0 / 32).margin(0.05));
 }
+
+TEST_CASE("text: the font shorthand, overridden by longhands; font-size-adjust", "[svg][text]") {
+  REQUIRE_FONT();
+  const Box h20 = box_of(parse("<text x='10' y='100' font-size='40'>H</text>").scene);
+  const Box shorthand = box_of(parse("<text x='10' y='100' font='bold 40px DejaVu Sans'>H</text>").scene);
+  const Box bold = box_of(parse("<text x='10' y='100' font-size='40' font-weight='bold'>H</text>").scene);
+  CHECK(shorthand.x1 == Approx(bold.x1));
+  CHECK(shorthand.y0 == Approx(h20.y0));
+  // A plain number before the size is a weight; a longhand after wins.
+  const Box weight = box_of(parse("<text x='10' y='100' style='font: 700 40px/1.2 DejaVu Sans'>H</text>").scene);
+  CHECK(weight.x1 == Approx(bold.x1));
+  const Box longhand = box_of(parse("<text x='10' y='100' font='bold 10px DejaVu Sans' font-size='40'>H</text>").scene);
+  CHECK(longhand.x1 == Approx(bold.x1));
+  // font-size-adjust 0.5: the x-height is half the font size, whatever the
+  // face's own aspect.
+  const Box x = box_of(parse("<text x='10' y='100' font-size='40' font-size-adjust='0.5'>x</text>").scene);
+  CHECK(100 - x.y0 == Approx(20).margin(0.05));
+}

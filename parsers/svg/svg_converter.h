@@ -157,6 +157,7 @@ struct Inherited {
   // font-feature-settings items as written.
   bool vertical = false;
   bool small_caps = false;
+  double font_size_adjust = 0;  // none (0) or the x-height as a fraction of font-size
   bool kerning = true;
   std::vector<std::string> font_features;
   FillRule clip_rule = FillRule::NonZero;

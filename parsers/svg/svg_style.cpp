@@ -123,69 +123,137 @@ std::optional<std::string> parse_keyword(std::string_view s) {
   return k;
 }
 
+// font-family: a comma-separated list of names, quoted or not.
+std::optional<std::vector<std::string>> parse_font_family(std::string_view v) {
+  std::vector<std::string> out;
+  for (size_t pos = 0; pos <= v.size();) {
+    size_t end = pos;
+    std::string name;
+    const size_t lead = v.find_first_not_of(" \t\n\r", pos);
+    if (lead != std::string_view::npos && (v[lead] == '"' || v[lead] == '\'')) {
+      const size_t close = v.find(v[lead], lead + 1);
+      if (close == std::string_view::npos) return std::optional<std::vector<std::string>>();
+      name = std::string(v.substr(lead + 1, close - lead - 1));
+      end = v.find(',', close);
+    } else {
+      end = v.find(',', pos);
+      name = std::string(trim(v.substr(pos, end == std::string_view::npos ? std::string_view::npos : end - pos)));
+      // Unquoted names: runs of spaces are one.
+      std::string c;
+      for (char ch : name)
+        if (!(ch == ' ' && !c.empty() && c.back() == ' ')) c += ch;
+      name = c;
+    }
+    if (!name.empty()) out.push_back(name);
+    if (end == std::string_view::npos) break;
+    pos = end + 1;
+  }
+  return out.empty() ? std::optional<std::vector<std::string>>() : std::optional(out);
+}
+
+// font-weight: a keyword or a number 1..1000; bolder and lighter from the
+// parent's weight.
+std::optional<int> parse_font_weight(std::string_view v, int parent) {
+  const auto k = parse_keyword(v);
+  if (k == "normal") return 400;
+  if (k == "bold") return 700;
+  // CSS Fonts 4 §2.2's table for bolder and lighter.
+  if (k == "bolder") return parent < 350 ? 400 : parent < 550 ? 700 : parent < 900 ? 900 : parent;
+  if (k == "lighter") return parent < 100 ? parent : parent < 550 ? 100 : parent < 750 ? 400 : 700;
+  double n = 0;
+  const std::string t(trim(v));
+  const auto r = std::from_chars(t.data(), t.data() + t.size(), n);
+  if (r.ec == std::errc() && r.ptr == t.data() + t.size() && n >= 1 && n <= 1000) return int(std::lround(n));
+  return std::nullopt;
+}
+
+std::optional<bool> parse_font_style(std::string_view v) {
+  const auto k = parse_keyword(v);
+  if (k == "normal") return false;
+  if (k == "italic" || k == "oblique") return true;
+  return std::nullopt;
+}
+
+std::optional<int> parse_font_stretch(std::string_view v) {
+  static const char* names[] = {"ultra-condensed", "extra-condensed", "condensed", "semi-condensed", "normal",
+                                "semi-expanded",   "expanded",        "extra-expanded", "ultra-expanded"};
+  const auto k = parse_keyword(v);
+  for (int i = 0; i < 9; i++)
+    if (k == names[i]) return i + 1;
+  return std::nullopt;
+}
+
+// The font shorthand (CSS Fonts 4 §2.9): [ style || variant || weight ||
+// stretch ]? size [ / line-height ]? family; what it leaves out is reset to
+// its initial value.
+struct FontShorthand {
+  bool italic = false, small_caps = false;
+  int weight = 400, stretch = 5;
+  double size = 16;
+  std::vector<std::string> family;
+};
+
+std::optional<FontShorthand> parse_font_shorthand(std::string_view v, const Inherited& parent) {
+  FontShorthand f;
+  v = trim(v);
+  for (size_t pos = 0; pos < v.size();) {
+    const size_t b = v.find_first_not_of(" \t\n\r", pos);
+    if (b == std::string_view::npos) return std::nullopt;
+    size_t end = v.find_first_of(" \t\n\r", b);
+    if (end == std::string_view::npos) end = v.size();
+    const std::string_view word = v.substr(b, end - b);
+    const size_t slash = word.find('/');
+    // The first word that is a size ends the prefix; the family follows.
+    // A plain number is a weight (a size needs a unit there).
+    const auto plain = parse_length(word.substr(0, slash));
+    const bool number = plain && plain->unit == Unit::None && slash == std::string_view::npos;
+    if (const auto size = number ? std::nullopt : parse_font_size(word.substr(0, slash), parent.font_size)) {
+      f.size = *size;
+      size_t rest = end;
+      if (slash == std::string_view::npos) {
+        // "12px / 1.5": a line height after a lone slash.
+        const size_t n = v.find_first_not_of(" \t\n\r", end);
+        if (n != std::string_view::npos && v[n] == '/') {
+          const size_t lh = v.find_first_not_of(" \t\n\r", n + 1);
+          rest = lh == std::string_view::npos ? v.size() : v.find_first_of(" \t\n\r", lh);
+          if (rest == std::string_view::npos) rest = v.size();
+        }
+      }
+      const auto family = parse_font_family(v.substr(std::min(rest, v.size())));
+      if (!family) return std::nullopt;
+      f.family = *family;
+      return f;
+    }
+    if (iequals(word, "normal")) {
+    } else if (const auto st = parse_font_style(word); st) {
+      f.italic = *st;
+    } else if (iequals(word, "small-caps")) {
+      f.small_caps = true;
+    } else if (const auto w = parse_font_weight(word, parent.font_weight); w) {
+      f.weight = *w;
+    } else if (const auto s = parse_font_stretch(word); s) {
+      f.stretch = *s;
+    } else {
+      return std::nullopt;
+    }
+    pos = end;
+  }
+  return std::nullopt;
+}
+
 // The inherited text properties (CSS Fonts 4, CSS Text 3, SVG 2 text.html).
 void text_style(const Element& e, const Context& ctx, Inherited& inh, double diagonal) {
-  if (const auto f = property<std::vector<std::string>>(e, "font-family", [](std::string_view v) {
-        // A comma-separated list of names, quoted or not.
-        std::vector<std::string> out;
-        for (size_t pos = 0; pos <= v.size();) {
-          size_t end = pos;
-          std::string name;
-          const size_t lead = v.find_first_not_of(" \t\n\r", pos);
-          if (lead != std::string_view::npos && (v[lead] == '"' || v[lead] == '\'')) {
-            const size_t close = v.find(v[lead], lead + 1);
-            if (close == std::string_view::npos) return std::optional<std::vector<std::string>>();
-            name = std::string(v.substr(lead + 1, close - lead - 1));
-            end = v.find(',', close);
-          } else {
-            end = v.find(',', pos);
-            name = std::string(trim(v.substr(pos, end == std::string_view::npos ? std::string_view::npos : end - pos)));
-            // Unquoted names: runs of spaces are one.
-            std::string c;
-            for (char ch : name)
-              if (!(ch == ' ' && !c.empty() && c.back() == ' ')) c += ch;
-            name = c;
-          }
-          if (!name.empty()) out.push_back(name);
-          if (end == std::string_view::npos) break;
-          pos = end + 1;
-        }
-        return out.empty() ? std::optional<std::vector<std::string>>() : std::optional(out);
-      });
+  if (const auto f = property<std::vector<std::string>>(e, "font-family", parse_font_family);
       f.state == Prop<std::vector<std::string>>::Set)
     inh.font_family = f.value;
-  if (const auto w = property<int>(e, "font-weight", [&](std::string_view v) -> std::optional<int> {
-        const auto k = parse_keyword(v);
-        const int parent = ctx.inh.font_weight;
-        if (k == "normal") return 400;
-        if (k == "bold") return 700;
-        // CSS Fonts 4 §2.2's table for bolder and lighter.
-        if (k == "bolder") return parent < 350 ? 400 : parent < 550 ? 700 : parent < 900 ? 900 : parent;
-        if (k == "lighter") return parent < 100 ? parent : parent < 550 ? 100 : parent < 750 ? 400 : 700;
-        double n = 0;
-        const std::string t(trim(v));
-        const auto r = std::from_chars(t.data(), t.data() + t.size(), n);
-        if (r.ec == std::errc() && r.ptr == t.data() + t.size() && n >= 1 && n <= 1000) return int(std::lround(n));
-        return std::nullopt;
-      });
+  if (const auto w = property<int>(
+          e, "font-weight", [&](std::string_view v) { return parse_font_weight(v, ctx.inh.font_weight); });
       w.state == Prop<int>::Set)
     inh.font_weight = w.value;
-  if (const auto it = property<bool>(e, "font-style", [](std::string_view v) -> std::optional<bool> {
-        const auto k = parse_keyword(v);
-        if (k == "normal") return false;
-        if (k == "italic" || k == "oblique") return true;
-        return std::nullopt;
-      });
+  if (const auto it = property<bool>(e, "font-style", parse_font_style);
       it.state == Prop<bool>::Set)
     inh.font_italic = it.value;
-  if (const auto fs = property<int>(e, "font-stretch", [](std::string_view v) -> std::optional<int> {
-        static const char* names[] = {"ultra-condensed", "extra-condensed", "condensed", "semi-condensed", "normal",
-                                      "semi-expanded",   "expanded",        "extra-expanded", "ultra-expanded"};
-        const auto k = parse_keyword(v);
-        for (int i = 0; i < 9; i++)
-          if (k == names[i]) return i + 1;
-        return std::nullopt;
-      });
+  if (const auto fs = property<int>(e, "font-stretch", parse_font_stretch);
       fs.state == Prop<int>::Set)
     inh.font_stretch = fs.value;
   if (const auto a = property<Inherited::Anchor>(e, "text-anchor", [](std::string_view v) {
@@ -238,6 +306,15 @@ void text_style(const Element& e, const Context& ctx, Inherited& inh, double dia
     inh.kerning = fk.value;
   if (const std::string* k = e.attribute("kerning"))
     if (const auto l = parse_length(*k); l && l->value == 0) inh.kerning = false;
+  // font-size-adjust: none or a number (the aspect value).
+  if (const auto fa = property<double>(e, "font-size-adjust", [](std::string_view v) -> std::optional<double> {
+        if (parse_keyword(v) == "none") return 0.0;
+        const auto n = parse_number(trim(v));
+        if (!n || *n < 0) return std::nullopt;
+        return *n;
+      });
+      fa.state == Prop<double>::Set)
+    inh.font_size_adjust = fa.value;
   // font-feature-settings: "normal" or a comma-separated list of items.
   if (const auto ff = property<std::vector<std::string>>(
           e, "font-feature-settings", [](std::string_view v) -> std::optional<std::vector<std::string>> {
@@ -309,6 +386,18 @@ Style Converter::compute_style(const Element& e, const Context& ctx) {
   // font-size before any length: em units refer to it. Relative values
   // (em, ex, %, larger, smaller) are relative to the parent's font size.
   const double parent_em = ctx.inh.font_size;
+  // The font shorthand first; the longhands (here and in text_style)
+  // override it.
+  if (const auto f = property<FontShorthand>(
+          e, "font", [&](std::string_view v) { return parse_font_shorthand(v, ctx.inh); });
+      f.state == Prop<FontShorthand>::Set) {
+    inh.font_size = f.value.size;
+    inh.font_family = f.value.family;
+    inh.font_weight = f.value.weight;
+    inh.font_italic = f.value.italic;
+    inh.font_stretch = f.value.stretch;
+    inh.small_caps = f.value.small_caps;
+  }
   const auto font_size = property<double>(
       e, "font-size", [&](std::string_view v) -> std::optional<double> { return parse_font_size(v, parent_em); });
   if (font_size.state == Prop<double>::Set) inh.font_size = font_size.value;

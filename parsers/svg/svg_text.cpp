@@ -695,7 +695,20 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
     if (it == metrics_cache.end()) it = metrics_cache.emplace(std::pair(face, size), text::metrics(db, face, size)).first;
     return it->second;
   };
-  auto span_size = [&](int span) { return elems[spans[span].elem].st.inh.font_size; };
+  // The size the span's glyphs are drawn at: font-size, or with
+  // font-size-adjust (CSS Fonts 5 §2.6) the size that gives the first
+  // face's x-height that fraction of font-size.
+  std::vector<double> used_size(spans.size());
+  for (size_t k = 0; k < spans.size(); k++) {
+    const Inherited& inh = elems[spans[k].elem].st.inh;
+    used_size[k] = inh.font_size;
+    const int face = keys[span_key[k]].face;
+    if (inh.font_size_adjust > 0 && face >= 0) {
+      const text::Metrics m = text::metrics(db, face, 1.0);
+      if (m.x_height > 0) used_size[k] = inh.font_size * inh.font_size_adjust / m.x_height;
+    }
+  }
+  auto span_size = [&](int span) { return used_size[span]; };
   // The span's baseline (y down from the line's alphabetic baseline):
   // baseline-shift of its element and its ancestors up to the text (a
   // length, a percentage of that element's font size, sub or super from the
@@ -1008,7 +1021,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
         for (const PlacedGlyph& g : cl.glyphs) {
           const Affine at = ts * Affine::translate(g.at.x, g.at.y);
           if (db_has_bitmaps(g.face)) {
-            const text::GlyphBitmap bm = text::glyph_bitmap(db, g.face, g.id, inh.font_size);
+            const text::GlyphBitmap bm = text::glyph_bitmap(db, g.face, g.id, span_size(span));
             if (bm.image) {
               const Affine texel = at * Affine::translate(bm.x, bm.y) * Affine::scale(bm.scale, bm.scale);
               Path rect = Path::rectangle(0, 0, bm.image->width, bm.image->height).transformed(texel);
@@ -1022,12 +1035,12 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
           if (!layers->second.empty()) {
             // A colour glyph (COLR): its layers one above the other.
             for (const text::ColorLayer& l : layers->second) {
-              const Path outline = text::glyph_outline(db, g.face, l.glyph, inh.font_size, keys[g.key].variations);
+              const Path outline = text::glyph_outline(db, g.face, l.glyph, span_size(span), keys[g.key].variations);
               if (!outline.empty()) color_paths[span].push_back({outline.transformed(at), l});
             }
             continue;
           }
-          const Path outline = text::glyph_outline(db, g.face, g.id, inh.font_size, keys[g.key].variations,
+          const Path outline = text::glyph_outline(db, g.face, g.id, span_size(span), keys[g.key].variations,
                                                    synth_bold[span] ? 1.0 / 32 : 0);
           const Affine slant = synth_oblique[span] ? Affine{1, 0, -0.25, 1, 0, 0} : Affine{};
           if (!outline.empty()) glyph_paths[span].append(outline.transformed(at * slant));
@@ -1040,7 +1053,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
       int lines = 0;
       for (const Element* a = elems[spans[span].elem].e; a; a = a->parent) lines |= decoration_of(*a);
       if (!lines) continue;
-      const text::Metrics& m = metrics(face, inh.font_size);
+      const text::Metrics& m = metrics(face, span_size(span));
       const double thickness = m.underline_thickness;
       for (int line : {Under, Over, Through}) {
         if (!(lines & line)) continue;
