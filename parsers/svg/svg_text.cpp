@@ -710,7 +710,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
   }
   auto span_size = [&](int span) { return used_size[span]; };
   // The span's baseline (y down from the line's alphabetic baseline):
-  // baseline-shift of its element and its ancestors up to the text (a
+  // baseline-shift of its element and its ancestors below the text (a
   // length, a percentage of that element's font size, sub or super from the
   // span's font), then, in horizontal text, alignment-baseline (the
   // element's or its parent's) or else dominant-baseline.
@@ -719,7 +719,9 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
     const int face = keys[span_key[span]].face;
     const text::Metrics& m = metrics(face, span_size(span));
     double up = 0;
-    for (int k = sp.elem; k >= 0; k = elems[k].parent) {
+    // The text element's own baseline-shift moves nothing (as in resvg
+    // and Chrome: the property applies to inline boxes inside the text).
+    for (int k = sp.elem; k > 0; k = elems[k].parent) {
       // "inherit" takes the parent's specified value.
       const Element* at = elems[k].e;
       const double em = elems[k].st.inh.font_size;
