@@ -746,8 +746,12 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
     if (!vertical) {
       std::optional<int> align;
       for (int k = sp.elem, n = 0; k >= 0 && n < 2 && !align; k = elems[k].parent, n++) {
-        const auto ab = property<int>(*elems[k].e, "alignment-baseline", parse_alignment_baseline);
-        if (ab.state == Prop<int>::Set) align = ab.value;
+        // "inherit" takes the DOM parent's value (the text's parent too).
+        for (const Element* at = elems[k].e; at; at = at->parent) {
+          const auto ab = property<int>(*at, "alignment-baseline", parse_alignment_baseline);
+          if (ab.state == Prop<int>::Set) align = ab.value;
+          if (ab.state != Prop<int>::Inherit) break;
+        }
       }
       const Baseline b =
           align && *align >= 0 ? static_cast<Baseline>(*align) : elems[sp.elem].st.inh.dominant_baseline;
