@@ -1,5 +1,7 @@
 #include "parsers/svg/svg_dom.h"
 
+#include "parsers/svg/svg_css.h"
+
 #include <tinyxml2.h>
 
 #include <algorithm>
@@ -85,6 +87,8 @@ class TreeBuilder {
       for (const tinyxml2::XMLNode* c = x->FirstChild(); c; c = c->NextSibling()) {
         if (const tinyxml2::XMLElement* ce = c->ToElement()) {
           if (auto child = build(ce, e.get())) e->children.push_back(std::move(child));
+        } else if (const tinyxml2::XMLText* t = c->ToText(); t && e->name == "style") {
+          e->text += unmark_white_space(t->Value());  // CSS text, CDATA sections included
         } else if (const tinyxml2::XMLText* t = c->ToText(); t && text_content) {
           auto node = std::make_unique<Element>();
           node->name = "#text";
@@ -122,6 +126,7 @@ class TreeBuilder {
       }
       if (name == "style") {
         e.declarations = parse_style_attribute(a->Value());
+        e.style_attribute = a->Value();
         continue;
       }
       if (name == "id" && a->Value()[0] != '\0') doc_.ids.emplace(a->Value(), &e);
@@ -330,6 +335,7 @@ Document parse_document(std::string_view raw) {
   Document doc;
   TreeBuilder builder(doc);
   doc.root = builder.build(root, nullptr);
+  apply_style_sheets(doc);
   if (!doc.root || doc.root->name != "svg") {
     const auto [prefix, local] = split_qname(root->Name());
     if (local == "svg") {

@@ -21,10 +21,13 @@ struct Element {
   // Declarations of the style attribute in document order: lower-case
   // property names, trimmed values, "!important" removed.
   std::vector<std::pair<std::string, std::string>> declarations;
+  // The style attribute as written (svg_css.cpp re-cascades it with the
+  // style sheets' rules).
+  std::string style_attribute;
   const Element* parent = nullptr;
   std::vector<std::unique_ptr<Element>> children;
   // Character data, for the children named "#text" that text content
-  // elements (text and what it holds) keep.
+  // elements (text and what it holds) keep, and a <style> element's sheet.
   std::string text;
 
   const std::string* attribute(std::string_view name) const;

@@ -35,8 +35,7 @@ Kind classify(const Element& e) {
 #if MPVG_HAVE_TEXT
   if (n == "text") return Kind::Text;
 #endif
-  if (n == "text" || n == "switch" || n == "foreignObject" || n == "style")
-    return Kind::Unsupported;
+  if (n == "text" || n == "switch" || n == "foreignObject") return Kind::Unsupported;
   // defs, clipPath, symbol, gradients, patterns, masks, filters, markers,
   // metadata, animation...: never rendered directly.
   return Kind::Ignored;
@@ -318,9 +317,7 @@ void Converter::render(const Element& e, const Context& ctx, int depth) {
   const Kind kind = classify(e);
   if (kind == Kind::Ignored) return;
   if (kind == Kind::Unsupported) {
-    if (e.name == "style")
-      warn("<style> sheets are not supported: ignored");
-    else if (e.name == "svg")
+    if (e.name == "svg")
       warn("nested <svg> elements are not supported: ignored");
     else
       warn("<" + e.name + "> elements are not supported: ignored");

@@ -1,0 +1,40 @@
+// CSS style sheets for SVG (SVG 2 styling.html, CSS Cascade 4, Selectors 4):
+// the rules of <style> elements parsed into selectors and declarations, and
+// applied to the element tree as each element's cascaded declarations.
+//
+// Selectors: type, universal, #id, .class, attribute ([a], =, ~=, |=, ^=,
+// $=, *=), the structural pseudo-classes :first-child, :last-child,
+// :only-child, :nth-child(), :nth-last-child(), :first-of-type,
+// :last-of-type, :root, :not() of a compound; descendant, child (>), next
+// sibling (+) and subsequent sibling (~) combinators. A selector with
+// anything else (an unknown pseudo-class, a pseudo-element) matches
+// nothing; @-rules are skipped (@media, @font-face, @import: no file or
+// network is read).
+//
+// Internal to the SVG frontend.
+#pragma once
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "parsers/svg/svg_dom.h"
+
+namespace mpvg::svg::detail {
+
+// Applies every style sheet of the document (the text of its <style>
+// elements whose type is absent or text/css) to each element: its
+// declarations become, in increasing precedence, the matching rules'
+// normal declarations (by specificity, then document order), its style
+// attribute's normal ones, the rules' !important ones, the style
+// attribute's !important ones. Presentation attributes stay below all of
+// them (Element::declarations is read first).
+void apply_style_sheets(Document& doc);
+
+// One declaration block's declarations with their !important flag.
+struct CssDeclaration {
+  std::string name, value;
+  bool important = false;
+};
+std::vector<CssDeclaration> parse_declarations(std::string_view block);
+
+}  // namespace mpvg::svg::detail
