@@ -413,6 +413,9 @@ class Converter {
   enum class Axis { X, Y, Diagonal };
 
   double percent_base(Axis axis) const;
+  // transform-origin of e (user units), and a transform moved to it.
+  std::optional<Vec2> transform_origin(const Element& e, double em) const;
+  Affine with_origin(const Element& e, const Affine& t, double em) const;
   double to_user(const Length& l, Axis axis, double em) const;
   // A length attribute of a paint server (`def` when absent or invalid):
   // with objectBoundingBox units (obb) a percentage is a fraction of the

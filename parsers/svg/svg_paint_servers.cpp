@@ -314,6 +314,7 @@ Converter::ServerPaint Converter::gradient_paint(const Element& g, ShapeBox& bbo
 
   Affine gt;
   if (const std::string* a = attr("gradientTransform", false)) gt = parse_transform(*a).value_or(Affine{});
+  gt = with_origin(g, gt, em);
   gr.xf = space * units * gt;
   // A degenerate transform: the gradient covers no area.
   if (!gr.xf.invertible()) {
@@ -370,6 +371,7 @@ Converter::ServerPaint Converter::pattern_paint(const Element& p, ShapeBox& bbox
 
   Affine pt;
   if (const std::string* a = attr("patternTransform")) pt = parse_transform(*a).value_or(Affine{});
+  pt = with_origin(p, pt, em);
   // The tile's own units: its top left corner at (x, y) of the pattern
   // space, which patternTransform maps to the user space.
   const Affine xf = space * pt * Affine::translate(x, y);

@@ -460,9 +460,54 @@ Style Converter::compute_style(const Element& e, const Context& ctx) {
   // transform is a presentation attribute in SVG 2 (CSS Transforms 1); an unparsable
   // value is ignored like any invalid declaration.
   const auto xf = property<Affine>(e, "transform", parse_transform);
-  if (xf.state == Prop<Affine>::Set) st.transform = xf.value;
+  if (xf.state == Prop<Affine>::Set) st.transform = with_origin(e, xf.value, inh.font_size);
   st.transform_invalid = xf.state == Prop<Affine>::Unset && (e.attribute("transform") != nullptr);
   return st;
+}
+
+// transform-origin (CSS Transforms 1 §6; not inherited): one or two of
+// left | center | right | top | bottom | <length-percentage>, the first
+// horizontal unless it is top or bottom; a missing one is center.
+// Percentages and keywords are of the viewport (transform-box view-box,
+// SVG's default).
+std::optional<Vec2> Converter::transform_origin(const Element& e, double em) const {
+  const auto o = property<std::pair<std::string, std::string>>(
+      e, "transform-origin", [](std::string_view v) -> std::optional<std::pair<std::string, std::string>> {
+        std::vector<std::string> words;
+        for (size_t pos = 0; pos < v.size();) {
+          const size_t b = v.find_first_not_of(" \t\n\r,", pos);
+          if (b == std::string_view::npos) break;
+          size_t end = v.find_first_of(" \t\n\r,", b);
+          if (end == std::string_view::npos) end = v.size();
+          words.emplace_back(v.substr(b, end - b));
+          pos = end;
+        }
+        if (words.empty() || words.size() > 3) return std::nullopt;
+        if (words.size() == 1) words.push_back("center");
+        // "top left": vertical keyword first.
+        if (words[0] == "top" || words[0] == "bottom" || words[1] == "left" || words[1] == "right")
+          std::swap(words[0], words[1]);
+        return std::pair(words[0], words[1]);
+      });
+  if (o.state != Prop<std::pair<std::string, std::string>>::Set) return std::nullopt;
+  auto resolve = [&](const std::string& w, Axis axis) -> std::optional<double> {
+    const double base = percent_base(axis);
+    if (w == "center") return base / 2;
+    if (w == (axis == Axis::X ? "left" : "top")) return 0.0;
+    if (w == (axis == Axis::X ? "right" : "bottom")) return base;
+    const auto l = parse_length(w);
+    if (!l) return std::nullopt;
+    return to_user(*l, axis, em);
+  };
+  const auto x = resolve(o.value.first, Axis::X), y = resolve(o.value.second, Axis::Y);
+  if (!x || !y) return std::nullopt;
+  return Vec2{*x, *y};
+}
+
+Affine Converter::with_origin(const Element& e, const Affine& t, double em) const {
+  const auto o = transform_origin(e, em);
+  if (!o) return t;
+  return Affine::translate(o->x, o->y) * t * Affine::translate(-o->x, -o->y);
 }
 
 // The stroke properties of `e` (SVG 2 painting.html#StrokeProperties),

@@ -372,7 +372,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
         }
         Affine xf;
         if (const std::string* t = target->attribute("transform"))
-          if (const auto m = parse_transform(*t)) xf = *m;
+          if (const auto m = parse_transform(*t)) xf = with_origin(*target, *m, st.inh.font_size);
         const double scale = std::sqrt(std::hypot(space.a, space.b) * std::hypot(space.c, space.d));
         PathMeasure measure(shape->transformed(xf), 0.5 / std::max(scale, 1.0));
         if (measure.empty()) continue;

@@ -1,0 +1,32 @@
+// SVG structure (issue 14): each case's scene dump equals the dump of an
+// equivalent document written without the feature, by hand.
+#include <string>
+
+#include "parsers/svg/svg_parser.h"
+#include "tests/catch.h"
+#include "tests/svg_test_util.h"
+
+namespace {
+
+std::string dump_of(const std::string& body, const std::string& root = "viewBox='0 0 200 200'") {
+  return mpvg::dump(mpvg::svg::parse_svg_string(svg_test::document(body, root)).scene);
+}
+
+}  // namespace
+
+TEST_CASE("transform-origin: keywords, lengths, percentages of the viewport", "[svg][structure]") {
+  const std::string r = "<rect x='80' y='80' width='40' height='40' ";
+  CHECK(dump_of(r + "transform='rotate(45)' transform-origin='bottom'/>") ==
+        dump_of(r + "transform='translate(100 200) rotate(45) translate(-100 -200)'/>"));
+  CHECK(dump_of(r + "transform='rotate(45)' transform-origin='top left'/>") == dump_of(r + "transform='rotate(45)'/>"));
+  CHECK(dump_of(r + "transform='scale(2)' transform-origin='10 25%'/>") ==
+        dump_of(r + "transform='translate(10 50) scale(2) translate(-10 -50)'/>"));
+  CHECK(dump_of(r + "style='transform-origin: right' transform='rotate(10)'/>") ==
+        dump_of(r + "transform='translate(200 100) rotate(10) translate(-200 -100)'/>"));
+  // On a gradient's gradientTransform, in its own units.
+  const std::string stops = "<stop offset='0' stop-color='red'/><stop offset='1' stop-color='blue'/>";
+  CHECK(dump_of("<linearGradient id='g' gradientTransform='scale(2)' transform-origin='0.5 0.5'>" + stops +
+                "</linearGradient>" + r + "fill='url(#g)'/>") ==
+        dump_of("<linearGradient id='g' gradientTransform='translate(0.5 0.5) scale(2) translate(-0.5 -0.5)'>" +
+                stops + "</linearGradient>" + r + "fill='url(#g)'/>"));
+}
