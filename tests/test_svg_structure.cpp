@@ -30,3 +30,21 @@ TEST_CASE("transform-origin: keywords, lengths, percentages of the viewport", "[
         dump_of("<linearGradient id='g' gradientTransform='translate(0.5 0.5) scale(2) translate(-0.5 -0.5)'>" +
                 stops + "</linearGradient>" + r + "fill='url(#g)'/>"));
 }
+
+TEST_CASE("switch and conditional processing", "[svg][structure]") {
+  const std::string green = "<rect width='10' height='10' fill='green'/>";
+  // The first child whose conditions hold, and only it.
+  CHECK(dump_of("<switch><rect width='10' height='10' fill='red' requiredExtensions='http://example.org/x'/>" + green +
+                "<rect width='10' height='10' fill='red'/></switch>") == dump_of(green));
+  CHECK(dump_of("<switch><rect width='10' height='10' fill='red' systemLanguage='ru-RU'/>" + green + "</switch>") ==
+        dump_of(green));
+  CHECK(dump_of("<switch><unknown/><rect width='10' height='10' fill='green' systemLanguage='fr, en-US'/>"
+                "<rect width='10' height='10' fill='red'/></switch>") ==
+        dump_of(green));
+  // display="none" on the chosen child: nothing shows.
+  CHECK(dump_of("<switch><rect width='10' height='10' fill='red' display='none'/>" + green + "</switch>") ==
+        dump_of(""));
+  // Outside a switch, a failing condition removes the element.
+  CHECK(dump_of(green + "<rect width='10' height='10' fill='red' systemLanguage='ru'/>") == dump_of(green));
+  CHECK(dump_of("<rect width='10' height='10' fill='green' systemLanguage='en'/>") == dump_of(green));
+}

@@ -439,6 +439,7 @@ class Converter {
   };
   bool place(const Element& e, Kind kind, const Context& ctx, Placed& out);
   void render(const Element& e, const Context& ctx, int depth);
+  bool conditions_pass(const Element& e) const;
   void shape_paint(const Element& e, const Style& st, const Affine& space);
   // shapes_[shape] filled (unless !fillable) and stroked with st, in
   // paint-order.

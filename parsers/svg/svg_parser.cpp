@@ -25,7 +25,7 @@ bool same(const Affine& l, const Affine& r) {
 Kind classify(const Element& e) {
   const std::string& n = e.name;
   // `a` is a container as far as rendering goes (SVG 2 linking.html#AElement).
-  if (n == "g" || n == "a") return Kind::Container;
+  if (n == "g" || n == "a" || n == "switch") return Kind::Container;
   if (n == "svg") return e.parent ? Kind::Unsupported : Kind::Container;
   if (n == "path" || n == "rect" || n == "circle" || n == "ellipse" || n == "line" || n == "polyline" ||
       n == "polygon")
@@ -35,7 +35,7 @@ Kind classify(const Element& e) {
 #if MPVG_HAVE_TEXT
   if (n == "text") return Kind::Text;
 #endif
-  if (n == "text" || n == "switch" || n == "foreignObject") return Kind::Unsupported;
+  if (n == "text" || n == "foreignObject") return Kind::Unsupported;
   // defs, clipPath, symbol, gradients, patterns, masks, filters, markers,
   // metadata, animation...: never rendered directly.
   return Kind::Ignored;
@@ -312,10 +312,38 @@ bool Converter::place(const Element& e, Kind kind, const Context& ctx, Placed& o
   return out.clip.state != ClipRef::Invalid;
 }
 
+// Conditional processing (SVG 2 struct.html#ConditionalProcessing):
+// requiredExtensions names no extension mpvg has (any value fails, an
+// empty one too); requiredFeatures is obsolete and holds; systemLanguage
+// holds when one of its comma-separated tags matches one of the user's
+// languages (equal, or one a prefix of the other at a '-').
+bool Converter::conditions_pass(const Element& e) const {
+  if (e.attribute("requiredExtensions")) return false;
+  const std::string* langs = e.attribute("systemLanguage");
+  if (!langs) return true;
+  auto lower = [](std::string_view v) {
+    std::string out(trim(v));
+    for (char& c : out) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return out;
+  };
+  for (size_t pos = 0; pos <= langs->size();) {
+    size_t end = langs->find(',', pos);
+    if (end == std::string::npos) end = langs->size();
+    const std::string tag = lower(std::string_view(*langs).substr(pos, end - pos));
+    for (const std::string& user : s_.options.languages) {
+      const std::string u = lower(user);
+      if (tag.empty() || u.empty()) continue;
+      if (tag == u || tag.rfind(u + "-", 0) == 0 || u.rfind(tag + "-", 0) == 0) return true;
+    }
+    pos = end + 1;
+  }
+  return false;
+}
+
 // Converts a rendered element (and its subtree) in painter's order.
 void Converter::render(const Element& e, const Context& ctx, int depth) {
   const Kind kind = classify(e);
-  if (kind == Kind::Ignored) return;
+  if (kind == Kind::Ignored || !conditions_pass(e)) return;
   if (kind == Kind::Unsupported) {
     if (e.name == "svg")
       warn("nested <svg> elements are not supported: ignored");
@@ -333,6 +361,18 @@ void Converter::render(const Element& e, const Context& ctx, int depth) {
   s_.active.push_back(&e);
   switch (kind) {
     case Kind::Container:
+      if (e.name == "switch") {
+        // SVG 2 struct.html#SwitchElement: the first direct child that is
+        // a graphics or container element and whose conditions hold (its
+        // display does not count); nothing else.
+        for (const auto& c : e.children) {
+          const Kind k = classify(*c);
+          if (k == Kind::Ignored || !conditions_pass(*c)) continue;
+          render(*c, inner, depth + 1);
+          break;
+        }
+        break;
+      }
       for (const auto& c : e.children) render(*c, inner, depth + 1);
       break;
     case Kind::Use: render(*target, inner, depth + 1); break;

@@ -85,6 +85,10 @@ struct ParseOptions {
   std::vector<std::string> font_dirs;
   bool system_fonts = true;
 
+  // The user's languages for systemLanguage (conditional processing), as
+  // BCP 47 tags; "en" matches "en" and "en-US" (and "en-US" matches "en").
+  std::vector<std::string> languages{"en"};
+
   // Threads converting strokes (0: every core). Batches that parse files
   // on every core already pass 1.
   int threads = 0;

@@ -342,7 +342,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
         sp.end = static_cast<int>(chars.size());
         if (sp.end > sp.first) spans.push_back(sp);
       } else if (c->name == "tspan" || c->name == "a" || (c->name == "tref" && depth < 2)) {
-        if (depth > 64) continue;
+        if (depth > 64 || !conditions_pass(*c)) continue;
         const Style cs = compute_style(*c, inner);
         if (cs.display_none) continue;
         collect(*c, cs, index, depth + 1);
