@@ -562,7 +562,7 @@ TEST_CASE("svg structure: defs, namespaces, unknown elements", "[svg][structure]
       R"~(<s:defs><s:rect width="9" height="9"/></s:defs>)~"
       R"~(<s:rect width="1" height="1"/><rect width="2" height="2"/>)~"
       R"~(<x:g xmlns:x="urn:other"><s:rect width="3" height="3"/></x:g>)~"
-      R"~(<g xmlns="http://www.w3.org/2000/svg"><rect width="4" height="4"/><switch/><switch/></g>)~"
+      R"~(<g xmlns="http://www.w3.org/2000/svg"><rect width="4" height="4"/><foreignObject/><foreignObject/></g>)~"
       R"~(<s:a><s:circle r="1"/></s:a></s:svg>)~");
   CHECK(mpvg::dump(r.scene) == R"~(scene 10 10
 path 0 fill nonzero rgba(0,0,0,1) opacity 1
@@ -573,7 +573,7 @@ path 2 fill nonzero rgba(0,0,0,1) opacity 1
   M 0 0 L 1 0 L 1 1 L 0 1 L 0 0 Z
 stream F0 F1 F2
 )~");
-  CHECK(r.warnings == std::vector<std::string>{"<switch> elements are not supported: ignored"});
+  CHECK(r.warnings == std::vector<std::string>{"<foreignObject> elements are not supported: ignored"});
   // Without any namespace declaration the document is still taken as SVG.
   CHECK(mpvg::dump(
             mpvg::svg::parse_svg_string(R"~(<svg width="5" height="5"><rect width="1" height="1"/></svg>)~")

@@ -117,7 +117,7 @@ int main(int argc, char** argv) {
 
     // Unsupported content is reported.
     const mpvg::SvgDocument text = mpvg::SvgDocument::from_data(
-        "<svg xmlns='http://www.w3.org/2000/svg' width='8' height='8'><switch/></svg>");
+        "<svg xmlns='http://www.w3.org/2000/svg' width='8' height='8'><foreignObject/></svg>");
     check(!text.warnings().empty(), "an unsupported element is reported as a warning");
 
     // Errors are mpvg::Error with a message.
