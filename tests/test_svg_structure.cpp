@@ -48,3 +48,24 @@ TEST_CASE("switch and conditional processing", "[svg][structure]") {
   CHECK(dump_of(green + "<rect width='10' height='10' fill='red' systemLanguage='ru'/>") == dump_of(green));
   CHECK(dump_of("<rect width='10' height='10' fill='green' systemLanguage='en'/>") == dump_of(green));
 }
+
+TEST_CASE("nested svg and symbol: viewports", "[svg][structure]") {
+  const std::string r = "<rect width='10' height='10'/>";
+  // viewBox 0 0 10 10 into 50 x 100 at (10, 20), meet: scale 5, centred
+  // vertically (25 units down); overflow visible: no clip.
+  CHECK(dump_of("<svg x='10' y='20' width='50' height='100' viewBox='0 0 10 10' overflow='visible'>" + r + "</svg>") ==
+        dump_of("<g transform='translate(10 20) translate(0 25) scale(5)'>" + r + "</g>"));
+  // A symbol drawn by use, the use's size over the symbol's.
+  CHECK(dump_of("<defs><symbol id='s' viewBox='0 0 10 10' width='1' height='1' overflow='visible'>" + r +
+                "</symbol></defs><use href='#s' x='5' width='20' height='20'/>") ==
+        dump_of("<g transform='translate(5 0) scale(2)'>" + r + "</g>"));
+  // Percentages inside resolve against the nested viewport (its viewBox).
+  CHECK(dump_of("<svg width='100' height='100' viewBox='0 0 50 50' overflow='visible'>"
+                "<rect width='50%' height='100%'/></svg>") ==
+        dump_of("<g transform='scale(2)'><rect width='25' height='50'/></g>"));
+  // The default overflow clips: the dump differs from the unclipped one by
+  // a clip group, and a zero size draws nothing.
+  const std::string clipped = dump_of("<svg width='50' height='50'>" + r + "</svg>");
+  CHECK(clipped != dump_of("<svg width='50' height='50' overflow='visible'>" + r + "</svg>"));
+  CHECK(dump_of("<svg width='0' height='50'>" + r + "</svg>") == dump_of(""));
+}

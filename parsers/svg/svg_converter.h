@@ -440,6 +440,8 @@ class Converter {
   bool place(const Element& e, Kind kind, const Context& ctx, Placed& out);
   void render(const Element& e, const Context& ctx, int depth);
   bool conditions_pass(const Element& e) const;
+  // A nested svg, or a symbol or svg drawn by `use` (svg_viewports.cpp).
+  void render_viewport(const Element& e, const Context& ctx, int depth, const Element* use);
   void shape_paint(const Element& e, const Style& st, const Affine& space);
   // shapes_[shape] filled (unless !fillable) and stroked with st, in
   // paint-order.

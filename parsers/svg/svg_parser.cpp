@@ -26,7 +26,7 @@ Kind classify(const Element& e) {
   const std::string& n = e.name;
   // `a` is a container as far as rendering goes (SVG 2 linking.html#AElement).
   if (n == "g" || n == "a" || n == "switch") return Kind::Container;
-  if (n == "svg") return e.parent ? Kind::Unsupported : Kind::Container;
+  if (n == "svg") return Kind::Container;
   if (n == "path" || n == "rect" || n == "circle" || n == "ellipse" || n == "line" || n == "polyline" ||
       n == "polygon")
     return Kind::Shape;
@@ -176,10 +176,6 @@ const Element* Converter::use_target(const Element& use) {
       warn("recursive use reference ignored");
       return nullptr;
     }
-  }
-  if (t->name == "symbol" || t->name == "svg") {
-    warn("use of <" + t->name + "> is not supported: ignored");
-    return nullptr;
   }
   return t;
 }
@@ -345,10 +341,11 @@ void Converter::render(const Element& e, const Context& ctx, int depth) {
   const Kind kind = classify(e);
   if (kind == Kind::Ignored || !conditions_pass(e)) return;
   if (kind == Kind::Unsupported) {
-    if (e.name == "svg")
-      warn("nested <svg> elements are not supported: ignored");
-    else
-      warn("<" + e.name + "> elements are not supported: ignored");
+    warn("<" + e.name + "> elements are not supported: ignored");
+    return;
+  }
+  if (e.name == "svg" && e.parent) {
+    render_viewport(e, ctx, depth, nullptr);
     return;
   }
   if (!enter(depth)) return;
@@ -375,7 +372,10 @@ void Converter::render(const Element& e, const Context& ctx, int depth) {
       }
       for (const auto& c : e.children) render(*c, inner, depth + 1);
       break;
-    case Kind::Use: render(*target, inner, depth + 1); break;
+    case Kind::Use:
+      if (target->name == "symbol" || target->name == "svg") render_viewport(*target, inner, depth + 1, &e);
+      else render(*target, inner, depth + 1);
+      break;
     case Kind::Image: image(e, st, space); break;
 #if MPVG_HAVE_TEXT
     case Kind::Text: text(e, st, space); break;
@@ -512,6 +512,10 @@ void Converter::clip_child(const Element& e, const Context& ctx, int depth) {
     return;
   }
   if (e.name == "line") return;  // no area
+  if (e.name == "svg" && e.parent) {
+    render_viewport(e, ctx, depth, nullptr);
+    return;
+  }
   if (!enter(depth)) return;
   Placed pl;
   if (!place(e, kind, ctx, pl)) return;

@@ -1,0 +1,69 @@
+// Nested viewports (SVG 2 coords.html#EstablishingANewSVGViewport): an svg
+// element inside another, and a symbol (or svg) drawn by a use. The
+// viewport is x, y, width, height in the parent's user space (a use's own
+// width and height win over its target's); the content's user space maps
+// the viewBox into it (preserveAspectRatio); overflow hidden or scroll
+// (the default of both elements) clips the content to the viewport, with
+// a clip group around it. Percentages inside resolve against the new
+// viewport (its viewBox when it has one).
+#include "parsers/svg/svg_converter.h"
+#include "parsers/svg/svg_values.h"
+
+namespace mpvg::svg::detail {
+
+void Converter::render_viewport(const Element& e, const Context& ctx, int depth, const Element* use) {
+  if (!enter(depth)) return;
+  Placed pl;
+  if (!place(e, Kind::Container, ctx, pl)) return;
+  const auto& [st, space, target, clip] = pl;
+  (void)target;
+  const double em = st.inh.font_size;
+
+  // The viewport, against the parent's viewport.
+  auto size = [&](const char* name, Axis axis) -> double {
+    if (use)
+      if (const auto v = auto_length(*use, name, axis, st.inh.font_size)) return *v;
+    const auto v = auto_length(e, name, axis, em);
+    return v ? *v : percent_base(axis);  // auto: 100%
+  };
+  const double x = e.name == "svg" || e.name == "symbol" ? length(e, "x", Axis::X, 0, em) : 0;
+  const double y = e.name == "svg" || e.name == "symbol" ? length(e, "y", Axis::Y, 0, em) : 0;
+  const double w = size("width", Axis::X), h = size("height", Axis::Y);
+  // A zero or negative size disables rendering.
+  if (!(w > 0 && h > 0)) return;
+  std::optional<ViewBox> vb;
+  if (const std::string* a = e.attribute("viewBox")) vb = parse_view_box(*a);
+  if (vb && !(vb->w > 0 && vb->h > 0)) return;
+  AspectRatio ar;
+  if (const std::string* a = e.attribute("preserveAspectRatio")) ar = parse_aspect_ratio(*a).value_or(ar);
+  const Affine content = space * Affine::translate(x, y) * (vb ? view_box_transform(*vb, ar, w, h) : Affine{});
+  if (!content.invertible()) return;
+
+  const auto overflow = property<std::string>(e, "overflow", [](std::string_view v) { return parse_keyword(v); });
+  const bool clipped = !(overflow.state == Prop<std::string>::Set && (overflow.value == "visible" || overflow.value == "auto"));
+
+  const size_t start = ops_.size();
+  if (clipped) {
+    ops_.push_back(Op::of(OpKind::Push));
+    Op c = Op::of(OpKind::Clip);
+    c.shape = rect_shape({x, y, w, h});
+    c.xf = space;
+    ops_.push_back(c);
+    ops_.push_back(Op::of(OpKind::Activate));
+  }
+  const double saved_w = s_.percent_w, saved_h = s_.percent_h;
+  s_.percent_w = vb ? vb->w : w;
+  s_.percent_h = vb ? vb->h : h;
+  const Context inner = child_context(st, content, false);
+  s_.active.push_back(&e);
+  for (const auto& c : e.children) render(*c, inner, depth + 1);
+  s_.active.pop_back();
+  s_.percent_w = saved_w;
+  s_.percent_h = saved_h;
+  if (clipped) ops_.push_back(Op::of(OpKind::Pop));
+
+  if (!group_content(e, start, st, space, depth)) return;
+  if (clip.state == ClipRef::Valid) clip_content(start, *clip.element, space, depth);
+}
+
+}  // namespace mpvg::svg::detail
