@@ -69,3 +69,36 @@ TEST_CASE("nested svg and symbol: viewports", "[svg][structure]") {
   CHECK(clipped != dump_of("<svg width='50' height='50' overflow='visible'>" + r + "</svg>"));
   CHECK(dump_of("<svg width='0' height='50'>" + r + "</svg>") == dump_of(""));
 }
+
+TEST_CASE("markers: placement, orient, units, paint order", "[svg][structure]") {
+  const std::string marker =
+      "<marker id='m' markerUnits='userSpaceOnUse' markerWidth='10' markerHeight='10' refX='1' refY='2' "
+      "orient='auto' overflow='visible'><rect width='4' height='2' fill='blue'/></marker>";
+  const std::string line = "<path d='M 10 10 L 10 50 L 50 50' stroke='black' ";
+  // Start marker at (10, 10), turned to the first segment (down: 90°),
+  // refX/refY on the vertex.
+  CHECK(dump_of(marker + line + "marker-start='url(#m)'/>") ==
+        dump_of(line + "/><rect width='4' height='2' fill='blue' "
+                       "transform='translate(10 10) rotate(90) translate(-1 -2)'/>"));
+  // Mid marker at (10, 50): the bisector of down and right, 45°; end
+  // marker at (50, 50) along the last segment, 0°.
+  CHECK(dump_of(marker + line + "marker-mid='url(#m)' marker-end='url(#m)'/>") ==
+        dump_of(line + "/><rect width='4' height='2' fill='blue' "
+                       "transform='translate(10 50) rotate(45) translate(-1 -2)'/>"
+                       "<rect width='4' height='2' fill='blue' transform='translate(50 50) translate(-1 -2)'/>"));
+  // markerUnits strokeWidth scales by the stroke width; orient an angle.
+  const std::string scaled =
+      "<marker id='s' markerWidth='10' markerHeight='10' orient='30deg' overflow='visible'>"
+      "<rect width='4' height='2' fill='blue'/></marker>";
+  CHECK(dump_of(scaled + "<path d='M 10 10 L 50 10' stroke='black' stroke-width='3' marker-end='url(#s)'/>") ==
+        dump_of("<path d='M 10 10 L 50 10' stroke='black' stroke-width='3'/>"
+                "<rect width='4' height='2' fill='blue' transform='translate(50 10) rotate(30) scale(3)'/>"));
+  // paint-order markers first: under the stroke and fill.
+  CHECK(dump_of(marker + line + "paint-order='markers' marker-start='url(#m)'/>") ==
+        dump_of("<rect width='4' height='2' fill='blue' transform='translate(10 10) rotate(90) translate(-1 -2)'/>" +
+                line + "/>"));
+  // The marker shorthand works in style, not as an attribute.
+  CHECK(dump_of(marker + line + "style='marker: url(#m)'/>") ==
+        dump_of(marker + line + "marker-start='url(#m)' marker-mid='url(#m)' marker-end='url(#m)'/>"));
+  CHECK(dump_of(marker + line + "marker='url(#m)'/>") == dump_of(line + "/>"));
+}

@@ -160,6 +160,9 @@ struct Inherited {
   double font_size_adjust = 0;  // none (0) or the x-height as a fraction of font-size
   bool kerning = true;
   std::vector<std::string> font_features;
+  // marker-start, marker-mid, marker-end as specified ("url(#m)"); empty
+  // for none.
+  std::string marker_start, marker_mid, marker_end;
   FillRule clip_rule = FillRule::NonZero;
   bool visible = true;
   RGBA color{0, 0, 0, 1};
@@ -442,12 +445,15 @@ class Converter {
   bool conditions_pass(const Element& e) const;
   // A nested svg, or a symbol or svg drawn by `use` (svg_viewports.cpp).
   void render_viewport(const Element& e, const Context& ctx, int depth, const Element* use);
-  void shape_paint(const Element& e, const Style& st, const Affine& space);
+  void shape_paint(const Element& e, const Style& st, const Affine& space, int depth);
   // shapes_[shape] filled (unless !fillable) and stroked with st, in
   // paint-order.
   // box: the bounding box for objectBoundingBox paint servers when it is
   // not the shape's own (a text's spans use the whole text's).
-  void paint_shape(uint32_t shape, const Style& st, const Affine& space, bool fillable, const Bounds* box = nullptr);
+  void paint_shape(uint32_t shape, const Style& st, const Affine& space, bool fillable, const Bounds* box = nullptr,
+                   const Element* markable = nullptr, int depth = 0);
+  // The markers of e's shape (svg_markers.cpp).
+  void draw_markers(const Element& e, const Style& st, uint32_t shape, const Affine& space, int depth);
 
   // ------------------------------------------------------------ text (svg_text.cpp)
 

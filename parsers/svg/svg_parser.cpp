@@ -380,7 +380,7 @@ void Converter::render(const Element& e, const Context& ctx, int depth) {
 #if MPVG_HAVE_TEXT
     case Kind::Text: text(e, st, space); break;
 #endif
-    default: shape_paint(e, st, space); break;
+    default: shape_paint(e, st, space, depth); break;
   }
   s_.active.pop_back();
 
@@ -392,15 +392,16 @@ void Converter::render(const Element& e, const Context& ctx, int depth) {
 // A shape's fill and stroke, in the order of paint-order. The fill
 // operation is always there (as bounds only when it paints nothing): it
 // carries the shape's bounding box.
-void Converter::shape_paint(const Element& e, const Style& st, const Affine& space) {
+void Converter::shape_paint(const Element& e, const Style& st, const Affine& space, int depth) {
   const int shape = shape_index(e, st.inh.font_size);
   if (shape < 0) return;
   // A line encloses no area (SVG 2 shapes.html#LineElement): it can only
   // be stroked.
-  paint_shape(static_cast<uint32_t>(shape), st, space, e.name != "line");
+  paint_shape(static_cast<uint32_t>(shape), st, space, e.name != "line", nullptr, &e, depth);
 }
 
-void Converter::paint_shape(uint32_t shape, const Style& st, const Affine& space, bool fillable, const Bounds* box) {
+void Converter::paint_shape(uint32_t shape, const Style& st, const Affine& space, bool fillable, const Bounds* box,
+                            const Element* markable, int depth) {
   Op fill = Op::of(OpKind::Bounds);
   fill.shape = static_cast<uint32_t>(shape);
   fill.xf = space;
@@ -415,10 +416,10 @@ void Converter::paint_shape(uint32_t shape, const Style& st, const Affine& space
     }
   }
   const std::optional<Op> stroke = shape_stroke(static_cast<uint32_t>(shape), st, space, bbox);
-  // Markers are not supported; only fill and stroke order matters.
   for (PaintLayer l : st.inh.paint_order) {
     if (l == PaintLayer::Fill) ops_.push_back(fill);
     if (l == PaintLayer::Stroke && stroke) ops_.push_back(*stroke);
+    if (l == PaintLayer::Markers && markable) draw_markers(*markable, st, shape, space, depth);
   }
 }
 

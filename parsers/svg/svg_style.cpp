@@ -409,8 +409,24 @@ Style Converter::compute_style(const Element& e, const Context& ctx) {
     if (fill.state == Prop<PaintValue>::Set) inh.fill = resolve_paint(fill.value, inh.color, "fill");
     stroke_style(e, inh, st);
     unsupported_reference(e, "filter", "filters are not supported: filter ignored");
-    for (const char* m : {"marker-start", "marker-mid", "marker-end"})
-      unsupported_reference(e, m, "markers are not supported: marker ignored");
+    // Markers (inherited): none or a url; the marker shorthand sets all
+    // three, from style sheets and the style attribute only (it is not a
+    // presentation attribute).
+    auto marker_value = [](std::string_view v) -> std::optional<std::string> {
+      if (parse_keyword(v) == "none") return std::string();
+      Scanner sc(v);
+      bool external = false;
+      if (!parse_func_iri(sc, &external)) return std::nullopt;
+      return std::string(trim(v));
+    };
+    for (const auto& [name, value] : e.declarations)
+      if (name == "marker")
+        if (const auto m = marker_value(value)) inh.marker_start = inh.marker_mid = inh.marker_end = *m;
+    std::string* slots[] = {&inh.marker_start, &inh.marker_mid, &inh.marker_end};
+    const char* names[] = {"marker-start", "marker-mid", "marker-end"};
+    for (int i = 0; i < 3; i++)
+      if (const auto m = property<std::string>(e, names[i], marker_value); m.state == Prop<std::string>::Set)
+        *slots[i] = m.value;
   }
   if (const auto r = property<FillRule>(e, "fill-rule", parse_fill_rule); r.state == Prop<FillRule>::Set)
     inh.fill_rule = r.value;

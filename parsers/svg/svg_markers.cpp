@@ -1,0 +1,246 @@
+// Markers (SVG 2 painting.html#Markers): marker-start, marker-mid and
+// marker-end (and the marker shorthand in style sheets) on every shape.
+// Each marker's content is drawn at its vertices in a coordinate system at
+// the vertex, turned by orient (auto: the bisector
+// of the directions in and out, as resvg computes it; auto-start-reverse;
+// an angle), scaled by the stroke width (markerUnits strokeWidth), its
+// viewBox fitted to markerWidth x markerHeight, refX/refY on the vertex;
+// overflow hidden (the default) clips it to that viewport. Markers are
+// painted in paint-order's markers layer, after fill and stroke by
+// default. Vertices: every subpath's start, every segment's end, a
+// closepath's return to the start (not a mid marker), as in resvg.
+#include <cmath>
+
+#include "parsers/svg/svg_converter.h"
+#include "parsers/svg/svg_values.h"
+
+namespace mpvg::svg::detail {
+
+namespace {
+
+// The path as resvg's marker code sees it: moves, lines, cubics (quadratics
+// raised, conic arcs as their cubics), closes (the closing line implicit).
+struct Seg {
+  enum Kind { Move, Line, Cubic, Close } kind;
+  Vec2 c1, c2, p;
+};
+
+std::vector<Seg> marker_segments(const Path& path) {
+  std::vector<Seg> out;
+  const auto& pts = path.points();
+  const auto& w = path.weights();
+  for (const Path::Contour& c : path.contours()) {
+    const Vec2 start = pts[c.start_point];
+    out.push_back({Seg::Move, {}, {}, start});
+    for (uint32_t k = 0; k < c.segment_count; k++) {
+      const Path::Segment& sg = path.segments()[c.first_segment + k];
+      const Vec2* q = &pts[sg.first_point];
+      // The closing line that Path::close added: implicit in a close.
+      if (c.closed && k + 1 == c.segment_count && sg.type == SegmentType::Line && q[1] == start && k > 0) break;
+      switch (sg.type) {
+        case SegmentType::Line: out.push_back({Seg::Line, {}, {}, q[1]}); break;
+        case SegmentType::Quad:
+          out.push_back({Seg::Cubic,
+                         {q[0].x + 2.0 / 3 * (q[1].x - q[0].x), q[0].y + 2.0 / 3 * (q[1].y - q[0].y)},
+                         {q[2].x + 2.0 / 3 * (q[1].x - q[2].x), q[2].y + 2.0 / 3 * (q[1].y - q[2].y)},
+                         q[2]});
+          break;
+        case SegmentType::RQuad: {
+          const double half = std::acos(std::clamp(w[sg.first_weight], -1.0, 1.0));
+          const double k3 = half > 1e-12 ? 4.0 / 3.0 * std::tan(half / 2) / std::tan(half) : 2.0 / 3.0;
+          out.push_back({Seg::Cubic,
+                         {q[0].x + k3 * (q[1].x - q[0].x), q[0].y + k3 * (q[1].y - q[0].y)},
+                         {q[2].x + k3 * (q[1].x - q[2].x), q[2].y + k3 * (q[1].y - q[2].y)},
+                         q[2]});
+          break;
+        }
+        case SegmentType::Cubic: out.push_back({Seg::Cubic, q[1], q[2], q[3]}); break;
+      }
+    }
+    if (c.closed) out.push_back({Seg::Close, {}, {}, start});
+  }
+  return out;
+}
+
+double normalize(double rad) {
+  const double v = std::fmod(rad, 2 * M_PI);
+  return v < 0 ? v + 2 * M_PI : v;
+}
+
+double vector_angle(double vx, double vy) {
+  const double rad = std::atan2(vy, vx);
+  return std::isnan(rad) ? 0 : normalize(rad);
+}
+
+// The bisector of the direction (x1,y1)->(x2,y2) and (x3,y3)->(x4,y4), in degrees.
+double angle_between(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
+  const double in = vector_angle(b.x - a.x, b.y - a.y), out = vector_angle(d.x - c.x, d.y - c.y);
+  const double half = (out - in) * 0.5;
+  double angle = in + half;
+  if (M_PI_2 < std::abs(half)) angle -= M_PI;
+  return normalize(angle) * 180 / M_PI;
+}
+
+double line_angle(Vec2 a, Vec2 b) { return angle_between(a, b, a, b); }
+
+double curves_angle(Vec2 p, Vec2 c1, Vec2 x, Vec2 c2, Vec2 n) {
+  if (c1 == x) return line_angle(p, c2);
+  if (x == c2) return line_angle(c1, n);
+  return angle_between(c1, x, x, c2);
+}
+
+Vec2 subpath_start(const std::vector<Seg>& s, size_t idx) {
+  for (size_t i = idx + 1; i-- > 0;)
+    if (s[i].kind == Seg::Move) return s[i].p;
+  return {};
+}
+
+Vec2 prev_vertex(const std::vector<Seg>& s, size_t idx) {
+  if (idx == 0) return {};
+  const Seg& p = s[idx - 1];
+  return p.kind == Seg::Close ? subpath_start(s, idx - 1) : p.p;
+}
+
+double vertex_angle(const std::vector<Seg>& s, size_t idx) {
+  if (idx == 0) {
+    if (s.size() < 2) return 0;
+    const Seg &a = s[0], &b = s[1];
+    if (a.kind == Seg::Move && b.kind == Seg::Line) return line_angle(a.p, b.p);
+    if (a.kind == Seg::Move && b.kind == Seg::Cubic) return curves_angle(a.p, a.p, a.p, b.c1, b.p);
+    return 0;
+  }
+  if (idx == s.size() - 1) {
+    const Seg &a = s[idx - 1], &b = s[idx];
+    switch (b.kind) {
+      case Seg::Move: return 0;
+      case Seg::Line: return line_angle(prev_vertex(s, idx), b.p);
+      case Seg::Cubic: return curves_angle(prev_vertex(s, idx), b.c1, b.c2, b.p, b.p);
+      case Seg::Close: return a.kind == Seg::Line ? line_angle(a.p, subpath_start(s, idx)) : 0;
+    }
+  }
+  const Seg &a = s[idx], &b = s[idx + 1];
+  if (a.kind == Seg::Move && b.kind == Seg::Line) return line_angle(a.p, b.p);
+  if (a.kind == Seg::Move && b.kind == Seg::Cubic) return line_angle(a.p, b.c1);
+  if (a.kind == Seg::Line && b.kind == Seg::Line) {
+    const Vec2 prev = prev_vertex(s, idx);
+    return angle_between(prev, a.p, a.p, b.p);
+  }
+  if (a.kind == Seg::Cubic && b.kind == Seg::Cubic) {
+    const Vec2 prev = prev_vertex(s, idx);
+    return curves_angle(prev, a.c2, a.p, b.c1, b.p);
+  }
+  if (a.kind == Seg::Line && b.kind == Seg::Cubic) return curves_angle(prev_vertex(s, idx), prev_vertex(s, idx), a.p, b.c1, b.p);
+  if (a.kind == Seg::Cubic && b.kind == Seg::Line) return curves_angle(prev_vertex(s, idx), a.c2, a.p, b.p, b.p);
+  if (a.kind == Seg::Line && b.kind == Seg::Move) return line_angle(prev_vertex(s, idx), a.p);
+  if (a.kind == Seg::Cubic && b.kind == Seg::Move) return a.p == a.c2 ? line_angle(prev_vertex(s, idx), a.p) : line_angle(a.c2, a.p);
+  if (a.kind == Seg::Line && b.kind == Seg::Close) {
+    const Vec2 prev = prev_vertex(s, idx), next = subpath_start(s, idx);
+    return angle_between(prev, a.p, a.p, next);
+  }
+  if (b.kind == Seg::Close) return line_angle(prev_vertex(s, idx), subpath_start(s, idx));
+  return 0;
+}
+
+// An angle: a number with deg, rad, grad or turn, or none (degrees).
+std::optional<double> parse_angle(std::string_view v) {
+  static const struct {
+    const char* unit;
+    double deg;
+  } units[] = {{"deg", 1}, {"grad", 0.9}, {"rad", 180 / M_PI}, {"turn", 360}};
+  double k = 1;
+  for (const auto& u : units) {
+    const size_t n = std::char_traits<char>::length(u.unit);
+    if (v.size() > n && v.substr(v.size() - n) == u.unit) {
+      v = v.substr(0, v.size() - n);
+      k = u.deg;
+      break;
+    }
+  }
+  const auto x = parse_number(v);
+  if (!x) return std::nullopt;
+  return *x * k;
+}
+
+}  // namespace
+
+void Converter::draw_markers(const Element& e, const Style& st, uint32_t shape, const Affine& space, int depth) {
+  const Inherited& inh = st.inh;
+  if (inh.marker_start.empty() && inh.marker_mid.empty() && inh.marker_end.empty()) return;
+  // Every shape is markable in SVG 2 (resvg marks rect, circle and ellipse
+  // too, along the paths they stand for).
+  if (!(e.name == "path" || e.name == "line" || e.name == "polyline" || e.name == "polygon" || e.name == "rect" ||
+        e.name == "circle" || e.name == "ellipse"))
+    return;
+  const std::vector<Seg> segs = marker_segments(shapes_[shape]);
+  if (segs.empty()) return;
+  enum Which { Start, Mid, End };
+  for (Which which : {Start, Mid, End}) {
+    const std::string& value = which == Start ? inh.marker_start : which == Mid ? inh.marker_mid : inh.marker_end;
+    if (value.empty()) continue;
+    const ClipRef ref = resolve_reference(value, "marker", "marker", s_.active);
+    if (ref.state != ClipRef::Valid) continue;
+    const Element& m = *ref.element;
+    const Style mst = compute_style(m, document_context(m, false));
+    const double em = mst.inh.font_size;
+    const double mw = length(m, "markerWidth", Axis::X, 3, em), mh = length(m, "markerHeight", Axis::Y, 3, em);
+    if (!(mw > 0 && mh > 0)) continue;
+    const std::string* units = m.attribute("markerUnits");
+    const double scale = units && trim(*units) == "userSpaceOnUse" ? 1 : inh.stroke_width;
+    std::optional<ViewBox> vb;
+    if (const std::string* a = m.attribute("viewBox")) vb = parse_view_box(*a);
+    if (vb && !(vb->w > 0 && vb->h > 0)) continue;
+    AspectRatio ar;
+    if (const std::string* a = m.attribute("preserveAspectRatio")) ar = parse_aspect_ratio(*a).value_or(ar);
+    const Affine vbt = vb ? view_box_transform(*vb, ar, mw, mh) : Affine{};
+    const Vec2 refp = vbt.apply({length(m, "refX", Axis::X, 0, em), length(m, "refY", Axis::Y, 0, em)});
+    // orient: auto, auto-start-reverse or an angle (deg, rad, grad, turn or a number).
+    bool automatic = false, reverse_start = false;
+    double fixed = 0;
+    if (const std::string* o = m.attribute("orient")) {
+      const std::string_view v = trim(*o);
+      if (v == "auto") automatic = true;
+      else if (v == "auto-start-reverse") automatic = reverse_start = true;
+      else if (const auto a = parse_angle(v)) fixed = *a;
+    }
+    const auto overflow = property<std::string>(m, "overflow", [](std::string_view v) { return parse_keyword(v); });
+    const bool clipped =
+        !(overflow.state == Prop<std::string>::Set && (overflow.value == "visible" || overflow.value == "auto"));
+
+    auto draw_at = [&](Vec2 p, size_t idx) {
+      double angle = fixed;
+      if (automatic) {
+        angle = vertex_angle(segs, idx);
+        if (reverse_start && which == Start) angle += 180;
+      }
+      double sn, cs;  // exact on the axes, as the transform attribute's rotate
+      sincos_snapped(angle * M_PI / 180, sn, cs);
+      const Affine at = space * Affine::translate(p.x, p.y) * Affine{cs, sn, -sn, cs, 0, 0} *
+                        Affine::scale(scale, scale) * Affine::translate(-refp.x, -refp.y);
+      if (!at.invertible()) return;
+      if (clipped) {
+        ops_.push_back(Op::of(OpKind::Push));
+        Op c = Op::of(OpKind::Clip);
+        c.shape = rect_shape({0, 0, mw, mh});
+        c.xf = at;
+        ops_.push_back(c);
+        ops_.push_back(Op::of(OpKind::Activate));
+      }
+      const Context inner = child_context(mst, at * vbt, false);
+      s_.active.push_back(&m);
+      for (const auto& c : m.children) render(*c, inner, depth + 1);
+      s_.active.pop_back();
+      if (clipped) ops_.push_back(Op::of(OpKind::Pop));
+    };
+    if (which == Start) {
+      if (segs[0].kind == Seg::Move) draw_at(segs[0].p, 0);
+    } else if (which == Mid) {
+      for (size_t i = 1; i + 1 < segs.size(); i++)
+        if (segs[i].kind != Seg::Close) draw_at(segs[i].p, i);
+    } else {
+      const size_t i = segs.size() - 1;
+      draw_at(segs[i].kind == Seg::Close ? subpath_start(segs, i) : segs[i].p, i);
+    }
+  }
+}
+
+}  // namespace mpvg::svg::detail
