@@ -102,3 +102,16 @@ TEST_CASE("markers: placement, orient, units, paint order", "[svg][structure]") 
         dump_of(marker + line + "marker-start='url(#m)' marker-mid='url(#m)' marker-end='url(#m)'/>"));
   CHECK(dump_of(marker + line + "marker='url(#m)'/>") == dump_of(line + "/>"));
 }
+
+TEST_CASE("context-fill and context-stroke", "[svg][structure]") {
+  // In a marker: the marked shape's paints.
+  const std::string marker = "<marker id='m' markerUnits='userSpaceOnUse' orient='0' overflow='visible'>"
+                             "<rect width='4' height='2' fill='context-stroke' stroke='context-fill'/></marker>";
+  CHECK(dump_of(marker + "<path d='M 10 10 L 50 10' fill='red' stroke='blue' marker-end='url(#m)'/>") ==
+        dump_of("<path d='M 10 10 L 50 10' fill='red' stroke='blue'/>"
+                "<rect width='4' height='2' fill='blue' stroke='red' transform='translate(50 10)'/>"));
+  // In a use's tree: the use's paints; none outside both.
+  CHECK(dump_of("<defs><rect id='r' width='4' height='2' fill='context-fill'/></defs><use href='#r' fill='green'/>") ==
+        dump_of("<rect width='4' height='2' fill='green'/>"));
+  CHECK(dump_of("<rect width='4' height='2' fill='context-fill'/>") == dump_of("<rect width='4' height='2' fill='none'/>"));
+}

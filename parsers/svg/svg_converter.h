@@ -108,6 +108,10 @@ struct PaintSpec {
   RGBA color;  // Color; Server: the fallback colour, when `fallback`
   const Element* server = nullptr;  // Server: linearGradient, radialGradient or pattern
   bool fallback = false;  // Server: a fallback colour was given (otherwise none)
+  // A context paint (context-fill, context-stroke): the index of the
+  // context element's paints in Converter::contexts_, whose user space and
+  // bounding box a paint server then uses; -1 otherwise.
+  int context = -1;
 
   static PaintSpec solid(const RGBA& c) {
     PaintSpec p;
@@ -443,6 +447,17 @@ class Converter {
   bool place(const Element& e, Kind kind, const Context& ctx, Placed& out);
   void render(const Element& e, const Context& ctx, int depth);
   bool conditions_pass(const Element& e) const;
+  // Context elements (SVG 2 painting.html#TermContextElement): the shape a
+  // marker is drawn for, the use element a tree is drawn by. contexts_
+  // holds every one met (PaintSpec::context indexes it); context_ is the
+  // one in effect, -1 outside markers and use.
+  struct ContextPaint {
+    PaintSpec fill, stroke;
+    Affine space;
+    std::optional<Bounds> bbox;
+  };
+  std::vector<ContextPaint> contexts_;
+  int context_ = -1;
   // A nested svg, or a symbol or svg drawn by `use` (svg_viewports.cpp).
   void render_viewport(const Element& e, const Context& ctx, int depth, const Element* use);
   void shape_paint(const Element& e, const Style& st, const Affine& space, int depth);

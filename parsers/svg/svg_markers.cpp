@@ -173,6 +173,18 @@ void Converter::draw_markers(const Element& e, const Style& st, uint32_t shape, 
     return;
   const std::vector<Seg> segs = marker_segments(shapes_[shape]);
   if (segs.empty()) return;
+  // The shape is the markers' context element: context-fill and
+  // context-stroke inside them are its paints.
+  Bounds box;
+  add_path_bounds(shapes_[shape], Affine{}, box);
+  contexts_.push_back({inh.fill, inh.stroke, space, box});
+  const int saved_context = context_;
+  context_ = static_cast<int>(contexts_.size()) - 1;
+  struct Restore {
+    int& slot;
+    int value;
+    ~Restore() { slot = value; }
+  } restore{context_, saved_context};
   enum Which { Start, Mid, End };
   for (Which which : {Start, Mid, End}) {
     const std::string& value = which == Start ? inh.marker_start : which == Mid ? inh.marker_mid : inh.marker_end;

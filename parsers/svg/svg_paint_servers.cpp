@@ -215,8 +215,13 @@ std::optional<uint32_t> Converter::make_paint(const PaintSpec& spec, double opac
   paint.opacity = static_cast<float>(opacity);
   paint.color = spec.color;  // a colour, or the server's fallback
   if (spec.kind == PaintSpec::Kind::Server) {
-    const ServerPaint sp = spec.server->name == "pattern" ? pattern_paint(*spec.server, bbox, space)
-                                                          : gradient_paint(*spec.server, bbox, space);
+    // A context paint's server lies in the context element's space and box.
+    ShapeBox context_box{bbox.shapes, bbox.shape, spec.context >= 0 ? contexts_[spec.context].bbox : bbox.b};
+    if (spec.context >= 0 && !context_box.b) context_box.b = Bounds{};
+    ShapeBox& box = spec.context >= 0 ? context_box : bbox;
+    const Affine& in = spec.context >= 0 ? contexts_[spec.context].space : space;
+    const ServerPaint sp = spec.server->name == "pattern" ? pattern_paint(*spec.server, box, in)
+                                                          : gradient_paint(*spec.server, box, in);
     switch (sp.kind) {
       case ServerPaint::Kind::Paint:
         paint.type = sp.paint.type;

@@ -372,10 +372,27 @@ void Converter::render(const Element& e, const Context& ctx, int depth) {
       }
       for (const auto& c : e.children) render(*c, inner, depth + 1);
       break;
-    case Kind::Use:
-      if (target->name == "symbol" || target->name == "svg") render_viewport(*target, inner, depth + 1, &e);
-      else render(*target, inner, depth + 1);
+    case Kind::Use: {
+      // The use is its tree's context element. Its box, for context
+      // paints from servers, is its tree's: drawn once to measure it, then
+      // again with it.
+      auto draw = [&] {
+        if (target->name == "symbol" || target->name == "svg") render_viewport(*target, inner, depth + 1, &e);
+        else render(*target, inner, depth + 1);
+      };
+      contexts_.push_back({st.inh.fill, st.inh.stroke, space, std::nullopt});
+      const int saved_context = context_;
+      context_ = static_cast<int>(contexts_.size()) - 1;
+      if (st.inh.fill.kind == PaintSpec::Kind::Server || st.inh.stroke.kind == PaintSpec::Kind::Server) {
+        const size_t before = ops_.size();
+        draw();
+        contexts_[context_].bbox = content_bounds(before, ops_.size(), space);
+        ops_.resize(before);
+      }
+      draw();
+      context_ = saved_context;
       break;
+    }
     case Kind::Image: image(e, st, space); break;
 #if MPVG_HAVE_TEXT
     case Kind::Text: text(e, st, space); break;

@@ -605,9 +605,14 @@ PaintSpec Converter::resolve_paint(const PaintValue& p, const RGBA& current, con
     case PaintValue::Kind::None: return {};
     case PaintValue::Kind::Color: return PaintSpec::solid(p.color);
     case PaintValue::Kind::CurrentColor: return PaintSpec::solid(current);
-    case PaintValue::Kind::Context:
-      warn("context-fill and context-stroke paints are not supported: " + what + " not rendered");
-      return {};
+    case PaintValue::Kind::Context: {
+      // The context element's paint (none without one), keeping its user
+      // space and box for a paint server.
+      if (context_ < 0) return {};
+      PaintSpec c = p.context_stroke ? contexts_[context_].stroke : contexts_[context_].fill;
+      if (c.kind == PaintSpec::Kind::Server) c.context = context_;
+      return c;
+    }
     case PaintValue::Kind::Url: break;
   }
   // A missing or unusable paint server uses the fallback, and without one

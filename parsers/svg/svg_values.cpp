@@ -387,6 +387,7 @@ std::optional<PaintValue> parse_paint(std::string_view text) {
   }
   if (iequals(all, "context-fill") || iequals(all, "context-stroke")) {
     p.kind = PaintValue::Kind::Context;
+    p.context_stroke = iequals(all, "context-stroke");
     return p;
   }
   const auto color = parse_color(all);

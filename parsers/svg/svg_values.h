@@ -109,6 +109,7 @@ struct PaintValue {
   enum class Kind { None, Color, CurrentColor, Url, Context };
   enum class Fallback { Absent, None, Color, CurrentColor };
   Kind kind = Kind::None;
+  bool context_stroke = false;  // Kind::Context: context-stroke (else context-fill)
   RGBA color;
   std::string url;  // fragment id for Kind::Url ("" when not a local reference)
   bool url_external = false;
