@@ -115,3 +115,24 @@ TEST_CASE("context-fill and context-stroke", "[svg][structure]") {
         dump_of("<rect width='4' height='2' fill='green'/>"));
   CHECK(dump_of("<rect width='4' height='2' fill='context-fill'/>") == dump_of("<rect width='4' height='2' fill='none'/>"));
 }
+
+TEST_CASE("markers: orient on curves, overflow inherit", "[svg][structure]") {
+  const std::string marker = "<marker id='m' markerUnits='userSpaceOnUse' orient='auto' overflow='visible'>"
+                             "<rect width='4' height='2' fill='blue'/></marker>";
+  // A curve's end direction runs from its last distinct control point:
+  // here (120 140) -> (170 140), 0°; its start from its first distinct
+  // one: (40 155) -> (100 40) when the first control point is the start.
+  CHECK(dump_of(marker + "<path d='M 100 60 C 100 110 120 140 170 140' marker-end='url(#m)'/>") ==
+        dump_of("<path d='M 100 60 C 100 110 120 140 170 140'/><rect width='4' height='2' fill='blue' "
+                "transform='translate(170 140)'/>"));
+  CHECK(dump_of(marker + "<path d='M 40 40 C 40 40 100 40 100 100' marker-start='url(#m)'/>") ==
+        dump_of("<path d='M 40 40 C 40 40 100 40 100 100'/><rect width='4' height='2' fill='blue' "
+                "transform='translate(40 40)'/>"));
+  // overflow="inherit" on a marker whose parent sets none: visible, no clip.
+  const std::string inherit = "<marker id='i' markerUnits='userSpaceOnUse' overflow='inherit'>"
+                              "<rect width='40' height='2' fill='blue'/></marker>";
+  const std::string visible = "<marker id='i' markerUnits='userSpaceOnUse' overflow='visible'>"
+                              "<rect width='40' height='2' fill='blue'/></marker>";
+  CHECK(dump_of(inherit + "<path d='M 10 10 L 50 10' marker-end='url(#i)'/>") ==
+        dump_of(visible + "<path d='M 10 10 L 50 10' marker-end='url(#i)'/>"));
+}

@@ -460,6 +460,7 @@ class Converter {
   int context_ = -1;
   // A nested svg, or a symbol or svg drawn by `use` (svg_viewports.cpp).
   void render_viewport(const Element& e, const Context& ctx, int depth, const Element* use);
+  bool clips_overflow(const Element& e) const;
   void shape_paint(const Element& e, const Style& st, const Affine& space, int depth);
   // shapes_[shape] filled (unless !fillable) and stroked with st, in
   // paint-order.

@@ -10,6 +10,7 @@
 // default. Vertices: every subpath's start, every segment's end, a
 // closepath's return to the start (not a mid marker), as in resvg.
 #include <cmath>
+#include <optional>
 
 #include "parsers/svg/svg_converter.h"
 #include "parsers/svg/svg_values.h"
@@ -54,7 +55,10 @@ std::vector<Seg> marker_segments(const Path& path) {
                          q[2]});
           break;
         }
-        case SegmentType::Cubic: out.push_back({Seg::Cubic, q[1], q[2], q[3]}); break;
+        case SegmentType::Cubic:
+        case SegmentType::RCubic:  // (directions at the ends do not depend on the weights)
+          out.push_back({Seg::Cubic, q[1], q[2], q[3]});
+          break;
       }
     }
     if (c.closed) out.push_back({Seg::Close, {}, {}, start});
@@ -83,12 +87,6 @@ double angle_between(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
 
 double line_angle(Vec2 a, Vec2 b) { return angle_between(a, b, a, b); }
 
-double curves_angle(Vec2 p, Vec2 c1, Vec2 x, Vec2 c2, Vec2 n) {
-  if (c1 == x) return line_angle(p, c2);
-  if (x == c2) return line_angle(c1, n);
-  return angle_between(c1, x, x, c2);
-}
-
 Vec2 subpath_start(const std::vector<Seg>& s, size_t idx) {
   for (size_t i = idx + 1; i-- > 0;)
     if (s[i].kind == Seg::Move) return s[i].p;
@@ -101,43 +99,50 @@ Vec2 prev_vertex(const std::vector<Seg>& s, size_t idx) {
   return p.kind == Seg::Close ? subpath_start(s, idx - 1) : p.p;
 }
 
+// The direction into the vertex at the end of segment idx, and out of it
+// along segment idx + 1 (SVG 2 painting.html#OrientAttribute: a curve's
+// direction at an end runs to the nearest control point that differs
+// from it). nullopt where there is none (a move, a zero-length segment).
+std::optional<Vec2> dir_in(const std::vector<Seg>& s, size_t idx) {
+  if (idx == 0 || idx >= s.size()) return std::nullopt;
+  const Seg& g = s[idx];
+  const Vec2 prev = prev_vertex(s, idx);
+  Vec2 from = prev, to = g.p;
+  switch (g.kind) {
+    case Seg::Move: return std::nullopt;
+    case Seg::Line: break;
+    case Seg::Cubic: from = g.c2 != g.p ? g.c2 : g.c1 != g.p ? g.c1 : prev; break;
+    case Seg::Close: to = subpath_start(s, idx); break;
+  }
+  if (from == to) return std::nullopt;
+  return Vec2{to.x - from.x, to.y - from.y};
+}
+
+std::optional<Vec2> dir_out(const std::vector<Seg>& s, size_t idx) {
+  if (idx + 1 >= s.size()) return std::nullopt;
+  const Vec2 at = s[idx].kind == Seg::Close ? subpath_start(s, idx) : s[idx].p;
+  const Seg& g = s[idx + 1];
+  Vec2 to = g.p;
+  switch (g.kind) {
+    case Seg::Move: return std::nullopt;
+    case Seg::Line: break;
+    case Seg::Cubic: to = g.c1 != at ? g.c1 : g.c2 != at ? g.c2 : g.p; break;
+    case Seg::Close: to = subpath_start(s, idx + 1); break;
+  }
+  if (to == at) return std::nullopt;
+  return Vec2{to.x - at.x, to.y - at.y};
+}
+
+// orient="auto" at vertex idx (degrees): the bisector of the directions
+// in and out (resvg's rule for its direction: half the turn from in to
+// out, the other way when that is more than a quarter turn), or the one
+// there is. At a path's end after a closepath, only the closing line's.
 double vertex_angle(const std::vector<Seg>& s, size_t idx) {
-  if (idx == 0) {
-    if (s.size() < 2) return 0;
-    const Seg &a = s[0], &b = s[1];
-    if (a.kind == Seg::Move && b.kind == Seg::Line) return line_angle(a.p, b.p);
-    if (a.kind == Seg::Move && b.kind == Seg::Cubic) return curves_angle(a.p, a.p, a.p, b.c1, b.p);
-    return 0;
-  }
-  if (idx == s.size() - 1) {
-    const Seg &a = s[idx - 1], &b = s[idx];
-    switch (b.kind) {
-      case Seg::Move: return 0;
-      case Seg::Line: return line_angle(prev_vertex(s, idx), b.p);
-      case Seg::Cubic: return curves_angle(prev_vertex(s, idx), b.c1, b.c2, b.p, b.p);
-      case Seg::Close: return a.kind == Seg::Line ? line_angle(a.p, subpath_start(s, idx)) : 0;
-    }
-  }
-  const Seg &a = s[idx], &b = s[idx + 1];
-  if (a.kind == Seg::Move && b.kind == Seg::Line) return line_angle(a.p, b.p);
-  if (a.kind == Seg::Move && b.kind == Seg::Cubic) return line_angle(a.p, b.c1);
-  if (a.kind == Seg::Line && b.kind == Seg::Line) {
-    const Vec2 prev = prev_vertex(s, idx);
-    return angle_between(prev, a.p, a.p, b.p);
-  }
-  if (a.kind == Seg::Cubic && b.kind == Seg::Cubic) {
-    const Vec2 prev = prev_vertex(s, idx);
-    return curves_angle(prev, a.c2, a.p, b.c1, b.p);
-  }
-  if (a.kind == Seg::Line && b.kind == Seg::Cubic) return curves_angle(prev_vertex(s, idx), prev_vertex(s, idx), a.p, b.c1, b.p);
-  if (a.kind == Seg::Cubic && b.kind == Seg::Line) return curves_angle(prev_vertex(s, idx), a.c2, a.p, b.p, b.p);
-  if (a.kind == Seg::Line && b.kind == Seg::Move) return line_angle(prev_vertex(s, idx), a.p);
-  if (a.kind == Seg::Cubic && b.kind == Seg::Move) return a.p == a.c2 ? line_angle(prev_vertex(s, idx), a.p) : line_angle(a.c2, a.p);
-  if (a.kind == Seg::Line && b.kind == Seg::Close) {
-    const Vec2 prev = prev_vertex(s, idx), next = subpath_start(s, idx);
-    return angle_between(prev, a.p, a.p, next);
-  }
-  if (b.kind == Seg::Close) return line_angle(prev_vertex(s, idx), subpath_start(s, idx));
+  const bool last = idx + 1 == s.size();
+  const std::optional<Vec2> in = dir_in(s, idx), out = last ? std::nullopt : dir_out(s, idx);
+  if (in && out) return angle_between({0, 0}, *in, {0, 0}, *out);
+  if (in) return line_angle({0, 0}, *in);
+  if (out) return line_angle({0, 0}, *out);
   return 0;
 }
 
@@ -214,9 +219,7 @@ void Converter::draw_markers(const Element& e, const Style& st, uint32_t shape, 
       else if (v == "auto-start-reverse") automatic = reverse_start = true;
       else if (const auto a = parse_angle(v)) fixed = *a;
     }
-    const auto overflow = property<std::string>(m, "overflow", [](std::string_view v) { return parse_keyword(v); });
-    const bool clipped =
-        !(overflow.state == Prop<std::string>::Set && (overflow.value == "visible" || overflow.value == "auto"));
+    const bool clipped = clips_overflow(m);
 
     auto draw_at = [&](Vec2 p, size_t idx) {
       double angle = fixed;

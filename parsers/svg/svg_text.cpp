@@ -843,7 +843,6 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
     for (int span : chunk_spans) {
       Affine span_ts = text_ts * Affine::translate(x0, y0);
       if (chunk.flow < 0) span_ts = span_ts * Affine::translate(0, span_baseline(span));
-      const Inherited& inh = elems[spans[span].elem].st.inh;
       const int face = keys[span_key[span]].face;
       for (const Cluster& cl : clusters) {
         if (!cl.visible || chars[cl.ch].span != span) continue;
@@ -932,7 +931,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
     if (!own.inh.visible) continue;
     auto add_decoration = [&](int slot, int line) {
       Path& p = decoration_paths[k * 3 + slot];
-      if (!p.empty()) pieces.push_back({std::move(p), decorating_style(static_cast<int>(k), line)});
+      if (!p.empty()) pieces.push_back({std::move(p), decorating_style(static_cast<int>(k), line), nullptr, Affine{}});
     };
     add_decoration(0, Under);
     add_decoration(1, Over);
@@ -941,7 +940,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
       // glyphs fill by non-zero winding, overlapping contours included.
       Style st = own;
       st.inh.fill_rule = FillRule::NonZero;
-      pieces.push_back({std::move(glyph_paths[k]), st});
+      pieces.push_back({std::move(glyph_paths[k]), st, nullptr, Affine{}});
     }
     for (TextPiece& piece : bitmap_pieces[k]) {
       piece.st = own;
@@ -954,7 +953,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
       st.inh.fill_rule = FillRule::NonZero;
       if (!layer.foreground) st.inh.fill = PaintSpec::solid(layer.color);
       st.inh.stroke = PaintSpec();
-      pieces.push_back({std::move(path), st});
+      pieces.push_back({std::move(path), st, nullptr, Affine{}});
     }
     add_decoration(2, Through);
   }

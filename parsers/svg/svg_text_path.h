@@ -132,7 +132,11 @@ class PathMeasure {
             last = q[2];
             break;
           }
-          case SegmentType::Cubic: add({q[0], q[1], q[2], q[3]}); last = q[3]; break;
+          case SegmentType::Cubic:
+          case SegmentType::RCubic:  // (SVG paths have none; weights ignored)
+            add({q[0], q[1], q[2], q[3]});
+            last = q[3];
+            break;
         }
       }
       if (c.closed) line(last, pts[c.start_point]);

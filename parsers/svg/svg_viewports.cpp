@@ -11,6 +11,26 @@
 
 namespace mpvg::svg::detail {
 
+// overflow on an element that establishes a viewport (svg, symbol,
+// marker): hidden or scroll clip (hidden is their default); visible and
+// auto do not; inherit takes the parent's value, the initial visible at
+// the root.
+bool Converter::clips_overflow(const Element& e) const {
+  auto value = [](const Element& x) {
+    return property<std::string>(x, "overflow", [](std::string_view v) { return parse_keyword(v); });
+  };
+  auto p = value(e);
+  if (p.state == Prop<std::string>::Unset) return true;
+  const Element* at = &e;
+  while (p.state == Prop<std::string>::Inherit) {
+    at = at->parent;
+    if (!at) return false;
+    p = value(*at);
+    if (p.state == Prop<std::string>::Unset) return false;  // the parent's computed value: initial (visible)
+  }
+  return !(p.value == "visible" || p.value == "auto");
+}
+
 void Converter::render_viewport(const Element& e, const Context& ctx, int depth, const Element* use) {
   if (!enter(depth)) return;
   Placed pl;
@@ -39,8 +59,7 @@ void Converter::render_viewport(const Element& e, const Context& ctx, int depth,
   const Affine content = space * Affine::translate(x, y) * (vb ? view_box_transform(*vb, ar, w, h) : Affine{});
   if (!content.invertible()) return;
 
-  const auto overflow = property<std::string>(e, "overflow", [](std::string_view v) { return parse_keyword(v); });
-  const bool clipped = !(overflow.state == Prop<std::string>::Set && (overflow.value == "visible" || overflow.value == "auto"));
+  const bool clipped = clips_overflow(e);
 
   const size_t start = ops_.size();
   if (clipped) {
