@@ -1,5 +1,6 @@
 // SVG structure (issue 14): each case's scene dump equals the dump of an
 // equivalent document written without the feature, by hand.
+#include <cstdio>
 #include <string>
 
 #include "parsers/svg/svg_parser.h"
@@ -135,4 +136,27 @@ TEST_CASE("markers: orient on curves, overflow inherit", "[svg][structure]") {
                               "<rect width='40' height='2' fill='blue'/></marker>";
   CHECK(dump_of(inherit + "<path d='M 10 10 L 50 10' marker-end='url(#i)'/>") ==
         dump_of(visible + "<path d='M 10 10 L 50 10' marker-end='url(#i)'/>"));
+}
+
+TEST_CASE("svgz input: gzip-compressed documents are inflated", "[svg][structure]") {
+  const std::string dir = std::string(MPVG_SOURCE_DIR) + "/testdata/svgz/";
+  CHECK(mpvg::dump(mpvg::svg::parse_svg_file(dir + "square.svgz").scene) ==
+        mpvg::dump(mpvg::svg::parse_svg_file(dir + "square.svg").scene));
+  // Truncated gzip data is one clear error.
+  std::string gz;
+  {
+    std::FILE* f = std::fopen((dir + "square.svgz").c_str(), "rb");
+    REQUIRE(f);
+    char buf[256];
+    const size_t n = std::fread(buf, 1, sizeof buf, f);
+    std::fclose(f);
+    gz.assign(buf, n / 2);
+  }
+  std::string message;
+  try {
+    mpvg::svg::parse_svg_string(gz);
+  } catch (const std::exception& e) {
+    message = e.what();
+  }
+  CHECK(message == "cannot inflate the gzip-compressed (svgz) input: truncated gzip data");
 }

@@ -13,6 +13,7 @@
 
 #include "core/error.h"
 #include "parsers/svg/svg_converter.h"
+#include "parsers/svg/svg_resources.h"
 
 namespace mpvg::svg {
 
@@ -591,6 +592,16 @@ void Converter::emit(SceneBuilder& b) {
 }  // namespace detail
 
 ParseResult parse_svg_string(std::string_view text, const std::string& base_dir, const ParseOptions& options) {
+  // .svgz: gzip-compressed SVG, recognised by the gzip signature and
+  // inflated (at most 256 MiB) before parsing.
+  std::string inflated;
+  if (text.size() >= 2 && static_cast<unsigned char>(text[0]) == 0x1f && static_cast<unsigned char>(text[1]) == 0x8b) {
+    std::string why;
+    auto out = detail::gunzip(std::vector<uint8_t>(text.begin(), text.end()), &why);
+    if (!out) throw Error("cannot inflate the gzip-compressed (svgz) input: " + why);
+    inflated = std::move(*out);
+    text = inflated;
+  }
   const detail::Document doc = detail::parse_document(text);
   ParseResult result;
   detail::Session session(doc, options, result.warnings);
