@@ -77,3 +77,17 @@ TEST_CASE("css: the cascade: specificity, order, style attribute, !important, at
         headers_of(rect(R"(fill="red")")));
   CHECK(headers_of("<style type=\"text/other\">rect { fill: red }</style>" + rect("")) == headers_of(rect("")));
 }
+
+TEST_CASE("css: <?xml-stylesheet?> and @import read local sheets under the read policy", "[svg][css]") {
+  // linked.svg links sheet.css, which imports imported.css, and
+  // /etc/passwd, which lies outside the document's folder: a warning.
+  const std::string dir = std::string(MPVG_SOURCE_DIR) + "/testdata/css/";
+  const auto linked = mpvg::svg::parse_svg_file(dir + "linked.svg");
+  CHECK(mpvg::dump(linked.scene) == mpvg::dump(mpvg::svg::parse_svg_file(dir + "linked-expected.svg").scene));
+  REQUIRE(linked.warnings.size() == 1);
+  CHECK(linked.warnings[0] == "style sheet not loaded: '/etc/passwd' lies outside the folders the document may read");
+  // From a string without a folder the same sheet is not read.
+  CHECK(mpvg::svg::parse_svg_string("<?xml-stylesheet href='https://example.org/x.css'?>"
+                                    "<svg xmlns='http://www.w3.org/2000/svg' width='1' height='1'/>")
+            .warnings.size() == 1);
+}

@@ -369,8 +369,12 @@ bool matches(const Selector& s, size_t part, const Element& e) {
   return false;
 }
 
-// Rules of one sheet appended to `rules`; @-rules and their blocks skipped.
-void parse_sheet(std::string_view text, std::vector<Rule>& rules, int& order) {
+using Loader = std::function<std::optional<std::string>(std::string_view)>;
+
+// Rules of one sheet appended to `rules`; @import rules load theirs first
+// (with a loader), other @-rules and their blocks are skipped.
+void parse_sheet(std::string_view text, std::vector<Rule>& rules, int& order, const Loader& load = nullptr,
+                 int depth = 0) {
   const std::string s = strip_comments(text);
   size_t i = 0;
   while (i < s.size()) {
@@ -384,7 +388,17 @@ void parse_sheet(std::string_view text, std::vector<Rule>& rules, int& order) {
       // A statement (to ';') or a block (to its matching '}').
       const size_t semi = s.find(';', b), brace = s.find('{', b);
       if (brace == std::string::npos || (semi != std::string::npos && semi < brace)) {
-        i = semi == std::string::npos ? s.size() : semi + 1;
+        const size_t end = semi == std::string::npos ? s.size() : semi;
+        // @import "file.css"; or @import url(file.css);
+        if (load && depth < 4 && s.compare(b, 7, "@import") == 0) {
+          std::string_view arg = trim(std::string_view(s).substr(b + 7, end - b - 7));
+          if (arg.substr(0, 4) == "url(" && arg.back() == ')') arg = trim(arg.substr(4, arg.size() - 5));
+          if (arg.size() >= 2 && (arg[0] == '"' || arg[0] == '\'') && arg.back() == arg[0])
+            arg = arg.substr(1, arg.size() - 2);
+          if (!arg.empty())
+            if (const auto sheet = load(arg)) parse_sheet(*sheet, rules, order, load, depth + 1);
+        }
+        i = end == s.size() ? s.size() : end + 1;
         continue;
       }
       int depth = 0;
@@ -464,14 +478,17 @@ std::vector<CssDeclaration> parse_declarations(std::string_view block) {
   return out;
 }
 
-void apply_style_sheets(Document& doc) {
+void apply_style_sheets(Document& doc, const Loader& load) {
   if (!doc.root) return;
   std::vector<Rule> rules;
   int order = 0;
+  if (load)
+    for (const std::string& href : doc.stylesheet_hrefs)
+      if (const auto sheet = load(href)) parse_sheet(*sheet, rules, order, load, 1);
   std::function<void(const Element&)> gather = [&](const Element& e) {
     if (e.name == "style") {
       const std::string* type = e.attribute("type");
-      if (!type || trim(*type).empty() || iequals(trim(*type), "text/css")) parse_sheet(e.text, rules, order);
+      if (!type || trim(*type).empty() || iequals(trim(*type), "text/css")) parse_sheet(e.text, rules, order, load);
     }
     for (const auto& c : e.children) gather(*c);
   };

@@ -8,11 +8,14 @@
 // :last-of-type, :root, :not() of a compound; descendant, child (>), next
 // sibling (+) and subsequent sibling (~) combinators. A selector with
 // anything else (an unknown pseudo-class, a pseudo-element) matches
-// nothing; @-rules are skipped (@media, @font-face, @import: no file or
-// network is read).
+// nothing; other @-rules are skipped (@media, @font-face). @import and
+// <?xml-stylesheet?> read local files only, through the caller's loader
+// (the document's read policy; never the network).
 //
 // Internal to the SVG frontend.
 #pragma once
+#include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -28,7 +31,11 @@ namespace mpvg::svg::detail {
 // attribute's normal ones, the rules' !important ones, the style
 // attribute's !important ones. Presentation attributes stay below all of
 // them (Element::declarations is read first).
-void apply_style_sheets(Document& doc);
+// With `load`, the sheets of <?xml-stylesheet?> come first (in document
+// order, before the <style> elements) and @import rules at a sheet's start
+// bring in the sheets they name (four levels deep at most).
+void apply_style_sheets(Document& doc,
+                        const std::function<std::optional<std::string>(std::string_view)>& load = nullptr);
 
 // One declaration block's declarations with their !important flag.
 struct CssDeclaration {

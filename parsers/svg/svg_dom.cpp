@@ -310,7 +310,8 @@ std::string unmark_white_space(const char* text) {
   return out;
 }
 
-Document parse_document(std::string_view raw) {
+Document parse_document(std::string_view raw,
+                        const std::function<std::optional<std::string>(std::string_view)>& load) {
   const std::string text = mark_white_space_text(expand_internal_entities(raw));
   tinyxml2::XMLDocument xml;
   const tinyxml2::XMLError err = xml.Parse(text.data(), text.size());
@@ -333,9 +334,28 @@ Document parse_document(std::string_view raw) {
   if (!root) throw Error("not an SVG document: no root element");
 
   Document doc;
+  // <?xml-stylesheet href="..." type="text/css"?> before the root.
+  for (const tinyxml2::XMLNode* n = xml.FirstChild(); n && n != root; n = n->NextSibling()) {
+    const tinyxml2::XMLDeclaration* d = n->ToDeclaration();
+    if (!d || !d->Value()) continue;
+    const std::string_view v = d->Value();
+    if (v.substr(0, 14) != "xml-stylesheet") continue;
+    auto pseudo_attr = [&](std::string_view name) -> std::optional<std::string> {
+      const size_t at = v.find(std::string(name) + "=");
+      if (at == std::string_view::npos || at + name.size() + 1 >= v.size()) return std::nullopt;
+      const char q = v[at + name.size() + 1];
+      if (q != '"' && q != '\'') return std::nullopt;
+      const size_t end = v.find(q, at + name.size() + 2);
+      if (end == std::string_view::npos) return std::nullopt;
+      return std::string(v.substr(at + name.size() + 2, end - at - name.size() - 2));
+    };
+    const auto type = pseudo_attr("type");
+    const auto href = pseudo_attr("href");
+    if (href && (!type || *type == "text/css")) doc.stylesheet_hrefs.push_back(*href);
+  }
   TreeBuilder builder(doc);
   doc.root = builder.build(root, nullptr);
-  apply_style_sheets(doc);
+  apply_style_sheets(doc, load);
   if (!doc.root || doc.root->name != "svg") {
     const auto [prefix, local] = split_qname(root->Name());
     if (local == "svg") {

@@ -4,7 +4,9 @@
 //
 // Internal to the SVG frontend.
 #pragma once
+#include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <unordered_map>
@@ -35,13 +37,20 @@ struct Element {
 
 struct Document {
   std::unique_ptr<Element> root;
+  // The hrefs of <?xml-stylesheet?> processing instructions (type absent
+  // or text/css), in document order.
+  std::vector<std::string> stylesheet_hrefs;
   // The first element carrying each id.
   std::unordered_map<std::string, const Element*> ids;
 };
 
 // Parses XML text. Throws mpvg::Error on malformed XML ("XML parse error at
 // line N: ...") and when the root element is not an SVG <svg>.
-Document parse_document(std::string_view text);
+// CSS sheets (<style>, and with `load` <?xml-stylesheet?> and @import of
+// the files it gives: href to CSS text, nullopt when refused) are applied
+// to the tree (svg_css.h).
+Document parse_document(std::string_view text,
+                        const std::function<std::optional<std::string>(std::string_view)>& load = nullptr);
 
 // The declarations of a style attribute (CSS Syntax: "name: value; ...",
 // comments allowed, "!important" ignored).

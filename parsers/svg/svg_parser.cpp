@@ -602,8 +602,22 @@ ParseResult parse_svg_string(std::string_view text, const std::string& base_dir,
     inflated = std::move(*out);
     text = inflated;
   }
-  const detail::Document doc = detail::parse_document(text);
   ParseResult result;
+  // Style sheets that <?xml-stylesheet?> and @import name: local files under
+  // the read policy (the document's folder tree and allowed_dirs).
+  const std::string base = base_dir.empty() ? std::string(".") : base_dir;
+  std::vector<std::string> readable{base};
+  readable.insert(readable.end(), options.allowed_dirs.begin(), options.allowed_dirs.end());
+  auto load_css = [&](std::string_view href) -> std::optional<std::string> {
+    std::string why;
+    const auto r = detail::fetch_resource(href, base, readable, &why, size_t(16) << 20);
+    if (!r) {
+      result.warnings.push_back("style sheet not loaded: " + why);
+      return std::nullopt;
+    }
+    return std::string(r->bytes.begin(), r->bytes.end());
+  };
+  const detail::Document doc = detail::parse_document(text, load_css);
   detail::Session session(doc, options, result.warnings);
   session.base_dir = base_dir.empty() ? std::string(".") : base_dir;
   session.allowed_dirs.push_back(session.base_dir);
