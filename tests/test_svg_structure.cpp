@@ -160,3 +160,10 @@ TEST_CASE("svgz input: gzip-compressed documents are inflated", "[svg][structure
   }
   CHECK(message == "cannot inflate the gzip-compressed (svgz) input: truncated gzip data");
 }
+
+TEST_CASE("rem: the root element's font size", "[svg][structure]") {
+  CHECK(dump_of("<rect width='2rem' height='1rem'/>", "viewBox='0 0 200 200' font-size='10'") ==
+        dump_of("<rect width='20' height='10'/>", "viewBox='0 0 200 200' font-size='10'"));
+  CHECK(dump_of("<g font-size='50'><rect width='2rem' height='1em'/></g>") ==
+        dump_of("<rect width='32' height='50'/>"));
+}

@@ -298,6 +298,7 @@ struct Session {
   std::vector<std::string>& warnings;
   std::unordered_set<std::string> warned;
   double percent_w = 100, percent_h = 100;  // the root viewport, for percentages
+  double root_em = 16;                       // the root element's font size, for rem
   size_t instances = 0;
   std::vector<const Element*> active;         // elements being converted (use cycles)
   std::vector<const Element*> active_clips;   // clipPaths being expanded (clip-path cycles)

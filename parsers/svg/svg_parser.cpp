@@ -202,6 +202,7 @@ double Converter::percent_base(Axis axis) const {
 // `em` (ex is taken as half an em: fonts are not modelled).
 double Converter::to_user(const Length& l, Axis axis, double em) const {
   if (l.unit == Unit::Em) return l.value * em;
+  if (l.unit == Unit::Rem) return l.value * s_.root_em;
   if (l.unit == Unit::Ex) return l.value * em / 2;
   return length_to_px(l, percent_base(axis));
 }

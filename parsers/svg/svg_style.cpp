@@ -46,8 +46,9 @@ std::optional<std::vector<double>> parse_dasharray(std::string_view v, ToUser to
 
 // font-size (CSS Fonts 4 §2.5): an absolute-size keyword (scaled from
 // medium = 16px), larger / smaller (a factor of 1.2), or a non-negative
-// length or percentage, em, ex and % relative to the parent's size.
-std::optional<double> parse_font_size(std::string_view v, double parent) {
+// length or percentage, em, ex and % relative to the parent's size, rem to
+// the root's (root).
+std::optional<double> parse_font_size(std::string_view v, double parent, double root = 16) {
   v = trim(v);
   static const struct {
     const char* name;
@@ -62,6 +63,7 @@ std::optional<double> parse_font_size(std::string_view v, double parent) {
   if (!l || l->value < 0) return std::nullopt;
   switch (l->unit) {
     case Unit::Em: return l->value * parent;
+    case Unit::Rem: return l->value * root;
     case Unit::Ex: return l->value * parent / 2;
     default: return length_to_px(*l, parent);  // % of the parent's size too
   }
@@ -399,8 +401,12 @@ Style Converter::compute_style(const Element& e, const Context& ctx) {
     inh.small_caps = f.value.small_caps;
   }
   const auto font_size = property<double>(
-      e, "font-size", [&](std::string_view v) -> std::optional<double> { return parse_font_size(v, parent_em); });
+      e, "font-size", [&](std::string_view v) -> std::optional<double> {
+        // rem: of the root's font size (on the root itself, of the initial 16px).
+        return parse_font_size(v, parent_em, e.parent ? s_.root_em : 16);
+      });
   if (font_size.state == Prop<double>::Set) inh.font_size = font_size.value;
+  if (!e.parent) s_.root_em = inh.font_size;
 
   if (!ctx.in_clip) {
     // Inside a clipPath only geometry counts (CSS Masking 1, the clipPath

@@ -120,7 +120,8 @@ std::optional<Length> parse_length(std::string_view text) {
       const char* name;
       Unit unit;
     } units[] = {{"px", Unit::Px}, {"pt", Unit::Pt}, {"pc", Unit::Pc}, {"mm", Unit::Mm},
-                 {"cm", Unit::Cm}, {"in", Unit::In}, {"em", Unit::Em}, {"ex", Unit::Ex}};
+                 {"cm", Unit::Cm}, {"in", Unit::In}, {"em", Unit::Em}, {"ex", Unit::Ex},
+                 {"rem", Unit::Rem}};
     const std::string_view u = s.rest();
     bool found = false;
     for (const auto& e : units) {
@@ -147,7 +148,8 @@ double length_to_px(const Length& l, double percent_base) {
     case Unit::Mm: return l.value * (96.0 / 25.4);
     case Unit::Cm: return l.value * (96.0 / 2.54);
     case Unit::In: return l.value * 96.0;
-    case Unit::Em: return l.value * 16.0;
+    case Unit::Em:
+    case Unit::Rem: return l.value * 16.0;
     case Unit::Ex: return l.value * 8.0;
     case Unit::Percent: return l.value * percent_base / 100.0;
   }

@@ -69,7 +69,7 @@ class Scanner {
 // Whole-value number (trimmed); nullopt unless the text is exactly one number.
 std::optional<double> parse_number(std::string_view s);
 
-enum class Unit { None, Px, Pt, Pc, Mm, Cm, In, Em, Ex, Percent };
+enum class Unit { None, Px, Pt, Pc, Mm, Cm, In, Em, Ex, Rem, Percent };
 
 struct Length {
   double value = 0;
