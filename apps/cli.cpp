@@ -55,6 +55,8 @@ void usage(const char* program, const char* kind) {
       "Text:\n"
       "      --font-dir DIR        fonts for <text>: every font file in DIR's tree\n"
       "                            (repeatable), before the system's fonts\n"
+      "      --languages LIST      the user's languages for systemLanguage and switch,\n"
+      "                            e.g. de-CH,en (default en)\n"
       "Execution:\n"
       "      --backend B           auto, cpu or cuda (default auto: the CPU when it would\n"
       "                            finish before CUDA is ready, else cuda; see --stats)\n"
@@ -167,6 +169,19 @@ bool parse(int argc, char** argv, const char* program, const char* kind, Options
       const std::string d = value();
       if (d.empty()) throw UsageError{"--font-dir needs a folder"};
       o.font_dirs.push_back(d);
+    } else if (a == "--languages") {
+      const std::string list = value();
+      o.languages.clear();
+      for (size_t pos = 0; pos <= list.size();) {
+        size_t end = list.find(',', pos);
+        if (end == std::string::npos) end = list.size();
+        std::string tag = list.substr(pos, end - pos);
+        tag.erase(0, tag.find_first_not_of(' '));
+        tag.erase(tag.find_last_not_of(' ') + 1);
+        if (!tag.empty()) o.languages.push_back(tag);
+        pos = end + 1;
+      }
+      if (o.languages.empty()) throw UsageError{"--languages needs a list of language tags, e.g. en-US,de"};
     } else if (a == "--allow-read") {
       const std::string d = value();
       if (d.empty()) throw UsageError{"--allow-read needs a folder"};

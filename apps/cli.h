@@ -30,6 +30,7 @@ struct Options {
   // besides its own folder tree.
   std::vector<std::string> allow_read;
   std::vector<std::string> font_dirs;  // --font-dir (repeatable)
+  std::vector<std::string> languages{"en"};  // --languages (systemLanguage)
   std::vector<std::string> positional;
   std::string output;  // -o; else the second positional argument
 

@@ -77,6 +77,7 @@ svg::ParseOptions parse_options_for(const cli::Options& opt, int threads) {
   svg::ParseOptions o;
   o.allowed_dirs = opt.allow_read;
   o.font_dirs = opt.font_dirs;
+  o.languages = opt.languages;
   o.threads = threads;
   o.view = [&opt](double w, double h) {
     int width, height;

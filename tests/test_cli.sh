@@ -138,5 +138,15 @@ check "batch: two inputs to one output is an error, nothing written" test "$rc" 
 "$bin" -q --shard 3/3 -o "$tmp/x" "$tmp/batch/arcs.svg" 2>/dev/null; rc=$?
 check "--shard out of range: exit 2" test "$rc" = 2
 
+printf '<svg xmlns="http://www.w3.org/2000/svg" width="10" height="10"><switch><rect width="10" height="10" fill="red" systemLanguage="de"/><rect width="10" height="10" fill="lime"/></switch></svg>' > "$tmp/lang.svg"
+"$bin" -q --aa 1x8 "$tmp/lang.svg" "$tmp/lang-en.png"
+"$bin" -q --aa 1x8 --languages de-CH,en "$tmp/lang.svg" "$tmp/lang-de.png"
+check "--languages changes what switch picks" differ "$tmp/lang-en.png" "$tmp/lang-de.png"
+"$bin" -q --languages "" "$tmp/lang.svg" "$tmp/lang-x.png" 2>/dev/null; rc=$?
+check "--languages without tags: exit 2" test "$rc" = 2
+printf '<svg xmlns="http://www.w3.org/2000/svg" width="10" height="10"><rect width="5" height="5"/></svg>' | gzip -c > "$tmp/z.svgz"
+"$bin" -q "$tmp/z.svgz" "$tmp/z.png"; rc=$?
+check ".svgz input renders" test "$rc" = 0 -a -s "$tmp/z.png"
+
 echo "$fails failed"
 test "$fails" = 0
