@@ -167,3 +167,16 @@ TEST_CASE("rem: the root element's font size", "[svg][structure]") {
   CHECK(dump_of("<g font-size='50'><rect width='2rem' height='1em'/></g>") ==
         dump_of("<rect width='32' height='50'/>"));
 }
+
+TEST_CASE("background-color on the root fills the viewport under everything", "[svg][structure]") {
+  const std::string d = dump_of("<rect x='10' y='10' width='5' height='5' fill='green'/>",
+                                "viewBox='-100 -100 200 200' width='50' height='50' style='background-color: #0000ff80'");
+  // Stream order is top-most first: the rect, then the background over the
+  // whole 50 x 50 viewport in scene units.
+  CHECK(d.find("M 0 0 L 50 0 L 50 50 L 0 50 L 0 0 Z") != std::string::npos);
+  CHECK(d.find("rgba(0,0,1,0.501961)") != std::string::npos);
+  CHECK(d.find("stream F0 F1") != std::string::npos);
+  CHECK(d.find("path 1 fill nonzero rgba(0,0,1,0.501961)") != std::string::npos);
+  // Without it, no background.
+  CHECK(dump_of("", "width='50' height='50'").find("path") == std::string::npos);
+}

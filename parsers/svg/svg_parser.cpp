@@ -80,6 +80,18 @@ Scene Converter::run() {
     s_.percent_w = width;
     s_.percent_h = height;
   }
+  // background-color on the root (CSS Backgrounds 3, as browsers paint
+  // the root element's background): the whole viewport, under everything.
+  if (const auto bg = property<RGBA>(root, "background-color", [](std::string_view v) { return parse_color(v); });
+      bg.state == Prop<RGBA>::Set && bg.value.a > 0) {
+    Paint paint;
+    paint.color = bg.value;
+    paints_.push_back(paint);
+    Op fill = Op::of(OpKind::Fill);
+    fill.shape = rect_shape({0, 0, width, height});
+    fill.paint = static_cast<uint32_t>(paints_.size() - 1);
+    ops_.push_back(fill);
+  }
   render(root, ctx, 0);
   convert_strokes();
   emit(builder);
