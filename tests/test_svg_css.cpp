@@ -91,3 +91,14 @@ TEST_CASE("css: <?xml-stylesheet?> and @import read local sheets under the read 
                                     "<svg xmlns='http://www.w3.org/2000/svg' width='1' height='1'/>")
             .warnings.size() == 1);
 }
+
+TEST_CASE("css: initial resets an inherited property; inherit takes the parent's", "[svg][css]") {
+  CHECK(headers_of("<g fill='red' stroke='blue'>" + rect("fill='initial'") + "</g>") ==
+        headers_of("<g stroke='blue'>" + rect("") + "</g>"));
+  CHECK(headers_of("<g fill='red'>" + rect("style='fill: green; fill: initial'") + "</g>") ==
+        headers_of(rect("")));
+  CHECK(headers_of("<g fill='red'>" + rect("style='fill: initial; fill: green'") + "</g>") ==
+        headers_of(rect("fill='green'")));
+  // A non-inherited property: initial is its default.
+  CHECK(headers_of(rect("opacity='initial'")) == headers_of(rect("")));
+}

@@ -204,7 +204,9 @@ struct Style {
 // A property's value on one element.
 template <class T>
 struct Prop {
-  enum State { Unset, Inherit, Set } state = Unset;
+  // Initial: the keyword "initial" (CSS Cascade 4 §7.1); compute_style
+  // resets inherited properties declared so, callers treat it as unset.
+  enum State { Unset, Inherit, Initial, Set } state = Unset;
   T value{};
 };
 
@@ -220,6 +222,10 @@ Prop<T> property(const Element& e, std::string_view name, Parse parse) {
   auto accept = [&](const std::string& text) {
     if (iequals(trim(text), "inherit")) {
       p.state = Prop<T>::Inherit;
+      return true;
+    }
+    if (iequals(trim(text), "initial")) {
+      p.state = Prop<T>::Initial;
       return true;
     }
     std::optional<T> v = parse(text);

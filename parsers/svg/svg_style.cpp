@@ -374,10 +374,62 @@ void text_style(const Element& e, const Context& ctx, Inherited& inh, double dia
   if (const std::string* xs = e.attribute("xml:space")) inh.space_preserve = *xs == "preserve";
 }
 
+// "initial" on an inherited property: its initial value instead of the
+// parent's (the non-inherited ones start from their initial values anyway).
+void reset_initial(const Element& e, Inherited& inh) {
+  static const Inherited init;
+  using Reset = void (*)(Inherited&);
+  static const std::pair<const char*, Reset> resets[] = {
+      {"fill", [](Inherited& i) { i.fill = init.fill; }},
+      {"fill-rule", [](Inherited& i) { i.fill_rule = init.fill_rule; }},
+      {"fill-opacity", [](Inherited& i) { i.fill_opacity = init.fill_opacity; }},
+      {"stroke", [](Inherited& i) { i.stroke = init.stroke; }},
+      {"stroke-opacity", [](Inherited& i) { i.stroke_opacity = init.stroke_opacity; }},
+      {"stroke-width", [](Inherited& i) { i.stroke_width = init.stroke_width; }},
+      {"stroke-linejoin", [](Inherited& i) { i.stroke_join = init.stroke_join; }},
+      {"stroke-linecap", [](Inherited& i) { i.stroke_cap = init.stroke_cap; }},
+      {"stroke-miterlimit", [](Inherited& i) { i.stroke_miterlimit = init.stroke_miterlimit; }},
+      {"stroke-dasharray", [](Inherited& i) { i.stroke_dasharray = init.stroke_dasharray; }},
+      {"stroke-dashoffset", [](Inherited& i) { i.stroke_dashoffset = init.stroke_dashoffset; }},
+      {"paint-order", [](Inherited& i) { i.paint_order = init.paint_order; }},
+      {"font-size", [](Inherited& i) { i.font_size = init.font_size; }},
+      {"font-family", [](Inherited& i) { i.font_family = init.font_family; }},
+      {"font-weight", [](Inherited& i) { i.font_weight = init.font_weight; }},
+      {"font-style", [](Inherited& i) { i.font_italic = init.font_italic; }},
+      {"font-stretch", [](Inherited& i) { i.font_stretch = init.font_stretch; }},
+      {"text-anchor", [](Inherited& i) { i.text_anchor = init.text_anchor; }},
+      {"letter-spacing", [](Inherited& i) { i.letter_spacing = init.letter_spacing; }},
+      {"word-spacing", [](Inherited& i) { i.word_spacing = init.word_spacing; }},
+      {"dominant-baseline", [](Inherited& i) { i.dominant_baseline = init.dominant_baseline; }},
+      {"font-variation-settings", [](Inherited& i) { i.font_variations = init.font_variations; }},
+      {"writing-mode", [](Inherited& i) { i.vertical = init.vertical; }},
+      {"font-variant", [](Inherited& i) { i.small_caps = init.small_caps; }},
+      {"font-kerning", [](Inherited& i) { i.kerning = init.kerning; }},
+      {"font-feature-settings", [](Inherited& i) { i.font_features = init.font_features; }},
+      {"font-size-adjust", [](Inherited& i) { i.font_size_adjust = init.font_size_adjust; }},
+      {"marker-start", [](Inherited& i) { i.marker_start = init.marker_start; }},
+      {"marker-mid", [](Inherited& i) { i.marker_mid = init.marker_mid; }},
+      {"marker-end", [](Inherited& i) { i.marker_end = init.marker_end; }},
+      {"clip-rule", [](Inherited& i) { i.clip_rule = init.clip_rule; }},
+      {"visibility", [](Inherited& i) { i.visible = init.visible; }},
+      {"color", [](Inherited& i) { i.color = init.color; }},
+      {"image-rendering", [](Inherited& i) { i.image_rendering = init.image_rendering; }},
+  };
+  // Most elements have no "initial" at all: one scan decides.
+  bool any = false;
+  for (const auto& [k, v] : e.declarations) any = any || iequals(trim(v), "initial");
+  for (const auto& [k, v] : e.attributes) any = any || iequals(trim(v), "initial");
+  if (!any) return;
+  for (const auto& [name, reset] : resets)
+    if (property<int>(e, name, [](std::string_view) { return std::optional<int>(); }).state == Prop<int>::Initial)
+      reset(inh);
+}
+
 Style Converter::compute_style(const Element& e, const Context& ctx) {
   Style st;
   st.inh = ctx.inh;
   Inherited& inh = st.inh;
+  reset_initial(e, inh);
 
   // color first: currentColor in fill refers to this element's color.
   const auto color = property<RGBA>(e, "color", [&](std::string_view v) -> std::optional<RGBA> {
