@@ -390,6 +390,17 @@ size_t FontDb::add_dir(const std::string& dir, std::vector<std::string>* warning
 
 size_t FontDb::add_system_fonts() {
 #ifdef MPVG_HAVE_FONTCONFIG
+  // No fontconfig configuration on this machine (a bare container): no
+  // system fonts, and no "Cannot load default config file" on stderr.
+  // (FcConfigFilename would print that error itself: the file is checked
+  // here, FONTCONFIG_FILE's or the usual /etc/fonts/fonts.conf.)
+  {
+    const char* env = std::getenv("FONTCONFIG_FILE");
+    const std::string file = env && *env ? env : "/etc/fonts/fonts.conf";
+    std::error_code ec;
+    if (!file.empty() && file[0] == '/' && !std::filesystem::exists(file, ec) && !std::getenv("FONTCONFIG_PATH"))
+      return 0;
+  }
   FcConfig* config = FcInitLoadConfigAndFonts();
   if (!config) return 0;
   FcPattern* pattern = FcPatternCreate();
