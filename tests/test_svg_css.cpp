@@ -102,3 +102,8 @@ TEST_CASE("css: initial resets an inherited property; inherit takes the parent's
   // A non-inherited property: initial is its default.
   CHECK(headers_of(rect("opacity='initial'")) == headers_of(rect("")));
 }
+
+TEST_CASE("css: !important inside one style attribute beats the block's later declarations", "[svg][css]") {
+  CHECK(headers_of(rect("style='fill: red !important; fill: blue'")) == headers_of(rect("fill='red'")));
+  CHECK(headers_of(rect("style='fill: red; fill: blue'")) == headers_of(rect("fill='blue'")));
+}

@@ -415,6 +415,10 @@ class Converter {
                                          const std::function<ViewBox(double, double)>& viewport,
                                          const AspectRatio& ar, const Affine& space);
   uint32_t rect_shape(const ViewBox& r);
+  // A fill of `shape` (in `space`) with an image: texel (i, j) mapped to
+  // scene units by `texels`, clamped at its edges, its alpha times opacity.
+  void texture_fill(std::shared_ptr<const Image> image, const Affine& texels, TextureFilter filter, double opacity,
+                    uint32_t shape, const Affine& space);
 
   // ------------------------------------------------------------ references
 

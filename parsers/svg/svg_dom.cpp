@@ -149,50 +149,13 @@ const std::string* Element::attribute(std::string_view n) const {
 }
 
 std::vector<std::pair<std::string, std::string>> parse_style_attribute(std::string_view style) {
-  // Comments first (CSS Syntax 3 §4.3.2), then split at top-level ';'.
-  std::string text;
-  for (size_t i = 0; i < style.size(); i++) {
-    if (style[i] == '/' && i + 1 < style.size() && style[i + 1] == '*') {
-      const size_t end = style.find("*/", i + 2);
-      if (end == std::string_view::npos) break;
-      i = end + 1;
-      continue;
-    }
-    text += style[i];
-  }
-  std::vector<std::pair<std::string, std::string>> out;
-  auto declaration = [&](std::string_view d) {
-    const size_t colon = d.find(':');
-    if (colon == std::string_view::npos) return;
-    std::string name(trim(d.substr(0, colon)));
-    std::transform(name.begin(), name.end(), name.begin(), ascii_lower);
-    std::string_view value = trim(d.substr(colon + 1));
-    // "!important" only changes precedence between style sheets, which we
-    // do not have; within one declaration block it is noise.
-    const size_t bang = value.rfind('!');
-    if (bang != std::string_view::npos && iequals(trim(value.substr(bang + 1)), "important"))
-      value = trim(value.substr(0, bang));
-    if (!name.empty() && !value.empty()) out.emplace_back(std::move(name), std::string(value));
-  };
-  size_t start = 0;
-  int depth = 0;
-  char quote = 0;
-  for (size_t i = 0; i < text.size(); i++) {
-    const char c = text[i];
-    if (quote) {
-      if (c == quote) quote = 0;
-    } else if (c == '"' || c == '\'') {
-      quote = c;
-    } else if (c == '(') {
-      depth++;
-    } else if (c == ')') {
-      depth = std::max(0, depth - 1);
-    } else if (c == ';' && depth == 0) {
-      declaration(std::string_view(text).substr(start, i - start));
-      start = i + 1;
-    }
-  }
-  declaration(std::string_view(text).substr(start));
+  // The block's declarations (svg_css.cpp), the !important ones after the
+  // others: later entries win, and an important declaration beats any
+  // normal one of the block.
+  std::vector<std::pair<std::string, std::string>> out, important;
+  for (CssDeclaration& d : parse_declarations(style))
+    (d.important ? important : out).emplace_back(std::move(d.name), std::move(d.value));
+  out.insert(out.end(), std::make_move_iterator(important.begin()), std::make_move_iterator(important.end()));
   return out;
 }
 

@@ -53,7 +53,7 @@ Document parse_document(std::string_view text,
                         const std::function<std::optional<std::string>(std::string_view)>& load = nullptr);
 
 // The declarations of a style attribute (CSS Syntax: "name: value; ...",
-// comments allowed, "!important" ignored).
+// comments allowed), in cascade order: !important ones last.
 std::vector<std::pair<std::string, std::string>> parse_style_attribute(std::string_view style);
 
 // Expands the general entities declared in the document's internal DTD

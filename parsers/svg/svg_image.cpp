@@ -121,6 +121,26 @@ const LoadedImage& Converter::load_image(const std::string& href) {
   return s_.images->emplace(key, std::move(li)).first->second;
 }
 
+void Converter::texture_fill(std::shared_ptr<const Image> image, const Affine& texels, TextureFilter filter,
+                             double opacity, uint32_t shape, const Affine& space) {
+  Texture t;
+  t.image = std::move(image);
+  t.xf = texels;
+  t.filter = filter;
+  t.wrap_x = t.wrap_y = TextureWrap::Clamp;
+  t.tint = {1, 1, 1, static_cast<float>(opacity)};
+  textures_.push_back(std::move(t));
+  Paint paint;
+  paint.type = PaintType::Texture;
+  paint.index = static_cast<uint32_t>(textures_.size() - 1);
+  paints_.push_back(paint);
+  Op fill = Op::of(OpKind::Fill);
+  fill.shape = shape;
+  fill.xf = space;
+  fill.paint = static_cast<uint32_t>(paints_.size() - 1);
+  ops_.push_back(fill);
+}
+
 uint32_t Converter::rect_shape(const ViewBox& r) {
   shapes_.push_back(rect_path(r.x, r.y, r.w, r.h, 0, 0));
   return static_cast<uint32_t>(shapes_.size() - 1);
@@ -172,21 +192,8 @@ void Converter::image(const Element& e, const Style& st, const Affine& space) {
     const Affine place = place_in(vp, ar, iw, ih);
     const ViewBox shown = intersect(vp, placed_box(place, iw, ih));
     if (!(shown.w > 0 && shown.h > 0)) return;
-    Texture t;
-    t.image = li.raster;
-    t.xf = space * place;  // texel (i, j) covers [i, i+1] x [j, j+1] of the placed box
-    t.filter = st.inh.image_rendering;
-    t.wrap_x = t.wrap_y = TextureWrap::Clamp;
-    textures_.push_back(std::move(t));
-    Paint paint;
-    paint.type = PaintType::Texture;
-    paint.index = static_cast<uint32_t>(textures_.size() - 1);
-    paints_.push_back(paint);
-    Op fill = Op::of(OpKind::Fill);
-    fill.shape = rect_shape(shown);
-    fill.xf = space;
-    fill.paint = static_cast<uint32_t>(paints_.size() - 1);
-    ops_.push_back(fill);
+    // texel (i, j) covers [i, i+1] x [j, j+1] of the placed box
+    texture_fill(li.raster, space * place, st.inh.image_rendering, 1, rect_shape(shown), space);
     return;
   }
 

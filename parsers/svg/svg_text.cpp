@@ -974,22 +974,8 @@ void Converter::text(const Element& e, const Style& st, const Affine& space) {
     }
     // A bitmap glyph: its image on its rectangle, with the span's
     // fill-opacity (as a tint's alpha) and image-rendering.
-    Texture t;
-    t.image = piece.image;
-    t.xf = space * piece.image_xf;
-    t.filter = piece.st.inh.image_rendering;
-    t.wrap_x = t.wrap_y = TextureWrap::Clamp;
-    t.tint = {1, 1, 1, static_cast<float>(piece.st.inh.fill_opacity)};
-    textures_.push_back(std::move(t));
-    Paint paint;
-    paint.type = PaintType::Texture;
-    paint.index = static_cast<uint32_t>(textures_.size() - 1);
-    paints_.push_back(paint);
-    Op fill = Op::of(OpKind::Fill);
-    fill.shape = shape;
-    fill.xf = space;
-    fill.paint = static_cast<uint32_t>(paints_.size() - 1);
-    ops_.push_back(fill);
+    texture_fill(piece.image, space * piece.image_xf, piece.st.inh.image_rendering, piece.st.inh.fill_opacity, shape,
+                 space);
   }
 }
 
