@@ -403,3 +403,23 @@ TEST_CASE("text: the font shorthand, overridden by longhands; font-size-adjust",
   const Box x = box_of(parse("<text x='10' y='100' font-size='40' font-size-adjust='0.5'>x</text>").scene);
   CHECK(100 - x.y0 == Approx(20).margin(0.05));
 }
+
+TEST_CASE("text: objectBoundingBox paint servers use the glyph cells' box", "[svg][text]") {
+  REQUIRE_FONT();
+  // A gradient across the text's box: the cells span the advance and the
+  // font's ascent to descent, wider than the ink of "ll" (side bearings) and
+  // taller (the descent): the gradient vector equals the cells' box.
+  const auto r = parse("<linearGradient id='g'><stop offset='0' stop-color='red'/><stop offset='1' stop-color='blue'/>"
+                       "</linearGradient><text x='10' y='100' fill='url(#g)'>ll</text>");
+  const mpvg::Scene& s = r.scene;
+  REQUIRE(s.paths.size() == 1);
+  const Box ink = box_of(s);
+  // The gradient's transform maps (0,0)-(1,0) to the box's left and right.
+  const mpvg::Paint& p = s.paints[s.paths[0].paint];
+  REQUIRE(p.type == mpvg::PaintType::LinearGradient);
+  const mpvg::Affine& xf = s.gradients[p.index].xf;
+  CHECK(xf.apply({0, 0}).x == Approx(10).margin(1e-6));  // the pen's start, left of the ink
+  CHECK(xf.apply({0, 0}).x < ink.x0);
+  CHECK(xf.apply({1, 0}).x > ink.x1);
+  CHECK(xf.apply({0, 1}).y > 100);  // the descent, below the baseline
+}

@@ -496,7 +496,9 @@ class Converter {
     std::shared_ptr<const Image> image;
     Affine image_xf;
   };
-  std::vector<TextPiece> layout_text(const Element& e, const Style& st, const Affine& space);
+  // cells, when given: the union of the glyph cells (each cluster's
+  // advance by the font's ascent and descent), the text's box.
+  std::vector<TextPiece> layout_text(const Element& e, const Style& st, const Affine& space, Bounds* cells = nullptr);
 
   // ------------------------------------------------------------ groups and masks (svg_masks.cpp)
 

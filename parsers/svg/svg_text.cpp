@@ -264,7 +264,7 @@ double baseline_offset(Baseline b, const text::Metrics& m) {
 }  // namespace
 
 std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, const Style& root_style,
-                                                        const Affine& space) {
+                                                        const Affine& space, Bounds* cells) {
   std::vector<TextPiece> pieces;
   std::vector<std::string> font_warnings;
   const text::FontDb& db = font_db(s_.options.font_dirs, s_.options.system_fonts, &font_warnings);
@@ -847,6 +847,12 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
       for (const Cluster& cl : clusters) {
         if (!cl.visible || chars[cl.ch].span != span) continue;
         const Affine ts = span_ts * cl.transform * cl.path_transform;
+        if (cells) {
+          const Affine cell = span_ts * cl.transform;
+          for (const Vec2 c : {Vec2{0, -cl.ascent}, Vec2{cl.advance, -cl.ascent}, Vec2{0, -cl.descent},
+                               Vec2{cl.advance, -cl.descent}})
+            cells->add(cell.apply(c));
+        }
         for (const PlacedGlyph& g : cl.glyphs) {
           const Affine at = ts * Affine::translate(g.at.x, g.at.y);
           if (db_has_bitmaps(g.face)) {
@@ -961,10 +967,10 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
 }
 
 void Converter::text(const Element& e, const Style& st, const Affine& space) {
-  std::vector<TextPiece> pieces = layout_text(e, st, space);
-  // Paint servers in objectBoundingBox units use the box of the whole text.
+  // Paint servers in objectBoundingBox units use the text's box: its glyph
+  // cells (SVG 2 coords.html#BoundingBoxes: text content elements).
   Bounds box;
-  for (const TextPiece& piece : pieces) add_path_bounds(piece.path, Affine{}, box);
+  std::vector<TextPiece> pieces = layout_text(e, st, space, &box);
   for (TextPiece& piece : pieces) {
     const uint32_t shape = static_cast<uint32_t>(shapes_.size());
     shapes_.push_back(std::move(piece.path));
