@@ -971,6 +971,14 @@ void Converter::text(const Element& e, const Style& st, const Affine& space) {
   // cells (SVG 2 coords.html#BoundingBoxes: text content elements).
   Bounds box;
   std::vector<TextPiece> pieces = layout_text(e, st, space, &box);
+  // The same box for what measures the element (objectBoundingBox clip
+  // paths, masks and filters on it): a bounds-only operation.
+  if (!box.empty()) {
+    Op cells = Op::of(OpKind::Bounds);
+    cells.shape = rect_shape({box.x0, box.y0, box.width(), box.height()});
+    cells.xf = space;
+    ops_.push_back(cells);
+  }
   for (TextPiece& piece : pieces) {
     const uint32_t shape = static_cast<uint32_t>(shapes_.size());
     shapes_.push_back(std::move(piece.path));
