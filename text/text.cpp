@@ -581,25 +581,16 @@ void shape_run(hb_font_t* font, std::string_view utf8, size_t run_start, size_t 
 // through FriBiDi; paragraph level left-to-right): byte start, byte length,
 // right-to-left.
 struct LevelRun {
-  size_t start, len;
+  size_t start, len;  // bytes
   bool rtl;
+  size_t a = 0, b = 0;  // code points
 };
 
-std::vector<LevelRun> visual_runs(std::string_view utf8) {
+// The level runs of code points cps (offs: each one's byte offset, then the
+// text's length) in visual order.
+std::vector<LevelRun> visual_runs(const std::vector<char32_t>& code_points, const std::vector<size_t>& offs) {
   std::vector<LevelRun> runs;
-  // Code points and their byte offsets.
-  std::vector<FriBidiChar> cps;
-  std::vector<size_t> offs;
-  for (size_t i = 0; i < utf8.size();) {
-    const unsigned char c = static_cast<unsigned char>(utf8[i]);
-    const int n = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 1;
-    char32_t cp = n == 1 ? c : n == 2 ? (c & 0x1f) : n == 3 ? (c & 0x0f) : (c & 0x07);
-    for (int k = 1; k < n && i + k < utf8.size(); k++) cp = (cp << 6) | (static_cast<unsigned char>(utf8[i + k]) & 0x3f);
-    cps.push_back(cp);
-    offs.push_back(i);
-    i += n;
-  }
-  offs.push_back(utf8.size());
+  const std::vector<FriBidiChar> cps(code_points.begin(), code_points.end());
   const FriBidiStrIndex len = static_cast<FriBidiStrIndex>(cps.size());
   std::vector<FriBidiCharType> types(cps.size());
   std::vector<FriBidiBracketType> brackets(cps.size());
@@ -636,7 +627,7 @@ std::vector<LevelRun> visual_runs(std::string_view utf8) {
       std::reverse(rs.begin() + static_cast<long>(i), rs.begin() + static_cast<long>(j));
       i = j;
     }
-  for (const R& r : rs) runs.push_back({offs[r.a], offs[r.b] - offs[r.a], (r.level % 2) != 0});
+  for (const R& r : rs) runs.push_back({offs[r.a], offs[r.b] - offs[r.a], (r.level % 2) != 0, r.a, r.b});
   return runs;
 }
 
@@ -661,9 +652,12 @@ std::vector<ShapedGlyph> shape(const FontDb& db, int face, std::string_view utf8
     hb_feature_t f;
     if (parse_feature(s, f)) features.push_back(f);
   }
+  std::vector<char32_t> cps;
+  std::vector<size_t> offs;
+  decode_utf8(utf8, cps, &offs);
   std::vector<LevelRun> runs;
-  if (o.bidi && !o.vertical) runs = visual_runs(utf8);
-  else runs.push_back({0, utf8.size(), o.rtl});
+  if (o.bidi && !o.vertical) runs = visual_runs(cps, offs);
+  else runs.push_back({0, utf8.size(), o.rtl, 0, cps.size()});
   // Each run cut where the script changes (HarfBuzz shapes one script per
   // buffer: "Text हिन्दी" needs Devanagari's reordering for its second word);
   // characters of no script (spaces, punctuation, marks) go with the run
@@ -671,25 +665,37 @@ std::vector<ShapedGlyph> shape(const FontDb& db, int face, std::string_view utf8
   for (const LevelRun& r : runs) {
     std::vector<LevelRun> pieces;
     hb_script_t current = HB_SCRIPT_INVALID;
-    for (size_t i = r.start; i < r.start + r.len;) {
-      const unsigned char c = static_cast<unsigned char>(utf8[i]);
-      const int n = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 1;
-      char32_t cp = n == 1 ? c : n == 2 ? (c & 0x1f) : n == 3 ? (c & 0x0f) : (c & 0x07);
-      for (int k = 1; k < n && i + k < utf8.size(); k++) cp = (cp << 6) | (static_cast<unsigned char>(utf8[i + k]) & 0x3f);
-      const hb_script_t sc = hb_unicode_script(hb_unicode_funcs_get_default(), cp);
+    for (size_t k = r.a; k < r.b; k++) {
+      const hb_script_t sc = hb_unicode_script(hb_unicode_funcs_get_default(), cps[k]);
       const bool neutral = sc == HB_SCRIPT_COMMON || sc == HB_SCRIPT_INHERITED || sc == HB_SCRIPT_UNKNOWN;
-      if (pieces.empty() || (!neutral && current != HB_SCRIPT_INVALID && sc != current)) {
-        pieces.push_back({i, 0, r.rtl});
-      }
+      if (pieces.empty() || (!neutral && current != HB_SCRIPT_INVALID && sc != current))
+        pieces.push_back({offs[k], 0, r.rtl, k, k});
       if (!neutral) current = sc;
-      pieces.back().len = i + n - pieces.back().start;
-      i += n;
+      pieces.back().len = offs[k + 1] - pieces.back().start;
     }
     if (r.rtl) std::reverse(pieces.begin(), pieces.end());
     for (const LevelRun& p : pieces) shape_run(font, utf8, p.start, p.len, p.rtl, size, o, features, out);
   }
   if (!vars.empty()) hb_font_set_variations(font, nullptr, 0);
   return out;
+}
+
+void decode_utf8(std::string_view s, std::vector<char32_t>& cps, std::vector<size_t>* offsets) {
+  for (size_t i = 0; i < s.size();) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    const int n = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 0;
+    char32_t cp = n == 1 ? c : n == 2 ? (c & 0x1f) : n == 3 ? (c & 0x0f) : (c & 0x07);
+    bool ok = n > 0 && i + n <= s.size();
+    for (int k = 1; ok && k < n; k++) {
+      const unsigned char d = static_cast<unsigned char>(s[i + k]);
+      ok = (d >> 6) == 2;
+      cp = (cp << 6) | (d & 0x3f);
+    }
+    cps.push_back(ok ? cp : 0xfffd);
+    if (offsets) offsets->push_back(i);
+    i += ok ? n : 1;
+  }
+  if (offsets) offsets->push_back(s.size());
 }
 
 bool letter_spacing_applies(char32_t c) {

@@ -121,6 +121,10 @@ mpvg::Path glyph_outline(const FontDb& db, int face, uint32_t glyph, double size
 // Whether the face has the variation axis `tag` ("wght", "wdth", ...).
 bool has_axis(const FontDb& db, int face, const char* tag);
 
+// UTF-8 to code points (appended to cps); invalid bytes become U+FFFD. With
+// offsets: each code point's byte offset, then the text's length.
+void decode_utf8(std::string_view s, std::vector<char32_t>& cps, std::vector<size_t>* offsets = nullptr);
+
 // Whether CSS letter-spacing applies to c's script: not to the cursive
 // ones, whose letters join (Arabic, Syriac, Devanagari, ...; CSS Text 3 §8.2).
 bool letter_spacing_applies(char32_t c);

@@ -50,24 +50,6 @@ const text::FontDb& font_db(const std::vector<std::string>& dirs, bool system, s
   return *db;
 }
 
-// UTF-8 to code points, with each one's byte offset; invalid bytes become
-// U+FFFD.
-void decode_utf8(const std::string& s, std::vector<char32_t>& cps) {
-  for (size_t i = 0; i < s.size();) {
-    const unsigned char c = static_cast<unsigned char>(s[i]);
-    int n = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 0;
-    char32_t cp = n == 1 ? c : n == 2 ? (c & 0x1f) : n == 3 ? (c & 0x0f) : (c & 0x07);
-    bool ok = n > 0 && i + n <= s.size();
-    for (int k = 1; ok && k < n; k++) {
-      const unsigned char d = static_cast<unsigned char>(s[i + k]);
-      ok = (d >> 6) == 2;
-      cp = (cp << 6) | (d & 0x3f);
-    }
-    cps.push_back(ok ? cp : 0xfffd);
-    i += ok ? n : 1;
-  }
-}
-
 void encode_utf8(char32_t c, std::string& out) {
   if (c < 0x80) {
     out += char(c);
@@ -322,7 +304,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
       if (c->name == "#text") {
         if (!(st.inh.font_size > 0)) continue;  // a span of no size shows nothing
         std::vector<char32_t> cps;
-        decode_utf8(c->text, cps);
+        text::decode_utf8(c->text, cps);
         Span sp{index, static_cast<int>(chars.size()), 0, current_flow};
         for (char32_t cp : cps) {
           if (cp == '\n' || cp == '\r') {
