@@ -417,6 +417,23 @@ int roots_in_unit_interval(double a, double b, double c, double t[2]) {
 
 }  // namespace
 
+std::array<Vec2, 4> segment_cubic(const Path& path, const Path::Segment& sg) {
+  const Vec2* q = &path.points()[sg.first_point];
+  auto towards = [](Vec2 a, Vec2 b, double k) { return Vec2{a.x + k * (b.x - a.x), a.y + k * (b.y - a.y)}; };
+  switch (sg.type) {
+    case SegmentType::Quad: return {q[0], towards(q[0], q[1], 2.0 / 3), towards(q[2], q[1], 2.0 / 3), q[2]};
+    case SegmentType::RQuad: {
+      const double half = std::acos(std::clamp(path.weights()[sg.first_weight], -1.0, 1.0));
+      const double k = half > 1e-12 ? 4.0 / 3.0 * std::tan(half / 2) / std::tan(half) : 2.0 / 3.0;
+      return {q[0], towards(q[0], q[1], k), towards(q[2], q[1], k), q[2]};
+    }
+    case SegmentType::Cubic:
+    case SegmentType::RCubic: return {q[0], q[1], q[2], q[3]};
+    case SegmentType::Line: break;
+  }
+  return {q[0], q[0], q[1], q[1]};
+}
+
 void add_path_bounds(const Path& path, const Affine& m, Bounds& b) {
   const auto& pts = path.points();
   for (const Path::Segment& seg : path.segments()) {

@@ -4,6 +4,7 @@
 // Internal to the SVG frontend. Curves stay curves: quadratic and cubic
 // commands become Quad and Cubic segments, arcs become RQuad conics.
 #pragma once
+#include <array>
 #include <limits>
 #include <string_view>
 #include <vector>
@@ -73,5 +74,14 @@ struct Bounds {
 // Adds the tight bounds of `path` mapped by `m` to `b`: the curves' extrema
 // are solved for, not approximated by their control polygons.
 void add_path_bounds(const Path& path, const Affine& m, Bounds& b);
+
+// A curve segment (quadratic, conic or cubic; not a line) as the cubic
+// resvg's kurbo makes of it: a quadratic raised exactly; a conic, a piece
+// of an elliptical arc of angle 2 acos(w), with arms 4/3 tan(angle / 4) of
+// its end tangents (tan(angle / 2) of which reach the control point); a
+// rational cubic's weights ignored (its end directions do not depend on
+// them). Used where text paths and markers measure and orient along a
+// path as resvg does.
+std::array<Vec2, 4> segment_cubic(const Path& path, const Path::Segment& sg);
 
 }  // namespace mpvg::svg::detail

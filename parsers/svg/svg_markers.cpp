@@ -29,7 +29,6 @@ struct Seg {
 std::vector<Seg> marker_segments(const Path& path) {
   std::vector<Seg> out;
   const auto& pts = path.points();
-  const auto& w = path.weights();
   for (const Path::Contour& c : path.contours()) {
     const Vec2 start = pts[c.start_point];
     out.push_back({Seg::Move, {}, {}, start});
@@ -40,25 +39,11 @@ std::vector<Seg> marker_segments(const Path& path) {
       if (c.closed && k + 1 == c.segment_count && sg.type == SegmentType::Line && q[1] == start && k > 0) break;
       switch (sg.type) {
         case SegmentType::Line: out.push_back({Seg::Line, {}, {}, q[1]}); break;
-        case SegmentType::Quad:
-          out.push_back({Seg::Cubic,
-                         {q[0].x + 2.0 / 3 * (q[1].x - q[0].x), q[0].y + 2.0 / 3 * (q[1].y - q[0].y)},
-                         {q[2].x + 2.0 / 3 * (q[1].x - q[2].x), q[2].y + 2.0 / 3 * (q[1].y - q[2].y)},
-                         q[2]});
-          break;
-        case SegmentType::RQuad: {
-          const double half = std::acos(std::clamp(w[sg.first_weight], -1.0, 1.0));
-          const double k3 = half > 1e-12 ? 4.0 / 3.0 * std::tan(half / 2) / std::tan(half) : 2.0 / 3.0;
-          out.push_back({Seg::Cubic,
-                         {q[0].x + k3 * (q[1].x - q[0].x), q[0].y + k3 * (q[1].y - q[0].y)},
-                         {q[2].x + k3 * (q[1].x - q[2].x), q[2].y + k3 * (q[1].y - q[2].y)},
-                         q[2]});
+        default: {
+          const std::array<Vec2, 4> cubic = segment_cubic(path, sg);
+          out.push_back({Seg::Cubic, cubic[1], cubic[2], cubic[3]});
           break;
         }
-        case SegmentType::Cubic:
-        case SegmentType::RCubic:  // (directions at the ends do not depend on the weights)
-          out.push_back({Seg::Cubic, q[1], q[2], q[3]});
-          break;
       }
     }
     if (c.closed) out.push_back({Seg::Close, {}, {}, start});

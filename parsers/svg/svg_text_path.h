@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/scene.h"
+#include "parsers/svg/svg_geometry.h"
 
 namespace mpvg::svg::detail {
 
@@ -103,7 +104,6 @@ class PathMeasure {
 
   PathMeasure(const Path& path, double accuracy) : accuracy_(accuracy) {
     const auto& pts = path.points();
-    const auto& w = path.weights();
     auto line = [&](Vec2 a, Vec2 b) {
       add({a, {a.x + (b.x - a.x) * 0.33, a.y + (b.y - a.y) * 0.33}, {a.x + (b.x - a.x) * 0.66, a.y + (b.y - a.y) * 0.66}, b});
     };
@@ -114,29 +114,12 @@ class PathMeasure {
         const Vec2* q = &pts[sg.first_point];
         switch (sg.type) {
           case SegmentType::Line: line(q[0], q[1]); last = q[1]; break;
-          case SegmentType::Quad:
-            add({q[0], {q[0].x + 2.0 / 3 * (q[1].x - q[0].x), q[0].y + 2.0 / 3 * (q[1].y - q[0].y)},
-                 {q[2].x + 2.0 / 3 * (q[1].x - q[2].x), q[2].y + 2.0 / 3 * (q[1].y - q[2].y)}, q[2]});
-            last = q[2];
-            break;
-          case SegmentType::RQuad: {
-            // A conic is a piece of an elliptical arc of angle 2 acos(w)
-            // (at most 90°: the arcs' split matches kurbo's for radii under
-            // ~360); as a cubic its arms are 4/3 tan(angle / 4) of the
-            // tangent, tan(angle / 2) of which reaches the conic's control
-            // point.
-            const double half = std::acos(std::clamp(w[sg.first_weight], -1.0, 1.0));
-            const double k = half > 1e-12 ? 4.0 / 3.0 * std::tan(half / 2) / std::tan(half) : 2.0 / 3.0;
-            add({q[0], {q[0].x + k * (q[1].x - q[0].x), q[0].y + k * (q[1].y - q[0].y)},
-                 {q[2].x + k * (q[1].x - q[2].x), q[2].y + k * (q[1].y - q[2].y)}, q[2]});
-            last = q[2];
+          default: {
+            const std::array<Vec2, 4> cubic = segment_cubic(path, sg);
+            add({cubic[0], cubic[1], cubic[2], cubic[3]});
+            last = cubic[3];
             break;
           }
-          case SegmentType::Cubic:
-          case SegmentType::RCubic:  // (SVG paths have none; weights ignored)
-            add({q[0], q[1], q[2], q[3]});
-            last = q[3];
-            break;
         }
       }
       if (c.closed) line(last, pts[c.start_point]);
