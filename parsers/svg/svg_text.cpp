@@ -520,7 +520,10 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
   // length, a percentage of that element's font size, sub or super from the
   // span's font), then, in horizontal text, alignment-baseline (the
   // element's or its parent's) or else dominant-baseline.
+  // Computed once per span (a path chunk asks for every cluster).
+  std::vector<std::optional<double>> baselines(spans.size());
   auto span_baseline = [&](int span) {
+    if (baselines[span]) return *baselines[span];
     const Span& sp = spans[span];
     const int face = keys[span_key[span]].face;
     const text::Metrics& m = metrics(face, span_size(span));
@@ -563,6 +566,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
           align && *align >= 0 ? static_cast<Baseline>(*align) : elems[sp.elem].st.inh.dominant_baseline;
       down += baseline_offset(b, m);
     }
+    baselines[span] = down;
     return down;
   };
 
