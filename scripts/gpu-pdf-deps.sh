@@ -19,11 +19,7 @@ cmake --build "$build" -j "$(nproc)" --target pdf2png > /dev/null
 rm -rf "$out"
 mkdir -p "$out/bin" "$out/lib" "$out/corpus"
 cp "$build/apps/pdf2png" "$(command -v mutool)" "$out/bin/"
-for bin in "$out"/bin/*; do
-  ldd "$bin" | awk '$3 ~ /^\// {print $3}'
-done | sort -u | grep -vE '/(libc|libm|libdl|libpthread|librt|libgcc_s|libstdc\+\+)\.so' | while read -r lib; do
-  cp -L "$lib" "$out/lib/"
-done
+bash "$root/scripts/carry-libs.sh" "$out/bin" "$out/lib"
 cp "$corpus"/pgfmanual.pdf "$corpus"/asymptote.pdf "$corpus"/utfsym.pdf "$out/corpus/"
 strip "$out"/bin/*
 tar -C "$out/.." -cf - "$(basename "$out")" | xz -9 > "$root/.deps/pdf.tar.xz"

@@ -16,10 +16,7 @@ cmake --build "$build" -j "$(nproc)" --target svg2png > /dev/null
 rm -rf "$out"
 mkdir -p "$out/bin" "$out/lib" "$out/fonts" "$out/inputs"
 cp "$build/apps/svg2png" "$out/bin/"
-ldd "$out/bin/svg2png" | awk '$3 ~ /^\// {print $3}' | sort -u |
-  grep -vE '/(libc|libm|libdl|libpthread|librt|libgcc_s|libstdc\+\+)\.so' | while read -r lib; do
-  cp -L "$lib" "$out/lib/"
-done
+bash "$root/scripts/carry-libs.sh" "$out/bin" "$out/lib"
 cp /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf "$out/fonts/"
 python3 "$root/scripts/make_text_bench.py" "$out/inputs"
 segments=$("$out/bin/svg2png" --backend cpu --stats --font-dir "$out/fonts" "$out/inputs/text_page.svg" /dev/null 2>&1 |
