@@ -538,7 +538,9 @@ class Encoder {
       const uint32_t id = e.path;
       const ScenePath& sp = scene.paths[id];
       PathRecord& rec = out.paths[id];
-      rec.flags = (sp.rule == FillRule::EvenOdd ? PATH_EVENODD : 0u) | (sp.is_clip ? PATH_CLIP : 0u);
+      rec.flags = (sp.rule == FillRule::EvenOdd ? PATH_EVENODD : 0u) | (sp.is_clip ? PATH_CLIP : 0u) |
+                  (sp.aliased ? PATH_ALIASED : 0u);
+      if (sp.aliased) paint_.aliased = true;
       if (!sp.is_clip) {
         rec.paint = paint_base + sp.paint;
         rec.flags |= paint_flags[sp.paint];

@@ -23,6 +23,9 @@ struct PaintData {
   std::vector<MeshRecord> meshes;
   std::vector<MeshTriangle> mesh_triangles;
   std::vector<uint32_t> mesh_cells, mesh_items;
+  // Some path of the scene or of a pattern tile is aliased (PATH_ALIASED):
+  // the samplers must be the ones that handle it (core/sampling.h).
+  bool aliased = false;
 
   // Pointers into these vectors; `tiles` are the tile trees' views.
   PaintTables view(const TreeView* tiles) const {

@@ -59,13 +59,26 @@ enum : uint32_t {
   PAINTS_ALL = PAINTS_GRADIENTS | PAINTS_TEXTURES | PAINTS_PATTERNS,
   SAMPLE_GROUPS = 1u << 3,  // transparency groups and masks: the per-sample stack
   SAMPLE_ALL = PAINTS_ALL | SAMPLE_GROUPS,
+  // Paths drawn without antialiasing (PATH_ALIASED): compiled only for
+  // scenes that have them, with every paint kind and groups.
+  SAMPLE_ALIASED = 1u << 4,
 };
 
 // The specialisation a scene's tables need: the smallest of those compiled
 // (solid; gradients; textures; gradients and textures; all; and with
 // groups: solid; gradients and textures; all) that covers them. Patterns
 // take all kinds, as their tiles may use any.
-inline uint32_t sampler_kinds(const PaintData& p) {
+//
+// Aliased paths (PATH_ALIASED) are drawn without antialiasing only where
+// unit areas are pixels (odd filter supports: the box): a path then covers
+// a pixel's samples as it covers the pixel's centre. Under a filter of even
+// support (the hat, the cubics) pixel centres are unit-area corners, shared
+// by up to four leaf cells, where no cell's entries are valid for all
+// samples that would need them; such filters blur every edge over several
+// pixels anyway, and aliased paths are antialiased like the rest
+// (`aliasing` false). SVG makes shape-rendering a hint.
+inline uint32_t sampler_kinds(const PaintData& p, bool aliasing) {
+  if (p.aliased && aliasing) return SAMPLE_ALL | SAMPLE_ALIASED;
   const uint32_t groups = p.groups.empty() ? 0u : SAMPLE_GROUPS;
   if (!p.patterns.empty()) return PAINTS_ALL | groups;
   uint32_t k = PAINTS_SOLID;
@@ -89,12 +102,14 @@ decltype(auto) with_sampler_kinds(uint32_t kinds, F&& f) {
     case SAMPLE_GROUPS: return f(std::integral_constant<uint32_t, SAMPLE_GROUPS>{});
     case SAMPLE_GROUPS | PAINTS_GRADIENTS | PAINTS_TEXTURES:
       return f(std::integral_constant<uint32_t, SAMPLE_GROUPS | PAINTS_GRADIENTS | PAINTS_TEXTURES>{});
+    case SAMPLE_ALL | SAMPLE_ALIASED: return f(std::integral_constant<uint32_t, SAMPLE_ALL | SAMPLE_ALIASED>{});
     default: return f(std::integral_constant<uint32_t, SAMPLE_ALL>{});
   }
 }
 
 // The specialisation for leaves whose colour is the same everywhere: solid
-// paints only, groups as the scene has them.
+// paints only, groups as the scene has them (no geometry, so nothing to
+// alias).
 template <uint32_t Kinds>
 constexpr uint32_t kUniformKinds = PAINTS_SOLID | (Kinds & SAMPLE_GROUPS);
 
@@ -172,6 +187,7 @@ struct SampleState {
   int32_t winding;
   Rgba4 color;
   bool done;  // nothing further in the stream can change the colour
+  bool centre;  // the path being summed is aliased (SAMPLE_ALIASED only)
   GroupStack<(Kinds & SAMPLE_GROUPS) != 0> groups;
 };
 
@@ -183,6 +199,7 @@ MPVG_HD_INLINE SampleState<Kinds> sample_start() {
   st.winding = 0;
   st.color = Rgba4{0.0f, 0.0f, 0.0f, 0.0f};
   st.done = false;
+  st.centre = false;
   if constexpr ((Kinds & SAMPLE_GROUPS) != 0) {
     st.groups.depth = 0;
     st.groups.alpha_g = 0.0f;
@@ -338,6 +355,10 @@ MPVG_HD_INLINE const AbstractSegment* entry_segment(Entry e, const AbstractSegme
   return entry_kind(e) == ENTRY_SEGMENT ? &segments[e.data] : nullptr;
 }
 
+// How far an aliased path's test point lies up and left of the pixel
+// centre: exact in float for coordinates below 2^14.
+constexpr float kCentreNudge = 1.0f / 512.0f;
+
 // Advances one sample over one entry; seg as in entry_winding.
 template <int Depth = 0, uint32_t Kinds = SAMPLE_ALL>
 MPVG_HD_INLINE void sample_step(SampleState<Kinds>& st, const SampleInputs& in, Entry e, const AbstractSegment* seg,
@@ -362,6 +383,18 @@ MPVG_HD_INLINE void sample_step(SampleState<Kinds>& st, const SampleInputs& in, 
     if (st.clip.state != FLAT_P) return;  // skipped by the clip machine
     st.path = path;
     st.winding = 0;
+    if constexpr ((Kinds & SAMPLE_ALIASED) != 0) st.centre = (in.paths[path].flags & PATH_ALIASED) != 0;
+  }
+  if constexpr ((Kinds & SAMPLE_ALIASED) != 0) {
+    // An aliased path's winding is that of the centre of the pixel holding
+    // the sample (the same leaf cell, as cells are whole pixels), nudged
+    // up and left by kCentreNudge: a centre on an edge then belongs to the
+    // shape on its top-left side, as in Skia and tiny-skia (a pixel is
+    // covered where left < centre <= right, top < centre <= bottom).
+    if (st.centre) {
+      st.winding += entry_winding(e, seg, floorf(px) + (0.5f - kCentreNudge), floorf(py) + (0.5f - kCentreNudge));
+      return;
+    }
   }
   st.winding += entry_winding(e, seg, px, py);
 }

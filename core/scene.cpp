@@ -255,7 +255,7 @@ uint32_t SceneBuilder::add_mesh(Mesh m) {
   return static_cast<uint32_t>(scene_.meshes.size() - 1);
 }
 
-void SceneBuilder::fill(uint32_t geometry, const Affine& xf, FillRule rule, const Paint& paint) {
+void SceneBuilder::fill(uint32_t geometry, const Affine& xf, FillRule rule, const Paint& paint, bool aliased) {
   Frame& f = frame();
   if (f.clip_context || !f.activated) throw Error("scene grammar: fill inside a clip-path");
   if (geometry >= scene_.geometries.size()) throw Error("scene: unknown geometry");
@@ -271,12 +271,13 @@ void SceneBuilder::fill(uint32_t geometry, const Affine& xf, FillRule rule, cons
   n->path.xf = xf;
   n->path.rule = rule;
   n->path.is_clip = false;
+  n->path.aliased = aliased;
   scene_.paints.push_back(paint);
   n->path.paint = static_cast<uint32_t>(scene_.paints.size() - 1);
   f.group->content.push_back(n);
 }
 
-void SceneBuilder::clip(uint32_t geometry, const Affine& xf, FillRule rule) {
+void SceneBuilder::clip(uint32_t geometry, const Affine& xf, FillRule rule, bool aliased) {
   Frame& f = frame();
   const bool in_clip_section = !f.activated;
   if (!in_clip_section && !f.clip_context) throw Error("scene grammar: clip test outside a clip-path");
@@ -287,6 +288,7 @@ void SceneBuilder::clip(uint32_t geometry, const Affine& xf, FillRule rule) {
   n->path.xf = xf;
   n->path.rule = rule;
   n->path.is_clip = true;
+  n->path.aliased = aliased;
   (in_clip_section ? f.group->clip_items : f.group->content).push_back(n);
 }
 
@@ -554,7 +556,7 @@ struct Replay {
       const Element& e = s.stream[first];
       if (e.kind == ElementKind::Clip) {
         const ScenePath& sp = s.paths[e.path];
-        b.clip(geom(sp.geometry), xf * sp.xf, sp.rule);
+        b.clip(geom(sp.geometry), xf * sp.xf, sp.rule, sp.aliased);
       } else {
         group(first, true);
         b.pop();
@@ -600,7 +602,7 @@ struct Replay {
       const Element& e = s.stream[item.first];
       if (e.kind == ElementKind::Fill) {
         const ScenePath& sp = s.paths[e.path];
-        b.fill(geom(sp.geometry), xf * sp.xf, sp.rule, paint(s.paints[sp.paint]));
+        b.fill(geom(sp.geometry), xf * sp.xf, sp.rule, paint(s.paints[sp.paint]), sp.aliased);
       } else if (e.kind == ElementKind::BeginGroup) {
         transparency(item.first);
       } else {
@@ -766,6 +768,7 @@ void dump_into(std::string& s, const Scene& scene, const std::string& indent) {
       else
         appendf(s, " %s %u opacity %g", paint_type_name(p.type), p.index, p.opacity);
     }
+    if (sp.aliased) s += " aliased";
     append_matrix(s, sp.xf);
     s += "\n";
     const Path& g = scene.geometries[sp.geometry];

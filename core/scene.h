@@ -237,6 +237,10 @@ struct ScenePath {
   Affine xf;
   FillRule rule = FillRule::NonZero;
   bool is_clip = false;
+  // Drawn without antialiasing (SVG shape-rendering: crispEdges,
+  // optimizeSpeed): each pixel is covered wholly or not at all, as its
+  // centre is.
+  bool aliased = false;
   uint32_t paint = 0;  // fills only
 };
 
@@ -327,15 +331,16 @@ class SceneBuilder {
   uint32_t add_pattern(Pattern p);
   uint32_t add_mesh(Mesh m);
 
-  // A filled path, drawn over what came before it.
-  void fill(uint32_t geometry, const Affine& xf, FillRule rule, const Paint& paint);
+  // A filled path, drawn over what came before it. `aliased`: see
+  // ScenePath::aliased (clip tests take it too).
+  void fill(uint32_t geometry, const Affine& xf, FillRule rule, const Paint& paint, bool aliased = false);
 
   // push(): start a clip group. Until activate(), the group's clip-path area
   // is the union of clip() tests and nested groups. After activate(), its
   // content follows: fills (in a fill context) or clip-paths (when the group
   // is itself a clip-path). pop() ends the group.
   void push();
-  void clip(uint32_t geometry, const Affine& xf, FillRule rule);
+  void clip(uint32_t geometry, const Affine& xf, FillRule rule, bool aliased = false);
   void activate();
   void pop();
 

@@ -132,6 +132,10 @@ enum : uint32_t {
   // Fill in a mask's list whose paint, covering a sample, makes the mask 1
   // there (opaque for an alpha mask; luminance 1 for a luminance mask).
   PATH_MASK_FULL = 1u << 6,
+  // Drawn without antialiasing (SVG shape-rendering: crispEdges): the
+  // path covers all of a pixel's samples or none, as its winding at the
+  // pixel's centre says (core/sampling.h).
+  PATH_ALIASED = 1u << 7,
 };
 
 struct PathRecord {

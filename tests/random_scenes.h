@@ -18,6 +18,8 @@ struct Gen {
   // Paints of every kind (gradients, textures, patterns; opaque or not),
   // not only solid colours.
   bool rich_paints = false;
+  // Half the paths drawn without antialiasing (ScenePath::aliased).
+  bool aliased = false;
 
   Path shape() {
     std::uniform_int_distribution<int> kind(0, 9);
@@ -51,6 +53,8 @@ struct Gen {
     }
     return oracle::random_path(rng, -8.0, size + 8.0, 1 + k % 2, 5);
   }
+
+  bool alias() { return aliased && std::bernoulli_distribution(0.5)(rng); }
 
   FillRule rule() { return std::bernoulli_distribution(0.5)(rng) ? FillRule::EvenOdd : FillRule::NonZero; }
 
@@ -97,8 +101,11 @@ struct Gen {
       // A small tile of two solid shapes.
       SceneBuilder tb(7 + 10 * u(rng), 5 + 10 * u(rng));
       Gen inner{std::mt19937(rng()), tb, 0, 12.0};
-      tb.fill(tb.add_geometry(oracle::random_path(inner.rng, -2.0, 14.0, 1, 4)), Affine{}, inner.rule(), inner.paint());
-      tb.fill(tb.add_geometry(oracle::random_path(inner.rng, -2.0, 14.0, 2, 4)), Affine{}, inner.rule(), inner.paint());
+      inner.aliased = aliased;
+      tb.fill(tb.add_geometry(oracle::random_path(inner.rng, -2.0, 14.0, 1, 4)), Affine{}, inner.rule(), inner.paint(),
+              inner.alias());
+      tb.fill(tb.add_geometry(oracle::random_path(inner.rng, -2.0, 14.0, 2, 4)), Affine{}, inner.rule(), inner.paint(),
+              inner.alias());
       Pattern pt;
       pt.tile = std::make_shared<Scene>(tb.finish());
       pt.xf = Affine::translate(c(rng), c(rng)) * Affine::rotate_degrees(360 * u(rng)) * Affine::scale(0.5 + u(rng), 0.5 + u(rng));
@@ -118,7 +125,7 @@ struct Gen {
         fill_list(depth + 1);
         b.pop();
       } else {
-        b.fill(b.add_geometry(shape()), Affine{}, rule(), paint());
+        b.fill(b.add_geometry(shape()), Affine{}, rule(), paint(), alias());
       }
     }
   }
@@ -133,16 +140,17 @@ struct Gen {
         clip_union(depth + 1);
         b.pop();
       } else {
-        b.clip(b.add_geometry(shape()), Affine{}, rule());
+        b.clip(b.add_geometry(shape()), Affine{}, rule(), alias());
       }
     }
   }
 };
 
-inline Scene clip_scene(uint32_t seed, int max_depth, int size, bool rich_paints = false) {
+inline Scene clip_scene(uint32_t seed, int max_depth, int size, bool rich_paints = false, bool aliased = false) {
   SceneBuilder b(size, size);
   Gen g{std::mt19937(seed), b, max_depth, double(size)};
   g.rich_paints = rich_paints;
+  g.aliased = aliased;
   g.fill_list(0);
   return b.finish();
 }

@@ -43,6 +43,12 @@ std::vector<Case> cases() {
     out.push_back({"random paints " + std::to_string(seed), encode(s, Affine{}, seed % 2 ? Gamma::Srgb : Gamma::Linear),
                    100, 80});
   }
+  // Aliased fills and clips (shape-rendering: crispEdges), in pattern
+  // tiles too: the samplers compiled for them.
+  for (uint32_t seed = 81; seed <= 88; seed++) {
+    const Scene s = random_scenes::clip_scene(seed, 3, 100, seed % 2 == 0, true);
+    out.push_back({"random aliased " + std::to_string(seed), encode(s, Affine{}, Gamma::Srgb), 100, 80});
+  }
   // Nested transparency groups and masks (every blend mode, knockout,
   // non-isolated groups, masks on masks).
   for (uint32_t seed = 41; seed <= 52; seed++) {

@@ -180,3 +180,46 @@ TEST_CASE("background-color on the root fills the viewport under everything", "[
   // Without it, no background.
   CHECK(dump_of("", "width='50' height='50'").find("path") == std::string::npos);
 }
+
+TEST_CASE("shape-rendering: crispEdges and optimizeSpeed draw without antialiasing", "[svg][structure]") {
+  // The aliased paths of a document, by paint colour (red, green, blue).
+  auto aliased = [](const std::string& body) {
+    const mpvg::Scene s = mpvg::svg::parse_svg_string(svg_test::document(body)).scene;
+    std::string out;
+    for (const char* name : {"red", "green", "blue"}) {
+      const mpvg::RGBA c{name[0] == 'r' ? 1.0f : 0.0f, name[0] == 'g' ? 128 / 255.0f : 0.0f,
+                         name[0] == 'b' ? 1.0f : 0.0f, 1.0f};
+      for (const mpvg::ScenePath& p : s.paths) {
+        const mpvg::RGBA q = s.paints[p.paint].color;
+        if (!p.is_clip && q.r == c.r && q.g == c.g && q.b == c.b) out += std::string(name) + (p.aliased ? "+" : "-");
+      }
+    }
+    return out;
+  };
+  const std::string r = "<rect width='10' height='10' ";
+  CHECK(aliased(r + "fill='red'/>" + r + "fill='green' shape-rendering='crispEdges'/>" + r +
+                "fill='blue' shape-rendering='optimizeSpeed'/>") == "red-green+blue+");
+  // Inherited; auto and geometricPrecision turn it off; invalid values
+  // are ignored; a stroke follows its element.
+  CHECK(aliased("<g shape-rendering='crispEdges'>" + r + "fill='red'/>" + r +
+                "fill='green' shape-rendering='geometricPrecision'/>" + r + "fill='blue' shape-rendering='bogus'/></g>") ==
+        "red+green-blue+");
+  CHECK(aliased("<g style='shape-rendering: crispEdges'>" + r + "fill='red' stroke='blue'/>" + r +
+                "fill='green' shape-rendering='auto'/></g>") == "red+green-blue+");
+  // text-rendering does not apply to shapes.
+  CHECK(aliased(r + "fill='red' text-rendering='optimizeSpeed'/>") == "red-");
+  // A clip path's children clip aliased as they would draw.
+  const mpvg::Scene s = mpvg::svg::parse_svg_string(svg_test::document(
+      "<clipPath id='c'><circle r='5' shape-rendering='crispEdges'/><rect width='3' height='3'/></clipPath>" + r +
+      "clip-path='url(#c)'/>")).scene;
+  int clips = 0, aliased_clips = 0;
+  for (const mpvg::ScenePath& p : s.paths) {
+    clips += p.is_clip;
+    aliased_clips += p.is_clip && p.aliased;
+  }
+  CHECK(clips == 2);
+  CHECK(aliased_clips == 1);
+  // The dump says so.
+  CHECK(dump_of(r + "shape-rendering='crispEdges'/>").find(" aliased") != std::string::npos);
+  CHECK(dump_of(r + "/>").find(" aliased") == std::string::npos);
+}

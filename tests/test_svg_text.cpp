@@ -423,3 +423,24 @@ TEST_CASE("text: objectBoundingBox paint servers use the glyph cells' box", "[sv
   CHECK(xf.apply({1, 0}).x > ink.x1);
   CHECK(xf.apply({0, 1}).y > 100);  // the descent, below the baseline
 }
+
+TEST_CASE("text: text-rendering optimizeSpeed draws glyphs without antialiasing; shape-rendering does not", "[svg][text]") {
+  REQUIRE_FONT();
+  auto all = [](const mpvg::Scene& s, bool aliased) {
+    bool ok = !s.paths.empty();
+    for (const mpvg::ScenePath& p : s.paths) ok = ok && p.aliased == aliased;
+    return ok;
+  };
+  CHECK(all(parse("<text x='10' y='50' text-rendering='optimizeSpeed' text-decoration='underline'>Ab</text>").scene,
+            true));
+  CHECK(all(parse("<g text-rendering='optimizeSpeed'><text x='10' y='50' text-rendering='optimizeLegibility'>Ab</text></g>")
+                .scene,
+            false));
+  CHECK(all(parse("<text x='10' y='50' shape-rendering='crispEdges'>Ab</text>").scene, false));
+  // In a clip path too.
+  const auto r = parse("<clipPath id='c'><text x='10' y='50' text-rendering='optimizeSpeed'>Ab</text></clipPath>"
+                       "<rect width='100' height='100' clip-path='url(#c)'/>");
+  int aliased_clips = 0;
+  for (const mpvg::ScenePath& p : r.scene.paths) aliased_clips += p.is_clip && p.aliased;
+  CHECK(aliased_clips >= 1);
+}

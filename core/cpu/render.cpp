@@ -126,7 +126,7 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
   };
   // Uniform leaves hold solid paints only (entry_varies); the rest is
   // sampled by the specialisation the scene's paints need.
-  return with_sampler_kinds(sampler_kinds(paint.data), [&](auto kinds) {
+  return with_sampler_kinds(sampler_kinds(paint.data, integ.support % 2 == 1), [&](auto kinds) {
     constexpr uint32_t Kinds = decltype(kinds)::value;
     const int n = integ.samples;
     const bool direct = integ.support == 1 && integ.pad == 0;

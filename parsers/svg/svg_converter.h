@@ -85,6 +85,7 @@ struct Op {
   // not part of an element's object bounding box (SVG 2
   // coords.html#BoundingBoxes), so bounds skip them.
   bool stroke = false;
+  bool aliased = false;  // Fill, Clip: drawn without antialiasing (ScenePath::aliased)
 
   static Op of(OpKind k) {
     Op op;
@@ -173,6 +174,12 @@ struct Inherited {
   // image-rendering (CSS Images 3, SVG 2 painting.html#ImageRendering) as
   // the filter of raster images: auto is bicubic, as in resvg.
   TextureFilter image_rendering = TextureFilter::Bicubic;
+  // shape-rendering (SVG 2 painting.html#ShapeRendering): crispEdges and
+  // optimizeSpeed draw shapes without antialiasing, as browsers and resvg
+  // do; text-rendering: optimizeSpeed does the same for text, which
+  // shape-rendering does not affect.
+  bool aliased_shapes = false;
+  bool aliased_text = false;
 };
 
 // What an element is converted in: its parent's computed style and user space.

@@ -437,6 +437,7 @@ void Converter::paint_shape(uint32_t shape, const Style& st, const Affine& space
   fill.shape = static_cast<uint32_t>(shape);
   fill.xf = space;
   fill.rule = st.inh.fill_rule;
+  fill.aliased = st.inh.aliased_shapes;
   // Paint servers in objectBoundingBox units use the box of the fill
   // geometry, for the stroke too (SVG 2 coords.html#BoundingBoxes).
   ShapeBox bbox{shapes_, static_cast<uint32_t>(shape), box ? std::optional<Bounds>(*box) : std::nullopt};
@@ -570,6 +571,7 @@ void Converter::clip_child(const Element& e, const Context& ctx, int depth) {
     op.shape = static_cast<uint32_t>(shape);
     op.xf = space;
     op.rule = st.inh.clip_rule;
+    op.aliased = st.inh.aliased_shapes;
     ops_.push_back(op);
   }
   if (clip.state == ClipRef::Valid && ops_.size() > start) clip_content(start, *clip.element, space, depth);
@@ -592,8 +594,8 @@ void Converter::emit(SceneBuilder& b) {
       case OpKind::Push: b.push(); break;
       case OpKind::Activate: b.activate(); break;
       case OpKind::Pop: b.pop(); break;
-      case OpKind::Fill: b.fill(geometry_of(op.shape), op.xf, op.rule, paints_[op.paint]); break;
-      case OpKind::Clip: b.clip(geometry_of(op.shape), op.xf, op.rule); break;
+      case OpKind::Fill: b.fill(geometry_of(op.shape), op.xf, op.rule, paints_[op.paint], op.aliased); break;
+      case OpKind::Clip: b.clip(geometry_of(op.shape), op.xf, op.rule, op.aliased); break;
       case OpKind::Append: b.append(embedded_[op.scene], op.xf); break;
       case OpKind::GroupBegin: b.begin_group(groups_[op.scene]); break;
       case OpKind::GroupEnd: b.end_group(); break;

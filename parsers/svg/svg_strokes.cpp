@@ -26,6 +26,7 @@ std::optional<Op> Converter::shape_stroke(uint32_t shape, const Style& st, const
   Op op = Op::of(OpKind::Fill);
   op.stroke = true;
   op.rule = FillRule::NonZero;
+  op.aliased = inh.aliased_shapes;
   // Device pixels for tolerances and hairlines: the scene as the parse
   // options expect it to be rendered.
   stroke::Hairline hl;

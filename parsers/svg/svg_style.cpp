@@ -108,6 +108,18 @@ std::optional<TextureFilter> parse_image_rendering(std::string_view v) {
   return std::nullopt;
 }
 
+// shape-rendering and text-rendering: whether the keyword turns
+// antialiasing off (crispEdges for shapes only, optimizeSpeed for both).
+std::optional<bool> parse_rendering(std::string_view v, bool text) {
+  const auto k = parse_keyword(v);
+  if (!k) return std::nullopt;
+  if (*k == "auto" || *k == "geometricprecision") return false;
+  if (*k == "optimizespeed") return true;
+  if (!text && *k == "crispedges") return true;
+  if (text && *k == "optimizelegibility") return false;
+  return std::nullopt;
+}
+
 bool is_paint_server(const std::string& name) {
   return name == "linearGradient" || name == "radialGradient" || name == "pattern" ||
          name == "meshgradient" || name == "hatch" || name == "solidcolor";
@@ -414,6 +426,8 @@ void reset_initial(const Element& e, Inherited& inh) {
       {"visibility", [](Inherited& i) { i.visible = init.visible; }},
       {"color", [](Inherited& i) { i.color = init.color; }},
       {"image-rendering", [](Inherited& i) { i.image_rendering = init.image_rendering; }},
+      {"shape-rendering", [](Inherited& i) { i.aliased_shapes = init.aliased_shapes; }},
+      {"text-rendering", [](Inherited& i) { i.aliased_text = init.aliased_text; }},
   };
   // Most elements have no "initial" at all: one scan decides.
   bool any = false;
@@ -502,6 +516,12 @@ Style Converter::compute_style(const Element& e, const Context& ctx) {
   if (const auto ir = property<TextureFilter>(e, "image-rendering", parse_image_rendering);
       ir.state == Prop<TextureFilter>::Set)
     inh.image_rendering = ir.value;
+  if (const auto r = property<bool>(e, "shape-rendering", [](std::string_view v) { return parse_rendering(v, false); });
+      r.state == Prop<bool>::Set)
+    inh.aliased_shapes = r.value;
+  if (const auto r = property<bool>(e, "text-rendering", [](std::string_view v) { return parse_rendering(v, true); });
+      r.state == Prop<bool>::Set)
+    inh.aliased_text = r.value;
   text_style(e, ctx, inh, percent_base(Axis::Diagonal));
 
   // Non-inherited properties.

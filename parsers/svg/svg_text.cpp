@@ -969,6 +969,8 @@ void Converter::text(const Element& e, const Style& st, const Affine& space) {
     const uint32_t shape = static_cast<uint32_t>(shapes_.size());
     shapes_.push_back(std::move(piece.path));
     if (!piece.image) {
+      // Glyphs and decorations follow text-rendering, not shape-rendering.
+      piece.st.inh.aliased_shapes = piece.st.inh.aliased_text;
       paint_shape(shape, piece.st, space, true, &box);
       continue;
     }
@@ -988,6 +990,7 @@ void Converter::clip_text(const Element& e, const Style& st, const Affine& space
     shapes_.push_back(std::move(piece.path));
     op.xf = space;
     op.rule = piece.st.inh.clip_rule;
+    op.aliased = piece.st.inh.aliased_text;
     ops_.push_back(op);
   }
 }
