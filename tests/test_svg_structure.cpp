@@ -4,6 +4,7 @@
 #include <string>
 
 #include "parsers/svg/svg_parser.h"
+#include "parsers/svg/svg_values.h"
 #include "tests/catch.h"
 #include "tests/svg_test_util.h"
 
@@ -222,4 +223,59 @@ TEST_CASE("shape-rendering: crispEdges and optimizeSpeed draw without antialiasi
   // The dump says so.
   CHECK(dump_of(r + "shape-rendering='crispEdges'/>").find(" aliased") != std::string::npos);
   CHECK(dump_of(r + "/>").find(" aliased") == std::string::npos);
+}
+
+TEST_CASE("calc(): the grammar and its typing", "[svg][structure]") {
+  using mpvg::svg::detail::CalcOk;
+  using mpvg::svg::detail::parse_length;
+  using mpvg::svg::detail::resolve_length;
+  // Resolved with 100% = 200, 1em = 10, 1rem = 16.
+  auto value = [](const char* text) -> std::optional<double> {
+    const auto l = parse_length(text, CalcOk::Yes);
+    if (!l) return std::nullopt;
+    return resolve_length(*l, 200, 10, 16);
+  };
+  CHECK(value("calc(50% - 10px)") == Approx(90));
+  CHECK(value("calc(1in + 2em)") == Approx(116));
+  CHECK(value("CALC( 2 * (1em + 1ex) )") == Approx(30));
+  CHECK(value("calc(100% / 4 - 1rem * 0.5)") == Approx(42));
+  CHECK(value("calc(calc(10px + 5px) * 2)") == Approx(30));
+  CHECK(value("calc(-10px)") == Approx(-10));
+  CHECK(value("calc(10px - -5px)") == Approx(15));
+  // Invalid: a number where a length is needed, length * length, division
+  // by a length or by zero, '+' or '-' without spaces, unknown units,
+  // unbalanced parentheses, anything after.
+  for (const char* bad : {"calc(10 + 5)", "calc(10px + 5)", "calc(2px * 3px)", "calc(10px / 2px)",
+                          "calc(10px / 0)", "calc(10px+5px)", "calc(10px -5px)", "calc(10qq)", "calc((10px)",
+                          "calc(10px) 5", "calc()", "calc(10px"})
+    CHECK_FALSE(value(bad).has_value());
+  // Not where the value is no CSS property.
+  CHECK_FALSE(parse_length("calc(10px)").has_value());
+  CHECK(parse_length("12.5%")->unit == mpvg::svg::detail::Unit::Percent);
+}
+
+TEST_CASE("calc() and geometry properties in style sheets", "[svg][structure]") {
+  CHECK(dump_of("<rect x='calc(10% + 5px)' y='calc(1em)' width='calc(50% - 10px)' height='calc(2 * 15px)'/>") ==
+        dump_of("<rect x='25' y='16' width='90' height='30'/>"));
+  CHECK(dump_of("<circle cx='calc(100% / 4)' cy='50' r='calc(5px + 5px)' font-size='calc(8px + 2px)'/>") ==
+        dump_of("<circle cx='50' cy='50' r='10'/>"));
+  // Geometry properties from a style attribute or a sheet, over the
+  // attribute.
+  CHECK(dump_of("<style>circle { r: 20px }</style><circle cx='50' cy='50' r='5'/>") ==
+        dump_of("<circle cx='50' cy='50' r='20'/>"));
+  CHECK(dump_of("<rect width='10' height='10' style='width: calc(100% - 150px); x: 5px'/>") ==
+        dump_of("<rect x='5' width='50' height='10'/>"));
+  // Not in a document that declares SVG 1.1, where geometry is attributes
+  // only (calc() in them still works).
+  const std::string v11 = "viewBox='0 0 200 200' version='1.1'";
+  CHECK(dump_of("<rect width='10' height='10' style='width: 50px; x: 5px'/>", v11) ==
+        dump_of("<rect width='10' height='10'/>", v11));
+  CHECK(dump_of("<rect width='calc(10px + 5%)' height='10'/>", v11) == dump_of("<rect width='20' height='10'/>", v11));
+  // Style lengths: stroke-width, font-size, stroke-dashoffset.
+  CHECK(dump_of("<rect width='10' height='10' stroke='black' stroke-width='calc(1px + 1px)'/>") ==
+        dump_of("<rect width='10' height='10' stroke='black' stroke-width='2'/>"));
+  // An invalid calc() is ignored like any invalid value; x1 is no property.
+  CHECK(dump_of("<rect width='calc(10 + 5)' height='10'/>") == dump_of("<rect height='10'/>"));
+  CHECK(dump_of("<line x1='calc(10px)' x2='50' y2='50' stroke='black'/>") ==
+        dump_of("<line x2='50' y2='50' stroke='black'/>"));
 }

@@ -312,6 +312,9 @@ struct Session {
   std::unordered_set<std::string> warned;
   double percent_w = 100, percent_h = 100;  // the root viewport, for percentages
   double root_em = 16;                       // the root element's font size, for rem
+  // The root declares version 1.0, 1.1 or 1.2: geometry (x, y, width, ...)
+  // is attributes only, as SVG 1 defines it; SVG 2 made it CSS properties.
+  bool svg1 = false;
   size_t instances = 0;
   std::vector<const Element*> active;         // elements being converted (use cycles)
   std::vector<const Element*> active_clips;   // clipPaths being expanded (clip-path cycles)
@@ -448,6 +451,12 @@ class Converter {
   // §13.2.2, §13.3).
   double server_length(const std::string* text, Length def, Axis axis, double em, bool obb) const;
   double length(const Element& e, const char* name, Axis axis, double def, double em) const;
+  // The length `name` of e as specified, or nullopt when absent or
+  // invalid. SVG 2's geometry properties (x, y, width, height, cx, cy, r,
+  // rx, ry) are CSS properties: set by style sheets and style attributes
+  // too (not in a document that declares an SVG 1 version), and taking
+  // calc(); other length attributes are attributes only.
+  std::optional<Length> length_value(const Element& e, const char* name) const;
   std::optional<double> auto_length(const Element& e, const char* name, Axis axis, double em) const;
   int shape_index(const Element& e, double em);
   std::optional<Path> build_shape(const Element& e, double em) const;

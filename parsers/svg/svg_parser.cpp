@@ -48,6 +48,7 @@ Scene Converter::run() {
   // height default to 100%; percentages resolve against the viewBox size,
   // or against 100 when there is no viewBox (the size of an unsized
   // document).
+  if (const std::string* v = root.attribute("version")) s_.svg1 = trim(*v).substr(0, 2) == "1.";
   std::optional<ViewBox> vb;
   if (const std::string* a = root.attribute("viewBox")) vb = parse_view_box(*a);
   auto side = [&](const char* name, double vb_size) {
@@ -213,26 +214,35 @@ double Converter::percent_base(Axis axis) const {
 // A length in user units, em and ex relative to the element's font size
 // `em` (ex is taken as half an em: fonts are not modelled).
 double Converter::to_user(const Length& l, Axis axis, double em) const {
-  if (l.unit == Unit::Em) return l.value * em;
-  if (l.unit == Unit::Rem) return l.value * s_.root_em;
-  if (l.unit == Unit::Ex) return l.value * em / 2;
-  return length_to_px(l, percent_base(axis));
+  return resolve_length(l, percent_base(axis), em, s_.root_em);
 }
 
 // A length attribute in user units; `def` when absent or invalid.
 double Converter::length(const Element& e, const char* name, Axis axis, double def, double em) const {
-  const std::string* a = e.attribute(name);
-  if (!a) return def;
-  const auto l = parse_length(*a);
+  const auto l = length_value(e, name);
   return l ? to_user(*l, axis, em) : def;
+}
+
+std::optional<Length> Converter::length_value(const Element& e, const char* name) const {
+  static constexpr std::string_view geometry[] = {"x", "y", "width", "height", "cx", "cy", "r", "rx", "ry"};
+  if (!s_.svg1 && std::find(std::begin(geometry), std::end(geometry), name) != std::end(geometry)) {
+    const auto p = property<Length>(e, name, [](std::string_view v) { return parse_length(v, CalcOk::Yes); });
+    if (p.state == Prop<Length>::Set) return p.value;
+    return std::nullopt;  // absent, invalid, or inherit/initial (not inherited: the initial value)
+  }
+  const std::string* a = e.attribute(name);
+  if (!a) return std::nullopt;
+  return parse_length(*a, std::find(std::begin(geometry), std::end(geometry), name) != std::end(geometry)
+                              ? CalcOk::Yes
+                              : CalcOk::No);
 }
 
 // A length that may be "auto" (rect rx/ry, ellipse rx/ry in SVG 2): absent,
 // "auto", invalid or negative values all mean auto (nullopt).
 std::optional<double> Converter::auto_length(const Element& e, const char* name, Axis axis, double em) const {
-  const std::string* a = e.attribute(name);
-  if (!a || !parse_length(*a)) return std::nullopt;
-  const double v = length(e, name, axis, 0, em);
+  const auto l = length_value(e, name);
+  if (!l) return std::nullopt;
+  const double v = to_user(*l, axis, em);
   if (v < 0) return std::nullopt;
   return v;
 }

@@ -59,14 +59,11 @@ std::optional<double> parse_font_size(std::string_view v, double parent, double 
     if (iequals(v, k.name)) return 16 * k.scale;
   if (iequals(v, "larger")) return parent * 1.2;
   if (iequals(v, "smaller")) return parent / 1.2;
-  const auto l = parse_length(v);
-  if (!l || l->value < 0) return std::nullopt;
-  switch (l->unit) {
-    case Unit::Em: return l->value * parent;
-    case Unit::Rem: return l->value * root;
-    case Unit::Ex: return l->value * parent / 2;
-    default: return length_to_px(*l, parent);  // % of the parent's size too
-  }
+  const auto l = parse_length(v, CalcOk::Yes);
+  if (!l) return std::nullopt;
+  const double size = resolve_length(*l, parent, parent, root);  // % of the parent's size too
+  if (size < 0) return std::nullopt;
+  return size;
 }
 
 // paint-order: normal | [ fill || stroke || markers ]; the layers left out
@@ -282,12 +279,10 @@ void text_style(const Element& e, const Context& ctx, Inherited& inh, double dia
   for (const char* name : {"letter-spacing", "word-spacing"}) {
     const auto sp = property<double>(e, name, [&](std::string_view v) -> std::optional<double> {
       if (parse_keyword(v) == "normal") return 0.0;
-      const auto l = parse_length(v);
+      const auto l = parse_length(v, CalcOk::Yes);
       if (!l) return std::nullopt;
-      if (l->unit == Unit::Em) return l->value * inh.font_size;
-      if (l->unit == Unit::Ex) return l->value * inh.font_size / 2;
       // A percentage of the viewport's normalised diagonal, as resvg resolves it.
-      return length_to_px(*l, diagonal);
+      return resolve_length(*l, diagonal, inh.font_size, 16);
     });
     if (sp.state == Prop<double>::Set) (name[0] == 'l' ? inh.letter_spacing : inh.word_spacing) = sp.value;
   }
@@ -589,7 +584,7 @@ std::optional<Vec2> Converter::transform_origin(const Element& e, double em) con
     if (w == "center") return base / 2;
     if (w == (axis == Axis::X ? "left" : "top")) return 0.0;
     if (w == (axis == Axis::X ? "right" : "bottom")) return base;
-    const auto l = parse_length(w);
+    const auto l = parse_length(w, CalcOk::Yes);
     if (!l) return std::nullopt;
     return to_user(*l, axis, em);
   };
@@ -616,7 +611,7 @@ void Converter::stroke_style(const Element& e, Inherited& inh, Style& st) {
   // Lengths that are neither horizontal nor vertical: percentages of the
   // normalised viewport diagonal (SVG 2 coords.html#Units).
   auto user_length = [&](std::string_view v) -> std::optional<double> {
-    const auto l = parse_length(v);
+    const auto l = parse_length(v, CalcOk::Yes);
     if (!l) return std::nullopt;
     return to_user(*l, Axis::Diagonal, inh.font_size);
   };

@@ -108,33 +108,156 @@ std::optional<double> parse_number(std::string_view text) {
 
 // ---------------------------------------------------------------- lengths
 
-std::optional<Length> parse_length(std::string_view text) {
-  Scanner s(trim(text));
+namespace {
+
+// A dimension at the cursor: a number with an optional unit or '%'.
+std::optional<Length> dimension(Scanner& s) {
   const auto v = s.number();
   if (!v) return std::nullopt;
   Length l{*v, Unit::None};
   if (s.consume('%')) {
     l.unit = Unit::Percent;
-  } else if (!s.at_end()) {
-    static const struct {
-      const char* name;
-      Unit unit;
-    } units[] = {{"px", Unit::Px}, {"pt", Unit::Pt}, {"pc", Unit::Pc}, {"mm", Unit::Mm},
-                 {"cm", Unit::Cm}, {"in", Unit::In}, {"em", Unit::Em}, {"ex", Unit::Ex},
-                 {"rem", Unit::Rem}};
-    const std::string_view u = s.rest();
-    bool found = false;
-    for (const auto& e : units) {
-      if (iequals(u, e.name)) {
-        l.unit = e.unit;
-        found = true;
-        break;
-      }
-    }
-    if (!found) return std::nullopt;
     return l;
   }
-  if (!s.at_end()) return std::nullopt;
+  static const struct {
+    const char* name;
+    Unit unit;
+  } units[] = {{"px", Unit::Px}, {"pt", Unit::Pt}, {"pc", Unit::Pc}, {"mm", Unit::Mm}, {"cm", Unit::Cm},
+               {"in", Unit::In}, {"em", Unit::Em}, {"ex", Unit::Ex}, {"rem", Unit::Rem}};
+  Scanner probe(s.rest());
+  const std::string_view u = probe.word();
+  if (u.empty()) return l;
+  for (const auto& e : units)
+    if (iequals(u, e.name)) {
+      l.unit = e.unit;
+      s.consume_word(u);
+      return l;
+    }
+  return std::nullopt;  // an unknown unit
+}
+
+// calc() (CSS Values 4 §10): a value is a plain number or a sum of
+// length terms; `number` says which.
+struct CalcValue {
+  bool number = true;
+  double n = 0;                          // number
+  double px = 0, pct = 0, em = 0, ex = 0, rem = 0;  // length terms
+};
+
+CalcValue calc_of(const Length& l) {
+  CalcValue v;
+  if (l.unit == Unit::None) {
+    v.n = l.value;
+    return v;
+  }
+  v.number = false;
+  switch (l.unit) {
+    case Unit::Percent: v.pct = l.value; break;
+    case Unit::Em: v.em = l.value; break;
+    case Unit::Ex: v.ex = l.value; break;
+    case Unit::Rem: v.rem = l.value; break;
+    default: v.px = length_to_px(l, 0); break;
+  }
+  return v;
+}
+
+CalcValue scaled(CalcValue v, double k) {
+  v.n *= k;
+  v.px *= k;
+  v.pct *= k;
+  v.em *= k;
+  v.ex *= k;
+  v.rem *= k;
+  return v;
+}
+
+constexpr int kMaxCalcDepth = 32;
+
+std::optional<CalcValue> calc_sum(Scanner& s, int depth);
+
+// A value: a dimension, or a parenthesised or calc() sum.
+std::optional<CalcValue> calc_value(Scanner& s, int depth) {
+  s.skip_ws();
+  if (depth > kMaxCalcDepth) return std::nullopt;
+  const bool call = s.consume_word("calc(");
+  if (call || s.consume('(')) {
+    const auto v = calc_sum(s, depth + 1);
+    s.skip_ws();
+    if (!v || !s.consume(')')) return std::nullopt;
+    return v;
+  }
+  const auto d = dimension(s);
+  if (!d) return std::nullopt;
+  return calc_of(*d);
+}
+
+std::optional<CalcValue> calc_product(Scanner& s, int depth) {
+  auto v = calc_value(s, depth);
+  if (!v) return std::nullopt;
+  for (;;) {
+    Scanner look = s;
+    look.skip_ws();
+    const bool mul = look.consume('*');
+    if (!mul && !look.consume('/')) return v;
+    s = look;
+    const auto r = calc_value(s, depth);
+    if (!r) return std::nullopt;
+    if (mul) {
+      if (!v->number && !r->number) return std::nullopt;  // length * length
+      v = v->number ? scaled(*r, v->n) : scaled(*v, r->n);
+    } else {
+      if (!r->number || r->n == 0) return std::nullopt;  // by a length, or by zero
+      v = scaled(*v, 1 / r->n);
+    }
+  }
+}
+
+std::optional<CalcValue> calc_sum(Scanner& s, int depth) {
+  auto v = calc_product(s, depth);
+  if (!v) return std::nullopt;
+  for (;;) {
+    // '+' and '-' need white space on both sides ("1px -2px" is no sum).
+    Scanner look = s;
+    const size_t before = look.pos();
+    look.skip_ws();
+    if (look.pos() == before) return v;
+    const bool plus = look.consume('+');
+    if (!plus && !look.consume('-')) return v;
+    const size_t op = look.pos();
+    look.skip_ws();
+    if (look.pos() == op) return std::nullopt;
+    s = look;
+    auto r = calc_product(s, depth);
+    if (!r || r->number != v->number) return std::nullopt;  // number + length
+    if (!plus) r = scaled(*r, -1);
+    v->n += r->n;
+    v->px += r->px;
+    v->pct += r->pct;
+    v->em += r->em;
+    v->ex += r->ex;
+    v->rem += r->rem;
+  }
+}
+
+}  // namespace
+
+std::optional<Length> parse_length(std::string_view text, CalcOk calc) {
+  Scanner s(trim(text));
+  if (calc == CalcOk::Yes && s.consume_word("calc(")) {
+    const auto v = calc_sum(s, 0);
+    s.skip_ws();
+    if (!v || !s.consume(')') || !s.at_end() || v->number) return std::nullopt;
+    for (double t : {v->px, v->pct, v->em, v->ex, v->rem})
+      if (!std::isfinite(t) || std::fabs(t) > kMaxNumber) return std::nullopt;
+    Length l{v->px, Unit::Calc};
+    l.percent = v->pct;
+    l.em = v->em;
+    l.ex = v->ex;
+    l.rem = v->rem;
+    return l;
+  }
+  const auto l = dimension(s);
+  if (!l || !s.at_end()) return std::nullopt;
   return l;
 }
 
@@ -152,8 +275,19 @@ double length_to_px(const Length& l, double percent_base) {
     case Unit::Rem: return l.value * 16.0;
     case Unit::Ex: return l.value * 8.0;
     case Unit::Percent: return l.value * percent_base / 100.0;
+    case Unit::Calc: return l.value + l.percent * percent_base / 100.0 + (l.em + l.rem) * 16.0 + l.ex * 8.0;
   }
   return l.value;
+}
+
+double resolve_length(const Length& l, double percent_base, double em, double rem) {
+  switch (l.unit) {
+    case Unit::Em: return l.value * em;
+    case Unit::Rem: return l.value * rem;
+    case Unit::Ex: return l.value * em / 2;
+    case Unit::Calc: return l.value + l.percent / 100 * percent_base + l.em * em + l.ex * em / 2 + l.rem * rem;
+    default: return length_to_px(l, percent_base);
+  }
 }
 
 // ---------------------------------------------------------------- transforms

@@ -69,21 +69,36 @@ class Scanner {
 // Whole-value number (trimmed); nullopt unless the text is exactly one number.
 std::optional<double> parse_number(std::string_view s);
 
-enum class Unit { None, Px, Pt, Pc, Mm, Cm, In, Em, Ex, Rem, Percent };
+// Calc: a calc() expression's value, a sum of terms of different units
+// (absolute ones folded into px).
+enum class Unit { None, Px, Pt, Pc, Mm, Cm, In, Em, Ex, Rem, Percent, Calc };
 
 struct Length {
-  double value = 0;
+  double value = 0;  // Calc: the px term
   Unit unit = Unit::None;
+  // Calc only: the terms that resolve later (percent as written: 50% is 50).
+  double percent = 0, em = 0, ex = 0, rem = 0;
 };
 
+// Where calc() is accepted: in CSS property values and presentation
+// attributes (CSS Values 4 §10; browsers parse SVG 2's geometry properties
+// and the style properties so), not in attributes that are no properties
+// (x1, gradient and pattern attributes, ...), which browsers reject.
+enum class CalcOk : bool { No, Yes };
+
 // <length> | <percentage> (CSS Values 3, as used by SVG 2), trimmed, units
-// case-insensitive. nullopt on anything else.
-std::optional<Length> parse_length(std::string_view s);
+// case-insensitive; with CalcOk::Yes also calc() (+ - * / and parentheses,
+// nested calc(), CSS Values 4 §10.1's typing: a sum of lengths and
+// percentages, scaled by plain numbers). nullopt on anything else.
+std::optional<Length> parse_length(std::string_view s, CalcOk calc = CalcOk::No);
 
 // The font-relative units are resolved with a fixed font: 1em = 16px and
 // 1ex = 8px (fonts are not modelled). `percent_base` is the reference length
 // that 100% stands for.
 double length_to_px(const Length& l, double percent_base);
+// A length with its font-relative units resolved: em against `em`, ex as
+// half of it, rem against `rem`; percentages of `percent_base`.
+double resolve_length(const Length& l, double percent_base, double em, double rem);
 
 // A transform list (SVG 1.1 §7.6 grammar). nullopt on any syntax
 // error (the caller ignores the whole attribute, as CSS does); an empty or
