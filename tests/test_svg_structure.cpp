@@ -279,3 +279,25 @@ TEST_CASE("calc() and geometry properties in style sheets", "[svg][structure]") 
   CHECK(dump_of("<line x1='calc(10px)' x2='50' y2='50' stroke='black'/>") ==
         dump_of("<line x2='50' y2='50' stroke='black'/>"));
 }
+
+TEST_CASE("markers: a marker whose content uses the marked path marks that instance, once", "[svg][structure]") {
+  // path2's start marker m1 draws path1, whose end marker m2 draws path1
+  // again, whose markers (m1, m2) are both being drawn: the chain stops.
+  // Likewise from the end marker: 1 + 2 + 2 strokes.
+  const mpvg::Scene s = mpvg::svg::parse_svg_string(svg_test::document(
+      "<defs><marker id='m1' markerWidth='6' markerHeight='6' orient='auto' refX='1' refY='3'>"
+      "<use href='#path1' transform='matrix(-1 0 0 1 6 0)'/></marker>"
+      "<marker id='m2' markerWidth='6' markerHeight='6' orient='auto' refX='5' refY='3'><use href='#path1'/></marker>"
+      "<path id='path1' d='M 1 1 5 3 1 5' fill='none' stroke='blue' marker-start='url(#m1)' marker-end='url(#m2)'/>"
+      "</defs><path d='M 10 10 L 190 190' fill='none' stroke='green' stroke-width='5' marker-start='url(#m1)' "
+      "marker-end='url(#m2)'/>")).scene;
+  int fills = 0, clips = 0;
+  for (const mpvg::ScenePath& p : s.paths) (p.is_clip ? clips : fills)++;
+  CHECK(fills == 5);
+  CHECK(clips == 4);  // each marker instance clipped to its box
+  // A use cycle through containers is still cut.
+  const mpvg::Scene c = mpvg::svg::parse_svg_string(svg_test::document(
+      "<defs><g id='a'><rect width='5' height='5'/><use href='#b'/></g><g id='b'><use href='#a'/></g></defs>"
+      "<use href='#a'/>")).scene;
+  CHECK(c.paths.size() <= 2);
+}

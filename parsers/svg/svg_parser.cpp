@@ -180,7 +180,12 @@ const Element* Converter::use_target(const Element& use) {
   }
   const Element* t = find(*id);
   if (!t) return nullptr;
-  if (t == &use || std::find(s_.active.begin(), s_.active.end(), t) != s_.active.end()) {
+  // A target being converted already recurses, unless it is a shape: a
+  // shape reached again through its own marker (a marker whose content
+  // uses the marked path) is a new instance, and the chain ends where a
+  // marker would enter itself (draw_markers), as in resvg and browsers.
+  if (t == &use ||
+      (classify(*t) != Kind::Shape && std::find(s_.active.begin(), s_.active.end(), t) != s_.active.end())) {
     warn("recursive use reference ignored");
     return nullptr;
   }
