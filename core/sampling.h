@@ -60,7 +60,7 @@ enum : uint32_t {
   SAMPLE_GROUPS = 1u << 3,  // transparency groups and masks: the per-sample stack
   SAMPLE_ALL = PAINTS_ALL | SAMPLE_GROUPS,
   // Paths drawn without antialiasing (PATH_ALIASED): compiled only for
-  // scenes that have them, with every paint kind and groups.
+  // scenes that have them, with solid paints or with everything.
   SAMPLE_ALIASED = 1u << 4,
 };
 
@@ -78,7 +78,13 @@ enum : uint32_t {
 // pixels anyway, and aliased paths are antialiased like the rest
 // (`aliasing` false). SVG makes shape-rendering a hint.
 inline uint32_t sampler_kinds(const PaintData& p, bool aliasing) {
-  if (p.aliased && aliasing) return SAMPLE_ALL | SAMPLE_ALIASED;
+  if (p.aliased && aliasing) {
+    // Two aliased specialisations: solid colours only (crisp icons and
+    // diagrams), and everything.
+    const bool solid = p.groups.empty() && p.patterns.empty() && p.gradients.empty() && p.meshes.empty() &&
+                       p.textures.empty();
+    return (solid ? PAINTS_SOLID : SAMPLE_ALL) | SAMPLE_ALIASED;
+  }
   const uint32_t groups = p.groups.empty() ? 0u : SAMPLE_GROUPS;
   if (!p.patterns.empty()) return PAINTS_ALL | groups;
   uint32_t k = PAINTS_SOLID;
@@ -102,6 +108,7 @@ decltype(auto) with_sampler_kinds(uint32_t kinds, F&& f) {
     case SAMPLE_GROUPS: return f(std::integral_constant<uint32_t, SAMPLE_GROUPS>{});
     case SAMPLE_GROUPS | PAINTS_GRADIENTS | PAINTS_TEXTURES:
       return f(std::integral_constant<uint32_t, SAMPLE_GROUPS | PAINTS_GRADIENTS | PAINTS_TEXTURES>{});
+    case PAINTS_SOLID | SAMPLE_ALIASED: return f(std::integral_constant<uint32_t, PAINTS_SOLID | SAMPLE_ALIASED>{});
     case SAMPLE_ALL | SAMPLE_ALIASED: return f(std::integral_constant<uint32_t, SAMPLE_ALL | SAMPLE_ALIASED>{});
     default: return f(std::integral_constant<uint32_t, SAMPLE_ALL>{});
   }

@@ -372,14 +372,25 @@ TEST_CASE("aliased paths: a pixel whose centre lies on an edge belongs to the sh
   // [2, 5.5] x [2.5, 6.5]: centres x = 2.5 .. 5.5 (5.5 on the right edge:
   // in), y = 3.5 .. 6.5 (2.5 on the top edge: out; 6.5 on the bottom: in),
   // as Skia and tiny-skia fill without antialiasing.
-  SceneBuilder b(10, 10);
-  Paint p;
-  p.color = RGBA{1, 1, 1, 1};
-  b.fill(b.add_geometry(oracle::rect(2, 2.5, 5.5, 6.5)), Affine{}, FillRule::NonZero, p, true);
-  const ImageF img = render(b.finish(), 10, 10, Filter::Box, PatternKind::BlueNoise, 32, 0, Gamma::Srgb);
-  for (int y = 0; y < 10; y++)
-    for (int x = 0; x < 10; x++) {
-      INFO("pixel " << x << "," << y);
-      CHECK(img.rgba[(size_t(y) * 10 + x) * 4 + 3] == ((x >= 2 && x <= 5 && y >= 3 && y <= 6) ? 1.0f : 0.0f));
+  // A solid paint, and a gradient (the sampler that handles every paint).
+  for (bool gradient : {false, true}) {
+    SceneBuilder b(10, 10);
+    Paint p;
+    p.color = RGBA{1, 1, 1, 1};
+    if (gradient) {
+      Gradient g;
+      g.p0 = {0, 0};
+      g.p1 = {10, 0};
+      g.stops = {{0, RGBA{1, 0, 0, 1}}, {1, RGBA{0, 0, 1, 1}}};
+      p.type = PaintType::LinearGradient;
+      p.index = b.add_gradient(g);
     }
+    b.fill(b.add_geometry(oracle::rect(2, 2.5, 5.5, 6.5)), Affine{}, FillRule::NonZero, p, true);
+    const ImageF img = render(b.finish(), 10, 10, Filter::Box, PatternKind::BlueNoise, 32, 0, Gamma::Srgb);
+    for (int y = 0; y < 10; y++)
+      for (int x = 0; x < 10; x++) {
+        INFO((gradient ? "gradient" : "solid") << ", pixel " << x << "," << y);
+        CHECK(img.rgba[(size_t(y) * 10 + x) * 4 + 3] == ((x >= 2 && x <= 5 && y >= 3 && y <= 6) ? 1.0f : 0.0f));
+      }
+  }
 }
