@@ -301,3 +301,18 @@ TEST_CASE("markers: a marker whose content uses the marked path marks that insta
       "<use href='#a'/>")).scene;
   CHECK(c.paths.size() <= 2);
 }
+
+TEST_CASE("markers: a zero-length segment points along +x, as in Chrome and resvg", "[svg][structure]") {
+  auto doc = [](const std::string& start, const std::string& mid, const std::string& end) {
+    auto marker = [](const char* id, const std::string& orient) {
+      return "<marker id='" + std::string(id) + "' markerWidth='20' markerHeight='20' refY='2' orient='" + orient +
+             "' markerUnits='userSpaceOnUse'><path d='M 0 0 L 16 2 L 0 4 z'/></marker>";
+    };
+    return marker("s", start) + marker("m", mid) + marker("e", end) +
+           "<path d='M 100 20 L 100 20 L 130 50' fill='none' stroke='black' marker-start='url(#s)' "
+           "marker-mid='url(#m)' marker-end='url(#e)'/>";
+  };
+  // Start: the zero-length segment's 0; mid: halfway between 0 and 45
+  // degrees; end: the diagonal's 45.
+  CHECK(dump_of(doc("auto", "auto", "auto")) == dump_of(doc("0", "22.5", "45")));
+}

@@ -87,7 +87,11 @@ Vec2 prev_vertex(const std::vector<Seg>& s, size_t idx) {
 // The direction into the vertex at the end of segment idx, and out of it
 // along segment idx + 1 (SVG 2 painting.html#OrientAttribute: a curve's
 // direction at an end runs to the nearest control point that differs
-// from it). nullopt where there is none (a move, a zero-length segment).
+// from it). nullopt at a move. A zero-length segment's direction is the
+// zero vector, whose angle is 0: Chrome and resvg orient markers at its
+// ends so (a start marker on "M p L p L q" points along +x, the mid
+// marker between the two segments halfway between +x and q - p), where
+// SVG 2's path directionality would borrow the neighbours' directions.
 std::optional<Vec2> dir_in(const std::vector<Seg>& s, size_t idx) {
   if (idx == 0 || idx >= s.size()) return std::nullopt;
   const Seg& g = s[idx];
@@ -99,7 +103,6 @@ std::optional<Vec2> dir_in(const std::vector<Seg>& s, size_t idx) {
     case Seg::Cubic: from = g.c2 != g.p ? g.c2 : g.c1 != g.p ? g.c1 : prev; break;
     case Seg::Close: to = subpath_start(s, idx); break;
   }
-  if (from == to) return std::nullopt;
   return Vec2{to.x - from.x, to.y - from.y};
 }
 
@@ -114,7 +117,6 @@ std::optional<Vec2> dir_out(const std::vector<Seg>& s, size_t idx) {
     case Seg::Cubic: to = g.c1 != at ? g.c1 : g.c2 != at ? g.c2 : g.p; break;
     case Seg::Close: to = subpath_start(s, idx + 1); break;
   }
-  if (to == at) return std::nullopt;
   return Vec2{to.x - at.x, to.y - at.y};
 }
 
