@@ -316,3 +316,21 @@ TEST_CASE("markers: a zero-length segment points along +x, as in Chrome and resv
   // degrees; end: the diagonal's 45.
   CHECK(dump_of(doc("auto", "auto", "auto")) == dump_of(doc("0", "22.5", "45")));
 }
+
+TEST_CASE("markers: an arc command is one segment, whatever its conic pieces", "[svg][structure]") {
+  const std::string marker =
+      "<marker id='m' markerWidth='20' markerHeight='20' orient='auto'><path d='M 0 0 L 6 3 L 0 6 z'/></marker>";
+  // A 250-degree arc (three conic pieces): no mid marker, as in browsers.
+  const std::string arc = "<path d='M 40 60 A 40 30 20 1 1 150 120' fill='none' stroke='green' ";
+  CHECK(dump_of(marker + arc + "marker-mid='url(#m)'/>") == dump_of(marker + arc + "/>"));
+  // Two arcs: one mid marker, where they meet (the same as on a polyline
+  // corner there with the same directions in and out).
+  auto count = [](const std::string& body) {
+    int fills = 0;
+    for (const mpvg::ScenePath& p : mpvg::svg::parse_svg_string(svg_test::document(body)).scene.paths)
+      fills += !p.is_clip;
+    return fills;
+  };
+  CHECK(count(marker + "<path d='M 20 50 A 30 30 0 0 1 80 50 A 30 30 0 0 1 140 50' fill='none' stroke='green' "
+                       "marker-mid='url(#m)'/>") == 2);
+}

@@ -137,6 +137,7 @@ void PathBuilder::arc_to(double rx, double ry, double x_axis_rotation_deg, bool 
     const Vec2 ctrl = to_user((c0 + c1) * inv, (s0 + s1) * inv);
     // The last piece ends exactly on the requested endpoint.
     const Vec2 end = i == n - 1 ? p : to_user(c1, s1);
+    if (i > 0) arc_continuations_.push_back(static_cast<uint32_t>(path_.segments().size()));
     rquad_to(ctrl, end, w);
     s0 = s1;
     c0 = c1;
@@ -153,7 +154,7 @@ bool starts_number(char c) { return (c >= '0' && c <= '9') || c == '.' || c == '
 
 }  // namespace
 
-bool parse_path_data(std::string_view d, Path& out) {
+bool parse_path_data(std::string_view d, Path& out, std::vector<uint32_t>* arc_continuations) {
   Scanner s(d);
   PathBuilder pb;
   // Smooth curves reflect the previous control point only when the previous
@@ -292,6 +293,7 @@ bool parse_path_data(std::string_view d, Path& out) {
     }
     prev = next;
   }
+  if (arc_continuations) *arc_continuations = pb.arc_continuations();
   out = pb.take();
   return ok;
 }

@@ -32,6 +32,9 @@ class PathBuilder {
 
   Vec2 current_point() const { return current_; }
   Path take() { return std::move(path_); }
+  // The segments (indices into the path's) that continue an arc command:
+  // every conic piece of an arc after its first.
+  const std::vector<uint32_t>& arc_continuations() const { return arc_continuations_; }
 
  private:
   void begin_segment();
@@ -41,12 +44,15 @@ class PathBuilder {
   Vec2 start_;
   bool pending_move_ = false;
   bool after_move_ = false;  // the last command was a moveto
+  std::vector<uint32_t> arc_continuations_;
 };
 
 // Path data (SVG 2 paths.html#PathDataBNF). On a syntax error the path holds
 // every segment before the erroneous one (SVG 2 paths.html
 // #PathDataErrorHandling) and the function returns false.
-bool parse_path_data(std::string_view d, Path& out);
+// `arc_continuations`, when given, receives PathBuilder::arc_continuations
+// (markers are placed per command, not per conic piece).
+bool parse_path_data(std::string_view d, Path& out, std::vector<uint32_t>* arc_continuations = nullptr);
 
 // A points attribute (polyline, polygon): coordinate pairs; an odd trailing
 // coordinate is dropped and parsing stops at the first error (SVG 1.1 §9.7.1).

@@ -7,8 +7,11 @@
 // viewBox fitted to markerWidth x markerHeight, refX/refY on the vertex;
 // overflow hidden (the default) clips it to that viewport. Markers are
 // painted in paint-order's markers layer, after fill and stroke by
-// default. Vertices: every subpath's start, every segment's end, a
-// closepath's return to the start (not a mid marker), as in resvg.
+// default. Vertices: every subpath's start, every command's end (an arc is
+// one segment, as in browsers; resvg marks the joints of the cubics it
+// approximates an arc with), a closepath's return to the start (not a mid
+// marker), as in resvg.
+#include <algorithm>
 #include <cmath>
 #include <optional>
 
@@ -26,7 +29,9 @@ struct Seg {
   Vec2 c1, c2, p;
 };
 
-std::vector<Seg> marker_segments(const Path& path) {
+// An arc command is one segment, however many conic pieces it became:
+// `continued` (sorted) lists the pieces that extend the one before.
+std::vector<Seg> marker_segments(const Path& path, const std::vector<uint32_t>& continued) {
   std::vector<Seg> out;
   const auto& pts = path.points();
   for (const Path::Contour& c : path.contours()) {
@@ -41,6 +46,13 @@ std::vector<Seg> marker_segments(const Path& path) {
         case SegmentType::Line: out.push_back({Seg::Line, {}, {}, q[1]}); break;
         default: {
           const std::array<Vec2, 4> cubic = segment_cubic(path, sg);
+          if (out.back().kind == Seg::Cubic &&
+              std::binary_search(continued.begin(), continued.end(), c.first_segment + k)) {
+            // Leaving the direction out of the command's start as it was.
+            out.back().c2 = cubic[2];
+            out.back().p = cubic[3];
+            break;
+          }
           out.push_back({Seg::Cubic, cubic[1], cubic[2], cubic[3]});
           break;
         }
@@ -163,7 +175,14 @@ void Converter::draw_markers(const Element& e, const Style& st, uint32_t shape, 
   if (!(e.name == "path" || e.name == "line" || e.name == "polyline" || e.name == "polygon" || e.name == "rect" ||
         e.name == "circle" || e.name == "ellipse"))
     return;
-  const std::vector<Seg> segs = marker_segments(shapes_[shape]);
+  // Vertices are the path data's: an arc's conic pieces meet at none.
+  std::vector<uint32_t> continued;
+  if (e.name == "path")
+    if (const std::string* d = e.attribute("d")) {
+      Path again;
+      parse_path_data(*d, again, &continued);
+    }
+  const std::vector<Seg> segs = marker_segments(shapes_[shape], continued);
   if (segs.empty()) return;
   // The shape is the markers' context element: context-fill and
   // context-stroke inside them are its paints.
