@@ -334,3 +334,24 @@ TEST_CASE("markers: an arc command is one segment, whatever its conic pieces", "
   CHECK(count(marker + "<path d='M 20 50 A 30 30 0 0 1 80 50 A 30 30 0 0 1 140 50' fill='none' stroke='green' "
                        "marker-mid='url(#m)'/>") == 2);
 }
+
+TEST_CASE("markers: context-fill inherited from a marker's ancestors follows each marked shape", "[svg][structure]") {
+  // CSS inherits context-fill as a keyword: the marker content resolves it
+  // against the shape being marked, for every shape (the marker's cached
+  // ancestor cascade must not freeze the first one).
+  const mpvg::Scene s = mpvg::svg::parse_svg_string(svg_test::document(
+      "<g fill='context-fill'><marker id='m' markerWidth='4' markerHeight='4' overflow='visible'>"
+      "<rect width='2' height='2'/></marker></g>"
+      "<g><marker id='n' markerWidth='4' markerHeight='4' overflow='visible'><rect width='2' height='2'/></marker></g>"
+      "<path d='M 10 10 L 20 10' fill='rgb(255,0,0)' stroke='black' marker-end='url(#m)' marker-start='url(#n)'/>"
+      "<path d='M 10 30 L 20 30' fill='rgb(0,0,255)' stroke='black' marker-end='url(#m)' marker-start='url(#n)'/>")).scene;
+  std::string marker_fills;
+  for (const mpvg::ScenePath& p : s.paths) {
+    const mpvg::RGBA c = s.paints[p.paint].color;
+    if (p.xf.e == 0 && p.xf.f == 0) continue;  // the strokes
+    marker_fills += c.r == 1 ? "red " : c.b == 1 ? "blue " : "black ";
+  }
+  // Top-most first: blue path's end (blue), its start (black: #n is
+  // outside any context-fill), red path's end (red), its start (black).
+  CHECK(marker_fills == "blue black red black ");
+}

@@ -485,6 +485,11 @@ class Converter {
   };
   std::vector<ContextPaint> contexts_;
   int context_ = -1;
+  // Each marker's parent context (its ancestors' cascade), computed once
+  // where none of those ancestors asks for context-fill or context-stroke
+  // (which CSS inherits as keywords, resolved against each marked shape).
+  std::unordered_map<const Element*, Context> marker_contexts_;
+  const Context& marker_context(const Element& marker, Context& scratch);
   // A nested svg, or a symbol or svg drawn by `use` (svg_viewports.cpp).
   void render_viewport(const Element& e, const Context& ctx, int depth, const Element* use);
   bool clips_overflow(const Element& e) const;

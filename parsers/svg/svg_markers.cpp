@@ -167,6 +167,20 @@ std::optional<double> parse_angle(std::string_view v) {
 
 }  // namespace
 
+const Context& Converter::marker_context(const Element& m, Context& scratch) {
+  if (const auto it = marker_contexts_.find(&m); it != marker_contexts_.end()) return it->second;
+  bool contextual = false;
+  for (const Element* a = m.parent; a && !contextual; a = a->parent)
+    for (const char* name : {"fill", "stroke"}) {
+      auto mentions = [](const std::string& v) { return v.find("context-") != std::string::npos; };
+      if (const std::string* v = a->attribute(name); v && mentions(*v)) contextual = true;
+      for (const auto& [k, v] : a->declarations)
+        if (k == name && mentions(v)) contextual = true;
+    }
+  if (contextual) return scratch = document_context(m, false);
+  return marker_contexts_.emplace(&m, document_context(m, false)).first->second;
+}
+
 void Converter::draw_markers(const Element& e, const Style& st, uint32_t shape, const Affine& space, int depth) {
   const Inherited& inh = st.inh;
   if (inh.marker_start.empty() && inh.marker_mid.empty() && inh.marker_end.empty()) return;
@@ -203,7 +217,8 @@ void Converter::draw_markers(const Element& e, const Style& st, uint32_t shape, 
     const ClipRef ref = resolve_reference(value, "marker", "marker", s_.active);
     if (ref.state != ClipRef::Valid) continue;
     const Element& m = *ref.element;
-    const Style mst = compute_style(m, document_context(m, false));
+    Context scratch;
+    const Style mst = compute_style(m, marker_context(m, scratch));
     const double em = mst.inh.font_size;
     const double mw = length(m, "markerWidth", Axis::X, 3, em), mh = length(m, "markerHeight", Axis::Y, 3, em);
     if (!(mw > 0 && mh > 0)) continue;
