@@ -305,42 +305,101 @@ void sincos_snapped(double radians, double& s, double& c) {
   }
 }
 
+namespace {
+
+// A transform argument in degrees: a number, or a CSS angle (deg, grad,
+// rad, turn).
+std::optional<double> transform_angle(double v, std::string_view unit) {
+  if (unit.empty() || iequals(unit, "deg")) return v;
+  if (iequals(unit, "grad")) return v * 0.9;
+  if (iequals(unit, "rad")) return v * (180.0 / M_PI);
+  if (iequals(unit, "turn")) return v * 360.0;
+  return std::nullopt;
+}
+
+// A transform argument in user units: a number, or a CSS absolute length.
+std::optional<double> transform_length(double v, std::string_view unit) {
+  if (unit.empty()) return v;
+  const auto l = parse_length(std::to_string(v) + std::string(unit));
+  if (!l || l->unit == Unit::Percent || l->unit == Unit::Em || l->unit == Unit::Ex || l->unit == Unit::Rem)
+    return std::nullopt;
+  return length_to_px(*l, 0);
+}
+
+}  // namespace
+
 std::optional<Affine> parse_transform(std::string_view text) {
   Scanner s(text);
   Affine result;
   s.skip_ws();
+  if (s.consume_word("none")) {
+    s.skip_ws();
+    return s.at_end() ? std::optional<Affine>(result) : std::nullopt;
+  }
   while (!s.at_end()) {
     const std::string_view name = s.word();
     s.skip_ws();
     if (!s.consume('(')) return std::nullopt;
     s.skip_ws();
     double a[6];
+    std::string_view unit[6];
     int n = 0;
     while (n < 6) {
       const auto v = s.number();
       if (!v) break;
+      // A CSS unit (rotate(45deg), translate(10px, 5px)): letters right
+      // after the number ("10-20" stays two numbers).
+      const std::string_view rest = s.rest();
+      size_t letters = 0;
+      while (letters < rest.size() && is_alpha(rest[letters])) letters++;
+      unit[n] = rest.substr(0, letters);
+      s.consume_word(unit[n]);
       a[n++] = *v;
       s.skip_comma_ws();
     }
     if (!s.consume(')')) return std::nullopt;
 
+    auto angle = [&](int k) { return transform_angle(a[k], unit[k]); };
+    auto length = [&](int k) { return transform_length(a[k], unit[k]); };
+    auto plain = [&](int from, int to) {
+      for (int k = from; k < to; k++)
+        if (!unit[k].empty()) return false;
+      return true;
+    };
     Affine t;
-    if (name == "matrix" && n == 6) {
+    if (name == "matrix" && n == 6 && plain(0, 6)) {
       t = {a[0], a[1], a[2], a[3], a[4], a[5]};
     } else if (name == "translate" && (n == 1 || n == 2)) {
-      t = Affine::translate(a[0], n == 2 ? a[1] : 0);
-    } else if (name == "scale" && (n == 1 || n == 2)) {
+      const auto x = length(0), y = n == 2 ? length(1) : std::optional<double>(0);
+      if (!x || !y) return std::nullopt;
+      t = Affine::translate(*x, *y);
+    } else if ((name == "translateX" || name == "translateY") && n == 1) {
+      const auto d = length(0);
+      if (!d) return std::nullopt;
+      t = name == "translateX" ? Affine::translate(*d, 0) : Affine::translate(0, *d);
+    } else if (name == "scale" && (n == 1 || n == 2) && plain(0, n)) {
       t = Affine::scale(a[0], n == 2 ? a[1] : a[0]);
+    } else if ((name == "scaleX" || name == "scaleY") && n == 1 && plain(0, 1)) {
+      t = name == "scaleX" ? Affine::scale(a[0], 1) : Affine::scale(1, a[0]);
     } else if (name == "rotate" && (n == 1 || n == 3)) {
+      const auto deg = angle(0);
+      std::optional<double> cx = 0, cy = 0;
+      if (n == 3) cx = length(1), cy = length(2);
+      if (!deg || !cx || !cy) return std::nullopt;
       double sn, cs;
-      sincos_snapped(std::fmod(a[0], 360.0) * (M_PI / 180.0), sn, cs);
+      sincos_snapped(std::fmod(*deg, 360.0) * (M_PI / 180.0), sn, cs);
       t = {cs, sn, -sn, cs, 0, 0};
       // rotate(a cx cy) = translate(cx cy) rotate(a) translate(-cx -cy).
-      if (n == 3) t = Affine::translate(a[1], a[2]) * t * Affine::translate(-a[1], -a[2]);
-    } else if (name == "skewX" && n == 1) {
-      t = Affine::skew_x_degrees(a[0]);
-    } else if (name == "skewY" && n == 1) {
-      t = Affine::skew_y_degrees(a[0]);
+      if (n == 3) t = Affine::translate(*cx, *cy) * t * Affine::translate(-*cx, -*cy);
+    } else if ((name == "skewX" || name == "skewY") && n == 1) {
+      const auto deg = angle(0);
+      if (!deg) return std::nullopt;
+      t = name == "skewX" ? Affine::skew_x_degrees(*deg) : Affine::skew_y_degrees(*deg);
+    } else if (name == "skew" && (n == 1 || n == 2)) {
+      // CSS skew(ax, ay): x' = x + tan(ax) y, y' = tan(ay) x + y.
+      const auto ax = angle(0), ay = n == 2 ? angle(1) : std::optional<double>(0);
+      if (!ax || !ay) return std::nullopt;
+      t = {1, std::tan(*ay * (M_PI / 180.0)), std::tan(*ax * (M_PI / 180.0)), 1, 0, 0};
     } else {
       return std::nullopt;
     }

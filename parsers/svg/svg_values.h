@@ -100,9 +100,12 @@ double length_to_px(const Length& l, double percent_base);
 // half of it, rem against `rem`; percentages of `percent_base`.
 double resolve_length(const Length& l, double percent_base, double em, double rem);
 
-// A transform list (SVG 1.1 §7.6 grammar). nullopt on any syntax
-// error (the caller ignores the whole attribute, as CSS does); an empty or
-// blank list is the identity.
+// A transform list (SVG 1.1 §7.6 grammar), with what browsers also take
+// there and in the CSS transform property (CSS Transforms 1): angle units
+// (deg, grad, rad, turn), absolute length units on translations,
+// translateX/Y, scaleX/Y, skew(), none. nullopt on any syntax error (the
+// caller ignores the whole attribute, as CSS does); an empty or blank list
+// is the identity.
 std::optional<Affine> parse_transform(std::string_view s);
 
 // cos and sin of an angle in radians, snapped to exact 0 and ±1 when within
