@@ -251,10 +251,16 @@ std::string mark_white_space_text(const std::string& xml) {
   }
   std::string out;
   out.reserve(xml.size() + xml.size() / 8);
+  // From '>' to '>', copied a run at a time.
   for (size_t i = 0; i < xml.size();) {
-    const char c = xml[i++];
-    out += c;
-    if (c != '>' || i <= root) continue;
+    const size_t gt = xml.find('>', i);
+    if (gt == std::string::npos) {
+      out.append(xml, i, std::string::npos);
+      break;
+    }
+    out.append(xml, i, gt + 1 - i);
+    i = gt + 1;
+    if (i <= root) continue;
     // After a tag's '>' (not the end of a comment, CDATA section or
     // processing instruction): white space up to the next '<'.
     if (i >= 3 && (xml.compare(i - 3, 3, "-->") == 0 || xml.compare(i - 3, 3, "]]>") == 0)) continue;
