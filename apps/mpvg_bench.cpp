@@ -88,6 +88,7 @@ void throughput(const std::string& file, const std::vector<int>& thread_counts, 
   o.samples = 32;
   o.backend = Backend::Cuda;
   o.background = RGBA{1, 1, 1, 1};
+  o.aliased_paths = has_aliased_paths(doc.scene);
   const RenderPlan plan = plan_render(o);
   const EncodedScene enc = encode_for(doc.scene, plan, o.gamma);
   const std::string name = std::filesystem::path(file).stem().string();
@@ -189,6 +190,7 @@ int main(int argc, char** argv) {
         o.filter = f;
         o.pattern = pk;
         o.samples = samples;
+        o.aliased_paths = has_aliased_paths(doc.scene);
         return plan_render(o);
       };
       const RenderPlan p8 = plan_for(Filter::Box, PatternKind::Stratified, 8);

@@ -36,18 +36,6 @@ using Clock = std::chrono::steady_clock;
 
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
-// shape-rendering: crispEdges (and text-rendering: optimizeSpeed) turn
-// antialiasing off only under filters of odd support (core/sampling.h): a
-// note when the document asks for it and the filter cannot give it.
-std::optional<std::string> aliasing_note(const Scene& scene, const RenderOptions& o) {
-  if (filter_support(o.filter) % 2 == 1) return std::nullopt;
-  for (const ScenePath& p : scene.paths)
-    if (p.aliased)
-      return std::string("shape-rendering/text-rendering without antialiasing is drawn antialiased under the ") +
-             filter_name(o.filter) + " filter (--aa 1x32 or --filter box draws it aliased)";
-  return std::nullopt;
-}
-
 // Nanoseconds since the epoch at main()'s entry, and MPVG_T0 (the same
 // clock, set by a benchmark just before it starts the process), for
 // --stats' "process start".
@@ -118,8 +106,7 @@ int run(const cli::Options& opt, Renderers& renderers) {
   Affine view;
   cli::output_geometry(opt, doc.scene.width, doc.scene.height, &width, &height, &view);
   RenderOptions ro = cli::render_options(opt, width, height, view);
-  if (const auto note = aliasing_note(doc.scene, ro); note && !opt.quiet)
-    std::fprintf(stderr, "svg2png: warning: %s\n", note->c_str());
+  ro.aliased_paths = has_aliased_paths(doc.scene);
   RenderStats stats;
   const RenderPlan plan = plan_render(ro);
   const EncodedScene enc = encode_for(doc.scene, plan, ro.gamma, &stats);
@@ -323,7 +310,7 @@ int run_batch(const cli::Options& opt, Renderers& renderers) {
     Affine view;
     cli::output_geometry(opt, doc.scene.width, doc.scene.height, &job->width, &job->height, &view);
     job->options = cli::render_options(opt, job->width, job->height, view);
-    if (const auto note = aliasing_note(doc.scene, job->options)) job->warnings.push_back(*note);
+    job->options.aliased_paths = has_aliased_paths(doc.scene);
     if (!cuda) job->options.threads = 1;
     job->plan = plan_render(job->options);
     job->scene = encode_for(doc.scene, job->plan, job->options.gamma, &job->stats);

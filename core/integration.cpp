@@ -53,14 +53,14 @@ const char* filter_name(Filter f) {
 namespace {
 
 // Weights, sums and per-pixel totals for given class patterns.
-Integration build_integration(Filter f, int m, int classes, std::vector<SampleOffset> offsets) {
+Integration build_integration(Filter f, int K, int m, int classes, std::vector<SampleOffset> offsets) {
   Integration in;
   in.filter = f;
-  in.support = filter_support(f);
+  in.support = K;
   in.pad = f == Filter::Cardinal ? kCardinalPad : 0;
   in.samples = m;
   in.prefilter = f == Filter::Cardinal;
-  const int K = in.support, T = K * K;
+  const int T = K * K;
   in.classes = classes;
   in.class_mod = classes > 1 ? K : 1;
   in.offsets = std::move(offsets);
@@ -161,22 +161,29 @@ std::vector<SampleOffset> transform_tile(const std::vector<SampleOffset>& tile, 
 
 }  // namespace
 
-Integration make_integration(Filter f, const std::vector<SampleOffset>& pattern) {
+int integration_support(Filter f, bool odd) {
   const int K = filter_support(f);
-  if (K == 1) return build_integration(f, static_cast<int>(pattern.size()), 1, pattern);
-  return build_integration(f, static_cast<int>(pattern.size()), K * K, shifted_classes(pattern, K));
+  return odd && K % 2 == 0 ? K + 1 : K;
 }
 
-Integration make_integration(Filter f, PatternKind kind, int m, uint32_t seed) {
-  const int K = filter_support(f);
-  if (kind == PatternKind::Stratified) return make_integration(f, stratified_pattern(m, seed));
+Integration make_integration(Filter f, const std::vector<SampleOffset>& pattern, bool odd_support) {
+  const int K = integration_support(f, odd_support);
+  if (K == 1) return build_integration(f, K, static_cast<int>(pattern.size()), 1, pattern);
+  return build_integration(f, K, static_cast<int>(pattern.size()), K * K, shifted_classes(pattern, K));
+}
+
+Integration make_integration(Filter f, PatternKind kind, int m, uint32_t seed, bool odd_support) {
+  const int K = integration_support(f, odd_support);
+  // Blue-noise tiles exist for supports 1, 2 and 4.
+  if (kind == PatternKind::Stratified || (K != filter_support(f) && K > 1))
+    return make_integration(f, stratified_pattern(m, seed), odd_support);
   const float(*table)[2] = blue_noise_tile(m, K);
   if (!table)
     throw Error("blue-noise patterns have 8, 32 or 64 samples (use a stratified pattern for " + std::to_string(m) +
                 ")");
   std::vector<SampleOffset> tile(size_t(K) * K * m);
   for (size_t i = 0; i < tile.size(); i++) tile[i] = {table[i][0], table[i][1]};
-  return build_integration(f, m, K == 1 ? 1 : K * K, transform_tile(tile, K, m, seed));
+  return build_integration(f, K, m, K == 1 ? 1 : K * K, transform_tile(tile, K, m, seed));
 }
 
 IntegrationFrame integration_frame(const Integration& in, int width, int height) {

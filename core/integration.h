@@ -122,8 +122,16 @@ MPVG_HD_INLINE int unit_area_class(uint32_t u, uint32_t v, int K) { return int(v
 // and the variant taking one pattern, give class (cx, cy) the pattern shifted
 // by (cy, cx) / (K m). Throws mpvg::Error for blue noise of other than 8,
 // 32 or 64 samples.
-Integration make_integration(Filter f, PatternKind kind, int samples, uint32_t seed);
-Integration make_integration(Filter f, const std::vector<SampleOffset>& pattern);
+//
+// odd_support: a filter of even support K integrates over K + 1 unit areas
+// per side instead (the kernel is 0 on the extra ring), so that unit areas
+// are pixels again: what aliased paths need (core/sampling.h). Blue-noise
+// tiles exist for supports 1, 2 and 4 only: such frames take stratified
+// patterns.
+Integration make_integration(Filter f, PatternKind kind, int samples, uint32_t seed, bool odd_support = false);
+Integration make_integration(Filter f, const std::vector<SampleOffset>& pattern, bool odd_support = false);
+// The support in unit areas make_integration gives filter f.
+int integration_support(Filter f, bool odd_support);
 
 // The grids of a frame of width x height output pixels:
 //   accumulation image  acc_w x acc_h = output + 2 pad

@@ -47,7 +47,7 @@ RenderPlan plan_render(const RenderOptions& o) {
   if (o.width > 32768 || o.height > 32768) throw Error("output size is larger than 32768 pixels");
   if (o.samples < 1 || o.samples > 1024) throw Error("samples per unit area must be between 1 and 1024");
   RenderPlan p;
-  p.integ = make_integration(o.filter, o.pattern, o.samples, o.seed);
+  p.integ = make_integration(o.filter, o.pattern, o.samples, o.seed, o.aliased_paths);
   p.pattern = std::vector<SampleOffset>(p.integ.offsets.begin(), p.integ.offsets.begin() + o.samples);
   p.frame = integration_frame(p.integ, o.width, o.height);
   p.view = Affine::translate(p.frame.to_unit_areas, p.frame.to_unit_areas) * o.view;
@@ -65,10 +65,12 @@ EncodedScene encode_for(const Scene& scene, const RenderOptions& o, RenderStats*
   return encode_for(scene, plan_render(o), o.gamma, stats);
 }
 
-ImageF render_cpu(const Scene& scene, const RenderOptions& o, RenderStats* stats) {
+ImageF render_cpu(const Scene& scene, const RenderOptions& options, RenderStats* stats) {
   RenderStats local;
   RenderStats& st = stats ? *stats : local;
   const auto t_all = std::chrono::steady_clock::now();
+  RenderOptions o = options;
+  o.aliased_paths = o.aliased_paths || has_aliased_paths(scene);
   const RenderPlan plan = plan_render(o);
   const EncodedScene enc = encode_for(scene, plan, o.gamma, &st);
   const double encode_ms = ms_since(t_all);

@@ -28,6 +28,11 @@ struct RenderOptions {
   Backend backend = Backend::Auto;
   TreeParams tree;
   int threads = 0;  // CPU threads, 0 = all cores
+  // The scene has aliased paths (has_aliased_paths): a filter of even
+  // support then integrates over an odd number of unit areas, which are
+  // pixels, so that those paths are drawn aliased (core/integration.h).
+  // Set before planning: the frame, and so the encoding, depend on it.
+  bool aliased_paths = false;
 };
 
 // Per-stage wall times in milliseconds, and what was built.

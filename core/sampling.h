@@ -69,14 +69,15 @@ enum : uint32_t {
 // groups: solid; gradients and textures; all) that covers them. Patterns
 // take all kinds, as their tiles may use any.
 //
-// Aliased paths (PATH_ALIASED) are drawn without antialiasing only where
-// unit areas are pixels (odd filter supports: the box): a path then covers
-// a pixel's samples as it covers the pixel's centre. Under a filter of even
-// support (the hat, the cubics) pixel centres are unit-area corners, shared
-// by up to four leaf cells, where no cell's entries are valid for all
-// samples that would need them; such filters blur every edge over several
-// pixels anyway, and aliased paths are antialiased like the rest
-// (`aliasing` false). SVG makes shape-rendering a hint.
+// Aliased paths (PATH_ALIASED) are drawn without antialiasing where unit
+// areas are pixels (odd supports): a path then covers a pixel's samples as
+// it covers the pixel's centre, which lies in the samples' own leaf cell.
+// Frames planned for scenes with aliased paths always have an odd support
+// (RenderOptions::aliased_paths: 3 x 3 unit areas for the hat, 5 x 5 for
+// the cubics). Under an even support pixel centres are unit-area corners,
+// shared by up to four leaf cells, none of whose entries is valid for all
+// the samples that would need that centre: a frame planned without the
+// option draws aliased paths antialiased (`aliasing` false).
 inline uint32_t sampler_kinds(const PaintData& p, bool aliasing) {
   if (p.aliased && aliasing) {
     // Two aliased specialisations: solid colours only (crisp icons and

@@ -6,6 +6,7 @@
 #include <cstdarg>
 #include <cstdio>
 #include <memory>
+#include <unordered_set>
 
 #include "core/error.h"
 #include "core/group.h"
@@ -827,6 +828,29 @@ std::string dump(const Scene& scene) {
   std::string s;
   dump_into(s, scene, "");
   return s;
+}
+
+}  // namespace mpvg
+
+namespace mpvg {
+
+namespace {
+
+// Each tile once: a tile shared by many patterns is not walked again.
+bool aliased_in(const Scene& scene, std::unordered_set<const Scene*>& seen) {
+  if (!seen.insert(&scene).second) return false;
+  for (const ScenePath& p : scene.paths)
+    if (p.aliased) return true;
+  for (const Pattern& p : scene.patterns)
+    if (p.tile && aliased_in(*p.tile, seen)) return true;
+  return false;
+}
+
+}  // namespace
+
+bool has_aliased_paths(const Scene& scene) {
+  std::unordered_set<const Scene*> seen;
+  return aliased_in(scene, seen);
 }
 
 }  // namespace mpvg

@@ -390,4 +390,8 @@ class SceneBuilder {
 // element a line. Parser tests compare dumps with expected text.
 std::string dump(const Scene& scene);
 
+// Does the scene, or a pattern tile in it, have an aliased path
+// (ScenePath::aliased)?
+bool has_aliased_paths(const Scene& scene);
+
 }  // namespace mpvg

@@ -63,8 +63,10 @@ ImageF render_cuda(gpu::Context& ctx, const EncodedScene& enc, const RenderPlan&
   });
 }
 
-ImageF render_cuda(const Scene& scene, const RenderOptions& o, RenderStats& st) {
+ImageF render_cuda(const Scene& scene, const RenderOptions& options, RenderStats& st) {
   const auto t_all = std::chrono::steady_clock::now();
+  RenderOptions o = options;
+  o.aliased_paths = o.aliased_paths || has_aliased_paths(scene);
   const RenderPlan plan = plan_render(o);
   const EncodedScene enc = encode_for(scene, plan, o.gamma, &st);
   const double encode_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_all).count();

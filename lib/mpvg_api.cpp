@@ -221,7 +221,8 @@ struct MPVG_HIDDEN Renderer::Impl {
     if (expect && (expect->width != width || expect->height != height))
       throw Error("the buffer is " + std::to_string(expect->width) + "x" + std::to_string(expect->height) +
                   " pixels, the output " + std::to_string(width) + "x" + std::to_string(height));
-    const RenderOptions ro = cli::render_options(o, width, height, view);
+    RenderOptions ro = cli::render_options(o, width, height, view);
+    ro.aliased_paths = has_aliased_paths(parsed->scene);
     Bitmap out;
     out.width = width;
     out.height = height;

@@ -233,6 +233,9 @@ TEST_CASE("CPU and GPU agree within 1/255 under every preset, filter and colour 
   for (uint32_t seed = 1; seed <= 4; seed++) scenes.push_back({"random " + std::to_string(seed), random_scenes::clip_scene(seed, 3, 100)});
   for (uint32_t seed = 41; seed <= 44; seed++)
     scenes.push_back({"random paints " + std::to_string(seed), random_scenes::clip_scene(seed, 3, 100, true)});
+  // Aliased paths: wide filters over odd supports (3 x 3, 5 x 5 unit areas).
+  for (uint32_t seed = 81; seed <= 82; seed++)
+    scenes.push_back({"random aliased " + std::to_string(seed), random_scenes::clip_scene(seed, 3, 100, seed == 82, true)});
   if (const char* dir = std::getenv("MPVG_BENCH_DIR"))
     for (const char* name : {"tiger.svg", "reschart.svg"}) {
       const std::string path = std::string(dir) + "/" + name;
@@ -255,6 +258,7 @@ TEST_CASE("CPU and GPU agree within 1/255 under every preset, filter and colour 
         o.samples = m.samples;
         o.seed = 9;
         o.gamma = g;
+        o.aliased_paths = has_aliased_paths(scene);
         o.backend = Backend::Cpu;
         const ImageF cpu = render(scene, o);
         o.backend = Backend::Cuda;
