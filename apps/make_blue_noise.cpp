@@ -7,7 +7,7 @@
 // on the K x K torus. With sample sharing (integration.h) a pixel's support
 // covers K x K unit areas, one of each position in the tile, so every pixel
 // integrates over the whole tile: K^2 m samples that are blue noise as one
-// set, not K^2 copies of one m-sample pattern. Tiles exist for K = 1, 2, 4
+// set, not K^2 copies of one m-sample pattern. Tiles exist for K = 1 to 5
 // and m = 8, 32, 64.
 //
 // Steps:
@@ -239,10 +239,12 @@ int main() {
       "// `build/apps/make_blue_noise > core/blue_noise_tables.inc`.\n"
       "// Layout: kBlueNoise<m>x<K>[(cy * K + cx) * m + i] = offset of sample i of\n"
       "// the tile's unit area (cx, cy), relative to that unit area.\n");
-  for (int K : {1, 2, 4}) {
+  // K = 3 and 5: the odd supports of frames with aliased paths (the hat's
+  // and the cubics', integration.h).
+  for (int K : {1, 2, 3, 4, 5}) {
     for (int m : {8, 32, 64}) {
       const int n = K * K * m;
-      std::vector<P> s = ccvt(K, n, K == 4 ? 64 : 128, K == 4 ? 80 : 200, 0x5eed0000u + 97u * n + K);
+      std::vector<P> s = ccvt(K, n, K >= 4 ? 64 : 128, K >= 4 ? 80 : 200, 0x5eed0000u + 97u * n + K);
       const double hex = double(K) * std::sqrt(2.0 / (std::sqrt(3.0) * n));
       const double raw = min_distance(s, K) / hex;
       balance(s, K, m);

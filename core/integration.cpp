@@ -114,7 +114,9 @@ std::vector<SampleOffset> shifted_classes(const std::vector<SampleOffset>& patte
 const float (*blue_noise_tile(int m, int K))[2] {
   if (K == 1) return m == 8 ? kBlueNoise8x1 : m == 32 ? kBlueNoise32x1 : m == 64 ? kBlueNoise64x1 : nullptr;
   if (K == 2) return m == 8 ? kBlueNoise8x2 : m == 32 ? kBlueNoise32x2 : m == 64 ? kBlueNoise64x2 : nullptr;
+  if (K == 3) return m == 8 ? kBlueNoise8x3 : m == 32 ? kBlueNoise32x3 : m == 64 ? kBlueNoise64x3 : nullptr;
   if (K == 4) return m == 8 ? kBlueNoise8x4 : m == 32 ? kBlueNoise32x4 : m == 64 ? kBlueNoise64x4 : nullptr;
+  if (K == 5) return m == 8 ? kBlueNoise8x5 : m == 32 ? kBlueNoise32x5 : m == 64 ? kBlueNoise64x5 : nullptr;
   return nullptr;
 }
 
@@ -174,9 +176,7 @@ Integration make_integration(Filter f, const std::vector<SampleOffset>& pattern,
 
 Integration make_integration(Filter f, PatternKind kind, int m, uint32_t seed, bool odd_support) {
   const int K = integration_support(f, odd_support);
-  // Blue-noise tiles exist for supports 1, 2 and 4.
-  if (kind == PatternKind::Stratified || (K != filter_support(f) && K > 1))
-    return make_integration(f, stratified_pattern(m, seed), odd_support);
+  if (kind == PatternKind::Stratified) return make_integration(f, stratified_pattern(m, seed), odd_support);
   const float(*table)[2] = blue_noise_tile(m, K);
   if (!table)
     throw Error("blue-noise patterns have 8, 32 or 64 samples (use a stratified pattern for " + std::to_string(m) +

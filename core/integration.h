@@ -126,8 +126,7 @@ MPVG_HD_INLINE int unit_area_class(uint32_t u, uint32_t v, int K) { return int(v
 // odd_support: a filter of even support K integrates over K + 1 unit areas
 // per side instead (the kernel is 0 on the extra ring), so that unit areas
 // are pixels again: what aliased paths need (core/sampling.h). Blue-noise
-// tiles exist for supports 1, 2 and 4 only: such frames take stratified
-// patterns.
+// tiles exist for supports 1 to 5.
 Integration make_integration(Filter f, PatternKind kind, int samples, uint32_t seed, bool odd_support = false);
 Integration make_integration(Filter f, const std::vector<SampleOffset>& pattern, bool odd_support = false);
 // The support in unit areas make_integration gives filter f.
