@@ -459,7 +459,9 @@ class Converter {
   std::optional<Length> length_value(const Element& e, const char* name) const;
   std::optional<double> auto_length(const Element& e, const char* name, Axis axis, double em) const;
   int shape_index(const Element& e, double em);
-  std::optional<Path> build_shape(const Element& e, double em) const;
+  // arc_continuations, for a path: PathBuilder::arc_continuations.
+  std::optional<Path> build_shape(const Element& e, double em,
+                                  std::vector<uint32_t>* arc_continuations = nullptr) const;
 
   // ------------------------------------------------------------ rendering
 
@@ -590,6 +592,9 @@ class Converter {
   };
   std::vector<StrokeJob> stroke_jobs_;
   std::unordered_map<const Element*, int> shape_of_;
+  // Per shape of a path with arcs: the segments that continue an arc
+  // command (markers are placed per command; svg_markers.cpp).
+  std::unordered_map<uint32_t, std::vector<uint32_t>> arc_continuations_;
 };
 
 // Calls f for every operation of ops_[begin, end) that is content: not in

@@ -190,13 +190,9 @@ void Converter::draw_markers(const Element& e, const Style& st, uint32_t shape, 
         e.name == "circle" || e.name == "ellipse"))
     return;
   // Vertices are the path data's: an arc's conic pieces meet at none.
-  std::vector<uint32_t> continued;
-  if (e.name == "path")
-    if (const std::string* d = e.attribute("d")) {
-      Path again;
-      parse_path_data(*d, again, &continued);
-    }
-  const std::vector<Seg> segs = marker_segments(shapes_[shape], continued);
+  static const std::vector<uint32_t> none;
+  const auto arcs = arc_continuations_.find(shape);
+  const std::vector<Seg> segs = marker_segments(shapes_[shape], arcs == arc_continuations_.end() ? none : arcs->second);
   if (segs.empty()) return;
   // The shape is the markers' context element: context-fill and
   // context-stroke inside them are its paints.

@@ -259,24 +259,27 @@ std::optional<double> Converter::auto_length(const Element& e, const char* name,
 int Converter::shape_index(const Element& e, double em) {
   const auto it = shape_of_.find(&e);
   if (it != shape_of_.end()) return it->second;
-  std::optional<Path> p = build_shape(e, em);
+  std::vector<uint32_t> arcs;
+  std::optional<Path> p = build_shape(e, em, &arcs);
   int index = -1;
   // Zero-length subpaths ("M p Z") have no segments but are stroked.
   if (p && !p->contours().empty()) {
     index = static_cast<int>(shapes_.size());
     shapes_.push_back(std::move(*p));
+    if (!arcs.empty()) arc_continuations_.emplace(static_cast<uint32_t>(index), std::move(arcs));
   }
   shape_of_.emplace(&e, index);
   return index;
 }
 
-std::optional<Path> Converter::build_shape(const Element& e, double em) const {
+std::optional<Path> Converter::build_shape(const Element& e, double em,
+                                           std::vector<uint32_t>* arc_continuations) const {
   const std::string& n = e.name;
   if (n == "path") {
     const std::string* d = e.attribute("d");
     if (!d) return std::nullopt;
     Path p;
-    parse_path_data(*d, p);  // on an error, what came before it is kept
+    parse_path_data(*d, p, arc_continuations);  // on an error, what came before it is kept
     return p;
   }
   if (n == "rect") {
