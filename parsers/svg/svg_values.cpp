@@ -110,6 +110,18 @@ std::optional<double> parse_number(std::string_view text) {
 
 namespace {
 
+// A length unit's name (ASCII case-insensitive), '%' aside.
+std::optional<Unit> length_unit(std::string_view name) {
+  static const struct {
+    const char* name;
+    Unit unit;
+  } units[] = {{"px", Unit::Px}, {"pt", Unit::Pt}, {"pc", Unit::Pc}, {"mm", Unit::Mm}, {"cm", Unit::Cm},
+               {"in", Unit::In}, {"em", Unit::Em}, {"ex", Unit::Ex}, {"rem", Unit::Rem}};
+  for (const auto& e : units)
+    if (iequals(name, e.name)) return e.unit;
+  return std::nullopt;
+}
+
 // A dimension at the cursor: a number with an optional unit or '%'.
 std::optional<Length> dimension(Scanner& s) {
   const auto v = s.number();
@@ -119,21 +131,14 @@ std::optional<Length> dimension(Scanner& s) {
     l.unit = Unit::Percent;
     return l;
   }
-  static const struct {
-    const char* name;
-    Unit unit;
-  } units[] = {{"px", Unit::Px}, {"pt", Unit::Pt}, {"pc", Unit::Pc}, {"mm", Unit::Mm}, {"cm", Unit::Cm},
-               {"in", Unit::In}, {"em", Unit::Em}, {"ex", Unit::Ex}, {"rem", Unit::Rem}};
   Scanner probe(s.rest());
   const std::string_view u = probe.word();
   if (u.empty()) return l;
-  for (const auto& e : units)
-    if (iequals(u, e.name)) {
-      l.unit = e.unit;
-      s.consume_word(u);
-      return l;
-    }
-  return std::nullopt;  // an unknown unit
+  const auto unit = length_unit(u);
+  if (!unit) return std::nullopt;
+  l.unit = *unit;
+  s.consume_word(u);
+  return l;
 }
 
 // calc() (CSS Values 4 §10): a value is a plain number or a sum of
@@ -320,10 +325,9 @@ std::optional<double> transform_angle(double v, std::string_view unit) {
 // A transform argument in user units: a number, or a CSS absolute length.
 std::optional<double> transform_length(double v, std::string_view unit) {
   if (unit.empty()) return v;
-  const auto l = parse_length(std::to_string(v) + std::string(unit));
-  if (!l || l->unit == Unit::Percent || l->unit == Unit::Em || l->unit == Unit::Ex || l->unit == Unit::Rem)
-    return std::nullopt;
-  return length_to_px(*l, 0);
+  const auto u = length_unit(unit);
+  if (!u || *u == Unit::Em || *u == Unit::Ex || *u == Unit::Rem) return std::nullopt;
+  return length_to_px(Length{v, *u}, 0);
 }
 
 }  // namespace
