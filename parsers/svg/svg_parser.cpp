@@ -230,16 +230,15 @@ double Converter::length(const Element& e, const char* name, Axis axis, double d
 
 std::optional<Length> Converter::length_value(const Element& e, const char* name) const {
   static constexpr std::string_view geometry[] = {"x", "y", "width", "height", "cx", "cy", "r", "rx", "ry"};
-  if (!s_.svg1 && std::find(std::begin(geometry), std::end(geometry), name) != std::end(geometry)) {
+  const bool property_like = std::find(std::begin(geometry), std::end(geometry), name) != std::end(geometry);
+  if (!s_.svg1 && property_like) {
     const auto p = property<Length>(e, name, [](std::string_view v) { return parse_length(v, CalcOk::Yes); });
     if (p.state == Prop<Length>::Set) return p.value;
     return std::nullopt;  // absent, invalid, or inherit/initial (not inherited: the initial value)
   }
   const std::string* a = e.attribute(name);
   if (!a) return std::nullopt;
-  return parse_length(*a, std::find(std::begin(geometry), std::end(geometry), name) != std::end(geometry)
-                              ? CalcOk::Yes
-                              : CalcOk::No);
+  return parse_length(*a, property_like ? CalcOk::Yes : CalcOk::No);
 }
 
 // A length that may be "auto" (rect rx/ry, ellipse rx/ry in SVG 2): absent,
