@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "apps/output_file.h"
 #include "core/error.h"
 
 #include <zlib.h>
@@ -260,13 +261,7 @@ std::vector<uint8_t> encode_rgba16(int width, int height, const uint16_t* rgba, 
   return encode(width, height, rgba, options);
 }
 
-void write_file(const std::string& path, const std::vector<uint8_t>& bytes) {
-  FILE* f = path == "-" ? stdout : std::fopen(path.c_str(), "wb");
-  if (!f) throw Error("cannot write '" + path + "'");
-  const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-  const bool closed = f == stdout ? std::fflush(f) == 0 : std::fclose(f) == 0;
-  if (!ok || !closed) throw Error("cannot write '" + path + "'");
-}
+void write_file(const std::string& path, const std::vector<uint8_t>& bytes) { write_output(path, bytes); }
 
 std::string compressor() {
 #if MPVG_HAVE_LIBDEFLATE

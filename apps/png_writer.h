@@ -28,7 +28,8 @@ struct EncodeOptions {
 std::vector<uint8_t> encode_rgba8(int width, int height, const uint8_t* rgba, const EncodeOptions& options = {});
 std::vector<uint8_t> encode_rgba16(int width, int height, const uint16_t* rgba, const EncodeOptions& options = {});
 
-// Writes bytes to path ("-": standard output). Throws mpvg::Error.
+// Writes bytes to path ("-": standard output), whole or not at all
+// (apps/output_file.h). Throws mpvg::Error.
 void write_file(const std::string& path, const std::vector<uint8_t>& bytes);
 
 // "libdeflate 1.14" or "zlib 1.2.13".
