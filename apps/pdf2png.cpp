@@ -89,6 +89,8 @@ void usage() {
       "      --render-threads N    rendering threads (default 3 with CUDA, 1 on the CPU)\n"
       "      --stats               per-page stage times and the job's throughput\n"
       "      --repeat N            the pages N times over (benchmarks)\n"
+      "      --timeout S           give up on a page after S seconds (it fails; the\n"
+      "                            others go on)\n"
       "  -q, --quiet               no warnings\n"
       "      --help, --version\n");
 }
@@ -205,12 +207,19 @@ int main(int argc, char** argv) {
     const int first = pdf.first;
     const int last = pdf.singlefile ? std::min(pdf.first, count) : pdf.last < 0 ? count : std::min(pdf.last, count);
     const int digits = static_cast<int>(std::to_string(count).size());
-    const int range = std::max(0, last - first + 1);
-    const int pages = range * pdf.repeat;
-    if (pages == 0) {
-      std::fflush(nullptr);
-      std::_Exit(0);  // the start-up thread may be running (GpuStartup)
-    }
+    // No page to render is an error, as for pdftoppm (its exit 99): a
+    // document without pages, or a range past the last page.
+    if (count == 0) throw Error("'" + opt.positional[0] + "' has no pages");
+    if (first > count)
+      throw Error("the first page (" + std::to_string(first) + ") is past the last page (" + std::to_string(count) +
+                  ")");
+    if (pdf.last >= 0 && pdf.last < first)
+      throw Error("the last page (" + std::to_string(pdf.last) + ") is before the first page (" +
+                  std::to_string(first) + ")");
+    const int range = last - first + 1;
+    const long long requested = static_cast<long long>(range) * pdf.repeat;
+    if (requested > 1000000000) throw Error("--repeat makes more than 10^9 pages");
+    const int pages = static_cast<int>(requested);
     // The thread counts are set before CUDA's start-up has finished: with a
     // GPU visible (its device files exist) they are CUDA's. If CUDA then
     // fails, one render thread renders on the CPU and the others stop.
@@ -284,6 +293,7 @@ int main(int argc, char** argv) {
     if (const char* sync = std::getenv("MPVG_PDF_SYNC_START"); sync && std::string(sync) == "1" &&
                                                               opt.backend != Backend::Cpu)
       await_cuda();
+    c.timeout_s = opt.timeout_s;
     const pipeline::Result result = pipeline::run(c);
     if (opt.stats) std::fprintf(stderr, "%s", pipeline::summary(c, result, cuda_ok ? "cuda" : "cpu").c_str());
     // Every page is written: the process ends without tearing down CUDA

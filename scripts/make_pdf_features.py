@@ -780,9 +780,10 @@ def optional_content():
 # The error cases of tests/test_cli_pdf.sh: three 100 x 100 pt pages, a
 # red, a green and a blue square, page 2 broken in some way.
 
-def three_pages(page2=None, extra_objects=None):
+def three_pages(page2=None, extra_objects=None, count=3):
     """The three-page document; `page2(pdf, tree, page, contents)` may
-    replace page 2's dictionary (or add objects) by setting `page` itself."""
+    replace page 2's dictionary (or add objects) by setting `page` itself;
+    `count` is what the page tree's /Count claims."""
     pdf = Pdf()
     catalog = pdf.reserve()
     tree = pdf.reserve()
@@ -795,7 +796,7 @@ def three_pages(page2=None, extra_objects=None):
         if i == 1 and page2:
             page2(pdf, tree, page, contents)
         pages.append(page)
-    pdf.set(tree, "<< /Type /Pages /Kids [%s] /Count 3 >>" % " ".join(ref(p) for p in pages))
+    pdf.set(tree, "<< /Type /Pages /Kids [%s] /Count %d >>" % (" ".join(ref(p) for p in pages), count))
     pdf.set(catalog, "<< /Type /Catalog /Pages %s >>" % ref(tree))
     return pdf.bytes(catalog)
 
@@ -812,6 +813,12 @@ def error_cases():
     # cross-reference table or trailer any more; MuPDF repairs it.
     data = three_pages()
     write(os.path.join(PDFDIR, "three-pages.pdf"), data)
+    # A page tree that claims two billion pages and holds three.
+    write(os.path.join(PDFDIR, "three-pages-count-2e9.pdf"), three_pages(count=2000000000))
+    # A catalog without a page tree.
+    pdf = Pdf()
+    catalog = pdf.add("<< /Type /Catalog >>")
+    write(os.path.join(PDFDIR, "no-page-tree.pdf"), pdf.bytes(catalog))
     write(os.path.join(PDFDIR, "truncated.pdf"), data[:data.index(b"0 0 1 rg") + 4])
 
 

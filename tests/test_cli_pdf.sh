@@ -44,9 +44,10 @@ for broken in three-pages-bad-page2; do
   err=$("$bin" -q --backend cpu -r 72 "$src/testdata/pdf/$broken.pdf" "$tmp/$broken" 2>&1); rc=$?
   check "$broken: pages 1 and 3 written, page 2 not" \
     test -f "$tmp/$broken-1.png" -a ! -e "$tmp/$broken-2.png" -a -f "$tmp/$broken-3.png"
-  check "$broken: exit 1, one line naming page 2 ($err)" \
-    test "$rc" = 1 -a "$(echo "$err" | wc -l)" = 1 -a -n "$(echo "$err" | grep -e '^pdf2png: page 2: ')"
-  errors[$broken]=$err
+  check "$broken: exit 1, one line naming page 2, then the summary ($err)" \
+    test "$rc" = 1 -a "$(echo "$err" | wc -l)" = 2 -a -n "$(echo "$err" | grep -e '^pdf2png: page 2: ')" \
+    -a "$(echo "$err" | tail -n 1)" = "pdf2png: 3 pages, 2 written, 1 failed"
+  errors[$broken]=$(echo "$err" | head -n 1)
 done
 check "a page that fails to load: MuPDF's reason" test "${errors[three-pages-bad-page2]}" = "pdf2png: page 2: cycle in page tree"
 
@@ -71,6 +72,21 @@ for ((n = 0; n < size; n += 100)); do
 done
 check "truncated anywhere: output or an error line with exit 1, never a crash${bad_cuts:+ (failed at$bad_cuts)}" \
   test -z "$bad_cuts"
+
+# A page tree that claims 2e9 pages and holds three: three pages, named
+# with one digit, at once (MuPDF's /Count alone made 2e9 attempts).
+err=$("$bin" -q --backend cpu -r 10 "$src/testdata/pdf/three-pages-count-2e9.pdf" "$tmp/c" 2>&1); rc=$?
+check "a lying /Count: the three pages there are, exit 0" \
+  test "$rc" = 0 -a -z "$err" -a "$(cd "$tmp" && echo c-*.png)" = "c-1.png c-2.png c-3.png"
+# No page to render is an error, as for pdftoppm.
+err=$("$bin" -q --backend cpu "$src/testdata/pdf/no-page-tree.pdf" "$tmp/n" 2>&1); rc=$?
+check "no page tree: exit 1, one line ($err)" \
+  test "$rc" = 1 -a "$err" = "pdf2png: '$src/testdata/pdf/no-page-tree.pdf' has no pages"
+err=$("$bin" -q --backend cpu -f 5 "$src/testdata/pdf/three-pages.pdf" "$tmp/f" 2>&1); rc=$?
+check "-f past the last page: exit 1, one line ($err)" \
+  test "$rc" = 1 -a "$err" = "pdf2png: the first page (5) is past the last page (3)" -a ! -e "$tmp/f-5.png"
+err=$("$bin" -q --backend cpu -f 3 -l 2 "$src/testdata/pdf/three-pages.pdf" "$tmp/f" 2>&1); rc=$?
+check "-l before -f: exit 1, one line ($err)" test "$rc" = 1 -a "$(echo "$err" | wc -l)" = 1
 
 "$bin" -q --backend cpu -r 72 - "$tmp/in" < "$pdf"
 check "- reads the document from stdin, the same image" cmp -s "$tmp/r-1.png" "$tmp/in-1.png"

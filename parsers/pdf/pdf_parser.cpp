@@ -4,6 +4,7 @@
 #include "parsers/pdf/pdf_parser.h"
 
 #include <mupdf/fitz.h>
+#include <mupdf/pdf.h>
 
 #include <chrono>
 #include <cstdio>
@@ -25,6 +26,78 @@ struct Locks {
   fz_locks_context ctx{this, [](void* u, int i) { static_cast<Locks*>(u)->m[i].lock(); },
                        [](void* u, int i) { static_cast<Locks*>(u)->m[i].unlock(); }};
 };
+
+namespace {
+
+// The pages a PDF's page tree really holds: its leaves, found by walking
+// /Kids from the root (each node once, so a cycle ends the walk), capped by
+// the root's /Count; a /Pages node below the root with no new kid counts
+// as one (broken) page. MuPDF's own count is the root's /Count, which a file
+// may set to anything (2e9 made pdf2png try two billion pages, one error
+// line each); page lookups also go by the /Count of the nodes on the way,
+// so pages past it cannot be found either. Called inside fz_try: MuPDF
+// errors (a broken object) throw through it.
+struct TreeWalk {
+  pdf_obj** stack;
+  int stacked, stack_capacity;
+  pdf_obj** marked;
+  int marks, mark_capacity;
+  int leaves;
+};
+
+void push(fz_context* ctx, pdf_obj*** array, int* n, int* capacity, pdf_obj* obj) {
+  if (*n == *capacity) {
+    *capacity = *capacity ? 2 * *capacity : 64;
+    *array = fz_realloc_array(ctx, *array, *capacity, pdf_obj*);
+  }
+  (*array)[(*n)++] = obj;
+}
+
+int page_tree_leaves(fz_context* ctx, pdf_document* doc, int claimed) {
+  pdf_obj* root = pdf_dict_getp(ctx, pdf_trailer(ctx, doc), "Root/Pages");
+  if (!pdf_is_dict(ctx, root)) return 0;
+  // The walk's state lives on MuPDF's heap, not in locals: fz_try is
+  // setjmp, and what a jump leaves behind must be freed by fz_always.
+  TreeWalk* const w = fz_malloc_struct(ctx, TreeWalk);
+  volatile int leaves = 0;
+  fz_try(ctx) {
+    push(ctx, &w->stack, &w->stacked, &w->stack_capacity, root);
+    while (w->stacked > 0 && w->leaves < claimed) {
+      pdf_obj* node = w->stack[--w->stacked];
+      // Each node once: a cycle or a node listed twice ends there.
+      if (pdf_mark_obj(ctx, node)) continue;
+      push(ctx, &w->marked, &w->marks, &w->mark_capacity, node);
+      pdf_obj* kids = pdf_dict_get(ctx, node, PDF_NAME(Kids));
+      if (pdf_is_array(ctx, kids) && !pdf_name_eq(ctx, pdf_dict_get(ctx, node, PDF_NAME(Type)), PDF_NAME(Page))) {
+        // In reverse, so that pages are met in document order.
+        int fresh = 0;
+        for (int i = pdf_array_len(ctx, kids) - 1; i >= 0; i--) {
+          pdf_obj* kid = pdf_array_get(ctx, kids, i);
+          if (!pdf_is_dict(ctx, kid) || pdf_obj_marked(ctx, kid)) continue;
+          push(ctx, &w->stack, &w->stacked, &w->stack_capacity, kid);
+          fresh++;
+        }
+        // A node below the root that leads nowhere new (its kids are
+        // itself, or none) stands for a page that fails to load, reported
+        // as such, as MuPDF's lookup counts it.
+        if (fresh == 0 && node != root) w->leaves++;
+      } else {
+        w->leaves++;
+      }
+    }
+    leaves = w->leaves;
+  }
+  fz_always(ctx) {
+    for (int i = 0; i < w->marks; i++) pdf_unmark_obj(ctx, w->marked[i]);
+    fz_free(ctx, w->stack);
+    fz_free(ctx, w->marked);
+    fz_free(ctx, w);
+  }
+  fz_catch(ctx) { fz_rethrow(ctx); }
+  return leaves;
+}
+
+}  // namespace
 
 struct Document::Impl {
   std::shared_ptr<Locks> locks;  // outlives every context that uses it
@@ -67,8 +140,10 @@ struct Document::Impl {
       }
       if (fz_needs_password(ctx, d) && !fz_authenticate_password(ctx, d, pw))
         failure = pw[0] ? "wrong password" : "the document is encrypted: give its password with --password";
-      else
+      else {
         n = fz_count_pages(ctx, d);
+        if (pdf_document* pdf = pdf_document_from_fz_document(ctx, d)) n = page_tree_leaves(ctx, pdf, n);
+      }
     }
     fz_always(ctx) { fz_drop_stream(ctx, stream); }
     fz_catch(ctx) {
