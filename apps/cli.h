@@ -44,6 +44,7 @@ struct Options {
   int threads = 0;                       // --threads: worker threads (0: per core)
   int render_threads = 0;                // --render-threads per device (0: default)
   bool server = false;                   // --server: the persistent renderer (apps/server.h)
+  double timeout_s = 0;                  // --timeout S: per item of a batch (0: none)
 };
 
 // Parses argv. Returns false after printing help or version (exit 0);

@@ -6,8 +6,11 @@
 #include <cstdio>
 #include <deque>
 #include <exception>
+#include <map>
+#include <memory>
 #include <mutex>
 #include <queue>
+#include <set>
 #include <thread>
 
 #include "apps/cli.h"
@@ -21,9 +24,11 @@ using Clock = std::chrono::steady_clock;
 
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-// The shared state; everything under `m`.
+// The shared state; everything under `m`. Threads hold it by shared_ptr,
+// with a copy of the Config: a thread still busy with an item that timed
+// out is left behind by run().
 struct State {
-  const Config& c;
+  const Config c;
   explicit State(const Config& config) : c(config) {}
 
   std::mutex m;
@@ -46,6 +51,44 @@ struct State {
   // fresh memory costs a page fault per 4 KiB while the copy from the
   // device fills it, many times the copy's own time in a virtual machine.
   std::vector<std::vector<uint8_t>> spare_rgba8;
+  // --timeout: when each item being prepared or rendered started, the
+  // items being prepared, and those that timed out while a thread still
+  // works on them (that thread drops them when its stage ends).
+  std::map<int, Clock::time_point> started;
+  std::map<int, Clock::duration> spent;  // preparation time of items waiting for a renderer
+  std::set<int> in_prepare, timed_out;
+  int live_threads = 0;   // render threads and workers not yet returned
+  bool stopping = false;  // every item is through: the watchdog ends
+
+  bool all_finished() const { return result.finished >= c.tickets; }
+
+  // Did ticket t time out while its stage ran (under m)? Then it has been
+  // reported already, and is dropped.
+  bool dropped(int t) {
+    if (!timed_out.erase(t)) return false;
+    started.erase(t);
+    cv.notify_all();
+    return true;
+  }
+
+  // The watchdog of --timeout: fails the items past the limit.
+  void watch() {
+    std::unique_lock<std::mutex> lock(m);
+    const auto limit = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(c.timeout_s));
+    while (!stopping) {
+      cv.wait_for(lock, std::chrono::milliseconds(50));
+      const auto now = Clock::now();
+      for (const auto& [t, t0] : started) {
+        if (timed_out.count(t) || now - t0 < limit) continue;
+        timed_out.insert(t);
+        if (in_prepare.erase(t)) preparing--;
+        result.timed_out++;
+        char why[64];
+        std::snprintf(why, sizeof why, ": timed out after %g s", c.timeout_s);
+        finish(nullptr, c.label(t) + why);
+      }
+    }
+  }
 
   // Reports an item's end (under m): its error if any, its warnings and
   // stats, the progress line.
@@ -108,7 +151,7 @@ struct State {
       const auto t_wait = Clock::now();
       cv.wait(lock, [&] {
         return !to_write.empty() || (next < c.tickets && in_flight < max_in_flight) ||
-               (next >= c.tickets && rendering_done);
+               (next >= c.tickets && (rendering_done || all_finished()));
       });
       result.worker_idle += ms_since(t_wait);
       if (!to_write.empty()) {
@@ -131,6 +174,10 @@ struct State {
       const int t = next++;
       in_flight++;
       preparing++;
+      if (c.timeout_s > 0) {
+        started[t] = Clock::now();
+        in_prepare.insert(t);
+      }
       lock.unlock();
       std::unique_ptr<Job> job;
       std::string error;
@@ -145,7 +192,14 @@ struct State {
         if (error.rfind(label, 0) != 0) error = label + ": " + error;
       }
       lock.lock();
+      if (dropped(t)) continue;  // its preparation was counted out by the watchdog
       preparing--;
+      in_prepare.erase(t);
+      if (started.count(t)) {
+        // The clock stops while the item waits for a renderer.
+        if (job) spent[t] = Clock::now() - started[t];
+        started.erase(t);
+      }
       if (job && renderers > 0) {
         to_render.push(std::move(job));
       } else {
@@ -176,11 +230,15 @@ struct State {
     }
     for (;;) {
       const auto t_wait = Clock::now();
-      cv.wait(lock, [&] { return !to_render.empty() || (next >= c.tickets && preparing == 0); });
+      cv.wait(lock, [&] { return !to_render.empty() || (next >= c.tickets && (preparing == 0 || all_finished())); });
       result.render_idle += ms_since(t_wait);
       if (to_render.empty()) break;
       std::unique_ptr<Job> job = std::move(const_cast<std::unique_ptr<Job>&>(to_render.top()));
       to_render.pop();
+      if (auto it = spent.find(job->index); it != spent.end()) {
+        started[job->index] = Clock::now() - it->second;
+        spent.erase(it);
+      }
       std::vector<uint8_t> storage;
       if (!spare_rgba8.empty()) {
         storage = std::move(spare_rgba8.back());
@@ -200,6 +258,8 @@ struct State {
       job->scene = EncodedScene{};
       job->render_ms = ms_since(t0);
       lock.lock();
+      if (dropped(job->index)) continue;
+      started.erase(job->index);
       if (error.empty()) {
         to_write.push_back(std::move(job));
         cv.notify_all();
@@ -228,24 +288,58 @@ struct State {
 }  // namespace
 
 Result run(const Config& config) {
-  State s(config);
+  auto state = std::make_shared<State>(config);
+  State& s = *state;
   if (config.tickets <= 0) return s.result;
   const int workers = std::max(1, std::min(config.workers, config.tickets));
   const int renderers = std::max(1, std::min(config.render_threads, config.tickets));
   s.max_in_flight = workers + 4 + renderers;
   s.renderers = renderers;
+  s.live_threads = renderers + workers;
+  auto ended = [](State& st) {
+    std::lock_guard<std::mutex> lock(st.m);
+    st.live_threads--;
+    st.cv.notify_all();
+  };
   std::vector<std::thread> threads;
-  for (int r = 0; r < renderers; r++) threads.emplace_back([&s, r] { s.render(r); });
-  for (int w = 0; w < workers; w++) threads.emplace_back([&s, w] { s.work(w); });
-  for (std::thread& t : threads) t.join();
-  if (config.progress)
-    std::fprintf(stderr, "\r\033[K%s: %d %ss, %d failed\n", config.program, config.tickets, config.unit,
-                 s.result.failed);
-  if (s.result.unrendered)
-    std::fprintf(stderr, "%s: %d %ss not rendered: no renderer could start\n", config.program, s.result.unrendered,
+  for (int r = 0; r < renderers; r++)
+    threads.emplace_back([state, r, ended] {
+      state->render(r);
+      ended(*state);
+    });
+  for (int w = 0; w < workers; w++)
+    threads.emplace_back([state, w, ended] {
+      state->work(w);
+      ended(*state);
+    });
+  std::thread watchdog;
+  if (config.timeout_s > 0) watchdog = std::thread([state] { state->watch(); });
+  Result result;
+  {
+    // Done when every thread has returned but those still inside a stage
+    // of an item that timed out: those are left to finish on their own.
+    std::unique_lock<std::mutex> lock(s.m);
+    s.cv.wait(lock, [&] { return s.live_threads <= static_cast<int>(s.timed_out.size()); });
+    s.stopping = true;
+    s.cv.notify_all();
+    result = s.result;
+    result.abandoned = s.live_threads;
+  }
+  if (watchdog.joinable()) watchdog.join();
+  for (std::thread& t : threads) t.detach();  // each has returned or is abandoned
+  const char* nl = config.progress ? "\r\033[K" : "";
+  if (result.unrendered)
+    std::fprintf(stderr, "%s%s: %d %ss not rendered: no renderer could start\n", nl, config.program, result.unrendered,
                  config.unit);
-  s.result.seconds = ms_since(s.t_start) / 1000;
-  return s.result;
+  // The summary line of a job of several items, on a terminal or not.
+  if (config.tickets > 1 && (!config.quiet || result.failed))
+    std::fprintf(stderr, "%s%s: %d %ss, %d written, %d failed%s\n", nl, config.program, config.tickets, config.unit,
+                 result.finished - result.failed, result.failed,
+                 result.timed_out ? (" (" + std::to_string(result.timed_out) + " timed out)").c_str() : "");
+  else if (config.progress)
+    std::fprintf(stderr, "%s", nl);
+  result.seconds = ms_since(s.t_start) / 1000;
+  return result;
 }
 
 std::string summary(const Config& c, const Result& r, const char* backend) {

@@ -47,6 +47,12 @@ struct Config {
   bool quiet = false;        // no warnings
   int bits = 8;
   Gamma gamma = Gamma::Linear;
+  // --timeout: seconds an item may spend from the start of its preparation
+  // to the end of its rendering (0: no limit). An item past it fails with
+  // "timed out after S s" and is never written; the thread working on it
+  // finishes its stage and then drops it (a stage cannot be interrupted),
+  // and run() returns without waiting for it (Result::abandoned).
+  double timeout_s = 0;
   // Prepares ticket t (0-based) on worker w (0 .. workers-1): the scene
   // encoded, options, plan, size and output path set. Throws on failure.
   std::function<std::unique_ptr<Job>(int t, int w)> prepare;
@@ -63,11 +69,18 @@ struct Config {
 struct Result {
   int finished = 0, failed = 0;
   int unrendered = 0;  // of the failed: no renderer could take them
+  int timed_out = 0;   // of the failed: past Config::timeout_s
+  // Threads still busy with an item that timed out when run() returned:
+  // the process should end with std::_Exit (they use the caller's data).
+  int abandoned = 0;
   double seconds = 0;
   double prepare[2] = {0, 0}, encode = 0, preprocess = 0, render = 0, render_wall = 0, png = 0, write = 0;
   double render_idle = 0, worker_idle = 0;  // time the threads waited for work
 };
 
+// Runs every ticket through. A job of several items ends with a summary
+// line on standard error ("svg2png: 203 files, 201 written, 2 failed"),
+// on a terminal or not; -q leaves it out when nothing failed.
 Result run(const Config& config);
 
 // The summary --stats prints after a job (two lines).

@@ -322,10 +322,17 @@ int run_batch(const cli::Options& opt, Renderers& renderers) {
     if (!cuda) return std::make_unique<FrameRenderer>(Backend::Cpu);
     return std::make_unique<FrameRenderer>(Backend::Cuda, devices[r % devices.size()]);
   };
+  c.timeout_s = opt.timeout_s;
   const pipeline::Result result = pipeline::run(c);
   if (opt.stats) {
     if (!cuda && opt.backend == Backend::Auto) std::fprintf(stderr, "svg2png: on the CPU: %s\n", why.c_str());
     std::fprintf(stderr, "%s", pipeline::summary(c, result, cuda ? "cuda" : "cpu").c_str());
+  }
+  if (result.abandoned > 0) {
+    // A thread is still inside a file that timed out, using this
+    // function's data: the process ends here, every other output written.
+    std::fflush(nullptr);
+    std::_Exit(1);
   }
   return result.failed ? 1 : 0;
 }
