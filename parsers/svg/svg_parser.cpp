@@ -407,7 +407,7 @@ void Converter::render(const Element& e, const Context& ctx, int depth) {
       // The use is its tree's context element. Its box, for context
       // paints from servers, is its tree's: drawn once to measure it, then
       // again with it.
-      auto draw = [&] {
+      auto draw = [&, target = target] {  // a copy: clang before 16 cannot capture a structured binding
         if (target->name == "symbol" || target->name == "svg") render_viewport(*target, inner, depth + 1, &e);
         else render(*target, inner, depth + 1);
       };

@@ -42,7 +42,7 @@ void Converter::render_viewport(const Element& e, const Context& ctx, int depth,
   // The viewport, against the parent's viewport.
   auto size = [&](const char* name, Axis axis) -> double {
     if (use)
-      if (const auto v = auto_length(*use, name, axis, st.inh.font_size)) return *v;
+      if (const auto v = auto_length(*use, name, axis, em)) return *v;
     const auto v = auto_length(e, name, axis, em);
     return v ? *v : percent_base(axis);  // auto: 100%
   };
