@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "parsers/svg/svg_geometry.h"
 #include "parsers/svg/svg_parser.h"
+#include "parsers/svg/xml_encoding.h"
 #include "stroker/stroker.h"
 #include "tests/catch.h"
 #include "tests/svg_test_util.h"
@@ -1191,4 +1192,76 @@ TEST_CASE("svg stroke: subpaths stroked as separate tasks give the whole path's 
     CHECK(got.segments().size() == expected.segments().size());
     CHECK(got.contours().size() == expected.contours().size());
   }
+}
+
+namespace {
+
+// UTF-16 code units of a UTF-8 string (BMP and astral), in either order,
+// as a file in that encoding would hold them.
+std::string utf16(const std::u16string& s, bool big_endian, bool bom) {
+  std::string out;
+  auto put = [&](char16_t u) {
+    const char hi = char(u >> 8), lo = char(u & 0xFF);
+    out += big_endian ? hi : lo;
+    out += big_endian ? lo : hi;
+  };
+  if (bom) put(0xFEFF);
+  for (char16_t u : s) put(u);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("svg encodings: UTF-16 either way, with or without a BOM, and 8-bit declared encodings parse as UTF-8",
+          "[svg][xml]") {
+  const std::u16string doc =
+      u"<?xml version=\"1.0\" encoding=\"UTF-16\"?><svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 10 10\">"
+      u"<rect id=\"\u00e9\u20ac\U0001F600\" width=\"5\" height=\"5\" fill=\"#00f\"/></svg>";
+  const std::string expected = mpvg::dump(mpvg::svg::parse_svg_string(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 10 10\"><rect width=\"5\" height=\"5\" "
+      "fill=\"#00f\"/></svg>").scene);
+  for (bool be : {false, true})
+    for (bool bom : {false, true}) {
+      CAPTURE(be, bom);
+      const std::string bytes = utf16(doc, be, bom);
+      CHECK(mpvg::dump(mpvg::svg::parse_svg_string(bytes).scene) == expected);
+    }
+  // The code points themselves survive: U+00E9, U+20AC and an astral
+  // character (a surrogate pair) in an id that CSS then selects.
+  const std::u16string styled =
+      u"<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 10 10\"><style>#\u00e9\u20ac\U0001F600 { fill: "
+      u"#00f }</style><rect id=\"\u00e9\u20ac\U0001F600\" width=\"5\" height=\"5\" fill=\"red\"/></svg>";
+  CHECK(mpvg::dump(mpvg::svg::parse_svg_string(utf16(styled, false, true)).scene) == expected);
+  // ISO-8859-1 and windows-1252: é is 0xE9 in both, € is 0x80 in 1252.
+  const std::string latin1 =
+      "<?xml version=\"1.0\" encoding=\"ISO-8859-1\"?><svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 10 "
+      "10\"><style>#\xe9 { fill: #00f }</style><rect id=\"\xe9\" width=\"5\" height=\"5\" fill=\"red\"/></svg>";
+  CHECK(mpvg::dump(mpvg::svg::parse_svg_string(latin1).scene) == expected);
+  const std::string cp1252 =
+      "<?xml version='1.0' encoding='windows-1252'?><svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 10 "
+      "10\"><style>#\x80 { fill: #00f }</style><rect id=\"\x80\" width=\"5\" height=\"5\" fill=\"red\"/></svg>";
+  CHECK(mpvg::dump(mpvg::svg::parse_svg_string(cp1252).scene) == expected);
+  // The characters themselves: € in windows-1252, é in ISO-8859-1.
+  using mpvg::svg::detail::xml_to_utf8;
+  CHECK(xml_to_utf8("<?xml version='1.0' encoding='windows-1252'?>\x80\xe9") ==
+        "<?xml version='1.0' encoding='windows-1252'?>\xe2\x82\xac\xc3\xa9");
+  CHECK(xml_to_utf8("<?xml version='1.0' encoding='ISO-8859-1'?>\x80\xe9") ==
+        "<?xml version='1.0' encoding='ISO-8859-1'?>\xc2\x80\xc3\xa9");
+  CHECK(xml_to_utf8(utf16(u"<a>\U0001F600</a>", true, false)) == "<a>\xf0\x9f\x98\x80</a>");
+  // A UTF-8 byte-order mark is dropped.
+  CHECK(mpvg::dump(mpvg::svg::parse_svg_string(
+                       "\xef\xbb\xbf<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 10 10\"><rect width=\"5\" "
+                       "height=\"5\" fill=\"#00f\"/></svg>")
+                       .scene) == expected);
+}
+
+TEST_CASE("svg encodings: UTF-32 and undecodable declared encodings are one clear error", "[svg][xml]") {
+  CHECK_THROWS_WITH(mpvg::svg::parse_svg_string(std::string("\xff\xfe\x00\x00<\x00\x00\x00", 8)),
+                    "UTF-32 documents are not supported");
+  CHECK_THROWS_WITH(mpvg::svg::parse_svg_string("<?xml version=\"1.0\" encoding=\"Shift_JIS\"?><svg "
+                                                "xmlns=\"http://www.w3.org/2000/svg\"><text>\x82\xa0</text></svg>"),
+                    Catch::Contains("encoding 'shift_jis' is not supported"));
+  // Declared otherwise but valid UTF-8 (a common mislabel): read as UTF-8.
+  CHECK_NOTHROW(mpvg::svg::parse_svg_string("<?xml version=\"1.0\" encoding=\"Shift_JIS\"?><svg "
+                                            "xmlns=\"http://www.w3.org/2000/svg\" width=\"1\" height=\"1\"/>"));
 }

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "parsers/svg/svg_values.h"
+#include "parsers/svg/xml_encoding.h"
 
 namespace mpvg::svg::detail {
 
@@ -281,7 +282,7 @@ std::string unmark_white_space(const char* text) {
 
 Document parse_document(std::string_view raw,
                         const std::function<std::optional<std::string>(std::string_view)>& load) {
-  const std::string text = mark_white_space_text(expand_internal_entities(raw));
+  const std::string text = mark_white_space_text(expand_internal_entities(xml_to_utf8(raw)));
   tinyxml2::XMLDocument xml;
   const tinyxml2::XMLError err = xml.Parse(text.data(), text.size());
   if (err != tinyxml2::XML_SUCCESS) {
