@@ -113,8 +113,10 @@ std::string xml_to_utf8(std::string_view b) {
     throw Error("UTF-32 documents are not supported");
   if (starts("\xFE\xFF")) return utf16_to_utf8(b.substr(2), true);
   if (starts("\xFF\xFE")) return utf16_to_utf8(b.substr(2), false);
-  if (starts("\x00\x3C\x00\x3F"sv)) return utf16_to_utf8(b, true);
-  if (starts("\x3C\x00\x3F\x00"sv)) return utf16_to_utf8(b, false);
+  // No mark: '<' and the character after it, as UTF-16 ("<?" per
+  // Appendix F; any ASCII character as well).
+  if (b.size() >= 4 && b[0] == 0 && b[1] == '<' && b[2] == 0) return utf16_to_utf8(b, true);
+  if (b.size() >= 4 && b[0] == '<' && b[1] == 0 && b[3] == 0) return utf16_to_utf8(b, false);
   if (starts("\xEF\xBB\xBF")) b.remove_prefix(3);
   const std::string enc = declared_encoding(b);
   if (enc == "iso-8859-1" || enc == "latin1" || enc == "iso_8859-1" || enc == "l1")
