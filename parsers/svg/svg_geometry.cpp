@@ -116,6 +116,14 @@ void PathBuilder::arc_to(double rx, double ry, double x_axis_rotation_deg, bool 
   if (!sweep && dtheta > 0) dtheta -= 2 * M_PI;
   if (sweep && dtheta < 0) dtheta += 2 * M_PI;
 
+  // Radii or coordinates so extreme that the arithmetic above overflows
+  // (a radius under ~1e-154 squares to 0, scaling the radii up to inf): the
+  // arc is degenerate, drawn as the line F.6.2 draws for a zero radius.
+  if (!(std::isfinite(dtheta) && std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(rx) && std::isfinite(ry))) {
+    line_to(p);
+    return;
+  }
+
   // Pieces of at most 90°. On the unit circle a piece from a0 to a1 is the
   // conic with its middle control point at the tangents' intersection,
   // (cos a0 + cos a1, sin a0 + sin a1) / (1 + cos(a1 - a0)), and middle weight
