@@ -316,12 +316,6 @@ void SceneBuilder::pop() {
   frames_.pop_back();
 }
 
-size_t SceneBuilder::group_depth() const {
-  size_t n = 0;
-  for (const Frame& f : frames_) n += f.group->kind == Node::Transparency ? 1 : 0;
-  return n;
-}
-
 void SceneBuilder::begin_group(const Group& g) {
   Frame& f = frame();
   if (f.clip_context || !f.activated) throw Error("scene grammar: group inside a clip-path");
@@ -331,8 +325,6 @@ void SceneBuilder::begin_group(const Group& g) {
   if (static_cast<unsigned>(g.blend) > static_cast<unsigned>(BlendMode::Luminosity) ||
       static_cast<unsigned>(g.mask) > static_cast<unsigned>(MaskType::Alpha))
     throw Error("scene: group with an unknown blend mode or mask type");
-  if (group_depth() >= static_cast<size_t>(kMaxGroupDepth))
-    throw Error("scene: groups and masks nested more than " + std::to_string(kMaxGroupDepth) + " deep");
   Node* n = new Node{Node::Transparency, {}, {}, {}};
   pool_.push_back(n);
   n->group = static_cast<uint32_t>(scene_.groups.size());
@@ -464,6 +456,62 @@ struct Emitter {
         mark(ElementKind::Pop);
       }
     }
+  }
+};
+
+// Groups and masks past the sample stack's depth (kMaxGroupDepth), at
+// finish(): each group that would be nested deeper is dissolved into its
+// parent's list, its opacity folded into the paints of everything inside
+// it (exact where its fills do not overlap one another, as for a single
+// path); its blend mode, knockout and mask, and a mask that would sit past
+// the limit, are dropped. Counts what it flattened.
+template <class Node>
+struct DeepGroups {
+  std::vector<Group>& groups;
+  std::vector<Paint>& paints;
+  size_t flattened = 0;
+
+  // A list at `depth` groups deep (what its items are nested in).
+  void list(std::vector<Node*>& items, int depth) {
+    std::vector<Node*> out;
+    for (Node* n : items) {
+      if (n->kind == Node::ClipGroup) list(n->content, depth);
+      if (n->kind != Node::Transparency) {
+        out.push_back(n);
+        continue;
+      }
+      if (depth + 1 > kMaxGroupDepth) {
+        flattened++;
+        fold(n->content, groups[n->group].opacity);
+        out.insert(out.end(), n->content.begin(), n->content.end());
+        continue;
+      }
+      if (n->mask && depth + 2 > kMaxGroupDepth) {
+        flattened++;
+        n->mask = nullptr;
+      }
+      if (n->mask) list(n->mask->content, depth + 2);
+      list(n->content, depth + 1);
+      out.push_back(n);
+    }
+    items.swap(out);
+  }
+  // Multiplies the paints of a flattened group's content by its opacity,
+  // and dissolves the groups inside it the same way.
+  void fold(std::vector<Node*>& items, float opacity) {
+    std::vector<Node*> out;
+    for (Node* n : items) {
+      if (n->kind == Node::Fill) paints[n->path.paint].opacity *= opacity;
+      if (n->kind == Node::ClipGroup) fold(n->content, opacity);
+      if (n->kind != Node::Transparency) {
+        out.push_back(n);
+        continue;
+      }
+      flattened++;
+      fold(n->content, opacity * groups[n->group].opacity);
+      out.insert(out.end(), n->content.begin(), n->content.end());
+    }
+    items.swap(out);
   }
 };
 
@@ -654,6 +702,9 @@ Scene SceneBuilder::finish() {
     analysis.group(wrap);
     root_->content.push_back(wrap);
   }
+  DeepGroups<Node> deep{out.groups, out.paints};
+  deep.list(root_->content, 0);
+  flattened_groups_ = deep.flattened;
   Emitter e{out};
   e.fill_list(root_->content, false);
   if (group_nesting(out.stream) > kMaxGroupDepth)
@@ -661,6 +712,11 @@ Scene SceneBuilder::finish() {
                 " deep (with the group around a top level that blends)");
   scene_ = Scene{};
   return out;
+}
+
+std::string flattened_groups_warning(size_t n) {
+  return "groups and masks nested more than " + std::to_string(kMaxGroupDepth) + " deep: " + std::to_string(n) +
+         " drawn flattened (opacity folded into their content; their masks and blend modes ignored)";
 }
 
 // ---------------------------------------------------------------- dump

@@ -351,9 +351,13 @@ class SceneBuilder {
   // begin_group(): a transparency group, in a fill context, whose content
   // follows until end_group(). A group whose Group::mask is set is a mask:
   // it may only be the first content of another group, and holds fills.
-  // Transparency groups and masks nest at most kMaxGroupDepth deep
-  // (core/group.h; a scene whose top level needs a back-to-front group
-  // gets one around it, which counts too); deeper nesting, a non-finite
+  // Transparency groups and masks are evaluated per sample at most
+  // kMaxGroupDepth deep (core/group.h; a scene whose top level needs a
+  // back-to-front group gets one around it, which counts too): finish()
+  // dissolves groups nested deeper into their parents' lists, their
+  // opacity folded into the paints of their content (exact where those
+  // fills do not overlap), their blend modes, knockout and masks dropped,
+  // and counts them (flattened_groups(): frontends warn). A non-finite
   // opacity or a misplaced mask throw mpvg::Error.
   //
   // finish() dissolves groups that change nothing (opacity 1, normal
@@ -371,19 +375,25 @@ class SceneBuilder {
   void append(const Scene& other, const Affine& xf);
 
   Scene finish();
+  // Groups and masks the last finish() flattened or dropped for nesting
+  // past kMaxGroupDepth.
+  size_t flattened_groups() const { return flattened_groups_; }
 
  private:
   struct Node;
   struct Frame;
   Node* current();
   Frame& frame();
-  size_t group_depth() const;
 
   Scene scene_;
   std::vector<Node*> pool_;
   std::vector<Frame> frames_;
   Node* root_ = nullptr;
+  size_t flattened_groups_ = 0;
 };
+
+// The warning frontends give when SceneBuilder::flattened_groups() is n > 0.
+std::string flattened_groups_warning(size_t n);
 
 // A text dump of a scene: sizes, every path with its geometry, its paint
 // servers (pattern tiles dumped inside, indented), and the stream, one

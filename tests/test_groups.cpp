@@ -267,3 +267,58 @@ TEST_CASE("masks by hand: luminance, alpha, backdrop, mask on mask, empty masks"
     check_pixel(r, 5, 30, {0, 0.5f, 0, 0.5f});
   }
 }
+
+TEST_CASE("groups past the stack's depth: flattened, opacity folded into their content, one count", "[groups]") {
+  // 16 groups of 0.9 keep their stack; 8 more are flattened into the 16th's
+  // list. One square inside: folding is exact, 0.9^24 of red over blue.
+  for (int depth : {16, 24}) {
+    SceneBuilder b(40, 40);
+    fill_box(b, 0, 0, 40, 40, {0, 0, 1, 1});
+    Group g;
+    g.opacity = 0.9f;
+    for (int i = 0; i < depth; i++) b.begin_group(g);
+    fill_box(b, 10, 10, 30, 30, {1, 0, 0, 1});
+    for (int i = 0; i < depth; i++) b.end_group();
+    const Scene s = b.finish();
+    CHECK(b.flattened_groups() == size_t(std::max(0, depth - kMaxGroupDepth)));
+    const Rendered r(s);
+    float a = 1;
+    for (int i = 0; i < depth; i++) a *= 0.9f;
+    check_pixel(r, 20, 20, {a, 0, 1 - a, 1});
+    check_pixel(r, 5, 5, {0, 0, 1, 1});
+  }
+  {  // Inside the 16th group: a group with a mask (the mask would be the
+     // 18th level: dropped, the content unmasked) and a multiply group
+     // (the 17th: drawn normally, opacity kept).
+    SceneBuilder b(40, 40);
+    fill_box(b, 0, 0, 40, 40, {0, 0, 1, 1});
+    Group g;
+    g.opacity = 0.999f;  // groups that stay groups
+    for (int i = 0; i < kMaxGroupDepth - 1; i++) b.begin_group(g);
+    Group masked;
+    masked.opacity = 0.5f;
+    b.begin_group(masked);
+    Group mask;
+    mask.mask = MaskType::Alpha;
+    b.begin_group(mask);
+    b.end_group();  // an empty mask: would hide everything
+    fill_box(b, 0, 0, 20, 40, {1, 0, 0, 1});
+    Group multiply;
+    multiply.blend = BlendMode::Multiply;
+    multiply.opacity = 0.5f;
+    b.begin_group(multiply);
+    fill_box(b, 20, 0, 40, 40, {0, 1, 0, 1});
+    b.end_group();
+    b.end_group();
+    for (int i = 0; i < kMaxGroupDepth - 1; i++) b.end_group();
+    const Scene s = b.finish();
+    CHECK(b.flattened_groups() == 2);
+    const Rendered r(s);
+    float k = 1;
+    for (int i = 0; i < kMaxGroupDepth - 1; i++) k *= 0.999f;
+    // Left: red at 0.5 over blue, through groups of k. Right: green at
+    // 0.5 x 0.5 (normal, not multiply) over blue.
+    check_pixel(r, 5, 20, {0.5f * k, 0, 1 - 0.5f * k, 1});
+    check_pixel(r, 35, 20, {0, 0.25f * k, 1 - 0.25f * k, 1});
+  }
+}

@@ -169,3 +169,26 @@ path 1 fill nonzero rgba(0,0,0,1) opacity 1
 stream ( C0 | F1 )
 )~");
 }
+
+TEST_CASE("svg groups: nesting past the sample stack is drawn flattened with one warning", "[svg][groups]") {
+  // 20 groups of two shapes each (no opacity folds away): the 4 deepest are
+  // flattened into the 16th, the document renders.
+  std::string body;
+  for (int i = 0; i < 20; i++) body += R"(<g opacity="0.9"><rect width="4" height="4" fill="blue"/>)";
+  body += R"(<rect x="10" width="30" height="40" fill="red"/>)";
+  for (int i = 0; i < 20; i++) body += "</g>";
+  const auto r = parse(body);
+  REQUIRE(r.warnings.size() == 1);
+  CHECK(r.warnings[0] ==
+        "groups and masks nested more than 16 deep: 4 drawn flattened (opacity folded into their content; their "
+        "masks and blend modes ignored)");
+  int depth = 0, deepest = 0;
+  for (const mpvg::Element& e : r.scene.stream) {
+    if (e.kind == mpvg::ElementKind::BeginGroup) deepest = std::max(deepest, ++depth);
+    if (e.kind == mpvg::ElementKind::EndGroup) depth--;
+  }
+  CHECK(deepest == 16);
+  // The red rectangle's paint carries the four flattened groups' opacity.
+  const mpvg::ScenePath& red = r.scene.paths[0];  // top-most first
+  CHECK(r.scene.paints[red.paint].opacity == Approx(0.9f * 0.9f * 0.9f * 0.9f));
+}

@@ -550,6 +550,7 @@ void end_tile(fz_context*, fz_device* dev) {
     if (t.clipped) l->b->pop();
     Pattern pattern;
     pattern.tile = std::make_shared<Scene>(t.builder->finish());
+    if (t.builder->flattened_groups()) l->warn(flattened_groups_warning(t.builder->flattened_groups()));
     pattern.xf = t.placement;
     l->b = t.parent;
     l->adjust = t.parent_adjust;

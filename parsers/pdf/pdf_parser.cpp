@@ -262,6 +262,7 @@ PageResult Document::page(int index, const std::function<double(double, double)>
   fz_drop_page(ctx, page);
   const auto t0 = std::chrono::steady_clock::now();
   out.scene = b.finish();
+  if (b.flattened_groups()) out.warnings.push_back(flattened_groups_warning(b.flattened_groups()));
   out.lower_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }

@@ -457,7 +457,9 @@ Scene Converter::convert_tile(const Element& content, const Affine& content_xf, 
   convert_strokes();
   SceneBuilder b(width, height);
   emit(b);
-  return b.finish();
+  Scene tile = b.finish();
+  if (b.flattened_groups()) warn(flattened_groups_warning(b.flattened_groups()));
+  return tile;
 }
 
 }  // namespace mpvg::svg::detail

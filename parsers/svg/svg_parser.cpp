@@ -96,7 +96,9 @@ Scene Converter::run() {
   render(root, ctx, 0);
   convert_strokes();
   emit(builder);
-  return builder.finish();
+  Scene scene = builder.finish();
+  if (builder.flattened_groups()) warn(flattened_groups_warning(builder.flattened_groups()));
+  return scene;
 }
 
 void Converter::warn(std::string msg) {
