@@ -9,6 +9,10 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
+#include "apps/output_file.h"
+#include "apps/png_writer.h"
 #include "parsers/svg/svg_parser.h"
 #include "tests/catch.h"
 #include "tests/svg_test_util.h"
@@ -336,4 +340,33 @@ TEST_CASE("svg image: embedded documents add a bounded number of segments", "[sv
                        "<use href='#b'/><use href='#b'/><use href='#b'/><use href='#b'/><use href='#b'/>");
   CHECK(fills_of(r.scene) == 49);
   CHECK(has_warning_with(r, "embedded SVG documents would add more than 10000000 segments"));
+}
+
+TEST_CASE("svg image: a large raster drawn small is decoded reduced, placed as the full one", "[svg][image]") {
+  // 4200 x 1000 texels (over 4 Mpixels) in a 40 x 10 box at 2 pixels a
+  // unit: 0.0095 units, 0.019 pixels a texel, so blocks of k = 52 texels
+  // make one: 81 x 20 texels of 52 x 0.0095238 = 0.495238 units.
+  const fs::path dir = fs::temp_directory_path() / ("mpvg-reduce-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const int w = 4200, h = 1000;
+  std::vector<uint8_t> px(size_t(w) * h * 4, 255);
+  for (size_t i = 0; i < px.size(); i += 4) px[i + 1] = uint8_t(i / 4 % w * 255 / (w - 1));  // a ramp
+  mpvg::write_output((dir / "big.png").string(), mpvg::png::encode_rgba8(w, h, px.data()));
+  const auto r = parse(R"~(<image width="40" height="10" href="big.png"/>)~", dir.string());
+  CHECK(r.warnings.empty());
+  // Placed as the full image (meet: 9.5238 high, centred at y 0.238095).
+  const std::string texture = lines_of(mpvg::dump(r.scene), "texture");
+  CHECK(texture.rfind("texture 0 image 81x20x8 bicubic clamp clamp matrix(0.495238 0 0 0.495238 ", 0) == 0);
+  CHECK(texture.find(" 0.238095)") != std::string::npos);
+  const mpvg::Image& im = *r.scene.textures.at(0).image;
+  // The ramp survives the averaging: texel 40 is the mean of 2080-2131.
+  int sum = 0;
+  for (int x = 40 * 52; x < 41 * 52; x++) sum += px[size_t(x) * 4 + 1];
+  CHECK(int(im.rgba8[40 * 4 + 1]) == (sum + 26) / 52);
+  // Limits apply to the reduced size; at full size it would be refused.
+  mpvg::svg::ParseOptions small;
+  small.max_image_pixels = 81 * 20 - 1;
+  CHECK(has_warning_with(parse(R"~(<image width="40" height="10" href="big.png"/>)~", dir.string(), small),
+                         "is over the limit of 1619 pixels"));
+  fs::remove_all(dir);
 }

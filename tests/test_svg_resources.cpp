@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/png_writer.h"
 #include "parsers/svg/svg_resources.h"
 #include "tests/catch.h"
 
@@ -353,11 +354,17 @@ TEST_CASE("decode: JPEG (RGB, grey, CMYK), GIF and WebP with OpenImageIO", "[svg
   near(*webp, 3, {200, 100, 50, 200}, 1);
 }
 
+DecodeRequest at_most(size_t pixels) {
+  DecodeRequest r;
+  r.max_pixels = pixels;
+  return r;
+}
+
 TEST_CASE("decode: size limits, broken and unknown data", "[svg][resources][decode]") {
   std::string why;
-  CHECK_FALSE(decode_raster(read_bytes("rgba8.png"), &why, 3));
+  CHECK_FALSE(decode_raster(read_bytes("rgba8.png"), &why, at_most(3)));
   CHECK(why == "image of 2x2 pixels is over the limit of 3 pixels");
-  CHECK(decode_raster(read_bytes("rgba8.png"), &why, 4));
+  CHECK(decode_raster(read_bytes("rgba8.png"), &why, at_most(4)));
   std::vector<uint8_t> cut = read_bytes("rgba8.png");
   cut.resize(cut.size() / 2);
   CHECK_FALSE(decode_raster(cut, &why));
@@ -366,7 +373,70 @@ TEST_CASE("decode: size limits, broken and unknown data", "[svg][resources][deco
   CHECK(why == "not a PNG, JPEG, GIF or WebP image");
   CHECK_FALSE(decode_raster({}, &why));
   if (has_oiio()) {
-    CHECK_FALSE(decode_raster(read_bytes("rgb.jpg"), &why, 63));
+    CHECK_FALSE(decode_raster(read_bytes("rgb.jpg"), &why, at_most(63)));
     CHECK(why == "image of 8x8 pixels is over the limit of 63 pixels");
   }
+}
+
+// The brute-force box average of a k x k block (fewer at the edges) with
+// premultiplied alpha, rounded as RowReducer rounds.
+std::array<int, 4> block_average(const std::vector<uint8_t>& px, int w, int h, int k, int ox, int oy) {
+  uint64_t s[4] = {0, 0, 0, 0}, n = 0;
+  for (int y = oy * k; y < std::min(h, oy * k + k); y++)
+    for (int x = ox * k; x < std::min(w, ox * k + k); x++, n++) {
+      const uint8_t* p = &px[(size_t(y) * w + x) * 4];
+      for (int c = 0; c < 3; c++) s[c] += uint64_t(p[c]) * p[3];
+      s[3] += p[3];
+    }
+  std::array<int, 4> out{};
+  for (int c = 0; c < 3; c++) out[c] = s[3] ? int((s[c] + s[3] / 2) / s[3]) : 0;
+  out[3] = int((s[3] + n / 2) / n);
+  return out;
+}
+
+TEST_CASE("decode: reduced while decoding, k x k blocks averaged with premultiplied alpha", "[svg][resources][decode]") {
+  // A 37 x 23 PNG of random texels (some transparent), written here.
+  const int w = 37, h = 23;
+  std::vector<uint8_t> px(size_t(w) * h * 4);
+  uint32_t state = 12345;
+  for (uint8_t& v : px) v = uint8_t((state = state * 1664525u + 1013904223u) >> 24);
+  for (size_t i = 3; i < px.size(); i += 28) px[i] = 0;
+  const std::vector<uint8_t> png = png::encode_rgba8(w, h, px.data());
+  for (int k : {1, 2, 3, 5, 37}) {
+    CAPTURE(k);
+    DecodeRequest r;
+    int asked_w = 0, asked_h = 0, full_w = 0, full_h = 0;
+    r.reduction = [&](int iw, int ih) {
+      asked_w = iw;
+      asked_h = ih;
+      return k;
+    };
+    std::string why;
+    const auto im = decode_raster(png, &why, r, &full_w, &full_h);
+    REQUIRE(im);
+    CHECK(asked_w == w);
+    CHECK(asked_h == h);
+    CHECK(full_w == w);
+    CHECK(full_h == h);
+    REQUIRE(im->width == (w + k - 1) / k);
+    REQUIRE(im->height == (h + k - 1) / k);
+    for (int oy = 0; oy < im->height; oy++)
+      for (int ox = 0; ox < im->width; ox++) {
+        // k = 1 is the image as stored (colours kept under alpha 0).
+        const uint8_t* own = &px[(size_t(oy) * w + ox) * 4];
+        const std::array<int, 4> want =
+            k == 1 ? std::array<int, 4>{own[0], own[1], own[2], own[3]} : block_average(px, w, h, k, ox, oy);
+        const uint8_t* got = &im->rgba8[(size_t(oy) * im->width + ox) * 4];
+        INFO("texel " << ox << ", " << oy);
+        for (int c = 0; c < 4; c++) CHECK(int(got[c]) == want[c]);
+      }
+  }
+  // The limit applies to the reduced size: 37 x 23 reduced by 4 is 10 x 6.
+  DecodeRequest r;
+  r.reduction = [](int, int) { return 4; };
+  r.max_pixels = 60;
+  std::string why;
+  CHECK(decode_raster(png, &why, r));
+  r.max_pixels = 59;
+  CHECK_FALSE(decode_raster(png, &why, r));
 }

@@ -288,7 +288,12 @@ struct Tile {
 // An <image>'s href loaded: a decoded raster image or a parsed SVG
 // document, or why neither could be had.
 struct LoadedImage {
-  std::shared_ptr<const Image> raster;
+  // A raster image: its bytes, kept to be decoded at the size each use
+  // needs (image_reduction.h), its own size once known, and the images
+  // decoded so far by reduction factor.
+  std::shared_ptr<const std::vector<uint8_t>> raster_bytes;
+  mutable int width = 0, height = 0;
+  mutable std::map<int, std::shared_ptr<const Image>> rasters;
   std::shared_ptr<const Document> svg;  // inflated first when it was svgz
   std::string path;   // the file's canonical path; "" for data: URIs
   std::string error;  // one line; non-empty when nothing can be drawn
@@ -413,6 +418,13 @@ class Converter {
 
   void image(const Element& e, const Style& st, const Affine& space);
   const LoadedImage& load_image(const std::string& href);
+  // li's raster decoded for a use whose texels map to output pixels by
+  // `texels(w, h)` (for an image of w x h): reduced by the largest k that
+  // keeps a texel per output pixel in every direction (*k: texel i of the
+  // result covers the image's [i k, (i + 1) k)). nullptr with *why when it
+  // cannot be decoded.
+  std::shared_ptr<const Image> raster_for(const LoadedImage& li, const std::function<Affine(int w, int h)>& texels,
+                                          int* k, std::string* why);
   // The drawing of an embedded SVG document: its scene, the <image>'s
   // viewport for the document's size, and where the document's units go
   // in the <image>'s user space; nullopt when it draws nothing.

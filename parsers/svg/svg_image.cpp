@@ -91,8 +91,8 @@ const LoadedImage& Converter::load_image(const std::string& href) {
       case ImageKind::Jpeg:
       case ImageKind::Gif:
       case ImageKind::Webp:
-        li.raster = decode_raster(r->bytes, &why);
-        if (!li.raster) li.error = in_quotes(shown_href(href)) + ": " + why;
+        // Decoded where it is drawn, at the size needed there.
+        li.raster_bytes = std::make_shared<const std::vector<uint8_t>>(std::move(r->bytes));
         break;
       case ImageKind::Svg:
       case ImageKind::Svgz: {
@@ -119,6 +119,46 @@ const LoadedImage& Converter::load_image(const std::string& href) {
     }
   }
   return s_.images->emplace(key, std::move(li)).first->second;
+}
+
+namespace {
+
+// The largest stretch of m's linear part: output pixels per texel along the
+// direction it magnifies most.
+double largest_stretch(const Affine& m) {
+  const double e = m.a * m.a + m.b * m.b + m.c * m.c + m.d * m.d, det = m.a * m.d - m.b * m.c;
+  return std::sqrt(std::max(0.0, (e + std::sqrt(std::max(0.0, e * e - 4 * det * det))) / 2));
+}
+
+}  // namespace
+
+std::shared_ptr<const Image> Converter::raster_for(const LoadedImage& li,
+                                                   const std::function<Affine(int w, int h)>& texels, int* k,
+                                                   std::string* why) {
+  auto factor = [&](int w, int h) {
+    // Images up to 4 Mpixels (16 MB) keep every texel: the renderer's mip
+    // chain minifies them as it always has.
+    if (size_t(w) * size_t(h) <= (size_t(1) << 22)) return 1;
+    const double s = largest_stretch(device_ * texels(w, h));
+    if (!(s > 0) || !std::isfinite(s)) return 1;
+    return static_cast<int>(std::clamp(std::floor(1 / s), 1.0, 65536.0));
+  };
+  if (li.width > 0) {
+    *k = factor(li.width, li.height);
+    if (const auto it = li.rasters.find(*k); it != li.rasters.end()) return it->second;
+  }
+  DecodeRequest request;
+  request.reduction = factor;
+  request.max_pixels = s_.options.max_image_pixels;
+  request.max_whole_pixels = s_.options.max_whole_image_pixels;
+  int w = 0, h = 0;
+  std::shared_ptr<const Image> image = decode_raster(*li.raster_bytes, why, request, &w, &h);
+  if (!image) return nullptr;
+  li.width = w;
+  li.height = h;
+  *k = factor(w, h);
+  li.rasters[*k] = image;
+  return image;
 }
 
 void Converter::texture_fill(std::shared_ptr<const Image> image, const Affine& texels, TextureFilter filter,
@@ -179,8 +219,17 @@ void Converter::image(const Element& e, const Style& st, const Affine& space) {
     warn("<image> not rendered: " + li.error);
     return;
   }
-  if (li.raster) {
-    const double iw = li.raster->width, ih = li.raster->height;
+  if (li.raster_bytes) {
+    // Texel units of a w x h raster to scene units, as placed below.
+    auto texels = [&](int w, int h) { return space * place_in(viewport(w, h), ar, w, h); };
+    std::string why;
+    int k = 1;
+    const std::shared_ptr<const Image> raster = raster_for(li, texels, &k, &why);
+    if (!raster) {
+      warn("<image> not rendered: " + in_quotes(shown_href(*href)) + ": " + why);
+      return;
+    }
+    const double iw = li.width, ih = li.height;
     const ViewBox vp = viewport(iw, ih);
     if (!(vp.w > 0 && vp.h > 0)) return;
     // The bounding box is the viewport (SVG 2 coords.html#BoundingBoxes).
@@ -193,7 +242,9 @@ void Converter::image(const Element& e, const Style& st, const Affine& space) {
     const ViewBox shown = intersect(vp, placed_box(place, iw, ih));
     if (!(shown.w > 0 && shown.h > 0)) return;
     // texel (i, j) covers [i, i+1] x [j, j+1] of the placed box
-    texture_fill(li.raster, space * place, st.inh.image_rendering, 1, rect_shape(shown), space);
+    // A reduced raster's texels cover k x k of the image's own (the last
+    // row and column partly outside it, where nothing is drawn).
+    texture_fill(raster, space * place * Affine::scale(k, k), st.inh.image_rendering, 1, rect_shape(shown), space);
     return;
   }
 

@@ -14,7 +14,8 @@ namespace mpvg::svg::detail {
 
 namespace {
 
-using DecodeFn = void (*)(const std::vector<uint8_t>*, const char*, size_t, std::shared_ptr<Image>*, std::string*);
+using DecodeFn = void (*)(const std::vector<uint8_t>*, const char*, const DecodeRequest*, std::shared_ptr<Image>*,
+                          std::string*, int*, int*);
 using VersionFn = const char* (*)();
 
 struct OiioModule {
@@ -94,11 +95,12 @@ bool oiio_decoder_available(std::string* why) {
   return m.decode != nullptr;
 }
 
-std::shared_ptr<Image> decode_raster(const std::vector<uint8_t>& bytes, std::string* why, size_t max_pixels) {
+std::shared_ptr<Image> decode_raster(const std::vector<uint8_t>& bytes, std::string* why, const DecodeRequest& request,
+                                     int* full_w, int* full_h) {
   const char* format = nullptr;
   const char* name = nullptr;
   switch (sniff_image(bytes, "")) {
-    case ImageKind::Png: return decode_png(bytes, why, max_pixels);
+    case ImageKind::Png: return decode_png(bytes, why, request, full_w, full_h);
     case ImageKind::Jpeg: format = "jpeg", name = "JPEG"; break;
     case ImageKind::Gif: format = "gif", name = "GIF"; break;
     case ImageKind::Webp: format = "webp", name = "WebP"; break;
@@ -112,7 +114,10 @@ std::shared_ptr<Image> decode_raster(const std::vector<uint8_t>& bytes, std::str
     return nullptr;
   }
   std::shared_ptr<Image> image;
-  oiio_module().decode(&bytes, format, max_pixels, &image, why);
+  int w = 0, h = 0;
+  oiio_module().decode(&bytes, format, &request, &image, why, &w, &h);
+  if (full_w) *full_w = w;
+  if (full_h) *full_h = h;
   return image;
 }
 

@@ -89,6 +89,13 @@ struct ParseOptions {
   // BCP 47 tags; "en" matches "en" and "en-US" (and "en-US" matches "en").
   std::vector<std::string> languages{"en"};
 
+  // Raster images: texels at most once decoded at the size they are drawn
+  // (image_reduction.h), and at full size where a decoder must hold the
+  // whole image first (GIF, WebP, interlaced PNG). Larger ones are not
+  // drawn, with a warning. svg2png sets them from --max-memory.
+  size_t max_image_pixels = size_t(1) << 28;
+  size_t max_whole_image_pixels = size_t(1) << 26;
+
   // Threads converting strokes (0: every core). Batches that parse files
   // on every core already pass 1.
   int threads = 0;

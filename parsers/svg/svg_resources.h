@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/scene.h"
+#include "parsers/svg/image_reduction.h"
 
 namespace mpvg::svg::detail {
 
@@ -50,10 +51,13 @@ ImageKind sniff_image(const std::vector<uint8_t>& bytes, std::string_view mime);
 // Decodes a raster image (PNG at 8 or 16 bits per channel, greyscale,
 // palette and alpha variants; JPEG, greyscale and CMYK included; the first
 // frame of a GIF; WebP) to straight-alpha RGBA at 8 or 16 bits (16 only for
-// 16-bit sources). Returns nullptr and sets *why on failure, and for images
-// of more than max_pixels pixels (decompression bombs).
+// 16-bit sources), reduced as request.reduction asks (image_reduction.h);
+// *full_w and *full_h get the image's own size. Returns nullptr and sets
+// *why on failure, and for images past the request's pixel limits
+// (decompression bombs).
 std::shared_ptr<Image> decode_raster(const std::vector<uint8_t>& bytes, std::string* why,
-                                     size_t max_pixels = size_t(1) << 28);
+                                     const DecodeRequest& request = {}, int* full_w = nullptr,
+                                     int* full_h = nullptr);
 
 // Inflates gzip data (svgz). nullopt and *why on corrupt data or when the
 // output would exceed max_bytes.
@@ -73,7 +77,8 @@ std::string image_decoder_library();
 bool oiio_decoder_available(std::string* why = nullptr);
 
 // The parts of decode_raster: PNG by libpng, the rest by the module.
-std::shared_ptr<Image> decode_png(const std::vector<uint8_t>& bytes, std::string* why, size_t max_pixels);
+std::shared_ptr<Image> decode_png(const std::vector<uint8_t>& bytes, std::string* why, const DecodeRequest& request,
+                                  int* full_w, int* full_h);
 std::string png_decoder_library();
 
 }  // namespace mpvg::svg::detail
