@@ -102,14 +102,17 @@ bool convert_color(fz_context* ctx, fz_colorspace* cs, const float* color, float
   return ok;
 }
 
-// An image decoded at full resolution and converted to RGB with alpha
-// (premultiplied, as MuPDF keeps pixmaps), or for a stencil mask its one
-// alpha channel as it is; null on failure.
-fz_pixmap* rgb_pixmap(fz_context* ctx, fz_image* image, fz_color_params cp) {
+// An image decoded at the resolution it is drawn at and converted to RGB
+// with alpha (premultiplied, as MuPDF keeps pixmaps), or for a stencil mask
+// its one alpha channel as it is; null on failure. `pixels` maps the image's
+// unit square to output pixels: MuPDF subsamples by a power of two while
+// decoding, keeping at least a texel per pixel (a 20000 x 20000 image on a
+// page 1250 pixels wide is decoded at 2500 x 2500, never held whole).
+fz_pixmap* rgb_pixmap(fz_context* ctx, fz_image* image, fz_color_params cp, fz_matrix pixels) {
   fz_pixmap* volatile decoded = nullptr;
   fz_pixmap* volatile rgb = nullptr;
   fz_try(ctx) {
-    decoded = fz_get_unscaled_pixmap_from_image(ctx, image);
+    decoded = fz_get_pixmap_from_image(ctx, image, nullptr, &pixels, nullptr, nullptr);
     rgb = fz_pixmap_colorspace(ctx, decoded)
               ? fz_convert_pixmap(ctx, decoded, fz_device_rgb(ctx), nullptr, nullptr, cp, 1)
               : fz_keep_pixmap(ctx, decoded);
@@ -254,7 +257,9 @@ struct Lowering {
   // Returns the paint (and the placement in *xf), or nothing.
   std::optional<Paint> image_paint(fz_context* ctx, fz_image* img, fz_matrix ctm, float alpha, fz_color_params cp,
                                    RGBA tint, Affine* xf_out) {
-    fz_pixmap* pix = rgb_pixmap(ctx, img, cp);
+    const Affine px = device * to_affine(ctm);
+    fz_pixmap* pix = rgb_pixmap(ctx, img, cp, fz_matrix{float(px.a), float(px.b), float(px.c), float(px.d),
+                                                       float(px.e), float(px.f)});
     if (!pix) {
       warn("an image could not be decoded: skipped");
       return std::nullopt;
