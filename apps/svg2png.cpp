@@ -8,15 +8,18 @@
 // to 8 or 16 bits and written by mpvg's PNG encoder (no image library is
 // loaded unless the document holds a JPEG, GIF or WebP image).
 #include <chrono>
+#include <condition_variable>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <iterator>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <thread>
 #include <unistd.h>
@@ -24,6 +27,7 @@
 #include "apps/cli.h"
 #include "apps/image_io.h"
 #include "apps/pipeline.h"
+#include "apps/png_writer.h"
 #include "apps/server.h"
 #include "core/error.h"
 #include "gpu/backend.h"
@@ -46,26 +50,73 @@ int64_t epoch_ns() {
       .count();
 }
 
-// CUDA's start-up and, once it has finished, the renderer it made: kept
-// for every job of the process (the persistent renderer's too).
+// CUDA's start-up and, once it has finished, the renderers of the process's
+// jobs (the persistent renderer runs several at once): the start-up's, and
+// up to kMaxCuda - 1 more made for jobs that run while it is lent out.
+// FrameRenderer is not thread-safe: a renderer serves one job at a time.
 class Renderers {
  public:
+  static constexpr size_t kMaxCuda = 4;
   Renderers(Backend backend, const RenderOptions& like) : startup_(backend, like) {}
   GpuStartup& startup() { return startup_; }
-  // The CUDA renderer, waiting for the start-up; nullptr with *why when
-  // there is none.
+  // The start-up's CUDA renderer, waiting for the start-up; nullptr with
+  // *why when there is none. Says whether CUDA works; to render, lend().
   FrameRenderer* cuda(std::string* why) {
-    if (!taken_) {
-      renderer_ = startup_.take(&why_);
-      taken_ = true;
+    std::lock_guard<std::mutex> lock(mutex_);
+    return first(why);
+  }
+  // A CUDA renderer for one job, given back when the lease ends (a job
+  // that throws, or is cancelled, gives it back by unwinding): an idle one
+  // (the start-up's first), else a new one, else the first one given back.
+  // Empty, with *why, when CUDA does not work.
+  struct GiveBack {
+    Renderers* owner = nullptr;
+    void operator()(FrameRenderer* r) const { owner->give_back(r); }
+  };
+  using Lease = std::unique_ptr<FrameRenderer, GiveBack>;
+  Lease lend(std::string* why) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (!first(why)) return Lease(nullptr, GiveBack{this});
+    if (idle_.empty() && made_.size() + 1 < kMaxCuda) {
+      try {
+        made_.push_back(std::make_unique<FrameRenderer>(Backend::Cuda));
+        idle_.push_back(made_.back().get());
+      } catch (const std::exception& e) {
+        if (why) *why = e.what();
+        return Lease(nullptr, GiveBack{this});
+      }
     }
-    if (!renderer_ && why) *why = why_;
-    return renderer_.get();
+    returned_.wait(lock, [&] { return !idle_.empty(); });
+    FrameRenderer* r = idle_.back();
+    idle_.pop_back();
+    return Lease(r, GiveBack{this});
   }
 
  private:
+  // Under mutex_.
+  FrameRenderer* first(std::string* why) {
+    if (!taken_) {
+      first_ = startup_.take(&why_);
+      taken_ = true;
+      if (first_) idle_.push_back(first_.get());
+    }
+    if (!first_ && why) *why = why_;
+    return first_.get();
+  }
+  void give_back(FrameRenderer* r) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      idle_.push_back(r);
+    }
+    returned_.notify_one();
+  }
+
   GpuStartup startup_;
-  std::unique_ptr<FrameRenderer> renderer_;
+  std::mutex mutex_;
+  std::condition_variable returned_;
+  std::unique_ptr<FrameRenderer> first_;
+  std::vector<std::unique_ptr<FrameRenderer>> made_;
+  std::vector<FrameRenderer*> idle_;
   bool taken_ = false;
   std::string why_;
 };
@@ -88,20 +139,50 @@ svg::ParseOptions parse_options_for(const cli::Options& opt, int threads) {
   return o;
 }
 
-int run(const cli::Options& opt, Renderers& renderers) {
+// A job's document: its bytes when they have been read already (else run()
+// reads opt.positional[0]), and the folder its relative references and its
+// read policy start from.
+struct Document {
+  const std::string* text = nullptr;
+  std::string base_dir;
+};
+
+// The folder parse_svg_file resolves a file's references against: its
+// own, the current one for "-".
+std::string folder_of(const std::string& path) {
+  const std::filesystem::path dir = path == "-" ? std::filesystem::path() : std::filesystem::path(path).parent_path();
+  return dir.empty() ? std::string(".") : dir.string();
+}
+
+// Where a job's results go: its messages (warnings, errors, --stats: what
+// an in-process run prints on stderr) and its PNG, encoded, handed to
+// `write`. `checkpoint(stage)` is called between stages: the persistent
+// renderer's throws there when the job's client has gone.
+struct JobIO {
+  FILE* messages = stderr;
+  std::function<void(const std::vector<uint8_t>& png)> write;
+  std::function<void(const char* stage)> checkpoint = [](const char*) {};
+};
+
+int run(const cli::Options& opt, const Document& source, Renderers& renderers, const JobIO& io) {
   const auto t_start = Clock::now();
+  FILE* const err = io.messages;
   GpuStartup& startup = renderers.startup();
   double waited_ms = 0;  // for CUDA's start-up
+  Renderers::Lease lease;
   auto take_gpu = [&](std::string* why) {
     const auto t = Clock::now();
-    FrameRenderer* r = renderers.cuda(why);
+    lease = renderers.lend(why);
     waited_ms += ms_since(t);
-    return r;
+    return lease.get();
   };
-  svg::ParseResult doc = svg::parse_svg_file(opt.positional[0], parse_options_for(opt, 0));
+  const std::string read = source.text ? std::string() : svg::read_svg_file(opt.positional[0]);
+  svg::ParseResult doc =
+      svg::parse_svg_string(source.text ? *source.text : read, source.base_dir, parse_options_for(opt, 0));
   const double parse_ms = ms_since(t_start);
+  io.checkpoint("after parsing");
   if (!opt.quiet)
-    for (const std::string& w : doc.warnings) std::fprintf(stderr, "svg2png: warning: %s\n", w.c_str());
+    for (const std::string& w : doc.warnings) std::fprintf(err, "svg2png: warning: %s\n", w.c_str());
   int width, height;
   Affine view;
   cli::output_geometry(opt, doc.scene.width, doc.scene.height, &width, &height, &view);
@@ -128,8 +209,8 @@ int run(const cli::Options& opt, Renderers& renderers) {
     in.cpu_threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     std::string why_not;
     if (startup.done()) {
-      gpu = take_gpu(&why_not);
-      in.gpu_possible = gpu != nullptr;
+      // Whether CUDA works; a renderer is lent only if it is chosen.
+      in.gpu_possible = renderers.cuda(&why_not) != nullptr;
     } else {
       in.gpu_possible = true;
       in.gpu_wait_ms = expected_gpu_startup_ms() - startup.elapsed_ms();
@@ -138,12 +219,13 @@ int run(const cli::Options& opt, Renderers& renderers) {
       if (!server::serving()) in.gpu_teardown_ms = expected_gpu_teardown_ms();
     }
     BackendChoice choice = choose_backend(in);
-    if (choice.backend == Backend::Cuda && !gpu) {
+    if (choice.backend == Backend::Cuda) {
       gpu = take_gpu(&why_not);
       if (!gpu) choice.why = why_not;
     }
     if (choice.backend == Backend::Cpu || !gpu) {
       gpu = nullptr;
+      lease.reset();
       if (!server::serving()) startup.cancel();
       char est[64];
       std::snprintf(est, sizeof est, " (CPU estimated %.1f ms)", choice.cpu_ms);
@@ -152,6 +234,7 @@ int run(const cli::Options& opt, Renderers& renderers) {
       choice_note = "auto chose CUDA: " + choice.why;
     }
   }
+  io.checkpoint("before rendering");
   const auto t_render = Clock::now();
   std::vector<uint8_t> rgba8;
   std::vector<uint16_t> rgba16;
@@ -163,32 +246,38 @@ int run(const cli::Options& opt, Renderers& renderers) {
     if (opt.bits == 16) rgba16 = to_rgba16(img, ro.gamma);
     else rgba8 = to_rgba8(img, ro.gamma);
   }
+  lease.reset();  // the next job may have it while this one is written
   const double render_ms = ms_since(t_render);
+  io.checkpoint("before encoding");
   const auto t_write = Clock::now();
-  if (opt.bits == 16) write_png_rgba16(opt.output, width, height, rgba16);
-  else write_png_rgba8(opt.output, width, height, rgba8);
+  // One image, every core: rows filtered and deflated in strips.
+  png::EncodeOptions png_options;
+  png_options.threads = 0;
+  io.write(opt.bits == 16 ? png::encode_rgba16(width, height, rgba16.data(), png_options)
+                          : png::encode_rgba8(width, height, rgba8.data(), png_options));
   const double write_ms = ms_since(t_write);
   if (opt.stats) {
-    if (server::serving()) std::fprintf(stderr, "persistent renderer: pid %d\n", static_cast<int>(getpid()));
-    if (const char* t0 = std::getenv("MPVG_T0"))
-      std::fprintf(stderr, "process start (exec to main) %.3f ms\n", (main_entry_ns - std::atoll(t0)) * 1e-6);
-    std::fprintf(stderr, "parse %.3f ms (stroke %.3f ms, %zu strokes)\n", parse_ms, doc.stroke_seconds * 1e3,
+    if (server::serving()) std::fprintf(err, "persistent renderer: pid %d\n", static_cast<int>(getpid()));
+    const char* t0 = std::getenv("MPVG_T0");
+    if (t0 && !server::serving())
+      std::fprintf(err, "process start (exec to main) %.3f ms\n", (main_entry_ns - std::atoll(t0)) * 1e-6);
+    std::fprintf(err, "parse %.3f ms (stroke %.3f ms, %zu strokes)\n", parse_ms, doc.stroke_seconds * 1e3,
                  doc.stroked_paths);
     if (startup.started()) {
       if (!startup.done()) {
-        std::fprintf(stderr, "CUDA start-up still running (not waited for)\n");
+        std::fprintf(err, "CUDA start-up still running (not waited for)\n");
       } else {
         std::string why;
         if (!gpu) renderers.cuda(&why);
         const std::string phases = startup.phases();
-        std::fprintf(stderr, "CUDA start-up took %.3f ms%s%s%s%s; waited for it %.3f ms\n", startup.ready_ms(),
+        std::fprintf(err, "CUDA start-up took %.3f ms%s%s%s%s; waited for it %.3f ms\n", startup.ready_ms(),
                      phases.empty() ? "" : " (", phases.c_str(), phases.empty() ? "" : ")",
                      why.empty() ? "" : (": " + why).c_str(), waited_ms);
       }
     }
-    if (!choice_note.empty()) std::fprintf(stderr, "%s\n", choice_note.c_str());
-    std::fprintf(stderr, "%s", cli::format_stats(stats).c_str());
-    std::fprintf(stderr, "render + 8/16-bit conversion %.3f ms\nPNG %.3f ms\nwall %.3f ms\n", render_ms, write_ms,
+    if (!choice_note.empty()) std::fprintf(err, "%s\n", choice_note.c_str());
+    std::fprintf(err, "%s", cli::format_stats(stats).c_str());
+    std::fprintf(err, "render + 8/16-bit conversion %.3f ms\nPNG %.3f ms\nwall %.3f ms\n", render_ms, write_ms,
                  ms_since(t_start));
   }
   return 0;
@@ -337,7 +426,37 @@ int run_batch(const cli::Options& opt, Renderers& renderers) {
   return result.failed ? 1 : 0;
 }
 
-// svg2png's whole job, in-process or inside the persistent renderer.
+// The client's side of the persistent renderer: the job handed over with
+// absolute paths (the server's folder is not ours), its messages printed
+// and its PNG written here, with this process's umask and rights. nullopt,
+// with *why, when it must render in-process.
+std::optional<int> through_server(const cli::Options& opt, int argc, char** argv, const std::string& text,
+                                  std::string* why) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  auto absolute = [&](const std::string& p) { return fs::absolute(p, ec).string(); };
+  server::Request job;
+  job.args.assign(argv, argv + argc);
+  const std::string& path = opt.positional[0];
+  job.document = path == "-" ? path : absolute(path);
+  job.base_dir = absolute(folder_of(path));
+  for (const std::string& d : opt.allow_read) job.allow_read.push_back(absolute(d));
+  for (const std::string& d : opt.font_dirs) job.font_dirs.push_back(absolute(d));
+  if (ec) {
+    *why = "no current folder: " + ec.message();
+    return std::nullopt;
+  }
+  job.text = text;
+  const std::optional<server::Reply> reply = server::forward(job, why);
+  if (!reply) return std::nullopt;
+  std::fwrite(reply->messages.data(), 1, reply->messages.size(), stderr);
+  std::fflush(stderr);
+  if (reply->status == 0) png::write_file(opt.output, reply->png);
+  return reply->status;
+}
+
+// svg2png's whole job in this process; a single file goes to the
+// persistent renderer when it is asked for and serves us.
 int svg2png_main(int argc, char** argv, std::unique_ptr<Renderers>& renderers) {
   cli::Options opt;
   try {
@@ -346,35 +465,102 @@ int svg2png_main(int argc, char** argv, std::unique_ptr<Renderers>& renderers) {
     std::fprintf(stderr, "svg2png: %s\n", e.message.c_str());
     return 2;
   }
+  // Batches stay in-process: the pipeline amortises start-up itself.
+  const bool hand_over = !opt.batch && server::requested(argc, argv);
   // Begun before anything else: the driver's initialisation overlaps the
-  // document's reading and parsing. The persistent renderer starts it
-  // with its first job and keeps it.
-  if (!renderers) renderers = std::make_unique<Renderers>(opt.backend, cli::render_options(opt, 64, 64, Affine{}));
+  // document's reading and parsing.
+  auto start = [&] {
+    if (!renderers) renderers = std::make_unique<Renderers>(opt.backend, cli::render_options(opt, 64, 64, Affine{}));
+  };
+  if (!hand_over) start();
   try {
-    return opt.batch ? run_batch(opt, *renderers) : run(opt, *renderers);
+    if (opt.batch) return run_batch(opt, *renderers);
+    const std::string& path = opt.positional[0];
+    Document source{nullptr, folder_of(path)};
+    std::string text;
+    if (hand_over) {
+      // Read here, with this process's rights; the bytes serve the
+      // in-process render too if the server does not (standard input
+      // cannot be read twice).
+      text = svg::read_svg_file(path);
+      source.text = &text;
+      std::string why;
+      if (const std::optional<int> status = through_server(opt, argc, argv, text, &why)) return *status;
+      if (opt.stats) std::fprintf(stderr, "persistent renderer: not used (%s); rendering in-process\n", why.c_str());
+      start();
+    }
+    JobIO io;
+    io.write = [&](const std::vector<uint8_t>& png) { png::write_file(opt.output, png); };
+    return run(opt, source, *renderers, io);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "svg2png: %s\n", e.what());
     return 1;
   }
 }
 
+// One job inside the persistent renderer, on a thread of its own: the
+// client's arguments with its absolute paths, its document's bytes; the
+// messages and the PNG go back to the client.
+server::Reply job_in_server(const server::Request& job, const std::function<void(const char*)>& checkpoint,
+                            Renderers& renderers) {
+  struct Messages {
+    char* data = nullptr;
+    size_t size = 0;
+    FILE* file = open_memstream(&data, &size);
+    ~Messages() {
+      if (file) std::fclose(file);
+      std::free(data);
+    }
+  } messages;
+  if (!messages.file) throw std::bad_alloc();
+  server::Reply reply;
+  std::vector<char*> argv;
+  for (const std::string& a : job.args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  try {
+    cli::Options opt;
+    cli::parse(static_cast<int>(job.args.size()), argv.data(), "svg2png", "svg", opt);
+    // The client's paths, made absolute; is_directory(-o) in parse may
+    // have looked here: the job is one file whatever it saw.
+    opt.batch = false;
+    opt.positional = {job.document};
+    opt.allow_read = job.allow_read;
+    opt.font_dirs = job.font_dirs;
+    JobIO io;
+    io.messages = messages.file;
+    io.write = [&](const std::vector<uint8_t>& png) { reply.png = png; };
+    io.checkpoint = checkpoint;
+    reply.status = run(opt, Document{&job.text, job.base_dir}, renderers, io);
+  } catch (const cli::UsageError& e) {
+    std::fprintf(messages.file, "svg2png: %s\n", e.message.c_str());
+    reply.status = 2;
+  } catch (const std::exception& e) {
+    std::fprintf(messages.file, "svg2png: %s\n", e.what());
+    reply.status = 1;
+  }
+  if (reply.status != 0) reply.png.clear();
+  std::fclose(messages.file);
+  messages.file = nullptr;
+  reply.messages.assign(messages.data, messages.size);
+  return reply;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   main_entry_ns = epoch_ns();
+  if (argc >= 2 && std::string(argv[1]) == server::kCredentialsArgument) return server::credentials_main(argc, argv);
   std::unique_ptr<Renderers> renderers;
   if (argc == 2 && std::string(argv[1]) == server::kServeArgument) {
     // The persistent renderer: CUDA starts at once, jobs come later.
     renderers = std::make_unique<Renderers>(Backend::Auto, cli::render_options(cli::Options{}, 64, 64, Affine{}));
-    const int status = server::serve([&](int job_argc, char** job_argv) {
-      main_entry_ns = epoch_ns();
-      return svg2png_main(job_argc, job_argv, renderers);
-    });
+    const int status = server::serve(
+        [&](const server::Request& job, const std::function<void(const char*)>& checkpoint) {
+          return job_in_server(job, checkpoint, *renderers);
+        });
     std::fflush(nullptr);
     std::_Exit(status);
   }
-  if (server::requested(argc, argv))
-    if (const std::optional<int> status = server::forward(argc, argv)) return *status;
   const int status = svg2png_main(argc, argv, renderers);
   // Once the output is written, the process ends without tearing CUDA down:
   // destroying the context and unloading its modules took 100-150 ms of
