@@ -411,6 +411,7 @@ class Encoder {
       return r;
     };
     if (!build_mesh(m, view * m.xf, color, paint_, mr)) return false;
+    if (m.area_by_triangles) mr.flags |= MESH_AREA_BY_TRIANGLES;
     if (!m.ramp.empty()) {
       Gradient g;  // only its stops: t comes from the triangles
       g.stops = m.ramp;

@@ -15,7 +15,10 @@
 //     (mesh_outline in core/mesh_build.h), so a sample that no triangle
 //     contains by this arithmetic lies on an edge within rounding: it
 //     takes the colour of the nearest triangle of its cell (barycentric
-//     coordinates clamped), not a colour extrapolated beyond the triangle.
+//     coordinates clamped), not a colour extrapolated beyond the triangle;
+//   - or (MESH_AREA_BY_TRIANGLES) the fill covers more than the union (its
+//     box), and the triangles decide per sample: a sample outside all of
+//     them beyond rounding is transparent.
 #pragma once
 #include <cmath>
 #include <cstdint>
@@ -59,6 +62,10 @@ MPVG_HD_NOINLINE inline Rgba4 mesh_at(const MeshRecord& m, const PaintTables& t,
       if (d >= 0.0f) break;
     }
   }
+  // Outside every triangle by more than float rounding (a millionth of
+  // the triangle in barycentric terms; neighbours' shared edges meet well
+  // within it): not painted, where the fill's area is not the union.
+  if ((m.flags & MESH_AREA_BY_TRIANGLES) && best < -1e-6f) return Rgba4{0.0f, 0.0f, 0.0f, 0.0f};
   bs = fmaxf(bs, 0.0f);
   bt = fmaxf(bt, 0.0f);
   if (bs + bt > 1.0f) {

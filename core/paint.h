@@ -143,12 +143,18 @@ static_assert(sizeof(PatternRecord) == 32, "PatternRecord is a 32-byte record sh
 struct MeshRecord {
   float x0, y0;  // the grid's corner, pixels
   float sx, sy;  // cells per pixel
-  uint32_t grid_w, grid_h;
+  uint16_t grid_w, grid_h;  // at most 1024 each
+  uint32_t flags;           // MESH_AREA_BY_TRIANGLES
   uint32_t cells;
   uint32_t ramp;  // GradientRecord whose ramp maps the interpolated t (PDF shadings with a Function), or kNoMeshRamp
 };
 static_assert(sizeof(MeshRecord) == 32, "MeshRecord is a 32-byte record shared by CPU and GPU");
 constexpr uint32_t kNoMeshRamp = 0xffffffffu;
+// MeshRecord::flags. The mesh is filled over an area larger than its
+// triangles (Mesh::area_by_triangles): a point no triangle contains (beyond
+// a rounding slack) is transparent instead of taking the nearest
+// triangle's colour.
+constexpr uint32_t MESH_AREA_BY_TRIANGLES = 1u << 0;
 
 // One triangle, in pixels: barycentric coordinates (s, t) of a point p are
 // (m00 dx + m01 dy, m10 dx + m11 dy) with (dx, dy) = p - a, and its colour

@@ -221,6 +221,13 @@ struct Mesh {
   // integration). Otherwise t is interpolated (PDF shadings with a
   // Function) and its colour read from this ramp.
   std::vector<ColorStop> ramp;
+  // The mesh is filled over an area that holds its triangles (its box),
+  // not over mesh_outline(): the triangles decide per sample where it
+  // paints. For meshes whose outline would be large (a soup of 200,000
+  // overlapping triangles has 600,000 outline edges, which the shortcut
+  // tree would hold in every cell they cross); the same coverage, up to
+  // rounding on the edges.
+  bool area_by_triangles = false;
 };
 
 struct Paint {

@@ -191,3 +191,42 @@ TEST_CASE("degenerate meshes are rejected or paint nothing", "[paint][mesh]") {
   CHECK(enc.paint->paints[0].kind == PAINT_SOLID);
   CHECK(enc.paint->paints[0].a == 0.0f);
 }
+
+TEST_CASE("a mesh filled over its box paints exactly its triangles (area_by_triangles)", "[paint][mesh]") {
+  // The same colours where a triangle holds the point, transparent off
+  // every triangle, against the brute-force classification.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-10, 110);
+  int inside = 0, outside = 0;
+  for (int k = 0; k < 8; k++) {
+    Mesh m = k % 2 ? random_meshes::lattice(rng, 3 + k, 2 + k, 10, 10, 80, 70)
+                   : random_meshes::free_triangles(rng, 5 + 7 * k, 0, 100);
+    m.area_by_triangles = true;
+    SceneBuilder b(100, 100);
+    Paint paint;
+    paint.type = PaintType::Mesh;
+    paint.index = b.add_mesh(m);
+    b.fill(b.add_geometry(Path::rectangle(-10, -10, 110, 110)), Affine{}, FillRule::NonZero, paint);
+    const EncodedScene enc = encode(b.finish(), Affine{}, Gamma::Srgb);
+    const PaintTables tables = enc.paint->view(nullptr);
+    for (int i = 0; i < 3000; i++) {
+      const Vec2 q{u(rng), u(rng)};
+      const Where w = where(m, q, 1e-4);
+      if (w == Where::Edge) continue;
+      const Rgba4 got = mesh_at(enc.paint->meshes[0], tables, float(q.x), float(q.y));
+      INFO("case " << k << " at (" << q.x << ", " << q.y << ")");
+      if (w == Where::Outside) {
+        outside++;
+        REQUIRE(got.a == 0.0f);
+      } else {
+        const auto ref = reference(m, q, Gamma::Srgb, 1e-4);
+        if (!ref) continue;  // on an edge of the top-most triangle
+        inside++;
+        CHECK(std::fabs(got.a - (*ref)[3]) <= 1e-4);
+        CHECK(std::fabs(got.r - (*ref)[0] * (*ref)[3]) <= 1e-4);
+      }
+    }
+  }
+  CHECK(inside > 1000);
+  CHECK(outside > 1000);
+}

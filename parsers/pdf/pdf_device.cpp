@@ -394,6 +394,10 @@ bool process_shade(fz_context* ctx, fz_shade* shade, fz_matrix ctm, MeshCapture*
   return ok;
 }
 
+// Mesh shadings whose outline has more edges than this are filled over
+// their box (Mesh::area_by_triangles).
+constexpr size_t kMaxMeshOutline = 16384;
+
 // Shadings: axial and radial ones as gradient paints over the shading's
 // box (or the page), the colour function as MuPDF samples it (256 stops
 // converted to sRGB), Extend as the gradient's extend flags. Mesh shadings
@@ -445,6 +449,21 @@ void fill_shade(fz_context* ctx, fz_device* dev, fz_shade* shade, fz_matrix ctm,
     capture.mesh.xf = l->adjust;
     Path area = mesh_outline(capture.mesh);
     if (area.empty()) return;
+    // An outline of many edges (a soup of small overlapping triangles,
+    // not a subdivided patch) would weigh on the shortcut tree in every
+    // cell it crosses: the mesh's box is filled instead, and the triangles
+    // decide per sample where it paints.
+    if (area.segments().size() > kMaxMeshOutline) {
+      double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+      for (const MeshVertex& v : capture.mesh.vertices) {
+        x0 = std::min(x0, v.p.x);
+        y0 = std::min(y0, v.p.y);
+        x1 = std::max(x1, v.p.x);
+        y1 = std::max(y1, v.p.y);
+      }
+      area = Path::rectangle(x0, y0, x1, y1);
+      capture.mesh.area_by_triangles = true;
+    }
     paint.type = PaintType::Mesh;
     paint.index = l->b->add_mesh(std::move(capture.mesh));
     if (bounded) l->clip(Path::rectangle(r.x0, r.y0, r.x1, r.y1), l->place(to_device), FillRule::NonZero);
