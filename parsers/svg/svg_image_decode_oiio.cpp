@@ -36,7 +36,7 @@ bool header_size(const std::vector<uint8_t>& b, const char* format, int* w, int*
   auto le16 = [&](size_t i) { return int(b[i]) | int(b[i + 1]) << 8; };
   auto le24 = [&](size_t i) { return int(b[i]) | int(b[i + 1]) << 8 | int(b[i + 2]) << 16; };
   if (std::string(format) == "gif") {
-    if (b.size() < 10) return false;
+    if (b.size() < 13) return false;  // the header and logical screen descriptor: b[10] is read below
     *w = le16(6);
     *h = le16(8);
     // The first image descriptor may be larger than the screen.
