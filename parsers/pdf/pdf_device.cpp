@@ -212,7 +212,11 @@ struct Lowering {
       default: st.join = stroke::Join::Miter; break;
     }
     st.miter_limit = s->miterlimit;
-    for (int i = 0; i < s->dash_len; i++) st.dashes.push_back(s->dash_list[i]);
+    // dash_list is declared float[32] but MuPDF allocates the state with
+    // room for dash_len entries (fz_new_stroke_state_with_dash_len): read
+    // them through a pointer, not by indexing the array past 32.
+    const float* dashes = s->dash_list;
+    st.dashes.assign(dashes, dashes + std::max(0, s->dash_len));
     st.dash_offset = s->dash_phase;
     return stroke::stroke_to_fill(p, st, to_device);
   }
