@@ -16,7 +16,10 @@ namespace mpvg {
 struct TreeParams {
   uint32_t min_segments = 4;    // subdivide cells with more geometry entries than this
   int max_depth = -1;           // deepest level; -1: down to 1-pixel cells
-  size_t max_entries = size_t(1) << 27;  // cap on all levels' entries together (memory)
+  // Cap on all levels' entries together (memory): a level that would pass
+  // it is not made (the CPU counts it before making it), and its parent's
+  // cells stay leaves, coarser. RenderOptions::memory_budget lowers it.
+  size_t max_entries = size_t(1) << 27;
   bool prune = true;
   bool keep_levels = false;     // keep every level after pruning (tests, backend comparison)
 };

@@ -322,3 +322,47 @@ TEST_CASE("groups past the stack's depth: flattened, opacity folded into their c
     check_pixel(r, 35, 20, {0, 0.25f * k, 1 - 0.25f * k, 1});
   }
 }
+
+TEST_CASE("groups: the CPU tree is the same built and pruned a few cells at a time", "[groups][prune]") {
+  // subdivide_cpu and prune_cpu work through a level in batches of cells
+  // (cpu_batch_entries, ~1 M entries); batches of a few entries must build
+  // the same tree, leaf for leaf.
+  const size_t saved = cpu_batch_entries;
+  size_t compared = 0;
+  for (uint32_t seed = 300; seed < 330; seed++) {
+    const random_groups::GroupScene gs = random_groups::group_scene(seed, 4, kSize);
+    const EncodedScene enc = encode(gs.scene, Affine{}, Gamma::Srgb);
+    cpu_batch_entries = size_t(1) << 20;
+    const ShortcutTree whole = build_tree_cpu(enc, kSize, kSize, params(true));
+    cpu_batch_entries = 1 + seed % 7;
+    const ShortcutTree batched = build_tree_cpu(enc, kSize, kSize, params(true));
+    cpu_batch_entries = saved;
+    REQUIRE(batched.nodes.size() == whole.nodes.size());
+    REQUIRE(batched.leaves.size() == whole.leaves.size());
+    REQUIRE(batched.leaf_entries.size() == whole.leaf_entries.size());
+    for (size_t i = 0; i < whole.leaf_entries.size(); i++) {
+      REQUIRE(batched.leaf_entries[i].head == whole.leaf_entries[i].head);
+      REQUIRE(batched.leaf_entries[i].data == whole.leaf_entries[i].data);
+    }
+    for (size_t i = 0; i < whole.leaves.size(); i++) {
+      REQUIRE(batched.leaves[i].begin == whole.leaves[i].begin);
+      REQUIRE(batched.leaves[i].end == whole.leaves[i].end);
+    }
+    compared += whole.leaf_entries.size();
+  }
+  CHECK(compared > 10000);
+}
+
+TEST_CASE("tree cap: a level past TreeParams::max_entries is not made, its parent's cells stay leaves",
+          "[groups][tree]") {
+  const random_groups::GroupScene gs = random_groups::group_scene(7, 4, kSize);
+  const EncodedScene enc = encode(gs.scene, Affine{}, Gamma::Srgb);
+  const ShortcutTree full = build_tree_cpu(enc, kSize, kSize, params(true));
+  TreeParams capped = params(true);
+  capped.max_entries = full.leaf_entries.size();  // less than all levels together
+  const ShortcutTree coarse = build_tree_cpu(enc, kSize, kSize, capped);
+  CHECK(coarse.depth < full.depth);
+  // The same samples: the tree only accelerates.
+  const Probe p = probe(gs.scene, enc, 7, 200);
+  for (const auto& [px, py] : p.points) REQUIRE(oracle::identical(sample_tree_cpu(coarse, px, py), sample_tree_cpu(full, px, py)));
+}

@@ -46,7 +46,7 @@ ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, co
   TreeLevel virt;
   virt.entries = initial_stream(scene, tree.segments);
   virt.cells.push_back(Cell{0, static_cast<uint32_t>(virt.entries.size()), 0, 0, 0, 0});
-  TreeLevel level = subdivide_cpu(virt, tree.segments, tree.root_size, true);
+  TreeLevel level = subdivide_cpu(virt.cells, virt.entries.data(), tree.segments, tree.root_size, true);
   t.subdivide_ms += ms_since(t0);
   if (params.prune) {
     t0 = std::chrono::steady_clock::now();
@@ -70,22 +70,22 @@ ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, co
         nsub += sub[k] ? 1 : 0;
       }
     }
-    TreeLevel parent, child;
+    TreeLevel child;
     if (nsub > 0) {
       t0 = std::chrono::steady_clock::now();
-      for (size_t k = 0; k < level.cells.size(); k++) {
-        if (!sub[k]) continue;
-        Cell c = level.cells[k];
-        const uint32_t b = static_cast<uint32_t>(parent.entries.size());
-        parent.entries.insert(parent.entries.end(), level.entries.begin() + c.begin, level.entries.begin() + c.end);
-        c.begin = b;
-        c.end = static_cast<uint32_t>(parent.entries.size());
-        parent.cells.push_back(c);
-      }
-      child = subdivide_cpu(parent, tree.segments, tree.root_size, false);
+      // The cells to subdivide, their entries where they are.
+      std::vector<Cell> parent;
+      parent.reserve(nsub);
+      for (size_t k = 0; k < level.cells.size(); k++)
+        if (sub[k]) parent.push_back(level.cells[k]);
+      bool over = total_entries >= params.max_entries;
+      if (!over)
+        child = subdivide_cpu(parent, level.entries.data(), tree.segments, tree.root_size, false,
+                              params.max_entries - total_entries, &over);
       t.subdivide_ms += ms_since(t0);
-      if (total_entries + child.entries.size() > params.max_entries) {
-        // Memory cap (criterion 1 of §4.1): this level is the last.
+      if (over) {
+        // Memory cap (criterion 1 of §4.1), found before the level's
+        // entries are made: this level is the last, its cells coarser.
         nsub = 0;
         sub.assign(level.cells.size(), 0);
       }

@@ -18,11 +18,21 @@ std::vector<AbstractSegment> abstract_cpu(const std::vector<InputSegment>& input
 // segments as SEGMENT entries (expanding the encoding's placeholders).
 std::vector<Entry> initial_stream(const EncodedScene& scene, const std::vector<AbstractSegment>& segments);
 
-// subdivide: the four passes of §4.2 over every cell of parent (all of them
-// are subdivided). With root set, parent is the single virtual cell holding
-// the initial stream and the only child is the root cell.
-TreeLevel subdivide_cpu(const TreeLevel& parent, const std::vector<AbstractSegment>& segments,
-                        uint32_t root_size, bool root);
+// Entries a batch of cells spans at most in subdivide_cpu and prune_cpu,
+// whose per-pair and per-entry arrays grow with it (1 << 20: ~80 MB); a
+// cell's stream is balanced, so batches are independent. Tests set it
+// small to run many batches.
+extern size_t cpu_batch_entries;
+
+// subdivide: the four passes of §4.2 over `cells` of a level (entries
+// indexes their ranges; cells in ascending order, not necessarily
+// adjacent), a batch of cells at a time. With root set, the one cell is
+// the virtual cell holding the initial stream and the only child is the
+// root cell. A level that would hold more than max_entries entries is not
+// made: an empty level is returned and *overflow set.
+TreeLevel subdivide_cpu(const std::vector<Cell>& cells, const Entry* entries,
+                        const std::vector<AbstractSegment>& segments, uint32_t root_size, bool root,
+                        size_t max_entries = SIZE_MAX, bool* overflow = nullptr);
 
 // prune: mark-and-sweep rounds until nothing changes (§4.4). Returns the
 // number of rounds that eliminated something.

@@ -11,20 +11,28 @@ namespace mpvg {
 
 namespace {
 
-// One round; returns whether anything was eliminated.
-bool prune_round(TreeLevel& level, const std::vector<PathRecord>& paths) {
-  const size_t n = level.entries.size();
-  if (n == 0) return false;
-  const Entry* e = level.entries.data();
+// One round over a batch of cells, k0 .. k1 - 1 (cpu_batch_entries): a
+// cell's stream is balanced, so depths and cross-links never leave it, and
+// the round's dozen per-entry arrays (about 60 bytes an entry) grow with
+// the batch, not the level. The entries kept are appended to `kept` and
+// the cells' ranges set to where they landed there. Returns whether
+// anything was eliminated.
+bool prune_batch(TreeLevel& level, size_t k0, size_t k1, const std::vector<PathRecord>& paths,
+                 std::vector<Entry>& kept) {
+  const uint32_t first = level.cells[k0].begin;
+  const size_t n = level.cells[k1 - 1].end - first;
+  const Entry* e = level.entries.data() + first;
+  auto begin_of = [&](size_t k) { return level.cells[k].begin - first; };
+  auto end_of = [&](size_t k) { return level.cells[k].end - first; };
   std::vector<uint32_t> cell_of(n);
-  for (size_t k = 0; k < level.cells.size(); k++)
-    for (uint32_t i = level.cells[k].begin; i < level.cells[k].end; i++) cell_of[i] = static_cast<uint32_t>(k);
+  for (size_t k = k0; k < k1; k++)
+    for (uint32_t i = begin_of(k); i < end_of(k); i++) cell_of[i] = static_cast<uint32_t>(k);
 
   // Depth of every element.
   std::vector<int32_t> depth(n);
   for (size_t i = 0; i < n; i++) depth[i] = prune_depth_delta(e, static_cast<uint32_t>(i));
   std::inclusive_scan(depth.begin(), depth.end(), depth.begin());
-  const int32_t max_depth = *std::max_element(depth.begin(), depth.end());
+  const int32_t max_depth = n ? *std::max_element(depth.begin(), depth.end()) : 0;
 
   // Cross-links, one segmented scan per depth.
   std::vector<uint32_t> open(n, ~0u), bar(n, ~0u), close(n, ~0u), parent(n, ~0u);
@@ -47,10 +55,8 @@ bool prune_round(TreeLevel& level, const std::vector<PathRecord>& paths) {
 
   // Terminals, and the first C1 of every content section.
   std::vector<uint32_t> term(n);
-  for (size_t i = 0; i < n; i++) {
-    const Cell& c = level.cells[cell_of[i]];
-    term[i] = prune_classify(e, static_cast<uint32_t>(i), c.begin, c.end, paths.data());
-  }
+  for (size_t i = 0; i < n; i++)
+    term[i] = prune_classify(e, static_cast<uint32_t>(i), begin_of(cell_of[i]), end_of(cell_of[i]), paths.data());
   std::vector<uint32_t> first_c1(n, ~0u);
   const PruneLinks links{depth.data(), open.data(), bar.data(), close.data(), first_c1.data(), parent.data()};
   for (size_t i = 0; i < n; i++)
@@ -61,24 +67,38 @@ bool prune_round(TreeLevel& level, const std::vector<PathRecord>& paths) {
   std::vector<int32_t> elim(n + 1, 0);
   auto add = [&](uint32_t at, int32_t v) { elim[at] += v; };
   for (size_t i = 0; i < n; i++)
-    prune_mark(e, term.data(), links, static_cast<uint32_t>(i), level.cells[cell_of[i]].begin,
-               level.cells[cell_of[i]].end, add);
+    prune_mark(e, term.data(), links, static_cast<uint32_t>(i), begin_of(cell_of[i]), end_of(cell_of[i]), add);
 
   // Sweep.
   std::inclusive_scan(elim.begin(), elim.end(), elim.begin());
   std::vector<uint32_t> kept_before(n + 1, 0);
   for (size_t i = 0; i < n; i++) kept_before[i + 1] = kept_before[i] + (elim[i] <= 0 ? 1u : 0u);
-  if (kept_before[n] == n) return false;
-  std::vector<Entry> out;
-  out.reserve(kept_before[n]);
+  const uint32_t base = static_cast<uint32_t>(kept.size());
   for (size_t i = 0; i < n; i++)
-    if (elim[i] <= 0) out.push_back(e[i]);
-  for (Cell& c : level.cells) {
-    c.begin = kept_before[c.begin];
-    c.end = kept_before[c.end];
+    if (elim[i] <= 0) kept.push_back(e[i]);
+  for (size_t k = k0; k < k1; k++) {
+    Cell& c = level.cells[k];
+    const uint32_t b = begin_of(k), en = end_of(k);
+    c.begin = base + kept_before[b];
+    c.end = base + kept_before[en];
   }
-  level.entries.swap(out);
-  return true;
+  return kept_before[n] != n;
+}
+
+// One round over the whole level; returns whether anything was eliminated.
+bool prune_round(TreeLevel& level, const std::vector<PathRecord>& paths) {
+  if (level.entries.empty()) return false;
+  std::vector<Entry> kept;
+  kept.reserve(level.entries.size());
+  bool any = false;
+  for (size_t k0 = 0; k0 < level.cells.size();) {
+    size_t k1 = k0 + 1;
+    while (k1 < level.cells.size() && level.cells[k1].end - level.cells[k0].begin <= cpu_batch_entries) k1++;
+    any = prune_batch(level, k0, k1, paths, kept) || any;
+    k0 = k1;
+  }
+  if (any) level.entries.swap(kept);
+  return any;
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // Stage "subdivide" on the CPU: the four passes of §4.2 (split, segmented
 // scan of windings, offset scan, scatter) over every cell of a level.
+#include <cstdint>
 #include <numeric>
 
 #include "core/cpu/cpu_stages.h"
@@ -7,77 +8,136 @@
 
 namespace mpvg {
 
-TreeLevel subdivide_cpu(const TreeLevel& parent, const std::vector<AbstractSegment>& segments, uint32_t root_size,
-                        bool root) {
-  const uint32_t fanout = root ? 1u : 4u;
-  const Entry* in = parent.entries.data();
-  const size_t pairs = fanout * parent.entries.size();
-  // Pair (entry i of cell k, child c) lives at fanout*begin + c*size + (i-begin):
-  // each child's block lists the parent's entries in order.
-  std::vector<uint32_t> flags(pairs);
-  std::vector<WindSeg> wind(pairs);
-  std::vector<uint32_t> count(pairs);
+size_t cpu_batch_entries = size_t(1) << 20;
+
+namespace {
+
+// An entry makes at most this many entries in its children: itself in each
+// of four, and a shortcut entry for its run in each.
+constexpr size_t kMaxGrowth = 8;
+
+struct Subdivision {
+  const std::vector<Cell>& cells;
+  const Entry* in;
+  const std::vector<AbstractSegment>& segments;
+  uint32_t fanout;
+  std::vector<CellBox> boxes;
+  std::vector<uint32_t> flags, count, offset;
+  std::vector<WindSeg> wind;
+
+  // Passes 1 to 3 over cells k0 .. k1 - 1: the entries their children get
+  // (offset[pairs]). Pair (entry i of cell k, child c) lives at
+  // fanout*(begin-first) + c*size + (i-begin), first the batch's first
+  // entry: each child's block lists the parent's entries in order (slots
+  // between cells that are not subdivided count nothing).
+  size_t count_batch(size_t k0, size_t k1) {
+    const uint32_t first = cells[k0].begin;
+    const size_t pairs = fanout * size_t(cells[k1 - 1].end - first);
+    flags.resize(pairs);
+    wind.resize(pairs);
+    count.assign(pairs, 0);
+    // Pass 1: split.
+    for (size_t k = k0; k < k1; k++) {
+      const Cell& pc = cells[k];
+      for (uint32_t c = 0; c < fanout; c++) {
+        const CellBox& box = boxes[fanout * k + c];
+        for (uint32_t i = pc.begin; i < pc.end; i++) {
+          int32_t w;
+          const size_t j = pair(pc, first, c, i);
+          flags[j] = split_entry(in[i], segments.data(), box, &w);
+          wind[j] = WindSeg{w, run_starts(in, i, pc.begin) ? 1u : 0u};
+        }
+      }
+    }
+    // Pass 2: consolidate windings per path run (segmented inclusive scan).
+    std::inclusive_scan(wind.begin(), wind.end(), wind.begin(), SegmentedSum<int32_t>{});
+    // Pass 3: output offsets (exclusive scan, one extra slot per non-zero run).
+    for (size_t k = k0; k < k1; k++) {
+      const Cell& pc = cells[k];
+      for (uint32_t c = 0; c < fanout; c++)
+        for (uint32_t i = pc.begin; i < pc.end; i++) {
+          const size_t j = pair(pc, first, c, i);
+          count[j] = split_output_count(flags[j], run_ends(in, i, pc.end), wind[j].value);
+        }
+    }
+    offset.assign(pairs + 1, 0);
+    std::inclusive_scan(count.begin(), count.end(), offset.begin() + 1);
+    return offset[pairs];
+  }
+
+  // Pass 4 after count_batch: scatter into out from `base`; child cell
+  // ranges fall out of the offsets.
+  void scatter_batch(size_t k0, size_t k1, size_t base, TreeLevel& out) {
+    const uint32_t first = cells[k0].begin;
+    for (size_t k = k0; k < k1; k++) {
+      const Cell& pc = cells[k];
+      const uint32_t size = pc.end - pc.begin;
+      for (uint32_t c = 0; c < fanout; c++) {
+        const size_t j0 = pair(pc, first, c, pc.begin);
+        Cell& cc = out.cells[fanout * k + c];
+        cc.begin = static_cast<uint32_t>(base + offset[j0]);
+        cc.end = static_cast<uint32_t>(base + offset[j0 + size]);
+        for (uint32_t i = pc.begin; i < pc.end; i++) {
+          const size_t j = j0 + (i - pc.begin);
+          split_scatter(in[i], flags[j], run_ends(in, i, pc.end), wind[j].value, segments.data(),
+                        out.entries.data() + base + offset[j]);
+        }
+      }
+    }
+  }
+
+  size_t pair(const Cell& pc, uint32_t first, uint32_t c, uint32_t i) const {
+    return fanout * size_t(pc.begin - first) + size_t(c) * (pc.end - pc.begin) + (i - pc.begin);
+  }
+
+  // The end of the batch starting at cell k0.
+  size_t batch_end(size_t k0) const {
+    size_t k1 = k0 + 1;
+    while (k1 < cells.size() && cells[k1].end - cells[k0].begin <= cpu_batch_entries) k1++;
+    return k1;
+  }
+};
+
+}  // namespace
+
+TreeLevel subdivide_cpu(const std::vector<Cell>& cells, const Entry* entries,
+                        const std::vector<AbstractSegment>& segments, uint32_t root_size, bool root,
+                        size_t max_entries, bool* overflow) {
+  if (overflow) *overflow = false;
+  Subdivision sd{cells, entries, segments, root ? 1u : 4u, {}, {}, {}, {}, {}};
   TreeLevel out;
-  out.cells.resize(fanout * parent.cells.size());
-  std::vector<CellBox> boxes(out.cells.size());
-  for (size_t k = 0; k < parent.cells.size(); k++) {
-    const Cell& pc = parent.cells[k];
-    for (uint32_t c = 0; c < fanout; c++) {
-      Cell& cc = out.cells[fanout * k + c];
+  out.cells.resize(sd.fanout * cells.size());
+  sd.boxes.resize(out.cells.size());
+  size_t span = 0;
+  for (size_t k = 0; k < cells.size(); k++) {
+    const Cell& pc = cells[k];
+    span += pc.end - pc.begin;
+    for (uint32_t c = 0; c < sd.fanout; c++) {
+      Cell& cc = out.cells[sd.fanout * k + c];
       cc.ix = root ? 0 : static_cast<uint16_t>(2 * pc.ix + (c & 1));
       cc.iy = root ? 0 : static_cast<uint16_t>(2 * pc.iy + (c >> 1));
       cc.level = root ? 0 : static_cast<uint16_t>(pc.level + 1);
       cc.pad = 0;
-      boxes[fanout * k + c] = cell_box(cc.ix, cc.iy, cc.level, root_size);
+      sd.boxes[sd.fanout * k + c] = cell_box(cc.ix, cc.iy, cc.level, root_size);
     }
   }
-  // Pass 1: split.
-  for (size_t k = 0; k < parent.cells.size(); k++) {
-    const Cell& pc = parent.cells[k];
-    const uint32_t size = pc.end - pc.begin;
-    for (uint32_t c = 0; c < fanout; c++) {
-      const CellBox& box = boxes[fanout * k + c];
-      const size_t base = fanout * size_t(pc.begin) + size_t(c) * size;
-      for (uint32_t i = pc.begin; i < pc.end; i++) {
-        int32_t w;
-        const size_t j = base + (i - pc.begin);
-        flags[j] = split_entry(in[i], segments.data(), box, &w);
-        wind[j] = WindSeg{w, run_starts(in, i, pc.begin) ? 1u : 0u};
-      }
+  // A level that might pass the cap is counted first, so that it is given
+  // up before its entries are made.
+  if (span > max_entries / kMaxGrowth) {
+    size_t total = 0;
+    for (size_t k0 = 0; k0 < cells.size(); k0 = sd.batch_end(k0)) total += sd.count_batch(k0, sd.batch_end(k0));
+    if (total > max_entries) {
+      if (overflow) *overflow = true;
+      return TreeLevel{};
     }
+    out.entries.reserve(total);
   }
-  // Pass 2: consolidate windings per path run (segmented inclusive scan).
-  std::inclusive_scan(wind.begin(), wind.end(), wind.begin(), SegmentedSum<int32_t>{});
-  // Pass 3: output offsets (exclusive scan, one extra slot per non-zero run).
-  for (size_t k = 0; k < parent.cells.size(); k++) {
-    const Cell& pc = parent.cells[k];
-    const uint32_t size = pc.end - pc.begin;
-    for (uint32_t c = 0; c < fanout; c++) {
-      const size_t base = fanout * size_t(pc.begin) + size_t(c) * size;
-      for (uint32_t i = pc.begin; i < pc.end; i++) {
-        const size_t j = base + (i - pc.begin);
-        count[j] = split_output_count(flags[j], run_ends(in, i, pc.end), wind[j].value);
-      }
-    }
-  }
-  std::vector<uint32_t> offset(pairs + 1, 0);
-  std::inclusive_scan(count.begin(), count.end(), offset.begin() + 1);
-  out.entries.resize(offset[pairs]);
-  // Pass 4: scatter; child cell ranges fall out of the offsets.
-  for (size_t k = 0; k < parent.cells.size(); k++) {
-    const Cell& pc = parent.cells[k];
-    const uint32_t size = pc.end - pc.begin;
-    for (uint32_t c = 0; c < fanout; c++) {
-      const size_t base = fanout * size_t(pc.begin) + size_t(c) * size;
-      Cell& cc = out.cells[fanout * k + c];
-      cc.begin = offset[base];
-      cc.end = offset[base + size];
-      for (uint32_t i = pc.begin; i < pc.end; i++) {
-        const size_t j = base + (i - pc.begin);
-        split_scatter(in[i], flags[j], run_ends(in, i, pc.end), wind[j].value, segments.data(),
-                      out.entries.data() + offset[j]);
-      }
-    }
+  for (size_t k0 = 0; k0 < cells.size();) {
+    const size_t k1 = sd.batch_end(k0);
+    const size_t base = out.entries.size();
+    out.entries.resize(base + sd.count_batch(k0, k1));
+    sd.scatter_batch(k0, k1, base, out);
+    k0 = k1;
   }
   return out;
 }
