@@ -6,7 +6,13 @@
 #include <cstring>
 #include <filesystem>
 
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+
 #include "core/error.h"
+#include "core/memory_budget.h"
 #include "parsers/svg/svg_values.h"
 
 namespace mpvg::cli {
@@ -59,6 +65,12 @@ void usage(const char* program, const char* kind) {
       "                            (repeatable), before the system's fonts\n"
       "      --languages LIST      the user's languages for systemLanguage and switch,\n"
       "                            e.g. de-CH,en (default en)\n"
+      "Limits:\n"
+      "      --max-memory SIZE     memory budget of one render, e.g. 2G (default: half\n"
+      "                            of the machine's): large images are decoded\n"
+      "                            smaller or refused, the tree stays coarser, an\n"
+      "                            output that cannot fit is an error\n"
+      "      --max-input SIZE      refuse inputs larger than SIZE (default 1G)\n"
       "Execution:\n"
       "      --backend B           auto, cpu or cuda (default auto: the CPU when it would\n"
       "                            finish before CUDA is ready, else cuda; see --stats)\n"
@@ -214,6 +226,10 @@ bool parse(int argc, char** argv, const char* program, const char* kind, Options
     } else if (a == "--timeout") {
       o.timeout_s = number(a, value());
       if (!(o.timeout_s > 0)) throw UsageError{"--timeout takes a positive number of seconds"};
+    } else if (a == "--max-memory") {
+      o.max_memory = parse_size(a, value());
+    } else if (a == "--max-input") {
+      o.max_input = parse_size(a, value());
     } else if (a == "--server") {
       o.server = true;
     } else if (a == "--stats") {
@@ -273,6 +289,47 @@ void output_geometry(const Options& o, double dw, double dh, int* width, int* he
   *width = static_cast<int>(std::max(1L, std::lround(w)));
   *height = static_cast<int>(std::max(1L, std::lround(h)));
   *view = Affine::scale(*width / dw, *height / dh);
+  check_frame(o, *width, *height);
+}
+
+uint64_t memory_budget(const Options& o) {
+  if (o.max_memory) return o.max_memory;
+  static const uint64_t machine = [] {
+    uint64_t bytes = uint64_t(sysconf(_SC_PHYS_PAGES)) * uint64_t(sysconf(_SC_PAGE_SIZE));
+    // A control group's limit (cgroup v2), where one is set.
+    if (FILE* f = std::fopen("/sys/fs/cgroup/memory.max", "r")) {
+      unsigned long long limit = 0;
+      if (std::fscanf(f, "%llu", &limit) == 1 && limit > 0) bytes = std::min<uint64_t>(bytes, limit);
+      std::fclose(f);
+    }
+    return bytes;
+  }();
+  return std::max<uint64_t>(machine / 2, uint64_t(256) << 20);
+}
+
+void check_frame(const Options& o, int width, int height) {
+  const uint64_t budget = memory_budget(o);
+  const uint64_t need = frame_bytes(width, height, o.bits);
+  if (need > memory_shares(budget).frame)
+    throw Error("the output of " + std::to_string(width) + "x" + std::to_string(height) + " pixels needs " +
+                byte_size(need) + ", the budget is " + byte_size(memory_shares(budget).frame) +
+                " (--max-memory " + byte_size(budget) + " of which half is for the output)");
+}
+
+uint64_t parse_size(const std::string& option, const std::string& v) {
+  double n = 0;
+  const auto r = std::from_chars(v.data(), v.data() + v.size(), n);
+  std::string unit = r.ec == std::errc() ? std::string(r.ptr, v.data() + v.size()) : std::string();
+  for (char& c : unit) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (unit.size() > 1 && unit.back() == 'b') unit.pop_back();   // "GB", "GiB" as "G", "Gi"
+  if (unit.size() > 1 && unit.back() == 'i') unit.pop_back();
+  const std::string units = "kmgt";
+  const size_t at = unit.empty() ? std::string::npos : units.find(unit);
+  if (r.ec != std::errc() || !(n > 0) || !std::isfinite(n) || (!unit.empty() && (unit.size() != 1 || at == std::string::npos)))
+    throw UsageError{"option " + option + " expects a size such as 512M or 4G, got '" + v + "'"};
+  const double bytes = n * std::pow(1024.0, unit.empty() ? 0 : double(at + 1));
+  if (bytes >= 1.8e19) throw UsageError{"option " + option + " is too large: '" + v + "'"};
+  return static_cast<uint64_t>(bytes);
 }
 
 RenderOptions render_options(const Options& o, int width, int height, const Affine& view) {
@@ -305,6 +362,8 @@ RenderOptions render_options(const Options& o, int width, int height, const Affi
   r.seed = o.seed;
   r.gamma = o.gamma;
   r.backend = o.backend;
+  // The tree's share of the budget: 8 bytes an entry.
+  r.tree.max_entries = std::min<uint64_t>(r.tree.max_entries, memory_shares(memory_budget(o)).tree / sizeof(Entry));
   return r;
 }
 

@@ -45,6 +45,10 @@ struct Options {
   int render_threads = 0;                // --render-threads per device (0: default)
   bool server = false;                   // --server: the persistent renderer (apps/server.h)
   double timeout_s = 0;                  // --timeout S: per item of a batch (0: none)
+  // --max-memory: the budget of one render (core/memory_budget.h); 0: half
+  // of the machine's memory (or of the control group's limit).
+  uint64_t max_memory = 0;
+  uint64_t max_input = uint64_t(1) << 30;  // --max-input: bytes of input read at most
 };
 
 // Parses argv. Returns false after printing help or version (exit 0);
@@ -59,6 +63,19 @@ bool parse(int argc, char** argv, const char* program, const char* input_kind, O
 void output_geometry(const Options& o, double doc_width, double doc_height, int* width, int* height, Affine* view);
 
 RenderOptions render_options(const Options& o, int width, int height, const Affine& view);
+
+// The memory budget of one render: --max-memory, or half of what the
+// machine (or the control group it runs in) has.
+uint64_t memory_budget(const Options& o);
+
+// Throws mpvg::Error when a frame of width x height pixels would not fit
+// the budget ("the output of 32768x32768 pixels needs 32 GiB, the budget
+// is 12 GiB (--max-memory)").
+void check_frame(const Options& o, int width, int height);
+
+// "512M", "4G", "1.5GiB", "1000000": bytes (binary units); throws
+// UsageError naming `option` otherwise.
+uint64_t parse_size(const std::string& option, const std::string& value);
 
 // One line per stage, for --stats.
 std::string format_stats(const RenderStats& st);

@@ -82,6 +82,10 @@ void usage() {
       "Antialiasing (the paper's modes):\n"
       "      --aa MODE             4x4x32 (default), 1x32 or 1x8 (see svg2png --help)\n"
       "      --filter F, --samples N, --pattern P, --seed N, --gamma linear|srgb\n"
+      "Limits:\n"
+      "      --max-memory SIZE     memory budget of one page, e.g. 2G (default: half\n"
+      "                            of the machine's); a page that cannot fit is an error\n"
+      "      --max-input SIZE      refuse inputs larger than SIZE (default 1G)\n"
       "Execution:\n"
       "      --backend B           auto, cpu or cuda (default auto)\n"
       "      --threads N           worker threads: interpretation, lowering, PNG (default:\n"
@@ -174,6 +178,7 @@ std::unique_ptr<mpvg::pipeline::Job> lower(const PdfOptions& pdf, const mpvg::cl
     width = pdf.crop_w ? pdf.crop_w : std::max(1, width - pdf.crop_x);
     height = pdf.crop_h ? pdf.crop_h : std::max(1, height - pdf.crop_y);
   }
+  cli::check_frame(opt, width, height);
   job->width = width;
   job->height = height;
   const Affine view = Affine::translate(-pdf.crop_x, -pdf.crop_y) * Affine::scale(scale, scale);
@@ -202,7 +207,7 @@ int main(int argc, char** argv) {
   // while the document opens and the workers lower the first pages.
   GpuStartup startup(opt.backend, cli::render_options(opt, 64, 64, Affine{}));
   try {
-    const pdf::Document doc(opt.positional[0], pdf.password);
+    const pdf::Document doc(opt.positional[0], pdf.password, opt.max_input);
     const int count = doc.page_count();
     const int first = pdf.first;
     const int last = pdf.singlefile ? std::min(pdf.first, count) : pdf.last < 0 ? count : std::min(pdf.last, count);
@@ -301,7 +306,7 @@ int main(int argc, char** argv) {
     std::fflush(nullptr);
     std::_Exit(result.failed ? 1 : 0);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "pdf2png: %s\n", e.what());
+    std::fprintf(stderr, "pdf2png: %s\n", error_message(e).c_str());
     // Not exit(): the start-up thread may still be running (GpuStartup).
     std::fflush(nullptr);
     std::_Exit(1);

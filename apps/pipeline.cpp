@@ -15,6 +15,7 @@
 
 #include "apps/cli.h"
 #include "apps/png_writer.h"
+#include "core/error.h"
 
 namespace mpvg::pipeline {
 
@@ -162,7 +163,7 @@ struct State {
         try {
           write(*job);
         } catch (const std::exception& e) {
-          error = job->label + ": " + e.what();
+          error = job->label + ": " + error_message(e);
         }
         job->image = ImageF{};
         lock.lock();
@@ -186,7 +187,7 @@ struct State {
         job->index = t;
       } catch (const std::exception& e) {
         const std::string label = c.label(t);
-        error = e.what();
+        error = error_message(e);
         // Messages that name the item already (the PDF parser's "page 3:
         // ...") keep their own form.
         if (error.rfind(label, 0) != 0) error = label + ": " + error;
@@ -217,7 +218,7 @@ struct State {
     try {
       renderer = c.make_renderer(r);
     } catch (const std::exception& e) {
-      failure = e.what();
+      failure = error_message(e);
     }
     std::unique_lock<std::mutex> lock(m);
     if (!renderer) {
@@ -253,7 +254,7 @@ struct State {
         else
           job->rgba8 = renderer->render_rgba8(job->scene, job->plan, job->options, &job->stats, std::move(storage));
       } catch (const std::exception& e) {
-        error = job->label + ": " + e.what();
+        error = job->label + ": " + error_message(e);
       }
       job->scene = EncodedScene{};
       job->render_ms = ms_since(t0);

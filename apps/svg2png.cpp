@@ -30,6 +30,7 @@
 #include "apps/png_writer.h"
 #include "apps/server.h"
 #include "core/error.h"
+#include "core/memory_budget.h"
 #include "gpu/backend.h"
 #include "parsers/svg/svg_parser.h"
 
@@ -130,6 +131,13 @@ svg::ParseOptions parse_options_for(const cli::Options& opt, int threads) {
   o.font_dirs = opt.font_dirs;
   o.languages = opt.languages;
   o.threads = threads;
+  // The images' share of the memory budget (core/memory_budget.h): RGBA8
+  // and a mip chain of a third more, 16/3 bytes a texel; half of it for
+  // the decoders that hold a whole image before it is reduced.
+  const uint64_t images = memory_shares(cli::memory_budget(opt)).images;
+  o.max_image_pixels = std::min<uint64_t>(o.max_image_pixels, images * 3 / 16);
+  o.max_whole_image_pixels = std::min<uint64_t>(o.max_whole_image_pixels, images / 8);
+  o.max_input_bytes = opt.max_input;
   o.view = [&opt](double w, double h) {
     int width, height;
     Affine view;
@@ -176,7 +184,7 @@ int run(const cli::Options& opt, const Document& source, Renderers& renderers, c
     waited_ms += ms_since(t);
     return lease.get();
   };
-  const std::string read = source.text ? std::string() : svg::read_svg_file(opt.positional[0]);
+  const std::string read = source.text ? std::string() : svg::read_svg_file(opt.positional[0], opt.max_input);
   svg::ParseResult doc =
       svg::parse_svg_string(source.text ? *source.text : read, source.base_dir, parse_options_for(opt, 0));
   const double parse_ms = ms_since(t_start);
@@ -482,7 +490,7 @@ int svg2png_main(int argc, char** argv, std::unique_ptr<Renderers>& renderers) {
       // Read here, with this process's rights; the bytes serve the
       // in-process render too if the server does not (standard input
       // cannot be read twice).
-      text = svg::read_svg_file(path);
+      text = svg::read_svg_file(path, opt.max_input);
       source.text = &text;
       std::string why;
       if (const std::optional<int> status = through_server(opt, argc, argv, text, &why)) return *status;
@@ -493,7 +501,7 @@ int svg2png_main(int argc, char** argv, std::unique_ptr<Renderers>& renderers) {
     io.write = [&](const std::vector<uint8_t>& png) { png::write_file(opt.output, png); };
     return run(opt, source, *renderers, io);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "svg2png: %s\n", e.what());
+    std::fprintf(stderr, "svg2png: %s\n", error_message(e).c_str());
     return 1;
   }
 }
@@ -535,7 +543,7 @@ server::Reply job_in_server(const server::Request& job, const std::function<void
     std::fprintf(messages.file, "svg2png: %s\n", e.message.c_str());
     reply.status = 2;
   } catch (const std::exception& e) {
-    std::fprintf(messages.file, "svg2png: %s\n", e.what());
+    std::fprintf(messages.file, "svg2png: %s\n", error_message(e).c_str());
     reply.status = 1;
   }
   if (reply.status != 0) reply.png.clear();

@@ -1,6 +1,7 @@
 // Errors raised by the host side of mpvg (scene building, lowering, I/O).
 // Per-element device code never throws; it reports through flags instead.
 #pragma once
+#include <new>
 #include <stdexcept>
 #include <string>
 
@@ -15,5 +16,14 @@ class Error : public std::runtime_error {
   explicit Error(const std::string& what) : std::runtime_error(what) {}
 };
 #endif
+
+// The one line an exception is reported with: its message, or for an
+// allocation that failed (std::bad_alloc, std::length_error from a
+// container asked for too much) what happened rather than the type's name.
+inline std::string error_message(const std::exception& e) {
+  if (dynamic_cast<const std::bad_alloc*>(&e) || dynamic_cast<const std::length_error*>(&e))
+    return "out of memory: the document needs more than this machine could give (see --max-memory)";
+  return e.what();
+}
 
 }  // namespace mpvg

@@ -15,6 +15,7 @@ PACKAGES=(
   catch2
   libpng-dev libdeflate-dev
   python3-dev python3-numpy pybind11-dev
+  time util-linux
 )
 
 missing=()

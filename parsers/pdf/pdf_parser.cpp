@@ -14,7 +14,10 @@
 #include <string>
 #include <vector>
 
+#include <sys/stat.h>
+
 #include "core/error.h"
+#include "core/memory_budget.h"
 #include "parsers/pdf/pdf_device.h"
 
 namespace mpvg::pdf {
@@ -168,7 +171,14 @@ void silence(fz_context* ctx) {
 
 }  // namespace
 
-Document::Document(const std::string& path, const std::string& password) : impl_(std::make_unique<Impl>()) {
+Document::Document(const std::string& path, const std::string& password, size_t max_input)
+    : impl_(std::make_unique<Impl>()) {
+  auto too_large = [&] {
+    return Error("'" + path + "' is larger than the input limit of " + byte_size(max_input) + " (--max-input)");
+  };
+  struct stat st {};
+  if (path != "-" && stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) && uint64_t(st.st_size) > max_input)
+    throw too_large();
   impl_->locks = std::make_shared<Locks>();
   fz_context* ctx = fz_new_context(nullptr, &impl_->locks->ctx, FZ_STORE_DEFAULT);
   if (!ctx) throw Error("cannot start MuPDF");
@@ -180,7 +190,10 @@ Document::Document(const std::string& path, const std::string& password) : impl_
     auto input = std::make_shared<std::vector<unsigned char>>();
     unsigned char buf[1 << 16];
     size_t n;
-    while ((n = std::fread(buf, 1, sizeof buf, stdin)) > 0) input->insert(input->end(), buf, buf + n);
+    while ((n = std::fread(buf, 1, sizeof buf, stdin)) > 0) {
+      if (input->size() + n > max_input) throw too_large();
+      input->insert(input->end(), buf, buf + n);
+    }
     impl_->input = std::move(input);
   }
   impl_->open();

@@ -8,6 +8,7 @@
 // patterns, transparency groups and soft masks. What cannot be lowered is
 // reported as a warning.
 #pragma once
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -33,7 +34,8 @@ struct PageResult {
 // encrypted without the password) throw mpvg::Error with one line.
 class Document {
  public:
-  explicit Document(const std::string& path, const std::string& password = "");
+  // Files (and standard input) larger than max_input bytes are refused.
+  explicit Document(const std::string& path, const std::string& password = "", size_t max_input = SIZE_MAX);
   ~Document();
   Document(const Document&) = delete;
   Document& operator=(const Document&) = delete;

@@ -11,7 +11,10 @@
 #include <cstring>
 #include <filesystem>
 
+#include <sys/stat.h>
+
 #include "core/error.h"
+#include "core/memory_budget.h"
 #include "parsers/svg/svg_converter.h"
 #include "parsers/svg/svg_resources.h"
 
@@ -663,14 +666,23 @@ ParseResult parse_svg_string(std::string_view text, const std::string& base_dir,
   return result;
 }
 
-std::string read_svg_file(const std::string& path) {
+std::string read_svg_file(const std::string& path, size_t max_bytes) {
   auto fail = [&](int err) { return Error("cannot read '" + path + "': " + std::strerror(err)); };
   FILE* f = path == "-" ? stdin : std::fopen(path.c_str(), "rb");
   if (!f) throw fail(errno);
+  const auto too_large = [&] {
+    if (f != stdin) std::fclose(f);
+    return Error("'" + path + "' is larger than the input limit of " + byte_size(max_bytes) + " (--max-input)");
+  };
+  struct stat st {};
+  if (fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode) && uint64_t(st.st_size) > max_bytes) throw too_large();
   std::string data;
   char buf[1 << 16];
   size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) data.append(buf, n);
+  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) {
+    if (data.size() + n > max_bytes) throw too_large();
+    data.append(buf, n);
+  }
   const bool failed = std::ferror(f);
   const int err = errno;
   if (f != stdin) std::fclose(f);
@@ -679,7 +691,7 @@ std::string read_svg_file(const std::string& path) {
 }
 
 ParseResult parse_svg_file(const std::string& path, const ParseOptions& options) {
-  const std::string data = read_svg_file(path);
+  const std::string data = read_svg_file(path, options.max_input_bytes);
   const std::filesystem::path dir =
       path == "-" ? std::filesystem::path() : std::filesystem::path(path).parent_path();
   return parse_svg_string(data, dir.empty() ? std::string(".") : dir.string(), options);

@@ -96,6 +96,9 @@ struct ParseOptions {
   size_t max_image_pixels = size_t(1) << 28;
   size_t max_whole_image_pixels = size_t(1) << 26;
 
+  // Bytes of input parse_svg_file reads at most (svg2png --max-input).
+  size_t max_input_bytes = SIZE_MAX;
+
   // Threads converting strokes (0: every core). Batches that parse files
   // on every core already pass 1.
   int threads = 0;
@@ -111,9 +114,12 @@ struct ParseOptions {
 // line N: ...", or a message naming a non-SVG root or an invalid root size.
 ParseResult parse_svg_file(const std::string& path, const ParseOptions& options = {});
 
-// The bytes parse_svg_file reads ("-": standard input). Throws mpvg::Error
-// ("cannot read 'x.svg': No such file or directory").
-std::string read_svg_file(const std::string& path);
+// The bytes parse_svg_file reads ("-": standard input), at most max_bytes
+// (a regular file's size is checked before it is read; a stream, e.g.
+// /dev/zero, is read up to the limit). Throws mpvg::Error ("cannot read
+// 'x.svg': No such file or directory", "'x.svg' is larger than the input
+// limit of 1 GiB").
+std::string read_svg_file(const std::string& path, size_t max_bytes = SIZE_MAX);
 
 // Parses SVG text. base_dir is where relative references of the document
 // resolve (the document's directory); its tree may be read, as may
