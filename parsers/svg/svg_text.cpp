@@ -29,6 +29,7 @@
 #include "parsers/svg/svg_converter.h"
 #include "parsers/svg/svg_text_path.h"
 #include "parsers/svg/svg_values.h"
+#include "parsers/svg/xml_encoding.h"
 #include "text/text.h"
 
 namespace mpvg::svg::detail {
@@ -48,24 +49,6 @@ const text::FontDb& font_db(const std::vector<std::string>& dirs, bool system, s
     if (system) db->add_system_fonts();
   }
   return *db;
-}
-
-void encode_utf8(char32_t c, std::string& out) {
-  if (c < 0x80) {
-    out += char(c);
-  } else if (c < 0x800) {
-    out += char(0xc0 | (c >> 6));
-    out += char(0x80 | (c & 0x3f));
-  } else if (c < 0x10000) {
-    out += char(0xe0 | (c >> 12));
-    out += char(0x80 | ((c >> 6) & 0x3f));
-    out += char(0x80 | (c & 0x3f));
-  } else {
-    out += char(0xf0 | (c >> 18));
-    out += char(0x80 | ((c >> 12) & 0x3f));
-    out += char(0x80 | ((c >> 6) & 0x3f));
-    out += char(0x80 | (c & 0x3f));
-  }
 }
 
 // A variable font's axes (CSS Fonts 4 §6.12, font-optical-sizing auto):
@@ -591,7 +574,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
     std::string utf8;
     std::vector<int> char_of_byte;
     for (int i = chunk.first; i < chunk.end; i++) {
-      encode_utf8(chars[i].c, utf8);
+      append_utf8(utf8, chars[i].c);
       char_of_byte.resize(utf8.size(), i);
     }
 

@@ -10,24 +10,6 @@ namespace mpvg::svg::detail {
 
 namespace {
 
-void put_utf8(std::string& out, uint32_t c) {
-  if (c < 0x80) {
-    out += char(c);
-  } else if (c < 0x800) {
-    out += char(0xC0 | (c >> 6));
-    out += char(0x80 | (c & 0x3F));
-  } else if (c < 0x10000) {
-    out += char(0xE0 | (c >> 12));
-    out += char(0x80 | ((c >> 6) & 0x3F));
-    out += char(0x80 | (c & 0x3F));
-  } else {
-    out += char(0xF0 | (c >> 18));
-    out += char(0x80 | ((c >> 12) & 0x3F));
-    out += char(0x80 | ((c >> 6) & 0x3F));
-    out += char(0x80 | (c & 0x3F));
-  }
-}
-
 // UTF-16 code units to UTF-8; an unpaired surrogate becomes U+FFFD, an odd
 // last byte is dropped.
 std::string utf16_to_utf8(std::string_view b, bool big_endian) {
@@ -50,7 +32,7 @@ std::string utf16_to_utf8(std::string_view b, bool big_endian) {
     } else if (c >= 0xD800 && c < 0xE000) {
       c = 0xFFFD;
     }
-    put_utf8(out, c);
+    append_utf8(out, c);
   }
   return out;
 }
@@ -80,7 +62,7 @@ std::string single_byte_to_utf8(std::string_view b, bool cp1252) {
   for (const char ch : b) {
     uint32_t c = uint8_t(ch);
     if (cp1252 && c >= 0x80 && c < 0xA0 && kCp1252[c - 0x80]) c = kCp1252[c - 0x80];
-    put_utf8(out, c);
+    append_utf8(out, c);
   }
   return out;
 }
@@ -104,6 +86,24 @@ std::string declared_encoding(std::string_view s) {
 }
 
 }  // namespace
+
+void append_utf8(std::string& out, uint32_t c) {
+  if (c < 0x80) {
+    out += char(c);
+  } else if (c < 0x800) {
+    out += char(0xC0 | (c >> 6));
+    out += char(0x80 | (c & 0x3F));
+  } else if (c < 0x10000) {
+    out += char(0xE0 | (c >> 12));
+    out += char(0x80 | ((c >> 6) & 0x3F));
+    out += char(0x80 | (c & 0x3F));
+  } else {
+    out += char(0xF0 | (c >> 18));
+    out += char(0x80 | ((c >> 12) & 0x3F));
+    out += char(0x80 | ((c >> 6) & 0x3F));
+    out += char(0x80 | (c & 0x3F));
+  }
+}
 
 std::string xml_to_utf8(std::string_view b) {
   auto starts = [&](std::string_view prefix) { return b.substr(0, prefix.size()) == prefix; };

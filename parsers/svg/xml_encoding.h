@@ -5,6 +5,7 @@
 //
 // Internal to the SVG frontend.
 #pragma once
+#include <cstdint>
 #include <string>
 #include <string_view>
 
@@ -16,5 +17,8 @@ namespace mpvg::svg::detail {
 // declared encodings whose bytes are not valid UTF-8 ("the document's
 // encoding 'Shift_JIS' is not supported").
 std::string xml_to_utf8(std::string_view bytes);
+
+// Appends code point c in UTF-8 (1 to 4 bytes).
+void append_utf8(std::string& out, uint32_t c);
 
 }  // namespace mpvg::svg::detail
