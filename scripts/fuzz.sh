@@ -82,7 +82,6 @@ case "$mode" in
         -print_final_stats=1 -artifact_prefix="$bd/artifacts/$t/" $(corpora "$t")) 2>&1 |
         tee "$bd/logs/$t.log" | grep -E '^#[0-9]+.*(pulse|DONE|INITED|REDUCE|NEW)|^stat::|ERROR|SUMMARY|Test unit written|Done' |
         grep -vE 'NEW|REDUCE' || true
-      [ "${PIPESTATUS[0]}" -eq 0 ] || status=1
       grep -q 'Test unit written\|ERROR: libFuzzer\|SUMMARY: ' "$bd/logs/$t.log" && status=1
     done
     exit $status
@@ -95,7 +94,11 @@ case "$mode" in
       echo "== fuzz_$t"
       if [ -d "$root/testdata/fuzz/$t" ]; then
         # shellcheck disable=SC2046
-        "$bd/fuzz/fuzz_$t" $(common_flags "$t") -runs=0 "$root/testdata/fuzz/$t" 2>&1 | grep -E 'INITED|ERROR|SUMMARY' || status=1
+        if "$bd/fuzz/fuzz_$t" $(common_flags "$t") -runs=0 "$root/testdata/fuzz/$t" > "$bd/regress-$t-corpus.log" 2>&1; then
+          grep -E 'INITED' "$bd/regress-$t-corpus.log" || true
+        else
+          cat "$bd/regress-$t-corpus.log"; status=1
+        fi
       fi
       shopt -s nullglob
       cases=("$root/testdata/fuzz/regressions/$t"-*)
