@@ -91,6 +91,12 @@ class Partial {
   bool committed_ = false;
 };
 
+// The folder of path ("." for a bare name).
+std::string dir_of(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
+}
+
 [[noreturn]] void fail(const std::string& path, int err) {
   throw Error("cannot write '" + path + "': " + std::strerror(err));
 }
@@ -142,9 +148,13 @@ void write_output(const std::string& path, const uint8_t* data, size_t size) {
   struct stat st {};
   const bool exists = stat(path.c_str(), &st) == 0;
   if (exists && S_ISDIR(st.st_mode)) fail(path, EISDIR);
-  if (exists && !S_ISREG(st.st_mode)) {
-    // A pipe, a terminal, /dev/stdout: written in place.
-    const int fd = open(path.c_str(), O_WRONLY | O_CLOEXEC | O_NOCTTY);
+  // A pipe, a terminal, /dev/stdout: written in place; so is an existing
+  // file the caller may write in a folder where it may not create one
+  // (nothing can be renamed there).
+  const bool in_place = exists && (!S_ISREG(st.st_mode) || (access(dir_of(path).c_str(), W_OK) != 0 &&
+                                                            access(path.c_str(), W_OK) == 0));
+  if (in_place) {
+    const int fd = open(path.c_str(), O_WRONLY | O_CLOEXEC | O_NOCTTY | (S_ISREG(st.st_mode) ? O_TRUNC : 0));
     if (fd < 0) fail(path, errno);
     const int err = write_all(fd, data, size);
     const int closed = close(fd) == 0 ? 0 : errno;

@@ -10,7 +10,8 @@
 //
 // An existing regular file keeps its permission bits, as when rewritten in
 // place. A target that exists and is no regular file (a pipe, /dev/stdout,
-// a terminal) is written directly: it cannot be replaced. "-" is standard
+// a terminal) is written directly: it cannot be replaced; so is a writable
+// file in a folder the caller may not create files in. "-" is standard
 // output.
 #pragma once
 #include <cstddef>

@@ -44,6 +44,16 @@ else
 fi
 check "a folder without write permission: 'Permission denied', nothing written" \
   test "$rc" = 1 -a -n "$(grep -F 'Permission denied' <<<"$err")" -a -z "$(ls -A "$tmp/ro")"
+if [ "$(id -u)" = 0 ] && command -v setpriv >/dev/null; then
+  # A writable file in a folder where no file can be made: written in
+  # place (it cannot be replaced), as before.
+  mkdir "$tmp/ro2"
+  : > "$tmp/ro2/out.png"
+  chmod 666 "$tmp/ro2/out.png"
+  chmod 555 "$tmp/ro2"
+  setpriv --reuid=65534 --regid=65534 --clear-groups "$bin" -q --backend cpu "$svg" "$tmp/ro2/out.png"; rc=$?
+  check "a writable file in a read-only folder: written in place" status_and_png "$rc" 0 "$tmp/ro2/out.png"
+fi
 
 # A full file system (a 16 KiB tmpfs, where this test may mount one).
 mkdir "$tmp/full"
