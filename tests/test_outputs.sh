@@ -36,7 +36,8 @@ if [ -e /dev/full ]; then
   err=$("$bin" -q --backend cpu "$svg" /dev/full 2>&1); rc=$?
   check "/dev/full: exit 1, 'No space left on device'" test "$rc" = 1 -a -n "$(grep -F 'No space left on device' <<<"$err")"
 fi
-mkdir -m 500 "$tmp/ro"
+chmod 755 "$tmp"  # another user (below) may enter it, not write in it
+mkdir -m 555 "$tmp/ro"
 if [ "$(id -u)" = 0 ] && command -v setpriv >/dev/null; then
   err=$(setpriv --reuid=65534 --regid=65534 --clear-groups "$bin" -q --backend cpu "$svg" "$tmp/ro/x.png" 2>&1); rc=$?
 else
