@@ -1,8 +1,10 @@
-// Small host-side geometry types: points and affine transforms in double
-// precision. Device code never sees these; lowering (abstraction.cpp) turns
-// everything into the flat float records of abstract_segment.h.
+// Small geometry types: points and affine transforms in double precision.
+// Points and their operators are MPVG_HD: the stroke stage (core/stroke.h)
+// uses them on both executors; transforms stay on the host.
 #pragma once
 #include <cmath>
+
+#include "core/hd.h"
 
 namespace mpvg {
 
@@ -10,14 +12,14 @@ struct Vec2 {
   double x = 0, y = 0;
 };
 
-inline Vec2 operator+(Vec2 a, Vec2 b) { return {a.x + b.x, a.y + b.y}; }
-inline Vec2 operator-(Vec2 a, Vec2 b) { return {a.x - b.x, a.y - b.y}; }
-inline Vec2 operator*(double s, Vec2 a) { return {s * a.x, s * a.y}; }
-inline bool operator==(Vec2 a, Vec2 b) { return a.x == b.x && a.y == b.y; }
-inline bool operator!=(Vec2 a, Vec2 b) { return !(a == b); }
-inline double dot(Vec2 a, Vec2 b) { return a.x * b.x + a.y * b.y; }
-inline double cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
-inline Vec2 lerp(Vec2 a, Vec2 b, double t) { return {a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t}; }
+MPVG_HD_INLINE Vec2 operator+(Vec2 a, Vec2 b) { return {a.x + b.x, a.y + b.y}; }
+MPVG_HD_INLINE Vec2 operator-(Vec2 a, Vec2 b) { return {a.x - b.x, a.y - b.y}; }
+MPVG_HD_INLINE Vec2 operator*(double s, Vec2 a) { return {s * a.x, s * a.y}; }
+MPVG_HD_INLINE bool operator==(Vec2 a, Vec2 b) { return a.x == b.x && a.y == b.y; }
+MPVG_HD_INLINE bool operator!=(Vec2 a, Vec2 b) { return !(a == b); }
+MPVG_HD_INLINE double dot(Vec2 a, Vec2 b) { return a.x * b.x + a.y * b.y; }
+MPVG_HD_INLINE double cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
+MPVG_HD_INLINE Vec2 lerp(Vec2 a, Vec2 b, double t) { return {a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t}; }
 
 // SVG's matrix(a b c d e f): x' = a x + c y + e, y' = b x + d y + f.
 struct Affine {

@@ -1,0 +1,313 @@
+// Stage "stroke" (paper §7, future work: stroked paths converted to filled
+// primitives in parallel): the stroke of a path as fill geometry, computed
+// per element from flat data by both executors, the CPU's loops
+// (core/cpu/stroke.cpp) and the GPU's kernels (gpu/stroke.cu).
+//
+// The stroke of a path is, by SVG 2 (painting.html#StrokeShape), the union
+// of (a) for every segment, the normal segments of length stroke-width
+// centred on it, (b) a join shape at every vertex inside a subpath (and at
+// the start of a closed one), and (c) a cap shape at both ends of every open
+// subpath or dash. Each of these pieces is emitted here by its own element,
+// as closed contours oriented so that their winding number is positive
+// everywhere inside; the nonzero fill of all of them is their union,
+// however they overlap (Nehab 2020, "Converting stroked primitives to
+// filled primitives", builds strokes from such pieces). Output curves:
+// offsets are quadratics within the tolerance (never polylines), lines stay
+// lines, circular arcs are exact conics.
+//
+// Elements, each independent of the others once the measuring pass is done:
+//   - segment i: its body (core/stroke_body.h), or with dashes the bodies of
+//     the dashes' parts on it, the caps of the dashes that begin or end on
+//     it, and its zero-length dashes;
+//   - vertex v of a subpath: the join there (core/stroke_joins.h) when the
+//     stroke runs through it, the caps of an undashed open subpath, the dot
+//     of a zero-length subpath.
+// Dash phases come from the arc length at each segment's start: segment
+// lengths (the measuring pass), summed by a scan within each subpath.
+// Every element runs twice: counting its output segments, then (after a
+// scan of the counts) writing them, in pixels, as the abstraction stage's
+// input.
+#pragma once
+#include <cstdint>
+
+#include "core/stroke_body.h"
+#include "core/stroke_curve.h"
+#include "core/stroke_joins.h"
+#include "core/stroke_output.h"
+
+namespace mpvg::stroking {
+
+// One stroked path.
+struct StrokeRecord {
+  double xf[6];          // user space -> pixels (a b c d e f, as Affine)
+  double h;              // half width, user units (> 0)
+  double miter_limit;    // >= 1
+  double tol;            // tolerance, user units
+  double dash_offset;    // in [0, dash_sum)
+  double dash_sum;       // sum of the pattern
+  uint32_t join, cap;
+  uint32_t dash_first;   // into StrokeInput::dashes
+  uint32_t dash_count;   // even; 0: no dashes
+  uint32_t path;         // output path id
+  uint32_t pad = 0;
+};
+
+enum : uint32_t { SUBPATH_CLOSED = 1, SUBPATH_ZERO_LENGTH = 2 };
+
+// One subpath of a stroked path: its segments (zero-length ones already left
+// out), or none for a zero-length subpath ("M p Z", "M p L p"), which only
+// has caps.
+struct StrokeSubpath {
+  uint32_t stroke;
+  uint32_t first_segment, segment_count;
+  uint32_t first_vertex;  // vertices: segment_count (closed), segment_count + 1 (open), 1 (zero length)
+  uint32_t flags;
+  uint32_t pad = 0;
+  Vec2 start;
+};
+
+MPVG_HD_INLINE uint32_t subpath_vertices(const StrokeSubpath& sp) {
+  if (sp.flags & SUBPATH_ZERO_LENGTH) return 1;
+  return sp.segment_count + ((sp.flags & SUBPATH_CLOSED) ? 0 : 1);
+}
+
+struct StrokeSegment {
+  Curve curve;
+  uint32_t subpath;
+  uint32_t index;  // within the subpath
+};
+
+// The flat input of the stage, as pointers into either executor's memory.
+struct StrokeInput {
+  const StrokeRecord* strokes;
+  const StrokeSubpath* subpaths;
+  const StrokeSegment* segments;
+  const double* dashes;
+  const double* seg_length;  // measuring pass: arc length of each segment
+  const double* seg_start;   // scan: arc length from the subpath's start
+  const double* sub_length;  // arc length of each subpath
+  uint32_t nstrokes, nsubpaths, nsegments, nvertices;
+};
+
+// ---------------------------------------------------------------- dashes
+
+// More dashes than this in one subpath are not drawn as dashes: the stroke
+// is drawn solid instead (Skia applies the same kind of limit).
+constexpr double kMaxDashes = 1e6;
+
+// The dash pattern of a stroke placed along a subpath of length len (SVG 2
+// painting.html#StrokeDashing). Pattern element j of period k covers arc
+// lengths [k sum + cum_j - offset, ... + d_j]; even elements are dashes.
+struct DashPattern {
+  const double* d;
+  uint32_t n;
+  double sum, offset, len;
+
+  MPVG_HD double element_start(double k, uint32_t j) const {
+    double c = 0;
+    for (uint32_t i = 0; i < j; i++) c += d[i];
+    return k * sum + c - offset;
+  }
+  // The element whose interior follows arc length s (the one that begins
+  // there at a boundary; never a zero-length one): *k its period.
+  MPVG_HD uint32_t element_after(double s, double* k) const {
+    const double q = s + offset;
+    double per = floor(q / sum);
+    double r = q - per * sum;
+    if (r >= sum) r -= sum, per += 1;
+    if (r < 0) r += sum, per -= 1;
+    double c = 0;
+    for (uint32_t j = 0; j < n; j++) {
+      if (r < c + d[j]) {
+        *k = per;
+        return j;
+      }
+      c += d[j];
+    }
+    *k = per + 1;
+    return 0;
+  }
+  // The element whose interior precedes arc length s (the one that ends
+  // there at a boundary; never a zero-length one).
+  MPVG_HD uint32_t element_before(double s) const {
+    const double q = s + offset;
+    double r = q - ceil(q / sum - 1) * sum;  // in (0, sum]
+    if (r <= 0) r += sum;
+    if (r > sum) r -= sum;
+    double c = 0;
+    for (uint32_t j = 0; j < n; j++) {
+      if (r <= c + d[j] && d[j] > 0) return j;
+      c += d[j];
+    }
+    return n - 1;
+  }
+  // Whether arc length s lies strictly inside a dash.
+  MPVG_HD bool inside_dash(double s) const {
+    double k;
+    const uint32_t j = element_after(s, &k);
+    if (j % 2 != 0) return false;
+    return element_start(k, j) < s;
+  }
+  // A closed subpath whose dashes run on through its start point: a dash
+  // covers both its beginning and its end (or the whole of it). Its start
+  // point is then a join, with no caps.
+  MPVG_HD bool wraps() const {
+    double k;
+    return element_after(0, &k) % 2 == 0 && element_before(len) % 2 == 0;
+  }
+  // Whether element (k, j) is one of the subpath's dash positions (SVG 2
+  // painting.html#TermDashPositions): it ends after the start or is a
+  // zero-length element at the very start of an unshifted pattern, and it
+  // begins before the end.
+  MPVG_HD bool counts(double k, double start, double end) const {
+    if (!(start < len) && !(len == 0 && start <= 0)) return false;
+    if (end > 0) return true;
+    return offset == 0 && k == 0 && start == 0;
+  }
+};
+
+MPVG_HD_INLINE DashPattern dash_pattern_of(const StrokeInput& in, const StrokeRecord& st, double len) {
+  return {in.dashes + st.dash_first, st.dash_count, st.dash_sum, st.dash_offset, len};
+}
+
+// Whether a subpath of length len is stroked solid: no pattern, or more
+// dashes than kMaxDashes.
+MPVG_HD_INLINE bool solid(const StrokeRecord& st, double len) {
+  return st.dash_count == 0 || len / st.dash_sum * double(st.dash_count) > kMaxDashes;
+}
+
+MPVG_HD_INLINE JoinStyle join_style(const StrokeRecord& st) { return {st.h, st.miter_limit, st.tol, st.join, st.cap}; }
+
+// ---------------------------------------------------------------- elements
+
+// The measuring pass: the arc length of segment i, as the dash table
+// measures it (ArcTable).
+MPVG_HD_INLINE double stroke_measure(const StrokeInput& in, uint32_t i) {
+  const Curve& c = in.segments[i].curve;
+  if (c.is_line()) return length(c.p[1] - c.p[0]);
+  return ArcTable(c).total();
+}
+
+// The direction of travel at parameter t.
+MPVG_HD_INLINE Vec2 direction_at(const Curve& c, double t) {
+  Vec2 d = t == 0 ? c.start_tangent() : (t == 1 ? c.end_tangent() : normalized(c.derivative(t)));
+  if (d.x == 0 && d.y == 0) d = c.start_tangent();
+  return d;
+}
+
+// Segment element i.
+template <class Sink>
+MPVG_HD void stroke_segment(const StrokeInput& in, uint32_t i, Emitter<Sink>& out) {
+  const StrokeSegment& seg = in.segments[i];
+  const StrokeSubpath& sp = in.subpaths[seg.subpath];
+  const StrokeRecord& st = in.strokes[sp.stroke];
+  const Curve& c = seg.curve;
+  const double len = in.sub_length[seg.subpath];
+  if (solid(st, len)) {
+    emit_body(c, st.h, st.tol, out);
+    return;
+  }
+  const JoinStyle js = join_style(st);
+  const DashPattern dp = dash_pattern_of(in, st, len);
+  const bool last = seg.index + 1 == sp.segment_count;
+  const double s0 = in.seg_start[i];
+  const double s1 = last ? len : in.seg_start[i + 1];
+  const bool wrap = (sp.flags & SUBPATH_CLOSED) && dp.wraps();
+  const ArcTable table(c);
+  auto param = [&](double s) {
+    if (s <= s0) return 0.0;
+    if (s >= s1) return 1.0;
+    return table.param_at(s - s0);
+  };
+  // Start one period early, so that every element reaching into the segment
+  // is seen; stop past its end.
+  double k;
+  uint32_t j = dp.element_after(s0, &k);
+  k -= 1;
+  j = 0;
+  const double guard = (s1 - s0) / dp.sum * dp.n + 4.0 * dp.n + 8;
+  for (double it = 0; it < guard; it++) {
+    const double start = dp.element_start(k, j), end = start + dp.d[j];
+    if (start > s1) break;
+    if (j % 2 == 0 && dp.counts(k, start, end)) {
+      const double b = dmax(start, 0.0), e = dmin(end, len);
+      if (b == e) {
+        // A zero-length dash: a dot, drawn by the segment it begins.
+        if ((b >= s0 && b < s1) || (last && b == s1)) emit_dot(js, c.point(param(b)), direction_at(c, param(b)), out);
+      } else {
+        const double lo = dmax(b, s0), hi = dmin(e, s1);
+        if (hi > lo) {
+          const double t0 = param(lo), t1 = param(hi);
+          const Curve part = c.sub(t0, t1);
+          if (part.extent() > 0) {
+            emit_body(part, st.h, st.tol, out);
+            const bool begins = b >= s0 && b < s1 && !(wrap && b == 0);
+            const bool ends = e > s0 && e <= s1 && !(wrap && e == len);
+            if (begins) emit_cap(js, part.start(), part.start_tangent(), false, out);
+            if (ends) emit_cap(js, part.end(), part.end_tangent(), true, out);
+          } else if (b >= s0 && b < s1) {
+            emit_dot(js, c.point(t0), direction_at(c, t0), out);
+          }
+        }
+      }
+    }
+    if (++j == dp.n) j = 0, k += 1;
+  }
+}
+
+// The subpath of vertex v and v's index in it (binary search on first_vertex).
+MPVG_HD_INLINE uint32_t vertex_subpath(const StrokeInput& in, uint32_t v) {
+  uint32_t lo = 0, hi = in.nsubpaths;
+  while (hi - lo > 1) {
+    const uint32_t mid = (lo + hi) / 2;
+    if (in.subpaths[mid].first_vertex <= v)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  return lo;
+}
+
+// Vertex element v.
+template <class Sink>
+MPVG_HD void stroke_vertex(const StrokeInput& in, uint32_t v, Emitter<Sink>& out) {
+  const uint32_t spi = vertex_subpath(in, v);
+  const StrokeSubpath& sp = in.subpaths[spi];
+  const StrokeRecord& st = in.strokes[sp.stroke];
+  const JoinStyle js = join_style(st);
+  const uint32_t k = v - sp.first_vertex;
+  const double len = in.sub_length[spi];
+  const bool is_solid = solid(st, len);
+  if (sp.flags & SUBPATH_ZERO_LENGTH) {
+    // A dot, when the pattern is "on" at the point: an unshifted pattern
+    // always starts with a dash, a shifted one where the offset falls.
+    double per;
+    if (is_solid || st.dash_offset == 0 || dash_pattern_of(in, st, 0).element_after(0, &per) % 2 == 0)
+      emit_dot(js, sp.start, Vec2{1, 0}, out);
+    return;
+  }
+  const uint32_t n = sp.segment_count;
+  const StrokeSegment* seg = in.segments + sp.first_segment;
+  const bool closed = (sp.flags & SUBPATH_CLOSED) != 0;
+  if (!closed && (k == 0 || k == n)) {
+    // The caps of an undashed open subpath (dashes' caps are their segments').
+    if (!is_solid) return;
+    if (k == 0)
+      emit_cap(js, seg[0].curve.start(), seg[0].curve.start_tangent(), false, out);
+    else
+      emit_cap(js, seg[n - 1].curve.end(), seg[n - 1].curve.end_tangent(), true, out);
+    return;
+  }
+  // A join between the segment ending here and the one starting here, when
+  // the stroke runs through the vertex.
+  const Curve& prev = seg[k == 0 ? n - 1 : k - 1].curve;
+  const Curve& next = seg[k].curve;
+  if (!is_solid) {
+    const DashPattern dp = dash_pattern_of(in, st, len);
+    if (k == 0 ? !dp.wraps() : !dp.inside_dash(in.seg_start[sp.first_segment + k])) return;
+  }
+  emit_join(js, next.start(), prev.end_tangent(), next.start_tangent(), end_curvature(prev, true),
+            end_curvature(next, false), out);
+}
+
+}  // namespace mpvg::stroking

@@ -1,0 +1,56 @@
+// Stage "stroke", host side: stroked paths (a Path, a style, the transform
+// to pixels) gathered into the flat arrays of core/stroke.h that either
+// executor expands: records, subpaths, segments and dash patterns. Only
+// the centreline crosses to the device; the stroke is built there.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "core/geometry.h"
+#include "core/scene.h"
+#include "core/stroke.h"
+
+namespace mpvg {
+
+struct StrokeStyle {
+  double width = 1;
+  uint32_t join = stroking::JOIN_MITER;
+  uint32_t cap = stroking::CAP_BUTT;
+  double miter_limit = 4;  // ratio of miter length to width; values below 1 act as 1
+  // Dash and gap lengths in user units, repeated along each subpath. An odd
+  // list is repeated once to make it even; an empty list, one that sums to
+  // zero, or one with a negative or non-finite value means no dashing.
+  std::vector<double> dashes;
+  double dash_offset = 0;
+};
+
+// The flat input, in host memory.
+struct StrokeBatch {
+  std::vector<stroking::StrokeRecord> strokes;
+  std::vector<stroking::StrokeSubpath> subpaths;
+  std::vector<stroking::StrokeSegment> segments;
+  std::vector<double> dashes;
+  uint32_t nvertices = 0;
+
+  // Adds the stroke of `path` (user space) with output path id `path_id`.
+  // `to_pixels` maps user space to pixels, where the output lies within
+  // `tolerance_px` of the exact outline. Degenerate input adds nothing and
+  // never throws: a non-positive or non-finite width, a non-invertible or
+  // non-finite transform; a contour with a non-finite coordinate or weight
+  // (or a rational cubic) is left out; zero-length segments are left out
+  // of their subpaths. Returns whether anything was added.
+  bool add(const Path& path, const StrokeStyle& style, const Affine& to_pixels, uint32_t path_id,
+           double tolerance_px = 1.0 / 16);
+
+  bool empty() const { return strokes.empty(); }
+};
+
+// The CPU executor of the stage: measuring, the scan of lengths, then every
+// element counted, scanned and written (threads <= 0: every core). Output
+// segments come grouped by stroke, in the order strokes were added.
+struct StrokeTimes {
+  double measure_ms = 0, count_ms = 0, write_ms = 0;
+};
+std::vector<InputSegment> stroke_cpu(const StrokeBatch& batch, int threads = 0, StrokeTimes* times = nullptr);
+
+}  // namespace mpvg
