@@ -329,25 +329,27 @@ class Analysis {
     br.n = 0;
     ncusps_ = 0;
     const double e = c_.extent();
+    // The derivatives on the uniform grid, once.
+    Sample smp[kSamples + 1];
     double max_speed = 0;
-    for (int i = 0; i <= kSamples; i++) max_speed = dmax(max_speed, length(c_.derivative(t_of(i))));
+    for (int i = 0; i <= kSamples; i++) {
+      Vec2 d1, d2;
+      c_.derivatives(t_of(i), &d1, &d2);
+      smp[i] = {dot(d1, d1), cross(d1, d2), length(d1), length(d2)};
+      max_speed = dmax(max_speed, smp[i].len1);
+    }
     // Speed minima: cusps where the speed vanishes (the tangent reverses),
     // and sharp near-cusps, where the tangent turns fast.
-    {
-      double s0 = speed2(t_of(0)), s1 = speed2(t_of(1));
-      for (int i = 1; i < kSamples; i++) {
-        const double s2 = speed2(t_of(i + 1));
-        // Sampled this fast, the speed cannot drop near zero between samples.
-        if (s1 <= s0 && s1 <= s2 && (s1 < s0 || s1 < s2) && !(s1 > 0.0625 * max_speed * max_speed)) {
-          const double tm = golden_min(c_, t_of(i - 1), t_of(i + 1), 0, 1);
-          const double sp = sqrt(speed2(tm));
-          if (sp <= 1e-10 * e)
-            add(br, tm, true);
-          else if (sp < 0.05 * max_speed)
-            add(br, tm, false);
-        }
-        s0 = s1;
-        s1 = s2;
+    for (int i = 1; i < kSamples; i++) {
+      const double s0 = smp[i - 1].speed2, s1 = smp[i].speed2, s2 = smp[i + 1].speed2;
+      // Sampled this fast, the speed cannot drop near zero between samples.
+      if (s1 <= s0 && s1 <= s2 && (s1 < s0 || s1 < s2) && !(s1 > 0.0625 * max_speed * max_speed)) {
+        const double tm = golden_min(c_, t_of(i - 1), t_of(i + 1), 0, 1);
+        const double sp = sqrt(speed2(tm));
+        if (sp <= 1e-10 * e)
+          add(br, tm, true);
+        else if (sp < 0.05 * max_speed)
+          add(br, tm, false);
       }
     }
     // Inflections: sign changes of c' x c'' (values at rounding level count
@@ -356,10 +358,8 @@ class Analysis {
       int last = -1;
       bool last_pos = false;
       for (int i = 0; i <= kSamples; i++) {
-        Vec2 d1, d2;
-        c_.derivatives(t_of(i), &d1, &d2);
-        const double v = cross(d1, d2);
-        if (fabs(v) <= 1e-12 * length(d1) * length(d2)) continue;
+        const double v = smp[i].cr;
+        if (fabs(v) <= 1e-12 * smp[i].len1 * smp[i].len2) continue;
         if (last >= 0 && (v > 0) != last_pos) {
           double lo = t_of(last), hi = t_of(i);
           for (int it = 0; it < 60; it++) {
@@ -409,7 +409,7 @@ class Analysis {
         const double ti = i <= kSamples ? t_of(i) : 2;
         for (; b < br.n && br.t[b] < ti; b++)
           visit(br.t[b], br.cusp[b] || near_cusp(br.t[b]) || excess(br.t[b]) > 0);
-        if (i <= kSamples) visit(ti, sample_high(i));
+        if (i <= kSamples) visit(ti, sample_high(i, smp[i]));
       }
     }
     for (int k = 0; k < ncross; k++) add(br, cross_t[k], false);
@@ -502,6 +502,9 @@ class Analysis {
   // from secants this long (see end_tangent).
   static constexpr double kCuspGuard = 1e-6;
   static constexpr int kMaxCusps = 8;
+  struct Sample {
+    double speed2, cr, len1, len2;  // |c'|^2, c' x c'', |c'|, |c''|
+  };
 
   MPVG_HD static double t_of(int i) { return double(i) / kSamples; }
   MPVG_HD double speed2(double t) const {
@@ -528,14 +531,12 @@ class Analysis {
       if (fabs(t - cusps_[i]) < kCuspGuard) return true;
     return false;
   }
-  MPVG_HD bool sample_high(int i) const {
+  MPVG_HD bool sample_high(int i, const Sample& sm) const {
     const double t = t_of(i);
     if (near_cusp(t)) return true;
     if (i == 0 || i == kSamples) return excess(t) > 0;
-    Vec2 d1, d2;
-    c_.derivatives(t, &d1, &d2);
-    const double sp = length(d1);
-    return h_ * fabs(curl(d1, d2)) - sp * sp * sp > 0;
+    const double cr = fabs(sm.cr) <= 1e-12 * sm.len1 * sm.len2 ? 0 : sm.cr;
+    return h_ * fabs(cr) - sm.len1 * sm.len1 * sm.len1 > 0;
   }
   MPVG_HD void push(Breaks& br, double t, bool cusp) const {
     if (br.n < kMaxBreaks) {
@@ -612,22 +613,43 @@ MPVG_HD_INLINE Span span_of(const Analysis& an, const Breaks& br, int i) {
   return sp;
 }
 
+// The spans of a run with their knots, computed once for the run's
+// boundaries when the run is short (most are one to three spans);
+// longer runs recompute them per boundary.
+constexpr int kCachedSpans = 4;
+struct RunCache {
+  int n = 0;  // spans cached (0: none)
+  Span sp[kCachedSpans];
+  double knots[kCachedSpans][Analysis::kMaxKnots];
+  int nk[kCachedSpans];
+};
+
 // The boundary (offset at s, or the evolute) over spans [i, j), fitted to
 // `tol`, forwards or backwards.
 template <class Sink>
-MPVG_HD void emit_boundary(const Curve& c, const Analysis& an, const Breaks& br, int i, int j, bool evolute,
-                           double s, double h, double tol, bool backwards, Emitter<Sink>& out) {
+MPVG_HD void emit_boundary(const Curve& c, const Analysis& an, const Breaks& br, int i, int j, const RunCache& cache,
+                           bool evolute, double s, double h, double tol, bool backwards, Emitter<Sink>& out) {
   for (int q = 0; q < j - i; q++) {
     const int k = backwards ? j - 1 - q : i + q;
-    const Span sp = span_of(an, br, k);
+    Span sp;
+    double own[Analysis::kMaxKnots];
+    const double* knots;
+    int nk;
+    if (cache.n > 0) {
+      sp = cache.sp[k - i];
+      knots = cache.knots[k - i];
+      nk = cache.nk[k - i];
+    } else {
+      sp = span_of(an, br, k);
+      nk = an.knots(sp.a, sp.b, sp.ta, sp.tb, sp.kind, own);
+      knots = own;
+    }
     Boundary g;
     g.f = {&c, sp.a, sp.b, sp.ta, sp.tb};
     g.evolute = evolute;
     g.s = s;
     g.h = h;
     g.side = sp.kind;
-    double knots[Analysis::kMaxKnots];
-    const int nk = an.knots(sp.a, sp.b, sp.ta, sp.tb, sp.kind, knots);
     for (int r = 0; r + 1 < nk; r++) {
       const int x = backwards ? nk - 2 - r : r;
       fit_interval(g, tol, knots[x], knots[x + 1], backwards, out);
@@ -666,9 +688,17 @@ MPVG_HD void emit_body(const Curve& c, double h, double tol, Emitter<Sink>& out)
     int j = i + 1;
     while (j < nspans && !br.cusp[j] && an.kind_at((br.t[j] + br.t[j + 1]) / 2) == kind) j++;
     if (i > 0 && br.cusp[i]) out.disk(c.point(br.t[i]), h);
+    RunCache cache;
+    if (j - i <= kCachedSpans) {
+      for (int q = 0; q < j - i; q++) {
+        const Span& sp = cache.sp[q] = span_of(an, br, i + q);
+        cache.nk[q] = an.knots(sp.a, sp.b, sp.ta, sp.tb, sp.kind, cache.knots[q]);
+      }
+      cache.n = j - i;
+    }
     // X forwards, then Y backwards, as one closed contour.
     auto contour = [&](bool x_ev, double x_s, bool y_ev, double y_s) {
-      const Span first = span_of(an, br, i);
+      const Span first = cache.n > 0 ? cache.sp[0] : span_of(an, br, i);
       Vec2 dir;
       Boundary g;
       g.f = {&c, first.a, first.b, first.ta, first.tb};
@@ -677,8 +707,8 @@ MPVG_HD void emit_body(const Curve& c, double h, double tol, Emitter<Sink>& out)
       g.h = h;
       g.side = first.kind;
       out.begin(g.point(first.a, &dir));
-      emit_boundary(c, an, br, i, j, x_ev, x_s, h, ftol, false, out);
-      emit_boundary(c, an, br, i, j, y_ev, y_s, h, ftol, true, out);
+      emit_boundary(c, an, br, i, j, cache, x_ev, x_s, h, ftol, false, out);
+      emit_boundary(c, an, br, i, j, cache, y_ev, y_s, h, ftol, true, out);
       out.close();
     };
     if (kind == 0) {

@@ -31,32 +31,35 @@ struct CountSink {
   MPVG_HD void segment(uint32_t, Vec2, Vec2, Vec2, double) { n++; }
 };
 
-// Writes segments as the abstraction stage's input: mapped from user space
-// to pixels by `xf` (a c e / b d f, as Affine), tagged with the output path.
-// Writes past `capacity` are counted but dropped (the counting pass sized
-// the output; a mismatch is reported by the caller through n).
+// A segment as the abstraction stage's input: mapped from user space to
+// pixels by xf (a b c d e f, as Affine), tagged with the output path.
+MPVG_HD_INLINE InputSegment input_segment(uint32_t type, Vec2 a, Vec2 b, Vec2 c, double w, uint32_t path,
+                                          const double* xf) {
+  auto map = [&](Vec2 p) { return Vec2{xf[0] * p.x + xf[2] * p.y + xf[4], xf[1] * p.x + xf[3] * p.y + xf[5]}; };
+  InputSegment s{};
+  s.type = type;
+  s.path = path;
+  s.w = type == CURVE_RQUAD ? w : 1.0;
+  const Vec2 q0 = map(a), q1 = map(b);
+  s.x[0] = q0.x, s.y[0] = q0.y, s.x[1] = q1.x, s.y[1] = q1.y;
+  if (type != CURVE_LINE) {
+    const Vec2 q2 = map(c);
+    s.x[2] = q2.x, s.y[2] = q2.y;
+  }
+  return s;
+}
+
+// Writes segments at out[0, capacity) (the counting pass sized it; writes
+// past it are counted but dropped, and the caller compares n).
 struct SegmentSink {
   InputSegment* out;
   uint32_t capacity;
   uint32_t path;
-  double xf[6];
+  const double* xf;
   uint32_t n = 0;
 
-  MPVG_HD Vec2 map(Vec2 p) const { return {xf[0] * p.x + xf[2] * p.y + xf[4], xf[1] * p.x + xf[3] * p.y + xf[5]}; }
   MPVG_HD void segment(uint32_t type, Vec2 a, Vec2 b, Vec2 c, double w) {
-    if (n < capacity) {
-      InputSegment s{};
-      s.type = type;
-      s.path = path;
-      s.w = type == CURVE_RQUAD ? w : 1.0;
-      const Vec2 q0 = map(a), q1 = map(b);
-      s.x[0] = q0.x, s.y[0] = q0.y, s.x[1] = q1.x, s.y[1] = q1.y;
-      if (type != CURVE_LINE) {
-        const Vec2 q2 = map(c);
-        s.x[2] = q2.x, s.y[2] = q2.y;
-      }
-      out[n] = s;
-    }
+    if (n < capacity) out[n] = input_segment(type, a, b, c, w, path, xf);
     n++;
   }
 };

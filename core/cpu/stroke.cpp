@@ -1,11 +1,10 @@
 // Stage "stroke" on the CPU: the per-element functions of core/stroke.h in
 // loops. Measuring is one task per segment; the scan of lengths runs per
 // subpath; elements (each subpath's segments, then its vertices, so that
-// the output comes grouped by stroke) are counted, scanned and written.
+// the output comes grouped by stroke) append their segments in one pass.
+#include <algorithm>
 #include <chrono>
-#include <type_traits>
 
-#include "core/error.h"
 #include "core/parallel.h"
 #include "core/stroke_input.h"
 
@@ -49,35 +48,39 @@ std::vector<InputSegment> stroke_cpu(const StrokeBatch& b, int threads, StrokeTi
     for (uint32_t k = 0; k < sp.segment_count; k++) elems.push_back({false, sp.first_segment + k});
     for (uint32_t k = 0; k < subpath_vertices(sp); k++) elems.push_back({true, sp.first_vertex + k});
   }
-  auto run = [&](const Element& e, auto& sink) {
-    Emitter<std::remove_reference_t<decltype(sink)>> out(sink);
-    if (e.vertex)
-      stroke_vertex(in, e.index, out);
-    else
-      stroke_segment(in, e.index, out);
+  // One pass: each chunk of elements appends to its own list (the GPU
+  // counts first to place its writes; here lists grow), then the lists are
+  // joined in order.
+  struct VectorSink {
+    std::vector<InputSegment>* out;
+    uint32_t path;
+    const double* xf;
+    void segment(uint32_t type, Vec2 a, Vec2 b, Vec2 c, double w) {
+      out->push_back(input_segment(type, a, b, c, w, path, xf));
+    }
   };
   t0 = std::chrono::steady_clock::now();
-  std::vector<uint64_t> offset(elems.size() + 1, 0);
-  parallel_for(elems.size(), threads, [&](size_t i) {
-    CountSink c;
-    run(elems[i], c);
-    offset[i + 1] = c.n;
+  constexpr size_t kChunk = 32;
+  std::vector<std::vector<InputSegment>> parts((elems.size() + kChunk - 1) / kChunk);
+  parallel_for(parts.size(), threads, [&](size_t c) {
+    for (size_t i = c * kChunk; i < std::min(elems.size(), (c + 1) * kChunk); i++) {
+      const Element& e = elems[i];
+      const uint32_t stroke =
+          e.vertex ? b.subpaths[vertex_subpath(in, e.index)].stroke : b.subpaths[b.segments[e.index].subpath].stroke;
+      const StrokeRecord& rec = b.strokes[stroke];
+      VectorSink sink{&parts[c], rec.path, rec.xf};
+      Emitter<VectorSink> out(sink);
+      if (e.vertex)
+        stroke_vertex(in, e.index, out);
+      else
+        stroke_segment(in, e.index, out);
+    }
   });
-  for (size_t i = 0; i < elems.size(); i++) offset[i + 1] += offset[i];
-  if (times) times->count_ms += ms_since(t0);
-
-  t0 = std::chrono::steady_clock::now();
-  std::vector<InputSegment> out(offset.back());
-  parallel_for(elems.size(), threads, [&](size_t i) {
-    const Element& e = elems[i];
-    const uint32_t stroke =
-        e.vertex ? b.subpaths[vertex_subpath(in, e.index)].stroke : b.subpaths[b.segments[e.index].subpath].stroke;
-    const StrokeRecord& rec = b.strokes[stroke];
-    SegmentSink s{out.data() + offset[i], static_cast<uint32_t>(offset[i + 1] - offset[i]), rec.path, {}, 0};
-    for (int k = 0; k < 6; k++) s.xf[k] = rec.xf[k];
-    run(e, s);
-    if (s.n != offset[i + 1] - offset[i]) throw Error("stroke: an element wrote a different count than it counted");
-  });
+  size_t total = 0;
+  for (const auto& p : parts) total += p.size();
+  std::vector<InputSegment> out;
+  out.reserve(total);
+  for (const auto& p : parts) out.insert(out.end(), p.begin(), p.end());
   if (times) times->write_ms += ms_since(t0);
   return out;
 }

@@ -332,6 +332,7 @@ struct Session {
   std::map<TileKey, Tile> tiles;
   double stroke_seconds = 0;
   size_t stroked_paths = 0;
+  StrokeBatch collected_strokes;  // options.collect_strokes
   // Where relative hrefs resolve (the document's folder) and the folders
   // that may be read (svg_resources.h); the first is the document's own.
   std::string base_dir = ".";

@@ -663,6 +663,7 @@ ParseResult parse_svg_string(std::string_view text, const std::string& base_dir,
   result.scene = conv.run();
   result.stroke_seconds = session.stroke_seconds;
   result.stroked_paths = session.stroked_paths;
+  result.strokes = std::move(session.collected_strokes);
   return result;
 }
 

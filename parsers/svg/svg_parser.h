@@ -45,6 +45,7 @@
 #include <vector>
 
 #include "core/scene.h"
+#include "core/stroke_input.h"
 
 namespace mpvg::svg {
 
@@ -57,6 +58,10 @@ struct ParseResult {
   // the number of strokes converted.
   double stroke_seconds = 0;
   size_t stroked_paths = 0;
+  // ParseOptions::collect_strokes: every stroke as the stroke stage's input
+  // (core/stroke_input.h), the same centrelines, styles and transforms to
+  // pixels the conversion used (path ids are geometry indices).
+  StrokeBatch strokes;
 };
 
 struct ParseOptions {
@@ -72,6 +77,9 @@ struct ParseOptions {
   // with it.
   std::function<Affine(double width, double height)> view;
   double device_scale = 2;
+  // Also gather the strokes as the stroke stage's input (ParseResult::strokes;
+  // stroke_stats compares the stage with the conversion on real documents).
+  bool collect_strokes = false;
 
   // Folders whose files <image> may read besides the document's own
   // folder tree (which is always allowed): relative hrefs, absolute paths

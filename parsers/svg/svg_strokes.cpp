@@ -88,6 +88,22 @@ void Converter::convert_strokes() {
                     ? stroke::stroke_to_fill(stroke::transformed(source, job.space), job.style, job.device)
                     : stroke::stroke_to_fill(source, job.style, job.device);
   });
+  if (s_.options.collect_strokes) {
+    for (const StrokeJob& job : stroke_jobs_) {
+      StrokeStyle st;
+      st.width = job.style.width;
+      st.join = static_cast<uint32_t>(job.style.join);
+      st.cap = static_cast<uint32_t>(job.style.cap);
+      st.miter_limit = job.style.miter_limit;
+      st.dashes = job.style.dashes;
+      st.dash_offset = job.style.dash_offset;
+      const Path& src = shapes_[job.source];
+      if (job.transform_first)
+        s_.collected_strokes.add(stroke::transformed(src, job.space), st, job.device, job.out);
+      else
+        s_.collected_strokes.add(src, st, job.device, job.out);
+    }
+  }
   for (size_t j = 0; j < stroke_jobs_.size(); j++) {
     Path& out = shapes_[stroke_jobs_[j].out];
     out = std::move(pieces[first_task[j]]);

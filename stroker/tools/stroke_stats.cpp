@@ -5,6 +5,11 @@
 // usage: stroke_stats [-w WIDTH_PIXELS] [-r REPEATS] FILE.svg...
 // (strokes prepared for rendering at that width, 1024 by default, as the
 // paper's benchmark)
+//
+// It also runs the stroke stage (core/stroke.h) on the same strokes: on
+// the CPU executor (one thread, then every core) and, in a CUDA build with
+// a device, on the GPU (device time of its kernels, and the upload of the
+// centrelines), with the segments each one makes.
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -12,10 +17,24 @@
 #include <exception>
 #include <string>
 
+#include "core/stroke_input.h"
 #include "parsers/svg/svg_parser.h"
+#ifdef MPVG_WITH_CUDA
+#include "gpu/backend.h"
+#include "gpu/stroke.h"
+#endif
 
 int main(int argc, char** argv) {
   mpvg::svg::ParseOptions options = mpvg::svg::ParseOptions::at_width(1024);
+  auto best_of = [](int n, auto f) {
+    double best = 1e300;
+    for (int k = 0; k < n; k++) {
+      const auto t0 = std::chrono::steady_clock::now();
+      f();
+      best = std::min(best, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+    return best;
+  };
   int repeats = 5;
   int i = 1;
   for (; i < argc && argv[i][0] == '-'; i += 2) {
@@ -45,6 +64,31 @@ int main(int argc, char** argv) {
                   "%zu paths, %zu segments in the scene\n",
                   argv[i], r.stroked_paths, best_stroke * 1e3, best_parse * 1e3, 100 * best_stroke / best_parse,
                   r.scene.paths.size(), segments);
+      // The stroke stage on the same strokes.
+      mpvg::svg::ParseOptions collect = options;
+      collect.collect_strokes = true;
+      const mpvg::StrokeBatch batch = mpvg::svg::parse_svg_file(argv[i], collect).strokes;
+      size_t made = 0;
+      const double one = best_of(repeats, [&] { made = mpvg::stroke_cpu(batch, 1).size(); });
+      const double all = best_of(repeats, [&] { mpvg::stroke_cpu(batch, 0); });
+      std::printf("  stage on the CPU: %zu strokes, %zu centreline segments -> %zu segments; %.2f ms on one "
+                  "thread, %.2f ms on every core\n",
+                  batch.strokes.size(), batch.segments.size(), made, one, all);
+#ifdef MPVG_WITH_CUDA
+      if (mpvg::cuda_available()) {
+        mpvg::gpu::StrokeGpuTimes best;
+        best.measure_ms = 1e300;
+        for (int k = 0; k < repeats + 1; k++) {  // the first run loads the kernels
+          mpvg::gpu::StrokeGpuTimes t;
+          mpvg::gpu::stroke_gpu(batch, &t);
+          if (k > 0 && t.device_ms() < best.device_ms()) best = t;
+        }
+        std::printf("  stage on the GPU: %zu segments; %.3f ms on the device (measure %.3f, count %.3f, write %.3f), "
+                    "upload %.3f ms, %zu launches\n",
+                    best.segments, best.device_ms(), best.measure_ms, best.count_ms, best.write_ms, best.upload_ms,
+                    best.launches);
+      }
+#endif
     } catch (const std::exception& e) {
       std::fprintf(stderr, "stroke_stats: %s\n", e.what());
       return 1;

@@ -1,0 +1,28 @@
+// Stage "stroke" on the GPU (core/stroke.h, one thread per element): the
+// centreline goes up, the fill geometry is built on the device. Plain C++
+// interface for tools and tests; the frame's own use of the stage goes
+// through gpu::Context.
+#pragma once
+#include <cstddef>
+#include <vector>
+
+#include "core/abstraction.h"
+#include "core/stroke_input.h"
+
+namespace mpvg::gpu {
+
+struct StrokeGpuTimes {
+  double upload_ms = 0;   // host to device (wall clock)
+  double measure_ms = 0;  // lengths and their scan (GPU time, events)
+  double count_ms = 0;    // counting pass and its scan
+  double write_ms = 0;    // writing pass
+  double device_ms() const { return measure_ms + count_ms + write_ms; }
+  size_t segments = 0;    // output segments
+  size_t launches = 0;    // kernels and CUB calls
+};
+
+// Expands a batch on the current device and copies the segments back (for
+// tests and tools: in a frame they stay on the device).
+std::vector<InputSegment> stroke_gpu(const StrokeBatch& batch, StrokeGpuTimes* times = nullptr);
+
+}  // namespace mpvg::gpu
