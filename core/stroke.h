@@ -77,6 +77,23 @@ struct StrokeSegment {
   uint32_t index;  // within the subpath
 };
 
+// A body to build: segment `segment`'s curve on [t0, t1] (the whole
+// segment, or a dash's part of it).
+struct StrokePart {
+  uint32_t segment;
+  uint32_t pad = 0;
+  double t0, t1;
+};
+
+// A span of a part, and a fit item (a knot interval of a span, a boundary role).
+struct SpanRef {
+  uint32_t part, index;
+};
+struct FitRef {
+  uint32_t span;
+  uint16_t interval, role;
+};
+
 // The flat input of the stage, as pointers into either executor's memory.
 struct StrokeInput {
   const StrokeRecord* strokes;
@@ -181,9 +198,10 @@ MPVG_HD_INLINE JoinStyle join_style(const StrokeRecord& st) { return {st.h, st.m
 // ---------------------------------------------------------------- elements
 
 // The measuring pass: the arc length of segment i, as the dash table
-// measures it (ArcTable).
+// measures it (ArcTable); 0 for undashed strokes, which need no lengths.
 MPVG_HD_INLINE double stroke_measure(const StrokeInput& in, uint32_t i) {
   const Curve& c = in.segments[i].curve;
+  if (in.strokes[in.subpaths[in.segments[i].subpath].stroke].dash_count == 0) return 0;
   if (c.is_line()) return length(c.p[1] - c.p[0]);
   return ArcTable(c).total();
 }
@@ -195,16 +213,17 @@ MPVG_HD_INLINE Vec2 direction_at(const Curve& c, double t) {
   return d;
 }
 
-// Segment element i.
-template <class Sink>
-MPVG_HD void stroke_segment(const StrokeInput& in, uint32_t i, Emitter<Sink>& out) {
+// Segment element i: the caps and dots of the dashes on it, to `out`, and
+// the parts of it to build bodies for, to parts(t0, t1).
+template <class Sink, class Parts>
+MPVG_HD void stroke_segment(const StrokeInput& in, uint32_t i, Emitter<Sink>& out, Parts&& parts) {
   const StrokeSegment& seg = in.segments[i];
   const StrokeSubpath& sp = in.subpaths[seg.subpath];
   const StrokeRecord& st = in.strokes[sp.stroke];
   const Curve& c = seg.curve;
   const double len = in.sub_length[seg.subpath];
   if (solid(st, len)) {
-    emit_body(c, st.h, st.tol, out);
+    parts(0.0, 1.0);
     return;
   }
   const JoinStyle js = join_style(st);
@@ -240,7 +259,7 @@ MPVG_HD void stroke_segment(const StrokeInput& in, uint32_t i, Emitter<Sink>& ou
           const double t0 = param(lo), t1 = param(hi);
           const Curve part = c.sub(t0, t1);
           if (part.extent() > 0) {
-            emit_body(part, st.h, st.tol, out);
+            parts(t0, t1);
             const bool begins = b >= s0 && b < s1 && !(wrap && b == 0);
             const bool ends = e > s0 && e <= s1 && !(wrap && e == len);
             if (begins) emit_cap(js, part.start(), part.start_tangent(), false, out);
@@ -308,6 +327,26 @@ MPVG_HD void stroke_vertex(const StrokeInput& in, uint32_t v, Emitter<Sink>& out
   }
   emit_join(js, next.start(), prev.end_tangent(), next.start_tangent(), end_curvature(prev, true),
             end_curvature(next, false), out);
+}
+
+// ---------------------------------------------------------------- body items
+
+// The curve of a part, and the half width and tolerance of its stroke.
+struct PartCurve {
+  Curve c;
+  double h, tol;
+  uint32_t stroke;
+};
+MPVG_HD_INLINE PartCurve part_curve(const StrokeInput& in, const StrokePart& p) {
+  const StrokeSegment& seg = in.segments[p.segment];
+  const StrokeRecord& st = in.strokes[in.subpaths[seg.subpath].stroke];
+  return {seg.curve.sub(p.t0, p.t1), st.h, st.tol, in.subpaths[seg.subpath].stroke};
+}
+
+// Fit items of a span: knot intervals times boundary roles.
+MPVG_HD_INLINE uint32_t span_fit_items(const Knots& kn) { return static_cast<uint32_t>((kn.n - 1) * span_roles(kn.span.kind)); }
+MPVG_HD_INLINE FitRef fit_ref(uint32_t span, int nroles, uint32_t k) {
+  return {span, static_cast<uint16_t>(k / nroles), static_cast<uint16_t>(k % nroles)};
 }
 
 }  // namespace mpvg::stroking

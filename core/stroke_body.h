@@ -222,11 +222,14 @@ MPVG_HD_INLINE bool fit_piece(const Boundary& g, double tol, double u, double v,
   return false;
 }
 
-// The pieces of the boundary over [u, v], in order (or in reverse order,
-// each reversed), to the emitter. The walk is depth first with an explicit
-// stack; every decision depends on the interval alone.
+// The pieces of the boundary over [u, v] (each reversed when backwards),
+// to the sink. The walk is depth first with an explicit stack; every
+// decision depends on the interval alone.
 template <class Sink>
-MPVG_HD void fit_interval(const Boundary& g, double tol, double u, double v, bool backwards, Emitter<Sink>& out) {
+MPVG_HD void emit_piece(Sink& out, Piece q, bool backwards);
+
+template <class Sink>
+MPVG_HD void fit_interval(const Boundary& g, double tol, double u, double v, bool backwards, Sink& out) {
   struct Node {
     double u, v;
     int depth;
@@ -239,17 +242,11 @@ MPVG_HD void fit_interval(const Boundary& g, double tol, double u, double v, boo
     Piece pc;
     double m = 0;
     if (fit_piece(g, tol, nd.u, nd.v, nd.depth, &pc, &m)) {
-      out.piece(backwards ? reversed(pc) : pc);
+      emit_piece(out, pc, backwards);
       continue;
     }
-    // The half to emit first goes on top.
-    if (backwards) {
-      stack[top++] = {nd.u, m, nd.depth + 1};
-      stack[top++] = {m, nd.v, nd.depth + 1};
-    } else {
-      stack[top++] = {m, nd.v, nd.depth + 1};
-      stack[top++] = {nd.u, m, nd.depth + 1};
-    }
+    stack[top++] = {m, nd.v, nd.depth + 1};
+    stack[top++] = {nd.u, m, nd.depth + 1};
   }
 }
 
@@ -594,138 +591,172 @@ class Analysis {
 
 // ---------------------------------------------------------------- bodies
 
-// One span of a segment, between breaks i and i + 1.
+// A body is built by three kinds of work items, each independent of the
+// others of its kind, so that a long curve is spread over many threads:
+//   - the part (one per segment, or per dash's part of it): its analysis
+//     (the breaks, stored), and what ties its boundaries into closed
+//     contours: the normals at the ends of each run, the lines (almost
+//     always of zero length, then nothing) between spans inside a run, and
+//     a disk at each cusp; a line's body is its rectangle, here;
+//   - the span (between consecutive breaks): its knots, stored;
+//   - the fit item (a knot interval of a span, and a boundary role): the
+//     fitted pieces of one boundary over that interval.
+// A run of spans of one kind with no cusp between them is one or two closed
+// contours, "boundary X forwards, boundary Y backwards": a normal run the
+// right offset and the left offset; a high-curvature run the part with
+// 1 - s k >= 0 (an offset and the evolute) and, traced reversed, the part
+// with 1 - s k <= 0 (the other offset and the evolute). Pieces of a
+// boundary meet exactly (the same function at the same parameter), so the
+// contours close however their pieces are spread.
+
+// One span of a curve, between breaks i and i + 1.
 struct Span {
   double a, b;
   Vec2 ta, tb;
   int kind;
-  bool cusp_at_a;
 };
 
 MPVG_HD_INLINE Span span_of(const Analysis& an, const Breaks& br, int i) {
   Span sp;
   sp.a = br.t[i];
   sp.b = br.t[i + 1];
-  sp.cusp_at_a = br.cusp[i];
   sp.ta = an.end_tangent(sp.a, sp.b, br.cusp[i], true);
   sp.tb = an.end_tangent(sp.b, sp.a, br.cusp[i + 1], false);
   sp.kind = an.kind_at((sp.a + sp.b) / 2);
   return sp;
 }
 
-// The spans of a run with their knots, computed once for the run's
-// boundaries when the run is short (most are one to three spans);
-// longer runs recompute them per boundary.
-constexpr int kCachedSpans = 4;
-struct RunCache {
-  int n = 0;  // spans cached (0: none)
-  Span sp[kCachedSpans];
-  double knots[kCachedSpans][Analysis::kMaxKnots];
-  int nk[kCachedSpans];
-};
+// Boundary roles of a span of `kind`: 2 for a normal span (the contour's
+// X and Y), 4 for a high-curvature one (two contours).
+MPVG_HD_INLINE int span_roles(int kind) { return kind == 0 ? 2 : 4; }
 
-// The boundary (offset at s, or the evolute) over spans [i, j), fitted to
-// `tol`, forwards or backwards.
-template <class Sink>
-MPVG_HD void emit_boundary(const Curve& c, const Analysis& an, const Breaks& br, int i, int j, const RunCache& cache,
-                           bool evolute, double s, double h, double tol, bool backwards, Emitter<Sink>& out) {
-  for (int q = 0; q < j - i; q++) {
-    const int k = backwards ? j - 1 - q : i + q;
-    Span sp;
-    double own[Analysis::kMaxKnots];
-    const double* knots;
-    int nk;
-    if (cache.n > 0) {
-      sp = cache.sp[k - i];
-      knots = cache.knots[k - i];
-      nk = cache.nk[k - i];
-    } else {
-      sp = span_of(an, br, k);
-      nk = an.knots(sp.a, sp.b, sp.ta, sp.tb, sp.kind, own);
-      knots = own;
+struct Role {
+  bool evolute;
+  double s;  // offset distance (offsets)
+  bool backwards;
+};
+MPVG_HD_INLINE Role span_role(int kind, int r, double h) {
+  if (kind == 0) return r == 0 ? Role{false, -h, false} : Role{false, h, true};
+  if (kind > 0) {
+    // Centres of curvature on the left: s in [1/k, h] apart (left offset,
+    // evolute); s in [-h, 1/k] as it is (right offset, evolute).
+    switch (r) {
+      case 0: return {false, h, false};
+      case 1: return {true, 0, true};
+      case 2: return {false, -h, false};
+      default: return {true, 0, true};
     }
-    Boundary g;
-    g.f = {&c, sp.a, sp.b, sp.ta, sp.tb};
-    g.evolute = evolute;
-    g.s = s;
-    g.h = h;
-    g.side = sp.kind;
-    for (int r = 0; r + 1 < nk; r++) {
-      const int x = backwards ? nk - 2 - r : r;
-      fit_interval(g, tol, knots[x], knots[x + 1], backwards, out);
-    }
+  }
+  // Centres on the right: s in [-h, 1/k] apart (evolute, right offset);
+  // s in [1/k, h] as it is (evolute, left offset).
+  switch (r) {
+    case 0: return {true, 0, false};
+    case 1: return {false, -h, true};
+    case 2: return {true, 0, false};
+    default: return {false, h, true};
   }
 }
 
-// The body of one segment (of positive extent) with half width h: closed
-// contours, each positively oriented, whose union is the set of normal
-// segments the curve sweeps. Lines are rectangles. A curve is cut into runs
-// of spans of one kind with no cusp between them; a normal run is the
-// contour "right offset forwards, left offset backwards"; a high-curvature
-// run is two contours, the part with 1 - s k >= 0 ("offset forwards,
-// evolute backwards") and the part with 1 - s k <= 0 (traced reversed,
-// "the other offset forwards, evolute backwards"). A cusp between runs gets
-// a disk of radius h.
+MPVG_HD_INLINE Boundary boundary_of(const Curve& c, const Span& sp, const Role& role, double h) {
+  Boundary g;
+  g.f = {&c, sp.a, sp.b, sp.ta, sp.tb};
+  g.evolute = role.evolute;
+  g.s = role.s;
+  g.h = h;
+  g.side = sp.kind;
+  return g;
+}
+
+// A line a -> b to the sink, unless it has no length.
 template <class Sink>
-MPVG_HD void emit_body(const Curve& c, double h, double tol, Emitter<Sink>& out) {
+MPVG_HD void emit_line(Sink& out, Vec2 a, Vec2 b) {
+  if (!(a == b)) out.segment(CURVE_LINE, a, b, b, 1);
+}
+
+// A fitted piece to the sink (reversed when backwards), unless degenerate.
+template <class Sink>
+MPVG_HD void emit_piece(Sink& out, Piece q, bool backwards) {
+  if (backwards) q = reversed(q);
+  if (q.type == CURVE_LINE)
+    emit_line(out, q.p0, q.p2);
+  else if (q.p0 != q.p2 || q.p1 != q.p0)
+    out.segment(q.type, q.p0, q.p1, q.p2, q.w);
+}
+
+// The part's analysis: its breaks (none for a line). Returns its spans.
+MPVG_HD_INLINE int analyse_part(const Curve& c, double h, Breaks& br) {
+  if (c.is_line()) {
+    br.n = 0;
+    return 0;
+  }
+  Analysis(c, h).find_breaks(br);
+  return br.n - 1;
+}
+
+// The part item's own output: a line's rectangle, or the ties of the runs
+// (see above) and the disks at cusps.
+template <class Sink>
+MPVG_HD void emit_part(const Curve& c, double h, const Breaks& br, Sink& sink) {
   if (c.is_line()) {
     const Vec2 n = h * rot90(normalized(c.p[1] - c.p[0]));
-    out.begin(c.p[0] - n);
-    out.line(c.p[1] - n);
-    out.line(c.p[1] + n);
-    out.line(c.p[0] + n);
-    out.close();
+    const Vec2 q[4] = {c.p[0] - n, c.p[1] - n, c.p[1] + n, c.p[0] + n};
+    for (int k = 0; k < 4; k++) emit_line(sink, q[k], q[(k + 1) % 4]);
     return;
   }
-  Analysis an(c, h);
-  Breaks br;
-  an.find_breaks(br);
+  const Analysis an(c, h);
   const int nspans = br.n - 1;
-  const double ftol = 0.75 * tol;
   int i = 0;
   while (i < nspans) {
     const int kind = an.kind_at((br.t[i] + br.t[i + 1]) / 2);
     int j = i + 1;
     while (j < nspans && !br.cusp[j] && an.kind_at((br.t[j] + br.t[j + 1]) / 2) == kind) j++;
-    if (i > 0 && br.cusp[i]) out.disk(c.point(br.t[i]), h);
-    RunCache cache;
-    if (j - i <= kCachedSpans) {
-      for (int q = 0; q < j - i; q++) {
-        const Span& sp = cache.sp[q] = span_of(an, br, i + q);
-        cache.nk[q] = an.knots(sp.a, sp.b, sp.ta, sp.tb, sp.kind, cache.knots[q]);
-      }
-      cache.n = j - i;
+    if (i > 0 && br.cusp[i]) {
+      Emitter<Sink> out(sink);
+      out.disk(c.point(br.t[i]), h);
     }
-    // X forwards, then Y backwards, as one closed contour.
-    auto contour = [&](bool x_ev, double x_s, bool y_ev, double y_s) {
-      const Span first = cache.n > 0 ? cache.sp[0] : span_of(an, br, i);
-      Vec2 dir;
-      Boundary g;
-      g.f = {&c, first.a, first.b, first.ta, first.tb};
-      g.evolute = x_ev;
-      g.s = x_s;
-      g.h = h;
-      g.side = first.kind;
-      out.begin(g.point(first.a, &dir));
-      emit_boundary(c, an, br, i, j, cache, x_ev, x_s, h, ftol, false, out);
-      emit_boundary(c, an, br, i, j, cache, y_ev, y_s, h, ftol, true, out);
-      out.close();
-    };
-    if (kind == 0) {
-      contour(false, -h, false, h);
-    } else if (kind > 0) {
-      // Centres of curvature on the left: s in [-h, 1/k] as it is (right
-      // offset, evolute); s in [1/k, h] apart (left offset, evolute).
-      contour(false, h, true, 0);
-      contour(false, -h, true, 0);
-    } else {
-      // Centres on the right: s in [1/k, h] as it is (evolute, left
-      // offset); s in [-h, 1/k] apart (evolute, right offset).
-      contour(true, 0, false, -h);
-      contour(true, 0, false, h);
+    const Span first = span_of(an, br, i), last = span_of(an, br, j - 1);
+    for (int q = 0; q < span_roles(kind) / 2; q++) {
+      const Role rx = span_role(kind, 2 * q, h), ry = span_role(kind, 2 * q + 1, h);
+      Vec2 d;
+      const Vec2 xa = boundary_of(c, first, rx, h).point(first.a, &d);
+      const Vec2 xb = boundary_of(c, last, rx, h).point(last.b, &d);
+      const Vec2 ya = boundary_of(c, first, ry, h).point(first.a, &d);
+      const Vec2 yb = boundary_of(c, last, ry, h).point(last.b, &d);
+      emit_line(sink, xb, yb);  // the normal at the run's end
+      emit_line(sink, ya, xa);  // and at its start
+      // Between spans of the run: X forwards, Y backwards.
+      for (int k = i; k + 1 < j; k++) {
+        const Span s0 = span_of(an, br, k), s1 = span_of(an, br, k + 1);
+        const Vec2 x0 = boundary_of(c, s0, rx, h).point(s0.b, &d), x1 = boundary_of(c, s1, rx, h).point(s1.a, &d);
+        const Vec2 y0 = boundary_of(c, s0, ry, h).point(s0.b, &d), y1 = boundary_of(c, s1, ry, h).point(s1.a, &d);
+        emit_line(sink, x0, x1);
+        emit_line(sink, y1, y0);
+      }
     }
     i = j;
   }
+}
+
+// The span item: span i of a part with its knots (Analysis::knots).
+struct Knots {
+  Span span;
+  double k[Analysis::kMaxKnots];
+  int n = 0;
+};
+MPVG_HD_INLINE void span_knots(const Curve& c, double h, const Breaks& br, int i, Knots& out) {
+  const Analysis an(c, h);
+  const Span sp = span_of(an, br, i);
+  out.span = sp;
+  out.n = an.knots(sp.a, sp.b, sp.ta, sp.tb, sp.kind, out.k);
+}
+
+// The fit item: boundary `role` of span i over knot interval x, fitted to
+// 3/4 of the tolerance.
+template <class Sink>
+MPVG_HD void fit_item(const Curve& c, double h, double tol, const Knots& kn, int x, int role, Sink& sink) {
+  const Role r = span_role(kn.span.kind, role, h);
+  const Boundary g = boundary_of(c, kn.span, r, h);
+  fit_interval(g, 0.75 * tol, kn.k[x], kn.k[x + 1], r.backwards, sink);
 }
 
 }  // namespace mpvg::stroking

@@ -46,10 +46,10 @@ struct StrokeBatch {
 };
 
 // The CPU executor of the stage: measuring, the scan of lengths, then every
-// element's segments (threads <= 0: every core). Output segments come
-// grouped by stroke, in the order strokes were added.
+// item's segments (threads <= 0: every core). Output segments come grouped
+// by path, in increasing path id.
 struct StrokeTimes {
-  double measure_ms = 0, write_ms = 0;
+  double measure_ms = 0, elements_ms = 0, parts_ms = 0, fit_ms = 0;
 };
 std::vector<InputSegment> stroke_cpu(const StrokeBatch& batch, int threads = 0, StrokeTimes* times = nullptr);
 

@@ -1,7 +1,11 @@
 // Stage "stroke" on the GPU: one thread per segment measures it; a scan by
-// subpath gives each segment's arc length from its subpath's start; one
-// thread per element (each subpath's segments, then its vertices) counts
-// its output, an exclusive scan places it, and the same element writes it.
+// subpath gives each segment's arc length from its subpath's start. Then,
+// one thread per item, kind after kind: elements (each subpath's segments,
+// then its vertices: caps, joins, dots, and the parts to build bodies
+// for), parts (analysis and the ties of their contours), spans (knots),
+// fit items (fitted boundary pieces). Each kind counts its output, an
+// exclusive scan places it, and the same items write it. The segments are
+// then grouped by path (a stable radix sort), as abstraction takes them.
 #include <chrono>
 
 #include "core/error.h"
@@ -55,41 +59,167 @@ __device__ ElementRef element_of(const StrokeInput& in, const uint32_t* first_el
   return {true, sp.first_vertex + (k - sp.segment_count), sp.stroke};
 }
 
-__global__ void k_stroke_count(StrokeInput in, const uint32_t* first_element, uint32_t nelem, uint32_t* count) {
+__device__ SegmentSink sink_at(const StrokeInput& in, uint32_t stroke, InputSegment* out, uint32_t capacity) {
+  const StrokeRecord& rec = in.strokes[stroke];
+  return SegmentSink{out, capacity, rec.path, rec.xf, 0};
+}
+
+// Elements: their own segments (caps, joins, dots) and their parts.
+__global__ void k_element_count(StrokeInput in, const uint32_t* first_element, uint32_t nelem, uint32_t* count,
+                                uint32_t* part_count) {
   const uint32_t e = blockIdx.x * blockDim.x + threadIdx.x;
   if (e > nelem) return;
   if (e == nelem) {
-    count[e] = 0;
+    count[e] = part_count[e] = 0;
     return;
   }
   const ElementRef r = element_of(in, first_element, e);
   CountSink sink;
   Emitter<CountSink> out(sink);
+  uint32_t parts = 0;
   if (r.vertex)
     stroke_vertex(in, r.index, out);
   else
-    stroke_segment(in, r.index, out);
+    stroke_segment(in, r.index, out, [&](double, double) { parts++; });
   count[e] = sink.n;
+  part_count[e] = parts;
 }
 
-__global__ void k_stroke_write(StrokeInput in, const uint32_t* first_element, uint32_t nelem, const uint32_t* offset,
-                               InputSegment* out_segments, uint32_t* mismatch) {
+__global__ void k_element_write(StrokeInput in, const uint32_t* first_element, uint32_t nelem, const uint32_t* offset,
+                                const uint32_t* part_offset, InputSegment* segs, StrokePart* parts,
+                                uint32_t* mismatch) {
   const uint32_t e = blockIdx.x * blockDim.x + threadIdx.x;
   if (e >= nelem) return;
   const ElementRef r = element_of(in, first_element, e);
-  const StrokeRecord& rec = in.strokes[r.stroke];
-  SegmentSink sink{out_segments + offset[e], offset[e + 1] - offset[e], rec.path, rec.xf, 0};
+  SegmentSink sink = sink_at(in, r.stroke, segs + offset[e], offset[e + 1] - offset[e]);
   Emitter<SegmentSink> out(sink);
+  uint32_t np = 0;
+  const uint32_t room = part_offset[e + 1] - part_offset[e];
   if (r.vertex)
     stroke_vertex(in, r.index, out);
   else
-    stroke_segment(in, r.index, out);
-  if (sink.n != offset[e + 1] - offset[e]) atomicOr(mismatch, 1u);
+    stroke_segment(in, r.index, out, [&](double a, double z) {
+      if (np < room) parts[part_offset[e] + np] = StrokePart{r.index, 0, a, z};
+      np++;
+    });
+  if (sink.n != offset[e + 1] - offset[e] || np != room) atomicOr(mismatch, 1u);
+}
+
+// Parts: analysis (breaks kept), their own segments, their spans.
+__global__ void k_part_count(StrokeInput in, const StrokePart* parts, uint32_t nparts, Breaks* breaks, uint32_t* count,
+                             uint32_t* span_count) {
+  const uint32_t p = blockIdx.x * blockDim.x + threadIdx.x;
+  if (p > nparts) return;
+  if (p == nparts) {
+    count[p] = span_count[p] = 0;
+    return;
+  }
+  const PartCurve pc = part_curve(in, parts[p]);
+  Breaks br;
+  const int n = analyse_part(pc.c, pc.h, br);
+  breaks[p] = br;
+  CountSink sink;
+  emit_part(pc.c, pc.h, br, sink);
+  count[p] = sink.n;
+  span_count[p] = static_cast<uint32_t>(n);
+}
+
+__global__ void k_part_write(StrokeInput in, const StrokePart* parts, uint32_t nparts, const Breaks* breaks,
+                             const uint32_t* offset, const uint32_t* span_offset, InputSegment* segs, SpanRef* spans,
+                             uint32_t* mismatch) {
+  const uint32_t p = blockIdx.x * blockDim.x + threadIdx.x;
+  if (p >= nparts) return;
+  const PartCurve pc = part_curve(in, parts[p]);
+  SegmentSink sink = sink_at(in, pc.stroke, segs + offset[p], offset[p + 1] - offset[p]);
+  emit_part(pc.c, pc.h, breaks[p], sink);
+  if (sink.n != offset[p + 1] - offset[p]) atomicOr(mismatch, 1u);
+  for (uint32_t k = span_offset[p]; k < span_offset[p + 1]; k++) spans[k] = SpanRef{p, k - span_offset[p]};
+}
+
+// Spans: knots, and how many fit items.
+__global__ void k_span_knots(StrokeInput in, const StrokePart* parts, const Breaks* breaks, const SpanRef* spans,
+                             uint32_t nspans, Knots* knots, uint32_t* items) {
+  const uint32_t s = blockIdx.x * blockDim.x + threadIdx.x;
+  if (s > nspans) return;
+  if (s == nspans) {
+    items[s] = 0;
+    return;
+  }
+  const SpanRef sr = spans[s];
+  const PartCurve pc = part_curve(in, parts[sr.part]);
+  const Breaks& br = breaks[sr.part];
+  Knots kn;
+  span_knots(pc.c, pc.h, br, static_cast<int>(sr.index), kn);
+  knots[s] = kn;
+  items[s] = span_fit_items(kn);
+}
+
+__global__ void k_span_items(const Knots* knots, uint32_t nspans, const uint32_t* item_offset, FitRef* fits) {
+  const uint32_t s = blockIdx.x * blockDim.x + threadIdx.x;
+  if (s >= nspans) return;
+  const uint32_t n = item_offset[s + 1] - item_offset[s];
+  const int roles = span_roles(knots[s].span.kind);
+  for (uint32_t k = 0; k < n; k++) fits[item_offset[s] + k] = fit_ref(s, roles, k);
+}
+
+// Fit items: the fitted pieces of one boundary over one knot interval.
+template <class Sink>
+__device__ void run_fit(const StrokeInput& in, const StrokePart* parts, const Breaks* breaks, const SpanRef* spans,
+                        const Knots* knots, FitRef f, uint32_t* stroke, Sink& sink) {
+  const SpanRef sr = spans[f.span];
+  const PartCurve pc = part_curve(in, parts[sr.part]);
+  *stroke = pc.stroke;
+  fit_item(pc.c, pc.h, pc.tol, knots[f.span], f.interval, f.role, sink);
+}
+
+__global__ void k_fit_count(StrokeInput in, const StrokePart* parts, const Breaks* breaks, const SpanRef* spans,
+                            const Knots* knots, const FitRef* fits, uint32_t nfits, uint32_t* count) {
+  const uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i > nfits) return;
+  if (i == nfits) {
+    count[i] = 0;
+    return;
+  }
+  CountSink sink;
+  uint32_t stroke;
+  run_fit(in, parts, breaks, spans, knots, fits[i], &stroke, sink);
+  count[i] = sink.n;
+}
+
+__global__ void k_fit_write(StrokeInput in, const StrokePart* parts, const Breaks* breaks, const SpanRef* spans,
+                            const Knots* knots, const FitRef* fits, uint32_t nfits, const uint32_t* offset,
+                            InputSegment* segs, uint32_t* mismatch) {
+  const uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= nfits) return;
+  const SpanRef sr = spans[fits[i].span];
+  const uint32_t stroke = in.subpaths[in.segments[parts[sr.part].segment].subpath].stroke;
+  SegmentSink sink = sink_at(in, stroke, segs + offset[i], offset[i + 1] - offset[i]);
+  uint32_t s;
+  run_fit(in, parts, breaks, spans, knots, fits[i], &s, sink);
+  if (sink.n != offset[i + 1] - offset[i]) atomicOr(mismatch, 1u);
+}
+
+// Grouping by path: keys and a gather after a stable radix sort.
+__global__ void k_path_keys(const InputSegment* segs, uint32_t n, uint32_t* keys, uint32_t* index) {
+  const uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n) return;
+  keys[i] = segs[i].path;
+  index[i] = i;
+}
+__global__ void k_gather(const InputSegment* segs, const uint32_t* index, uint32_t n, InputSegment* out) {
+  const uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < n) out[i] = segs[index[i]];
 }
 
 template <class T>
 void upload(DeviceBuffer<T>& d, const std::vector<T>& h) {
   d.upload(h);
+}
+
+uint32_t read_word(const uint32_t* p) {
+  uint32_t v = 0;
+  MPVG_CUDA(cudaMemcpy(&v, p, sizeof v, cudaMemcpyDeviceToHost));
+  return v;
 }
 
 }  // namespace
@@ -148,26 +278,87 @@ std::vector<InputSegment> stroke_gpu(const StrokeBatch& b, StrokeGpuTimes* times
     t.launches++;
   }
   MPVG_CUDA(cudaEventRecord(ev[1]));
-  count.resize(nelem + 1);
-  offset.resize(nelem + 1);
-  k_stroke_count<<<grid_for(nelem + 1, kBlock), kBlock>>>(in, first_element.data(), nelem, count.data());
-  MPVG_LAUNCHED();
-    t.launches++;
-  prim.exclusive_sum(count.data(), offset.data(), nelem + 1);
-  MPVG_LAUNCHED();
-    t.launches++;
-  uint32_t total = 0;
-  MPVG_CUDA(cudaMemcpy(&total, offset.data() + nelem, sizeof total, cudaMemcpyDeviceToHost));
-  MPVG_CUDA(cudaEventRecord(ev[2]));
+  // Elements, then parts, spans and fit items; each kind counts, scans and
+  // writes. Output: the elements' segments, the parts', the fit items'.
+  DeviceBuffer<uint32_t> pcount, poffset, scount, soffset;
+  DeviceBuffer<StrokePart> parts;
+  DeviceBuffer<Breaks> breaks;
+  DeviceBuffer<SpanRef> spans;
+  DeviceBuffer<Knots> knots;
+  DeviceBuffer<FitRef> fits;
   DeviceBuffer<InputSegment> out;
-  out.resize(total + 1);
   mismatch.resize(1);
   MPVG_CUDA(cudaMemset(mismatch.data(), 0, sizeof(uint32_t)));
-  if (nelem) {
-    k_stroke_write<<<grid_for(nelem, kBlock), kBlock>>>(in, first_element.data(), nelem, offset.data(), out.data(),
-                                                        mismatch.data());
+  auto launch = [&](auto kernel, uint32_t n, auto... args) {
+    if (!n) return;
+    kernel<<<grid_for(n, kBlock), kBlock>>>(args...);
     MPVG_LAUNCHED();
     t.launches++;
+  };
+  auto scan = [&](DeviceBuffer<uint32_t>& c, DeviceBuffer<uint32_t>& o, uint32_t n) {
+    o.resize(n + 1);
+    prim.exclusive_sum(c.data(), o.data(), n + 1);
+    t.launches++;
+    return read_word(o.data() + n);
+  };
+  count.resize(nelem + 1);
+  pcount.resize(nelem + 1);
+  launch(k_element_count, nelem + 1, in, first_element.data(), nelem, count.data(), pcount.data());
+  const uint32_t a_total = scan(count, offset, nelem);
+  const uint32_t nparts = scan(pcount, poffset, nelem);
+  // Room for the elements' segments now; the others' are added as counted.
+  out.resize(a_total + 1);
+  parts.resize(nparts + 1);
+  launch(k_element_write, nelem, in, first_element.data(), nelem, offset.data(), poffset.data(), out.data(),
+         parts.data(), mismatch.data());
+
+  breaks.resize(nparts + 1);
+  count.resize(nparts + 1);
+  scount.resize(nparts + 1);
+  launch(k_part_count, nparts + 1, in, parts.data(), nparts, breaks.data(), count.data(), scount.data());
+  const uint32_t b_total = scan(count, offset, nparts);
+  const uint32_t nspans = scan(scount, soffset, nparts);
+  out.grow_keep(a_total + b_total + 1);
+  spans.resize(nspans + 1);
+  launch(k_part_write, nparts, in, parts.data(), nparts, breaks.data(), offset.data(), soffset.data(),
+         out.data() + a_total, spans.data(), mismatch.data());
+
+  knots.resize(nspans + 1);
+  count.resize(nspans + 1);
+  launch(k_span_knots, nspans + 1, in, parts.data(), breaks.data(), spans.data(), nspans, knots.data(), count.data());
+  const uint32_t nfits = scan(count, offset, nspans);
+  fits.resize(nfits + 1);
+  launch(k_span_items, nspans, knots.data(), nspans, offset.data(), fits.data());
+  count.resize(nfits + 1);
+  launch(k_fit_count, nfits + 1, in, parts.data(), breaks.data(), spans.data(), knots.data(), fits.data(), nfits,
+         count.data());
+  const uint32_t c_total = scan(count, offset, nfits);
+  MPVG_CUDA(cudaEventRecord(ev[2]));
+  const uint32_t total = a_total + b_total + c_total;
+  out.grow_keep(total + 1);
+  launch(k_fit_write, nfits, in, parts.data(), breaks.data(), spans.data(), knots.data(), fits.data(), nfits,
+         offset.data(), out.data() + a_total + b_total, mismatch.data());
+
+  // Grouped by path, as abstraction takes its input (stable: each path's
+  // segments keep their order).
+  DeviceBuffer<uint32_t> keys_in, keys_out, idx_in, idx_out;
+  DeviceBuffer<InputSegment> grouped;
+  keys_in.resize(total + 1);
+  keys_out.resize(total + 1);
+  idx_in.resize(total + 1);
+  idx_out.resize(total + 1);
+  grouped.resize(total + 1);
+  if (total) {
+    launch(k_path_keys, total, out.data(), total, keys_in.data(), idx_in.data());
+    size_t bytes = 0;
+    MPVG_CUDA(cub::DeviceRadixSort::SortPairs(nullptr, bytes, keys_in.data(), keys_out.data(), idx_in.data(),
+                                              idx_out.data(), static_cast<int>(total)));
+    DeviceBuffer<uint8_t> temp;
+    temp.resize(bytes);
+    MPVG_CUDA(cub::DeviceRadixSort::SortPairs(temp.data(), bytes, keys_in.data(), keys_out.data(), idx_in.data(),
+                                              idx_out.data(), static_cast<int>(total)));
+    t.launches++;
+    launch(k_gather, total, out.data(), idx_out.data(), total, grouped.data());
   }
   MPVG_CUDA(cudaEventRecord(ev[3]));
   MPVG_CUDA(cudaEventSynchronize(ev[3]));
@@ -177,11 +368,9 @@ std::vector<InputSegment> stroke_gpu(const StrokeBatch& b, StrokeGpuTimes* times
   t.measure_ms = ms[0];
   t.count_ms = ms[1];
   t.write_ms = ms[2];
-  uint32_t bad = 0;
-  MPVG_CUDA(cudaMemcpy(&bad, mismatch.data(), sizeof bad, cudaMemcpyDeviceToHost));
-  if (bad) throw Error("stroke: an element wrote a different count than it counted (GPU)");
+  if (read_word(mismatch.data())) throw Error("stroke: an item wrote a different count than it counted (GPU)");
   std::vector<InputSegment> host(total);
-  if (total) MPVG_CUDA(cudaMemcpy(host.data(), out.data(), total * sizeof(InputSegment), cudaMemcpyDeviceToHost));
+  if (total) MPVG_CUDA(cudaMemcpy(host.data(), grouped.data(), total * sizeof(InputSegment), cudaMemcpyDeviceToHost));
   t.segments = total;
   if (times) *times = t;
   return host;

@@ -311,7 +311,7 @@ TEST_CASE("stroke stage: GPU and CPU executors agree", "[gpu][stroke_stage]") {
     CHECK(std::memcmp(g1.data(), g2.data(), g1.size() * sizeof(InputSegment)) == 0);
     INFO("iteration " << iter << ": " << cpu.size() << " segments on the CPU, " << g1.size() << " on the GPU");
     CHECK(std::abs(static_cast<long>(cpu.size()) - static_cast<long>(g1.size())) <= 8);
-    const std::vector<float> a = test::coverage(test::path_of(cpu), Affine{}), c = test::coverage(test::path_of(g1), Affine{});
+    const std::vector<float> a = test::coverage(cpu), c = test::coverage(g1);
     int n = 0;
     for (size_t i = 0; i < a.size(); i++) n += std::fabs(a[i] - c[i]) > 1.0f / 255;
     CHECK(n <= 2);

@@ -45,7 +45,8 @@ Diff compare(const Path& path, const sk::Style& style, const Affine& xf) {
   StrokeBatch batch;
   batch.add(path, style_of(style), xf, 0);
   const std::vector<InputSegment> segs = stroke_cpu(batch, 1);
-  const std::vector<float> a = coverage(old_fill, xf), b = coverage(path_of(segs), Affine{});
+  const std::vector<float> a = coverage(old_fill.empty() ? std::vector<InputSegment>{} : segments_of(old_fill, xf)),
+                           b = coverage(segs);
   Diff d;
   for (int i = 0; i < kSize * kSize; i++) {
     const float e = std::fabs(a[i] - b[i]);

@@ -1,7 +1,8 @@
-// Stage "stroke" on the CPU: the per-element functions of core/stroke.h in
-// loops. Measuring is one task per segment; the scan of lengths runs per
-// subpath; elements (each subpath's segments, then its vertices, so that
-// the output comes grouped by stroke) append their segments in one pass.
+// Stage "stroke" on the CPU: the per-item functions of core/stroke.h in
+// loops, in the GPU's order: measuring (one task per segment), the scan of
+// lengths per subpath, the elements (each subpath's segments, then its
+// vertices), the parts of bodies, their spans, the fit items; each kind
+// appends its segments in one pass. The output is grouped by path.
 #include <algorithm>
 #include <chrono>
 
@@ -48,9 +49,9 @@ std::vector<InputSegment> stroke_cpu(const StrokeBatch& b, int threads, StrokeTi
     for (uint32_t k = 0; k < sp.segment_count; k++) elems.push_back({false, sp.first_segment + k});
     for (uint32_t k = 0; k < subpath_vertices(sp); k++) elems.push_back({true, sp.first_vertex + k});
   }
-  // One pass: each chunk of elements appends to its own list (the GPU
-  // counts first to place its writes; here lists grow), then the lists are
-  // joined in order.
+  // Items of each kind in one pass: each chunk appends its segments to its
+  // own list (the GPU counts first to place its writes; here lists grow),
+  // and the lists are joined in order.
   struct VectorSink {
     std::vector<InputSegment>* out;
     uint32_t path;
@@ -59,29 +60,85 @@ std::vector<InputSegment> stroke_cpu(const StrokeBatch& b, int threads, StrokeTi
       out->push_back(input_segment(type, a, b, c, w, path, xf));
     }
   };
-  t0 = std::chrono::steady_clock::now();
   constexpr size_t kChunk = 32;
-  std::vector<std::vector<InputSegment>> parts((elems.size() + kChunk - 1) / kChunk);
-  parallel_for(parts.size(), threads, [&](size_t c) {
-    for (size_t i = c * kChunk; i < std::min(elems.size(), (c + 1) * kChunk); i++) {
-      const Element& e = elems[i];
-      const uint32_t stroke =
-          e.vertex ? b.subpaths[vertex_subpath(in, e.index)].stroke : b.subpaths[b.segments[e.index].subpath].stroke;
-      const StrokeRecord& rec = b.strokes[stroke];
-      VectorSink sink{&parts[c], rec.path, rec.xf};
-      Emitter<VectorSink> out(sink);
-      if (e.vertex)
-        stroke_vertex(in, e.index, out);
-      else
-        stroke_segment(in, e.index, out);
-    }
+  auto chunked = [&](size_t n, auto item) {
+    std::vector<std::vector<InputSegment>> lists((n + kChunk - 1) / kChunk);
+    parallel_for(lists.size(), threads, [&](size_t c) {
+      for (size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); i++) item(i, lists[c]);
+    });
+    return lists;
+  };
+  auto sink_for = [&](uint32_t stroke, std::vector<InputSegment>& list) {
+    return VectorSink{&list, b.strokes[stroke].path, b.strokes[stroke].xf};
+  };
+  t0 = std::chrono::steady_clock::now();
+  std::vector<std::vector<StrokePart>> part_lists((elems.size() + kChunk - 1) / kChunk);
+  auto from_elements = chunked(elems.size(), [&](size_t i, std::vector<InputSegment>& list) {
+    const Element& e = elems[i];
+    const uint32_t sub = e.vertex ? vertex_subpath(in, e.index) : b.segments[e.index].subpath;
+    VectorSink sink = sink_for(b.subpaths[sub].stroke, list);
+    Emitter<VectorSink> out(sink);
+    if (e.vertex)
+      stroke_vertex(in, e.index, out);
+    else
+      stroke_segment(in, e.index, out,
+                     [&](double a, double z) { part_lists[i / kChunk].push_back({e.index, 0, a, z}); });
   });
-  size_t total = 0;
-  for (const auto& p : parts) total += p.size();
-  std::vector<InputSegment> out;
-  out.reserve(total);
-  for (const auto& p : parts) out.insert(out.end(), p.begin(), p.end());
-  if (times) times->write_ms += ms_since(t0);
+  std::vector<StrokePart> parts;
+  for (const auto& l : part_lists) parts.insert(parts.end(), l.begin(), l.end());
+  if (times) times->elements_ms += ms_since(t0);
+
+  // Parts: analysis (breaks kept) and their own segments; then their spans.
+  t0 = std::chrono::steady_clock::now();
+  std::vector<Breaks> breaks(parts.size());
+  std::vector<int> nspans(parts.size());
+  auto from_parts = chunked(parts.size(), [&](size_t i, std::vector<InputSegment>& list) {
+    const PartCurve pc = part_curve(in, parts[i]);
+    nspans[i] = analyse_part(pc.c, pc.h, breaks[i]);
+    VectorSink sink = sink_for(pc.stroke, list);
+    emit_part(pc.c, pc.h, breaks[i], sink);
+  });
+  std::vector<SpanRef> spans;
+  for (size_t i = 0; i < parts.size(); i++)
+    for (int k = 0; k < nspans[i]; k++) spans.push_back({static_cast<uint32_t>(i), static_cast<uint32_t>(k)});
+  if (times) times->parts_ms += ms_since(t0);
+
+  // Spans: knots; then the fit items.
+  t0 = std::chrono::steady_clock::now();
+  std::vector<Knots> knots(spans.size());
+  std::vector<uint32_t> nitems(spans.size());
+  parallel_for(spans.size(), threads, [&](size_t i) {
+    const PartCurve pc = part_curve(in, parts[spans[i].part]);
+    const Breaks& br = breaks[spans[i].part];
+    span_knots(pc.c, pc.h, br, static_cast<int>(spans[i].index), knots[i]);
+    nitems[i] = span_fit_items(knots[i]);
+  });
+  std::vector<FitRef> fits;
+  for (size_t i = 0; i < spans.size(); i++)
+    for (uint32_t k = 0; k < nitems[i]; k++) fits.push_back(fit_ref(static_cast<uint32_t>(i), span_roles(knots[i].span.kind), k));
+  auto from_fits = chunked(fits.size(), [&](size_t i, std::vector<InputSegment>& list) {
+    const FitRef& f = fits[i];
+    const SpanRef& sr = spans[f.span];
+    const PartCurve pc = part_curve(in, parts[sr.part]);
+    VectorSink sink = sink_for(pc.stroke, list);
+    fit_item(pc.c, pc.h, pc.tol, knots[f.span], f.interval, f.role, sink);
+  });
+  if (times) times->fit_ms += ms_since(t0);
+
+  // Elements' segments, parts', fit items', grouped by path (a counting
+  // sort: each path's segments keep their order).
+  std::vector<size_t> first;
+  for (const auto* family : {&from_elements, &from_parts, &from_fits})
+    for (const auto& l : *family)
+      for (const InputSegment& s : l) {
+        if (s.path + 1 >= first.size()) first.resize(s.path + 2, 0);
+        first[s.path + 1]++;
+      }
+  for (size_t p = 1; p < first.size(); p++) first[p] += first[p - 1];
+  std::vector<InputSegment> out(first.empty() ? 0 : first.back());
+  for (const auto* family : {&from_elements, &from_parts, &from_fits})
+    for (const auto& l : *family)
+      for (const InputSegment& s : l) out[first[s.path]++] = s;
   return out;
 }
 
