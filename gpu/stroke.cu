@@ -289,54 +289,66 @@ std::vector<InputSegment> stroke_gpu(const StrokeBatch& b, StrokeGpuTimes* times
   DeviceBuffer<InputSegment> out;
   mismatch.resize(1);
   MPVG_CUDA(cudaMemset(mismatch.data(), 0, sizeof(uint32_t)));
-  auto launch = [&](auto kernel, uint32_t n, auto... args) {
+  // Per-kernel GPU times (events around each), read at the end.
+  std::vector<std::pair<const char*, std::pair<cudaEvent_t, cudaEvent_t>>> marks;
+  auto timed = [&](const char* name, auto f) {
+    cudaEvent_t a, z;
+    MPVG_CUDA(cudaEventCreate(&a));
+    MPVG_CUDA(cudaEventCreate(&z));
+    MPVG_CUDA(cudaEventRecord(a));
+    f();
+    MPVG_CUDA(cudaEventRecord(z));
+    marks.push_back({name, {a, z}});
+  };
+  auto launch = [&](const char* name, auto kernel, uint32_t n, auto... args) {
     if (!n) return;
-    kernel<<<grid_for(n, kBlock), kBlock>>>(args...);
+    timed(name, [&] { kernel<<<grid_for(n, kBlock), kBlock>>>(args...); });
     MPVG_LAUNCHED();
     t.launches++;
   };
   auto scan = [&](DeviceBuffer<uint32_t>& c, DeviceBuffer<uint32_t>& o, uint32_t n) {
     o.resize(n + 1);
-    prim.exclusive_sum(c.data(), o.data(), n + 1);
+    timed("scan", [&] { prim.exclusive_sum(c.data(), o.data(), n + 1); });
     t.launches++;
+    t.round_trips++;
     return read_word(o.data() + n);
   };
   count.resize(nelem + 1);
   pcount.resize(nelem + 1);
-  launch(k_element_count, nelem + 1, in, first_element.data(), nelem, count.data(), pcount.data());
+  launch("element_count", k_element_count, nelem + 1, in, first_element.data(), nelem, count.data(), pcount.data());
   const uint32_t a_total = scan(count, offset, nelem);
   const uint32_t nparts = scan(pcount, poffset, nelem);
   // Room for the elements' segments now; the others' are added as counted.
   out.resize(a_total + 1);
   parts.resize(nparts + 1);
-  launch(k_element_write, nelem, in, first_element.data(), nelem, offset.data(), poffset.data(), out.data(),
+  launch("element_write", k_element_write, nelem, in, first_element.data(), nelem, offset.data(), poffset.data(), out.data(),
          parts.data(), mismatch.data());
 
   breaks.resize(nparts + 1);
   count.resize(nparts + 1);
   scount.resize(nparts + 1);
-  launch(k_part_count, nparts + 1, in, parts.data(), nparts, breaks.data(), count.data(), scount.data());
+  launch("part_count", k_part_count, nparts + 1, in, parts.data(), nparts, breaks.data(), count.data(), scount.data());
   const uint32_t b_total = scan(count, offset, nparts);
   const uint32_t nspans = scan(scount, soffset, nparts);
   out.grow_keep(a_total + b_total + 1);
   spans.resize(nspans + 1);
-  launch(k_part_write, nparts, in, parts.data(), nparts, breaks.data(), offset.data(), soffset.data(),
+  launch("part_write", k_part_write, nparts, in, parts.data(), nparts, breaks.data(), offset.data(), soffset.data(),
          out.data() + a_total, spans.data(), mismatch.data());
 
   knots.resize(nspans + 1);
   count.resize(nspans + 1);
-  launch(k_span_knots, nspans + 1, in, parts.data(), breaks.data(), spans.data(), nspans, knots.data(), count.data());
+  launch("span_knots", k_span_knots, nspans + 1, in, parts.data(), breaks.data(), spans.data(), nspans, knots.data(), count.data());
   const uint32_t nfits = scan(count, offset, nspans);
   fits.resize(nfits + 1);
-  launch(k_span_items, nspans, knots.data(), nspans, offset.data(), fits.data());
+  launch("span_items", k_span_items, nspans, knots.data(), nspans, offset.data(), fits.data());
   count.resize(nfits + 1);
-  launch(k_fit_count, nfits + 1, in, parts.data(), breaks.data(), spans.data(), knots.data(), fits.data(), nfits,
+  launch("fit_count", k_fit_count, nfits + 1, in, parts.data(), breaks.data(), spans.data(), knots.data(), fits.data(), nfits,
          count.data());
   const uint32_t c_total = scan(count, offset, nfits);
   MPVG_CUDA(cudaEventRecord(ev[2]));
   const uint32_t total = a_total + b_total + c_total;
   out.grow_keep(total + 1);
-  launch(k_fit_write, nfits, in, parts.data(), breaks.data(), spans.data(), knots.data(), fits.data(), nfits,
+  launch("fit_write", k_fit_write, nfits, in, parts.data(), breaks.data(), spans.data(), knots.data(), fits.data(), nfits,
          offset.data(), out.data() + a_total + b_total, mismatch.data());
 
   // Grouped by path, as abstraction takes its input (stable: each path's
@@ -349,7 +361,7 @@ std::vector<InputSegment> stroke_gpu(const StrokeBatch& b, StrokeGpuTimes* times
   idx_out.resize(total + 1);
   grouped.resize(total + 1);
   if (total) {
-    launch(k_path_keys, total, out.data(), total, keys_in.data(), idx_in.data());
+    launch("path_keys", k_path_keys, total, out.data(), total, keys_in.data(), idx_in.data());
     size_t bytes = 0;
     MPVG_CUDA(cub::DeviceRadixSort::SortPairs(nullptr, bytes, keys_in.data(), keys_out.data(), idx_in.data(),
                                               idx_out.data(), static_cast<int>(total)));
@@ -358,13 +370,20 @@ std::vector<InputSegment> stroke_gpu(const StrokeBatch& b, StrokeGpuTimes* times
     MPVG_CUDA(cub::DeviceRadixSort::SortPairs(temp.data(), bytes, keys_in.data(), keys_out.data(), idx_in.data(),
                                               idx_out.data(), static_cast<int>(total)));
     t.launches++;
-    launch(k_gather, total, out.data(), idx_out.data(), total, grouped.data());
+    launch("gather", k_gather, total, out.data(), idx_out.data(), total, grouped.data());
   }
   MPVG_CUDA(cudaEventRecord(ev[3]));
   MPVG_CUDA(cudaEventSynchronize(ev[3]));
   float ms[3];
   for (int k = 0; k < 3; k++) MPVG_CUDA(cudaEventElapsedTime(&ms[k], ev[k], ev[k + 1]));
   for (cudaEvent_t& e : ev) MPVG_CUDA(cudaEventDestroy(e));
+  for (auto& m : marks) {
+    float k = 0;
+    MPVG_CUDA(cudaEventElapsedTime(&k, m.second.first, m.second.second));
+    t.kernels.push_back({m.first, k});
+    cudaEventDestroy(m.second.first);
+    cudaEventDestroy(m.second.second);
+  }
   t.measure_ms = ms[0];
   t.count_ms = ms[1];
   t.write_ms = ms[2];

@@ -4,6 +4,7 @@
 // through gpu::Context.
 #pragma once
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 #include "core/abstraction.h"
@@ -19,6 +20,9 @@ struct StrokeGpuTimes {
   double device_ms() const { return measure_ms + count_ms + write_ms; }
   size_t segments = 0;    // output segments
   size_t launches = 0;    // kernels and CUB calls
+  size_t round_trips = 0; // device-to-host reads that wait for the GPU
+  // GPU time of each kernel and scan, in order (events around each).
+  std::vector<std::pair<const char*, double>> kernels;
 };
 
 // Expands a batch on the current device and copies the segments back (for

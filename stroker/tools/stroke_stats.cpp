@@ -87,6 +87,9 @@ int main(int argc, char** argv) {
                     "upload %.3f ms, %zu launches\n",
                     best.segments, best.device_ms(), best.measure_ms, best.count_ms, best.write_ms, best.upload_ms,
                     best.launches);
+        std::printf("   ");
+        for (const auto& [name, ms] : best.kernels) std::printf(" %s %.3f", name, ms);
+        std::printf(" (ms; %zu round trips)\n", best.round_trips);
       }
 #endif
     } catch (const std::exception& e) {
