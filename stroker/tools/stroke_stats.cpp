@@ -18,6 +18,7 @@
 #include <string>
 
 #include "core/stroke_input.h"
+#include "stroker/stroker.h"
 #include "parsers/svg/svg_parser.h"
 #ifdef MPVG_WITH_CUDA
 #include "gpu/backend.h"
@@ -68,12 +69,46 @@ int main(int argc, char** argv) {
       mpvg::svg::ParseOptions collect = options;
       collect.collect_strokes = true;
       const mpvg::StrokeBatch batch = mpvg::svg::parse_svg_file(argv[i], collect).strokes;
+      // The old stroker on the same batch (its centrelines and styles back
+      // as Paths), for its segment count, closing lines included.
+      size_t old_segments = 0;
+      for (const mpvg::stroking::StrokeRecord& rec : batch.strokes) {
+        mpvg::Path p;
+        for (const mpvg::stroking::StrokeSubpath& sp : batch.subpaths) {
+          if (&rec != &batch.strokes[sp.stroke]) continue;
+          p.move_to(sp.start);
+          for (uint32_t k = 0; k < sp.segment_count; k++) {
+            const mpvg::stroking::Curve& c = batch.segments[sp.first_segment + k].curve;
+            if (c.type == mpvg::stroking::CURVE_LINE) p.line_to(c.p[1]);
+            if (c.type == mpvg::stroking::CURVE_QUAD) p.quad_to(c.p[1], c.p[2]);
+            if (c.type == mpvg::stroking::CURVE_RQUAD) p.rquad_to(c.p[1], c.p[2], c.w);
+            if (c.type == mpvg::stroking::CURVE_CUBIC) p.cubic_to(c.p[1], c.p[2], c.p[3]);
+          }
+          if (sp.flags & mpvg::stroking::SUBPATH_CLOSED) p.close();
+        }
+        mpvg::stroke::Style st;
+        st.width = 2 * rec.h;
+        st.join = static_cast<mpvg::stroke::Join>(rec.join);
+        st.cap = static_cast<mpvg::stroke::Cap>(rec.cap);
+        st.miter_limit = rec.miter_limit;
+        st.dashes.assign(batch.dashes.begin() + rec.dash_first, batch.dashes.begin() + rec.dash_first + rec.dash_count);
+        st.dash_offset = rec.dash_offset;
+        const mpvg::Affine xf{rec.xf[0], rec.xf[1], rec.xf[2], rec.xf[3], rec.xf[4], rec.xf[5]};
+        const mpvg::Path g = mpvg::stroke::stroke_to_fill(p, st, xf);
+        old_segments += g.segments().size();
+        for (const mpvg::Path::Contour& c : g.contours()) {
+          if (c.segment_count == 0) continue;
+          const mpvg::Path::Segment& last = g.segments()[c.first_segment + c.segment_count - 1];
+          const mpvg::Vec2 end = g.points()[last.first_point + mpvg::segment_degree(last.type)];
+          if (!(end == g.points()[c.start_point])) old_segments++;
+        }
+      }
       size_t made = 0;
       const double one = best_of(repeats, [&] { made = mpvg::stroke_cpu(batch, 1).size(); });
       const double all = best_of(repeats, [&] { mpvg::stroke_cpu(batch, 0); });
-      std::printf("  stage on the CPU: %zu strokes, %zu centreline segments -> %zu segments; %.2f ms on one "
-                  "thread, %.2f ms on every core\n",
-                  batch.strokes.size(), batch.segments.size(), made, one, all);
+      std::printf("  stage on the CPU: %zu strokes, %zu centreline segments -> %zu segments (old stroker %zu); "
+                  "%.2f ms on one thread, %.2f ms on every core\n",
+                  batch.strokes.size(), batch.segments.size(), made, old_segments, one, all);
 #ifdef MPVG_WITH_CUDA
       if (mpvg::cuda_available()) {
         mpvg::gpu::StrokeGpuTimes best;
