@@ -110,7 +110,7 @@ void throughput(const std::string& file, const std::vector<int>& thread_counts, 
           const auto t0 = std::chrono::steady_clock::now();
           r.render_rgba8(enc, plan, o, &st);
           my_wall += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-          my_pre += st.abstract_ms + st.subdivide_ms + st.prune_ms;
+          my_pre += st.stroke_ms + st.abstract_ms + st.subdivide_ms + st.prune_ms;
           my_render += st.schedule_ms + st.sample_ms;
         }
         std::lock_guard<std::mutex> lock(m);

@@ -110,7 +110,7 @@ struct State {
       r.prepare[0] += job->prepare_ms[0];
       r.prepare[1] += job->prepare_ms[1];
       r.encode += st.encode_ms;
-      r.preprocess += st.abstract_ms + st.subdivide_ms + st.prune_ms;
+      r.preprocess += st.stroke_ms + st.abstract_ms + st.subdivide_ms + st.prune_ms;
       r.render += st.schedule_ms + st.sample_ms;
       r.render_wall += job->render_ms;
       r.png += job->png_ms;
@@ -121,7 +121,7 @@ struct State {
                      "%.2f ms, PNG %.2f ms\n%s",
                      nl, job->label.c_str(), job->width, job->height, c.prepare_names[0], job->prepare_ms[0],
                      c.prepare_names[1], job->prepare_ms[1], st.encode_ms,
-                     st.abstract_ms + st.subdivide_ms + st.prune_ms, st.schedule_ms + st.sample_ms, job->png_ms,
+                     st.stroke_ms + st.abstract_ms + st.subdivide_ms + st.prune_ms, st.schedule_ms + st.sample_ms, job->png_ms,
                      cli::format_stats(st).c_str());
     }
     if (c.progress) {

@@ -554,6 +554,11 @@ class Encoder {
 
       const Affine xf = view * sp.xf;
       const Path& g = scene.geometries[sp.geometry];
+      if (sp.stroke >= 0) {
+        // Built when rendered, by either executor, to 1/16 of a unit area.
+        out.strokes.add(g, scene.strokes[sp.stroke], xf, id);
+        continue;
+      }
       std::vector<Vec2> pts(g.points().size());
       for (size_t i = 0; i < pts.size(); i++) {
         pts[i] = xf.apply(g.points()[i]);

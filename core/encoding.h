@@ -15,6 +15,7 @@
 #include "core/scene.h"
 #include "core/shortcut_tree.h"
 #include "core/srgb.h"
+#include "core/stroke_input.h"
 
 namespace mpvg {
 
@@ -23,7 +24,11 @@ enum class Gamma { Srgb, Linear };
 struct EncodedTile;
 
 struct EncodedScene {
-  std::vector<InputSegment> segments;   // all paths, stream order, contours closed
+  std::vector<InputSegment> segments;   // all filled paths, stream order, contours closed
+  // Stroked paths' centrelines, styles and transforms to pixels: the stroke
+  // stage (core/stroke.h) builds their segments, which join `segments` in
+  // path order before abstraction (stroke_input_segments, gpu::Context).
+  StrokeBatch strokes;
   std::vector<PathRecord> paths;        // indexed by path id (stream order)
   // The stream with one PATH placeholder per path: delimiters are entries
   // (ENTRY_PUSH/ACTIVATE/POP) and each path is one ENTRY_SEGMENT entry whose

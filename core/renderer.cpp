@@ -90,6 +90,7 @@ ImageF render_cpu(const EncodedScene& enc, const RenderPlan& plan, const RenderO
   const auto t_all = std::chrono::steady_clock::now();
   BuildTimes bt;
   const ShortcutTree tree = build_tree_cpu(enc, plan.frame.ua_w, plan.frame.ua_h, o.tree, &bt);
+  st.stroke_ms += bt.stroke_ms;
   st.abstract_ms += bt.abstract_ms;
   st.subdivide_ms += bt.subdivide_ms;
   st.prune_ms += bt.prune_ms;

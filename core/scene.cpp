@@ -150,6 +150,13 @@ size_t Scene::segment_count() const {
   size_t n = 0;
   for (const ScenePath& sp : paths) {
     const Path& g = geometries[sp.geometry];
+    if (sp.stroke >= 0) {
+      // A stroke's segments are made when it is rendered: about ten per
+      // centreline segment (bodies, joins, caps; more for dashes and tight
+      // curves), as an estimate.
+      n += 10 * (g.segments().size() + g.contours().size());
+      continue;
+    }
     n += g.segments().size();
     for (const Path::Contour& c : g.contours()) {
       if (c.segment_count == 0) continue;
@@ -276,6 +283,14 @@ void SceneBuilder::fill(uint32_t geometry, const Affine& xf, FillRule rule, cons
   scene_.paints.push_back(paint);
   n->path.paint = static_cast<uint32_t>(scene_.paints.size() - 1);
   f.group->content.push_back(n);
+}
+
+void SceneBuilder::stroke(uint32_t geometry, const Affine& xf, const StrokeStyle& style, const Paint& paint,
+                          bool aliased) {
+  fill(geometry, xf, FillRule::NonZero, paint, aliased);
+  Node* n = frame().group->content.back();
+  n->path.stroke = static_cast<int32_t>(scene_.strokes.size());
+  scene_.strokes.push_back(style);
 }
 
 void SceneBuilder::clip(uint32_t geometry, const Affine& xf, FillRule rule, bool aliased) {
@@ -651,7 +666,10 @@ struct Replay {
       const Element& e = s.stream[item.first];
       if (e.kind == ElementKind::Fill) {
         const ScenePath& sp = s.paths[e.path];
-        b.fill(geom(sp.geometry), xf * sp.xf, sp.rule, paint(s.paints[sp.paint]), sp.aliased);
+        if (sp.stroke >= 0)
+          b.stroke(geom(sp.geometry), xf * sp.xf, s.strokes[sp.stroke], paint(s.paints[sp.paint]), sp.aliased);
+        else
+          b.fill(geom(sp.geometry), xf * sp.xf, sp.rule, paint(s.paints[sp.paint]), sp.aliased);
       } else if (e.kind == ElementKind::BeginGroup) {
         transparency(item.first);
       } else {
@@ -683,6 +701,7 @@ Scene SceneBuilder::finish() {
   out.width = scene_.width;
   out.height = scene_.height;
   out.geometries = std::move(scene_.geometries);
+  out.strokes = std::move(scene_.strokes);
   out.paints = std::move(scene_.paints);
   out.gradients = std::move(scene_.gradients);
   out.textures = std::move(scene_.textures);
@@ -826,6 +845,18 @@ void dump_into(std::string& s, const Scene& scene, const std::string& indent) {
         appendf(s, " %s %u opacity %g", paint_type_name(p.type), p.index, p.opacity);
     }
     if (sp.aliased) s += " aliased";
+    if (sp.stroke >= 0) {
+      static const char* joins[] = {"miter", "miter-clip", "arcs", "round", "bevel"};
+      static const char* caps[] = {"butt", "round", "square"};
+      const StrokeStyle& st = scene.strokes[sp.stroke];
+      appendf(s, " stroke %g %s %s %g", st.width, joins[static_cast<int>(st.join)], caps[static_cast<int>(st.cap)],
+              st.miter_limit);
+      if (!st.dashes.empty()) {
+        s += " dashes";
+        for (double d : st.dashes) appendf(s, " %g", d);
+        appendf(s, " offset %g", st.dash_offset);
+      }
+    }
     append_matrix(s, sp.xf);
     s += "\n";
     const Path& g = scene.geometries[sp.geometry];

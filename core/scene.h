@@ -239,10 +239,33 @@ struct Paint {
 
 // One path instance of the stream: geometry, its transform to scene units,
 // fill rule, and for fills the paint.
+// ------------------------------------------------------------------ strokes
+
+// SVG 2 painting.html#StrokeProperties; PDF's line styles map onto these.
+enum class LineJoin : uint8_t { Miter, MiterClip, Arcs, Round, Bevel };
+enum class LineCap : uint8_t { Butt, Round, Square };
+
+// How a path is stroked (core/stroke.h builds the stroke, in user space,
+// when the scene is rendered).
+struct StrokeStyle {
+  double width = 1;  // user units; > 0 and finite, or nothing is drawn
+  LineJoin join = LineJoin::Miter;
+  LineCap cap = LineCap::Butt;
+  double miter_limit = 4;  // ratio of miter length to width; values below 1 act as 1
+  // Dash and gap lengths in user units, repeated along each subpath. An odd
+  // list is repeated once to make it even; an empty list, one that sums to
+  // zero, or one with a negative or non-finite value means no dashing.
+  std::vector<double> dashes;
+  double dash_offset = 0;
+};
+
 struct ScenePath {
   uint32_t geometry = 0;
   Affine xf;
   FillRule rule = FillRule::NonZero;
+  // >= 0: the geometry is a centreline, and the path is its stroke with
+  // Scene::strokes[stroke] (filled nonzero; rule is ignored).
+  int32_t stroke = -1;
   bool is_clip = false;
   // Drawn without antialiasing (SVG shape-rendering: crispEdges,
   // optimizeSpeed): each pixel is covered wholly or not at all, as its
@@ -304,6 +327,7 @@ struct Element {
 struct Scene {
   double width = 0, height = 0;  // intrinsic size, in scene units (CSS px)
   std::vector<Path> geometries;
+  std::vector<StrokeStyle> strokes;  // ScenePath::stroke
   std::vector<ScenePath> paths;  // indexed by Element::path; stream order
   std::vector<Paint> paints;
   std::vector<Gradient> gradients;
@@ -341,6 +365,9 @@ class SceneBuilder {
   // A filled path, drawn over what came before it. `aliased`: see
   // ScenePath::aliased (clip tests take it too).
   void fill(uint32_t geometry, const Affine& xf, FillRule rule, const Paint& paint, bool aliased = false);
+  // The stroke of a path (its centreline `geometry`, in the user space xf
+  // maps to scene units), drawn like a fill.
+  void stroke(uint32_t geometry, const Affine& xf, const StrokeStyle& style, const Paint& paint, bool aliased = false);
 
   // push(): start a clip group. Until activate(), the group's clip-path area
   // is the union of clip() tests and nested groups. After activate(), its

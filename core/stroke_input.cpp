@@ -5,6 +5,17 @@
 
 namespace mpvg {
 
+static_assert(static_cast<uint32_t>(LineJoin::Miter) == stroking::JOIN_MITER &&
+                  static_cast<uint32_t>(LineJoin::MiterClip) == stroking::JOIN_MITER_CLIP &&
+                  static_cast<uint32_t>(LineJoin::Arcs) == stroking::JOIN_ARCS &&
+                  static_cast<uint32_t>(LineJoin::Round) == stroking::JOIN_ROUND &&
+                  static_cast<uint32_t>(LineJoin::Bevel) == stroking::JOIN_BEVEL,
+              "LineJoin and the stroke stage's JOIN_* agree");
+static_assert(static_cast<uint32_t>(LineCap::Butt) == stroking::CAP_BUTT &&
+                  static_cast<uint32_t>(LineCap::Round) == stroking::CAP_ROUND &&
+                  static_cast<uint32_t>(LineCap::Square) == stroking::CAP_SQUARE,
+              "LineCap and the stroke stage's CAP_* agree");
+
 namespace {
 
 // The dash pattern that `dashes` describes (SVG 2 painting.html#StrokeDashing):
@@ -45,8 +56,8 @@ bool StrokeBatch::add(const Path& path, const StrokeStyle& style, const Affine& 
   rec.h = style.width / 2;
   rec.miter_limit = std::isfinite(style.miter_limit) ? std::max(1.0, style.miter_limit) : 1.0;
   rec.tol = std::max(tolerance_px, 1e-6) / sigma;
-  rec.join = style.join;
-  rec.cap = style.cap;
+  rec.join = static_cast<uint32_t>(style.join);
+  rec.cap = static_cast<uint32_t>(style.cap);
   rec.path = path_id;
   std::vector<double> pattern;
   if (pattern_of(style.dashes, pattern)) {

@@ -12,18 +12,6 @@
 
 namespace mpvg {
 
-struct StrokeStyle {
-  double width = 1;
-  uint32_t join = stroking::JOIN_MITER;
-  uint32_t cap = stroking::CAP_BUTT;
-  double miter_limit = 4;  // ratio of miter length to width; values below 1 act as 1
-  // Dash and gap lengths in user units, repeated along each subpath. An odd
-  // list is repeated once to make it even; an empty list, one that sums to
-  // zero, or one with a negative or non-finite value means no dashing.
-  std::vector<double> dashes;
-  double dash_offset = 0;
-};
-
 // The flat input, in host memory.
 struct StrokeBatch {
   std::vector<stroking::StrokeRecord> strokes;

@@ -6,6 +6,7 @@
 
 #include "core/abstraction.h"
 #include "gpu/context.cuh"
+#include "gpu/stroke.cuh"
 
 namespace mpvg::gpu {
 
@@ -71,9 +72,18 @@ __global__ void k_stream_expand(const Entry* placeholders, size_t m, const uint3
 
 }  // namespace
 
-void Context::Impl::abstract(const EncodedScene& scene) {
-  const size_t n = scene.segments.size();
+// Stage "stroke": the fills' segments uploaded, the strokes' built after
+// them on the device, then every path's segments grouped and the first of
+// each path found, on the device too.
+void Context::Impl::stroke(const EncodedScene& scene) {
   input.upload(scene.segments);
+  ninput = scene.segments.size();
+  if (!stroke_stage) stroke_stage = std::make_unique<StrokeStage>();
+  ninput += stroke_stage->run(scene.strokes, input, ninput, prim);
+  group_by_path(input, ninput, scene.paths.size(), path_input, prim);
+}
+
+void Context::Impl::abstract(const EncodedScene& scene) {
   paths.upload(scene.paths);
   placeholders.upload(scene.stream);
   npaths = scene.paths.size();
@@ -83,11 +93,16 @@ void Context::Impl::abstract(const EncodedScene& scene) {
     if (entry_opens(e)) scene_depth = std::max(scene_depth, ++d);
     if (entry_closes(e)) d--;
   }
-  // First input segment of each path; segments come grouped by path.
-  std::vector<uint32_t> first(npaths + 1, 0);
-  for (const InputSegment& s : scene.segments) first[s.path + 1]++;
-  for (size_t p = 0; p < npaths; p++) first[p + 1] += first[p];
-  path_input.upload(first);
+  if (scene.strokes.empty()) {
+    input.upload(scene.segments);
+    ninput = scene.segments.size();
+    // First input segment of each path; segments come grouped by path.
+    std::vector<uint32_t> first(npaths + 1, 0);
+    for (const InputSegment& s : scene.segments) first[s.path + 1]++;
+    for (size_t p = 0; p < npaths; p++) first[p + 1] += first[p];
+    path_input.upload(first);
+  }
+  const size_t n = ninput;
 
   uint32_t* count = (u32[0].resize(n + 1), u32[0].data());
   uint32_t* offset = (u32[1].resize(n + 1), u32[1].data());

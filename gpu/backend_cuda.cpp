@@ -40,6 +40,7 @@ auto render_cuda(gpu::Context& ctx, const EncodedScene& enc, const RenderPlan& p
   gpu::GpuTimes gt;
   ctx.build(enc, plan.frame.ua_w, plan.frame.ua_h, o.tree, &gt);
   auto img = finish(background_paint(o.background, o.gamma), &gt);
+  st.stroke_ms += gt.stroke_ms;
   st.abstract_ms += gt.abstract_ms;
   st.subdivide_ms += gt.subdivide_ms;
   st.prune_ms += gt.prune_ms;

@@ -152,6 +152,11 @@ void Context::Impl::build_tree(const EncodedScene& scene, int w, int h, const Tr
   host_paths = scene.paths;
   peak_level_entries = 0;
 
+  if (!scene.strokes.empty()) {
+    timer.start(&t.stroke_ms);
+    stroke(scene);
+    timer.stop();
+  }
   timer.start(&t.abstract_ms);
   abstract(scene);
   timer.stop();

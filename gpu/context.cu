@@ -1,5 +1,6 @@
 // gpu::Context: the host-facing side of the CUDA executor.
 #include "gpu/context.cuh"
+#include "gpu/stroke.cuh"
 
 #include <mutex>
 

@@ -3,6 +3,7 @@
 #include <cub/cub.cuh>
 
 #include <initializer_list>
+#include <memory>
 #include <utility>
 
 #include "core/abstraction.h"
@@ -17,6 +18,8 @@
 #include "gpu/gpu_backend.h"
 
 namespace mpvg::gpu {
+
+class StrokeStage;  // gpu/stroke.cuh
 
 // Scans, reductions and compactions through CUB, with one temporary buffer
 // ("ask for the temp storage size first").
@@ -97,6 +100,8 @@ struct Context::Impl {
   DeviceBuffer<uint32_t> path_input;     // first input segment of each path (npaths + 1)
   DeviceBuffer<AbstractSegment> segments;
   size_t npaths = 0, nsegments = 0;
+  std::unique_ptr<StrokeStage> stroke_stage;  // made for the first scene with strokes
+  size_t ninput = 0;                          // input segments, strokes' included
   int32_t scene_depth = 0;  // deepest nesting of clip groups and transparency groups in the scene
   // Tree under construction and built.
   DeviceLevel level, parent, child;
@@ -190,6 +195,7 @@ struct Context::Impl {
   DeviceBuffer<uint32_t> overflow;
 
   // Stages (abstract.cu, subdivide.cu, prune.cu, build_tree.cu, render.cu).
+  void stroke(const EncodedScene& scene);  // before abstract(), for scenes with strokes
   void abstract(const EncodedScene& scene);
   void subdivide(const DeviceLevel& from, DeviceLevel& to, bool root);
   int prune(DeviceLevel& lv);

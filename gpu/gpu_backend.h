@@ -16,9 +16,9 @@ namespace mpvg::gpu {
 
 // GPU time per stage, from CUDA events, in milliseconds.
 struct GpuTimes {
-  double abstract_ms = 0, subdivide_ms = 0, prune_ms = 0, schedule_ms = 0, sample_ms = 0;
+  double stroke_ms = 0, abstract_ms = 0, subdivide_ms = 0, prune_ms = 0, schedule_ms = 0, sample_ms = 0;
   double integrate_ms = 0;  // wide filters: normalisation, prefilter, output
-  double preprocess_ms() const { return abstract_ms + subdivide_ms + prune_ms; }
+  double preprocess_ms() const { return stroke_ms + abstract_ms + subdivide_ms + prune_ms; }
   double render_ms() const { return schedule_ms + sample_ms + integrate_ms; }
 };
 

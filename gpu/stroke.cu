@@ -11,7 +11,9 @@
 #include "core/error.h"
 #include "core/stroke.h"
 #include "gpu/context.cuh"
+#include "gpu/stroke.cuh"
 #include "gpu/stroke.h"
+#include <algorithm>
 
 namespace mpvg::gpu {
 
@@ -206,6 +208,19 @@ __global__ void k_path_keys(const InputSegment* segs, uint32_t n, uint32_t* keys
   keys[i] = segs[i].path;
   index[i] = i;
 }
+// The first segment of each path in segments sorted by path (keys):
+// the lower bound of p; n for p = npaths.
+__global__ void k_path_first(const uint32_t* keys, uint32_t n, uint32_t npaths, uint32_t* first) {
+  const uint32_t p = blockIdx.x * blockDim.x + threadIdx.x;
+  if (p > npaths) return;
+  uint32_t lo = 0, hi = n;
+  while (lo < hi) {
+    const uint32_t mid = (lo + hi) / 2;
+    if (keys[mid] < p) lo = mid + 1; else hi = mid;
+  }
+  first[p] = lo;
+}
+
 __global__ void k_gather(const InputSegment* segs, const uint32_t* index, uint32_t n, InputSegment* out) {
   const uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i < n) out[i] = segs[index[i]];
@@ -224,14 +239,10 @@ uint32_t read_word(const uint32_t* p) {
 
 }  // namespace
 
-std::vector<InputSegment> stroke_gpu(const StrokeBatch& b, StrokeGpuTimes* times) {
+size_t StrokeStage::run(const StrokeBatch& b, DeviceBuffer<InputSegment>& out, size_t at, Primitives& prim,
+                        StrokeGpuTimes* times) {
   StrokeGpuTimes t;
   const auto w0 = std::chrono::steady_clock::now();
-  DeviceBuffer<StrokeRecord> strokes;
-  DeviceBuffer<StrokeSubpath> subpaths;
-  DeviceBuffer<StrokeSegment> segments;
-  DeviceBuffer<double> dashes, seg_length, seg_start, sub_length;
-  DeviceBuffer<uint32_t> keys, first_element, count, offset, mismatch;
   upload(strokes, b.strokes);
   upload(subpaths, b.subpaths);
   upload(segments, b.segments);
@@ -254,7 +265,6 @@ std::vector<InputSegment> stroke_gpu(const StrokeBatch& b, StrokeGpuTimes* times
   StrokeInput in{strokes.data(), subpaths.data(), segments.data(), dashes.data(), seg_length.data(),
                  seg_start.data(), sub_length.data(), static_cast<uint32_t>(b.strokes.size()), nsub, nseg,
                  b.nvertices};
-  Primitives prim;
   cudaEvent_t ev[4];
   for (cudaEvent_t& e : ev) MPVG_CUDA(cudaEventCreate(&e));
   MPVG_CUDA(cudaEventRecord(ev[0]));
@@ -265,7 +275,6 @@ std::vector<InputSegment> stroke_gpu(const StrokeBatch& b, StrokeGpuTimes* times
     size_t bytes = 0;
     MPVG_CUDA(cub::DeviceScan::ExclusiveSumByKey(nullptr, bytes, keys.data(), seg_length.data(), seg_start.data(),
                                                  static_cast<int>(nseg)));
-    DeviceBuffer<uint8_t> temp;
     temp.resize(bytes);
     MPVG_CUDA(cub::DeviceScan::ExclusiveSumByKey(temp.data(), bytes, keys.data(), seg_length.data(),
                                                  seg_start.data(), static_cast<int>(nseg)));
@@ -280,13 +289,6 @@ std::vector<InputSegment> stroke_gpu(const StrokeBatch& b, StrokeGpuTimes* times
   MPVG_CUDA(cudaEventRecord(ev[1]));
   // Elements, then parts, spans and fit items; each kind counts, scans and
   // writes. Output: the elements' segments, the parts', the fit items'.
-  DeviceBuffer<uint32_t> pcount, poffset, scount, soffset;
-  DeviceBuffer<StrokePart> parts;
-  DeviceBuffer<Breaks> breaks;
-  DeviceBuffer<SpanRef> spans;
-  DeviceBuffer<Knots> knots;
-  DeviceBuffer<FitRef> fits;
-  DeviceBuffer<InputSegment> out;
   mismatch.resize(1);
   MPVG_CUDA(cudaMemset(mismatch.data(), 0, sizeof(uint32_t)));
   // Per-kernel GPU times (events around each), read at the end.
@@ -319,9 +321,9 @@ std::vector<InputSegment> stroke_gpu(const StrokeBatch& b, StrokeGpuTimes* times
   const uint32_t a_total = scan(count, offset, nelem);
   const uint32_t nparts = scan(pcount, poffset, nelem);
   // Room for the elements' segments now; the others' are added as counted.
-  out.resize(a_total + 1);
+  out.grow_keep(at + a_total + 1);
   parts.resize(nparts + 1);
-  launch("element_write", k_element_write, nelem, in, first_element.data(), nelem, offset.data(), poffset.data(), out.data(),
+  launch("element_write", k_element_write, nelem, in, first_element.data(), nelem, offset.data(), poffset.data(), out.data() + at,
          parts.data(), mismatch.data());
 
   breaks.resize(nparts + 1);
@@ -330,10 +332,10 @@ std::vector<InputSegment> stroke_gpu(const StrokeBatch& b, StrokeGpuTimes* times
   launch("part_count", k_part_count, nparts + 1, in, parts.data(), nparts, breaks.data(), count.data(), scount.data());
   const uint32_t b_total = scan(count, offset, nparts);
   const uint32_t nspans = scan(scount, soffset, nparts);
-  out.grow_keep(a_total + b_total + 1);
+  out.grow_keep(at + a_total + b_total + 1);
   spans.resize(nspans + 1);
   launch("part_write", k_part_write, nparts, in, parts.data(), nparts, breaks.data(), offset.data(), soffset.data(),
-         out.data() + a_total, spans.data(), mismatch.data());
+         out.data() + at + a_total, spans.data(), mismatch.data());
 
   knots.resize(nspans + 1);
   count.resize(nspans + 1);
@@ -347,31 +349,10 @@ std::vector<InputSegment> stroke_gpu(const StrokeBatch& b, StrokeGpuTimes* times
   const uint32_t c_total = scan(count, offset, nfits);
   MPVG_CUDA(cudaEventRecord(ev[2]));
   const uint32_t total = a_total + b_total + c_total;
-  out.grow_keep(total + 1);
+  out.grow_keep(at + total + 1);
   launch("fit_write", k_fit_write, nfits, in, parts.data(), breaks.data(), spans.data(), knots.data(), fits.data(), nfits,
-         offset.data(), out.data() + a_total + b_total, mismatch.data());
+         offset.data(), out.data() + at + a_total + b_total, mismatch.data());
 
-  // Grouped by path, as abstraction takes its input (stable: each path's
-  // segments keep their order).
-  DeviceBuffer<uint32_t> keys_in, keys_out, idx_in, idx_out;
-  DeviceBuffer<InputSegment> grouped;
-  keys_in.resize(total + 1);
-  keys_out.resize(total + 1);
-  idx_in.resize(total + 1);
-  idx_out.resize(total + 1);
-  grouped.resize(total + 1);
-  if (total) {
-    launch("path_keys", k_path_keys, total, out.data(), total, keys_in.data(), idx_in.data());
-    size_t bytes = 0;
-    MPVG_CUDA(cub::DeviceRadixSort::SortPairs(nullptr, bytes, keys_in.data(), keys_out.data(), idx_in.data(),
-                                              idx_out.data(), static_cast<int>(total)));
-    DeviceBuffer<uint8_t> temp;
-    temp.resize(bytes);
-    MPVG_CUDA(cub::DeviceRadixSort::SortPairs(temp.data(), bytes, keys_in.data(), keys_out.data(), idx_in.data(),
-                                              idx_out.data(), static_cast<int>(total)));
-    t.launches++;
-    launch("gather", k_gather, total, out.data(), idx_out.data(), total, grouped.data());
-  }
   MPVG_CUDA(cudaEventRecord(ev[3]));
   MPVG_CUDA(cudaEventSynchronize(ev[3]));
   float ms[3];
@@ -388,11 +369,51 @@ std::vector<InputSegment> stroke_gpu(const StrokeBatch& b, StrokeGpuTimes* times
   t.count_ms = ms[1];
   t.write_ms = ms[2];
   if (read_word(mismatch.data())) throw Error("stroke: an item wrote a different count than it counted (GPU)");
-  std::vector<InputSegment> host(total);
-  if (total) MPVG_CUDA(cudaMemcpy(host.data(), grouped.data(), total * sizeof(InputSegment), cudaMemcpyDeviceToHost));
   t.segments = total;
   if (times) *times = t;
-  return host;
+  return total;
+}
+
+void group_by_path(DeviceBuffer<InputSegment>& segs, size_t n, size_t npaths, DeviceBuffer<uint32_t>& path_input,
+                   Primitives& prim) {
+  DeviceBuffer<uint32_t> keys_in, keys_out, idx_in, idx_out;
+  DeviceBuffer<InputSegment> grouped;
+  keys_in.resize(n + 1);
+  keys_out.resize(n + 1);
+  idx_in.resize(n + 1);
+  idx_out.resize(n + 1);
+  grouped.resize(n + 1);
+  if (n) {
+    k_path_keys<<<grid_for(n, kBlock), kBlock>>>(segs.data(), static_cast<uint32_t>(n), keys_in.data(), idx_in.data());
+    MPVG_LAUNCHED();
+    size_t bytes = 0;
+    MPVG_CUDA(cub::DeviceRadixSort::SortPairs(nullptr, bytes, keys_in.data(), keys_out.data(), idx_in.data(),
+                                              idx_out.data(), static_cast<int>(n)));
+    DeviceBuffer<uint8_t> temp;
+    temp.resize(bytes);
+    MPVG_CUDA(cub::DeviceRadixSort::SortPairs(temp.data(), bytes, keys_in.data(), keys_out.data(), idx_in.data(),
+                                              idx_out.data(), static_cast<int>(n)));
+    prim.calls++;
+    k_gather<<<grid_for(n, kBlock), kBlock>>>(segs.data(), idx_out.data(), static_cast<uint32_t>(n), grouped.data());
+    MPVG_LAUNCHED();
+    MPVG_CUDA(cudaMemcpy(segs.data(), grouped.data(), n * sizeof(InputSegment), cudaMemcpyDeviceToDevice));
+  }
+  path_input.resize(npaths + 1);
+  k_path_first<<<grid_for(npaths + 1, kBlock), kBlock>>>(keys_out.data(), static_cast<uint32_t>(n),
+                                                         static_cast<uint32_t>(npaths), path_input.data());
+  MPVG_LAUNCHED();
+}
+
+std::vector<InputSegment> stroke_gpu(const StrokeBatch& b, StrokeGpuTimes* times) {
+  StrokeStage stage;
+  Primitives prim;
+  DeviceBuffer<InputSegment> out;
+  const size_t n = stage.run(b, out, 0, prim, times);
+  uint32_t npaths = 0;
+  for (const StrokeRecord& r : b.strokes) npaths = std::max(npaths, r.path + 1);
+  DeviceBuffer<uint32_t> first;
+  group_by_path(out, n, npaths, first, prim);
+  return out.download(n);
 }
 
 }  // namespace mpvg::gpu

@@ -39,7 +39,13 @@ ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, co
     tree.tiles.push_back(build_tree_cpu(tile.scene, tile.width, tile.height, tile_params, &t));
 
   auto t0 = std::chrono::steady_clock::now();
-  tree.segments = abstract_cpu(scene.segments);
+  std::vector<InputSegment> with_strokes;
+  if (!scene.strokes.empty()) {
+    with_strokes = stroke_input_segments(scene);
+    t.stroke_ms += ms_since(t0);
+    t0 = std::chrono::steady_clock::now();
+  }
+  tree.segments = abstract_cpu(scene.strokes.empty() ? scene.segments : with_strokes);
   t.abstract_ms += ms_since(t0);
 
   t0 = std::chrono::steady_clock::now();

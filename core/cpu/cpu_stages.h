@@ -39,8 +39,12 @@ TreeLevel subdivide_cpu(const std::vector<Cell>& cells, const Entry* entries,
 int prune_cpu(TreeLevel& level, const std::vector<PathRecord>& paths);
 
 struct BuildTimes {
-  double abstract_ms = 0, subdivide_ms = 0, prune_ms = 0;
+  double stroke_ms = 0, abstract_ms = 0, subdivide_ms = 0, prune_ms = 0;
 };
+
+// stroke: the scene's fills' input segments with its strokes' (stroke_cpu)
+// added, grouped by path, as abstraction takes them.
+std::vector<InputSegment> stroke_input_segments(const EncodedScene& scene, int threads = 0);
 
 // The whole tree: abstraction, root, then level by level subdivision and
 // pruning until the stopping criteria hold everywhere.

@@ -5,8 +5,10 @@
 // appends its segments in one pass. The output is grouped by path.
 #include <algorithm>
 #include <chrono>
+#include <iterator>
 
 #include "core/parallel.h"
+#include "core/cpu/cpu_stages.h"
 #include "core/stroke_input.h"
 
 namespace mpvg {
@@ -139,6 +141,17 @@ std::vector<InputSegment> stroke_cpu(const StrokeBatch& b, int threads, StrokeTi
   for (const auto* family : {&from_elements, &from_parts, &from_fits})
     for (const auto& l : *family)
       for (const InputSegment& s : l) out[first[s.path]++] = s;
+  return out;
+}
+
+std::vector<InputSegment> stroke_input_segments(const EncodedScene& scene, int threads) {
+  const std::vector<InputSegment> strokes = stroke_cpu(scene.strokes, threads);
+  // Both lists are grouped by path, in increasing path order, and no path
+  // is in both: a merge.
+  std::vector<InputSegment> out;
+  out.reserve(scene.segments.size() + strokes.size());
+  std::merge(scene.segments.begin(), scene.segments.end(), strokes.begin(), strokes.end(), std::back_inserter(out),
+             [](const InputSegment& a, const InputSegment& b) { return a.path < b.path; });
   return out;
 }
 

@@ -1,0 +1,40 @@
+// The stroke stage's device side (gpu/stroke.cu): buffers kept across
+// frames by gpu::Context, and the grouping of input segments by path.
+#pragma once
+#include "core/stroke.h"
+#include "core/stroke_input.h"
+#include "gpu/context.cuh"
+#include "gpu/stroke.h"
+
+namespace mpvg::gpu {
+
+class StrokeStage {
+ public:
+  // Expands `batch` on the device, appending its segments (in pixels) to
+  // out[at, at + n), growing `out` and keeping out[0, at); returns n. The
+  // segments are not grouped by path.
+  size_t run(const StrokeBatch& batch, DeviceBuffer<InputSegment>& out, size_t at, Primitives& prim,
+             StrokeGpuTimes* times = nullptr);
+
+ private:
+  DeviceBuffer<stroking::StrokeRecord> strokes;
+  DeviceBuffer<stroking::StrokeSubpath> subpaths;
+  DeviceBuffer<stroking::StrokeSegment> segments;
+  DeviceBuffer<double> dashes, seg_length, seg_start, sub_length;
+  DeviceBuffer<uint32_t> keys, first_element, count, offset, mismatch;
+  DeviceBuffer<uint32_t> pcount, poffset, scount, soffset;
+  DeviceBuffer<stroking::StrokePart> parts;
+  DeviceBuffer<stroking::Breaks> breaks;
+  DeviceBuffer<stroking::SpanRef> spans;
+  DeviceBuffer<stroking::Knots> knots;
+  DeviceBuffer<stroking::FitRef> fits;
+  DeviceBuffer<uint8_t> temp;
+};
+
+// Sorts segs[0, n) by path, stably (each path's segments keep their
+// order), and writes path_input: the first segment of each path (npaths + 1
+// entries, the last n).
+void group_by_path(DeviceBuffer<InputSegment>& segs, size_t n, size_t npaths, DeviceBuffer<uint32_t>& path_input,
+                   Primitives& prim);
+
+}  // namespace mpvg::gpu
