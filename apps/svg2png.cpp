@@ -269,8 +269,7 @@ int run(const cli::Options& opt, const Document& source, Renderers& renderers, c
     const char* t0 = std::getenv("MPVG_T0");
     if (t0 && !server::serving())
       std::fprintf(err, "process start (exec to main) %.3f ms\n", (main_entry_ns - std::atoll(t0)) * 1e-6);
-    std::fprintf(err, "parse %.3f ms (stroke %.3f ms, %zu strokes)\n", parse_ms, doc.stroke_seconds * 1e3,
-                 doc.stroked_paths);
+    std::fprintf(err, "parse %.3f ms (%zu strokes, built by the stroke stage)\n", parse_ms, doc.stroked_paths);
     if (startup.started()) {
       if (!startup.done()) {
         std::fprintf(err, "CUDA start-up still running (not waited for)\n");
@@ -379,7 +378,7 @@ int run_batch(const cli::Options& opt, Renderers& renderers) {
   c.program = "svg2png";
   c.unit = "file";
   c.prepare_names[0] = "parsing";
-  c.prepare_names[1] = "stroking";
+  c.prepare_names[1] = "setup";  // strokes are built by the render's stroke stage
   c.tickets = static_cast<int>(items.size());
   // With CUDA: a few render threads per device (each its own context state
   // and stream), the other cores prepare and write; on the CPU every render
@@ -401,8 +400,8 @@ int run_batch(const cli::Options& opt, Renderers& renderers) {
     const auto t0 = Clock::now();
     // One thread each: the workers are the parallelism.
     svg::ParseResult doc = svg::parse_svg_file(items[t].first, parse_options_for(opt, 1));
-    job->prepare_ms[1] = doc.stroke_seconds * 1e3;
-    job->prepare_ms[0] = ms_since(t0) - job->prepare_ms[1];
+    job->prepare_ms[0] = ms_since(t0);
+    const auto t1 = Clock::now();
     job->warnings = std::move(doc.warnings);
     Affine view;
     cli::output_geometry(opt, doc.scene.width, doc.scene.height, &job->width, &job->height, &view);
@@ -411,6 +410,7 @@ int run_batch(const cli::Options& opt, Renderers& renderers) {
     if (!cuda) job->options.threads = 1;
     job->plan = plan_render(job->options);
     job->scene = encode_for(doc.scene, job->plan, job->options.gamma, &job->stats);
+    job->prepare_ms[1] = ms_since(t1) - job->stats.encode_ms;
     return job;
   };
   c.make_renderer = [&](int r) -> std::unique_ptr<FrameRenderer> {

@@ -29,7 +29,7 @@ TEST_CASE("svg groups: opacity on fill and stroke is one group; on one fill it f
   const auto r = parse(R"~(<rect width="10" height="10" fill="red" stroke="blue" opacity="0.5"/>)~"
                        R"~(<circle r="5" fill="green" opacity="0.25"/>)~");
   CHECK(summary(r) == R"~(path 0 fill nonzero rgba(0,0.501961,0,1) opacity 0.25
-path 1 fill nonzero rgba(0,0,1,1) opacity 1
+path 1 fill nonzero rgba(0,0,1,1) opacity 1 stroke 1 miter butt 4
 path 2 fill nonzero rgba(1,0,0,1) opacity 1
 group 0 opacity 0.5 normal
 stream F0 {0 F1 F2 }

@@ -236,7 +236,7 @@ TEST_CASE("svg gradients: single stop, no stops, zero radius, zero-length vector
 path 0 fill nonzero rgba(0,1,1,1) opacity 1
 path 1 fill nonzero rgba(0,1,0,1) opacity 1
 path 2 fill nonzero rgba(0,0,1,1) opacity 1
-path 3 fill nonzero rgba(0,0.501961,0,0.5) opacity 1
+path 3 fill nonzero rgba(0,0.501961,0,0.5) opacity 1 stroke 1 miter butt 4
 path 4 fill nonzero rgba(1,0,0,1) opacity 1
 path 5 fill nonzero rgba(0,0.501961,0,0.5) opacity 0.5
 stream F0 F1 F2 F3 F4 F5
@@ -255,10 +255,10 @@ TEST_CASE("svg gradients: strokes use the fill's box; a box without area falls b
                   R"~(<line x2="10" stroke="url(#u)"/>)~"
                   R"~(<path d="M 0 0 L 10 10" stroke="url(#g)" stroke-width="2" stroke-opacity="0.5"/>)~") ==
         R"~(scene 100 100
-path 0 fill nonzero linear 1 opacity 0.5
+path 0 fill nonzero linear 1 opacity 0.5 stroke 2 miter butt 4
 path 1 fill nonzero rgba(0,0,0,1) opacity 1
-path 2 fill nonzero linear 0 opacity 1
-path 3 fill nonzero rgba(1,1,0,1) opacity 1
+path 2 fill nonzero linear 0 opacity 1 stroke 1 miter butt 4
+path 3 fill nonzero rgba(1,1,0,1) opacity 1 stroke 1 miter butt 4
 gradient 0 linear 0 0 100 0 radial 0 0 0 0 0 0 pad srgb
   stops 0 rgba(1,0,0,1) 1 rgba(0,0,1,1)
 gradient 1 linear 0 0 1 0 radial 0 0 0 0 0 0 pad srgb matrix(10 0 0 10 0 0)
@@ -405,7 +405,7 @@ TEST_CASE("svg patterns: children through href; properties inherit from where th
 path 0 fill nonzero pattern 0 opacity 1
 pattern 0 matrix(1 0 0 1 2 0)
     scene 10 10
-    path 0 fill nonzero rgba(1,0,0,1) opacity 1
+    path 0 fill nonzero rgba(1,0,0,1) opacity 1 stroke 0.5 miter butt 4
     path 1 fill nonzero rgba(0,0,1,1) opacity 0.5
     stream F0 F1
 stream F0
@@ -423,7 +423,7 @@ TEST_CASE("svg patterns: no content or no size fall back", "[svg][paint][pattern
                   R"~(<rect width="1" height="1" fill="url(#e) red"/><rect width="2" height="2" fill="url(#z)"/>)~"
                   R"~(<rect width="3" height="3" fill="url(#n) lime"/><line x2="10" stroke="url(#o) blue"/>)~") ==
         R"~(scene 100 100
-path 0 fill nonzero rgba(0,0,1,1) opacity 1
+path 0 fill nonzero rgba(0,0,1,1) opacity 1 stroke 1 miter butt 4
 path 1 fill nonzero rgba(0,1,0,1) opacity 1
 path 2 fill nonzero rgba(1,0,0,1) opacity 1
 stream F0 F1 F2
@@ -442,7 +442,7 @@ TEST_CASE("svg patterns: recursion is cut where the pattern is used inside itsel
 path 0 fill nonzero pattern 0 opacity 1
 pattern 0
     scene 10 10
-    path 0 fill nonzero pattern 0 opacity 1
+    path 0 fill nonzero pattern 0 opacity 1 stroke 1 miter butt 4
     pattern 0
         scene 10 10
         path 0 fill nonzero rgba(0,0.501961,0,1) opacity 1
@@ -504,7 +504,7 @@ TEST_CASE("svg patterns: tiles are shared by uses with the same box and scale", 
 path 0 fill nonzero pattern 2 opacity 1 matrix(2 0 0 2 0 0)
 path 1 fill nonzero pattern 1 opacity 1 matrix(1 0 0 1 7 3)
 path 2 fill nonzero pattern 0 opacity 1
-path 3 fill nonzero pattern 0 opacity 1
+path 3 fill nonzero pattern 0 opacity 1 stroke 1 miter butt 4
 path 4 fill nonzero pattern 0 opacity 1
 pattern 0
     scene 10 10
@@ -538,11 +538,11 @@ path 0 fill nonzero pattern 1 opacity 1
 path 1 fill nonzero pattern 0 opacity 1
 pattern 0
     scene 2 2
-    path 0 fill nonzero rgba(0,0.501961,0,1) opacity 0.2
+    path 0 fill nonzero rgba(0,0.501961,0,1) opacity 0.2 stroke 0.5 miter butt 4
     stream F0
 pattern 1 matrix(10 0 0 10 0 0)
     scene 2 2
-    path 0 fill nonzero rgba(0,0.501961,0,1) opacity 1
+    path 0 fill nonzero rgba(0,0.501961,0,1) opacity 1 stroke 0.1 miter butt 4
     stream F0
 stream F0 F1
 )~");

@@ -81,10 +81,12 @@ struct Op {
   uint32_t paint = 0;  // Fill: index into Converter::paints_
   uint32_t scene = 0;  // Append: index into Converter::embedded_; GroupBegin: into Converter::groups_
   Affine xf;           // Fill, Clip, Bounds: user space to scene; Append: the scene's units to ours
-  // Fill: the geometry is a stroke converted to fill geometry. Strokes are
-  // not part of an element's object bounding box (SVG 2
+  // Fill: the geometry is a centreline, stroked with
+  // Converter::stroke_styles_[stroke_style] (SceneBuilder::stroke). Strokes
+  // are not part of an element's object bounding box (SVG 2
   // coords.html#BoundingBoxes), so bounds skip them.
   bool stroke = false;
+  uint32_t stroke_style = 0;
   bool aliased = false;  // Fill, Clip: drawn without antialiasing (ScenePath::aliased)
 
   static Op of(OpKind k) {
@@ -330,9 +332,7 @@ struct Session {
   bool masks_checked = false;
   std::vector<const Element*> active_patterns;  // patterns whose tiles are being converted
   std::map<TileKey, Tile> tiles;
-  double stroke_seconds = 0;
   size_t stroked_paths = 0;
-  StrokeBatch collected_strokes;  // options.collect_strokes
   // Where relative hrefs resolve (the document's folder) and the folders
   // that may be read (svg_resources.h); the first is the document's own.
   std::string base_dir = ".";
@@ -552,7 +552,7 @@ class Converter {
   // ------------------------------------------------------------ strokes (svg_strokes.cpp)
 
   std::optional<Op> shape_stroke(uint32_t shape, const Style& st, const Affine& space, ShapeBox& bbox);
-  void convert_strokes();
+
 
   // ------------------------------------------------------------ clip paths
 
@@ -593,17 +593,9 @@ class Converter {
   std::vector<Group> groups_;        // Op::scene of GroupBegin operations
   std::map<std::pair<const Scene*, std::array<double, 6>>, uint32_t> pattern_of_;  // patterns_ by tile and xf
   std::vector<Path> shapes_;
-  // A stroke waiting for convert_strokes(): shapes_[source] stroked with
-  // `style` into shapes_[out]; with transform_first (non-scaling-stroke)
-  // the source is mapped by `space` first. `device` maps the stroked
-  // geometry to output pixels.
-  struct StrokeJob {
-    uint32_t source = 0, out = 0;
-    stroke::Style style;
-    Affine device, space;
-    bool transform_first = false;
-  };
-  std::vector<StrokeJob> stroke_jobs_;
+  // The styles of stroke operations (Op::stroke_style): the stroke stage
+  // builds them when the scene is rendered (core/stroke.h).
+  std::vector<StrokeStyle> stroke_styles_;
   std::unordered_map<const Element*, int> shape_of_;
   // Per shape of a path with arcs: the segments that continue an arc
   // command (markers are placed per command; svg_markers.cpp).

@@ -311,7 +311,6 @@ std::optional<Converter::Embedded> Converter::embed_document(const LoadedImage& 
     Converter conv(session, Affine{}, level_);
     out.scene = conv.run();
     s_.instances = session.instances;
-    s_.stroke_seconds += session.stroke_seconds;
     s_.stroked_paths += session.stroked_paths;
     for (std::string& w : warnings) warn(std::move(w));
     if (!sized) return std::nullopt;

@@ -454,7 +454,6 @@ Scene Converter::convert_tile(const Element& content, const Affine& content_xf, 
   const Style st = compute_style(content, document_context(content, false));
   const Context ctx = child_context(st, content_xf, false);
   for (const auto& c : content.children) render(*c, ctx, 1);
-  convert_strokes();
   SceneBuilder b(width, height);
   emit(b);
   Scene tile = b.finish();

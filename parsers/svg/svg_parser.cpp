@@ -97,7 +97,6 @@ Scene Converter::run() {
     ops_.push_back(fill);
   }
   render(root, ctx, 0);
-  convert_strokes();
   emit(builder);
   Scene scene = builder.finish();
   if (builder.flattened_groups()) warn(flattened_groups_warning(builder.flattened_groups()));
@@ -616,7 +615,12 @@ void Converter::emit(SceneBuilder& b) {
       case OpKind::Push: b.push(); break;
       case OpKind::Activate: b.activate(); break;
       case OpKind::Pop: b.pop(); break;
-      case OpKind::Fill: b.fill(geometry_of(op.shape), op.xf, op.rule, paints_[op.paint], op.aliased); break;
+      case OpKind::Fill:
+        if (op.stroke)
+          b.stroke(geometry_of(op.shape), op.xf, stroke_styles_[op.stroke_style], paints_[op.paint], op.aliased);
+        else
+          b.fill(geometry_of(op.shape), op.xf, op.rule, paints_[op.paint], op.aliased);
+        break;
       case OpKind::Clip: b.clip(geometry_of(op.shape), op.xf, op.rule, op.aliased); break;
       case OpKind::Append: b.append(embedded_[op.scene], op.xf); break;
       case OpKind::GroupBegin: b.begin_group(groups_[op.scene]); break;
@@ -661,9 +665,7 @@ ParseResult parse_svg_string(std::string_view text, const std::string& base_dir,
   session.allowed_dirs.insert(session.allowed_dirs.end(), options.allowed_dirs.begin(), options.allowed_dirs.end());
   detail::Converter conv(session, Affine{}, 0);
   result.scene = conv.run();
-  result.stroke_seconds = session.stroke_seconds;
   result.stroked_paths = session.stroked_paths;
-  result.strokes = std::move(session.collected_strokes);
   return result;
 }
 

@@ -45,7 +45,6 @@
 #include <vector>
 
 #include "core/scene.h"
-#include "core/stroke_input.h"
 
 namespace mpvg::svg {
 
@@ -54,32 +53,22 @@ struct ParseResult {
   // One short line per feature rendered approximately or not at all,
   // deduplicated, in the order first met.
   std::vector<std::string> warnings;
-  // Time spent converting strokes to fills (stroke::stroke_to_fill), and
-  // the number of strokes converted.
-  double stroke_seconds = 0;
+  // The number of stroked paths (the scene's strokes; the stroke stage
+  // builds them when the scene is rendered).
   size_t stroked_paths = 0;
-  // ParseOptions::collect_strokes: every stroke as the stroke stage's input
-  // (core/stroke_input.h), the same centrelines, styles and transforms to
-  // pixels the conversion used (path ids are geometry indices).
-  StrokeBatch strokes;
 };
 
 struct ParseOptions {
-  // Strokes become fill geometry while parsing (stroke::stroke_to_fill):
-  // outlines within 1/16 pixel of the exact ones, and hairlines (strokes
-  // thinner than a pixel) drawn one pixel wide with their opacity scaled to
-  // keep the ink (stroke::hairline). Both need to know what a pixel is.
-  // `view`, when set, is called once with the document's size (scene
-  // units) and returns the scene-to-pixel transform the document will be
-  // rendered with (svg2png passes the one its -w/-h/-z give). Without it,
-  // the scene is prepared for `device_scale` pixels per scene unit; at
-  // other scales the outline error scales along, and the hairline width
-  // with it.
+  // Hairlines (strokes thinner than a pixel) are drawn one pixel wide with
+  // their opacity scaled to keep the ink (stroke::hairline), which needs to
+  // know what a pixel is. `view`, when set, is called once with the
+  // document's size (scene units) and returns the scene-to-pixel transform
+  // the document will be rendered with (svg2png passes the one its
+  // -w/-h/-z give). Without it, the scene is prepared for `device_scale`
+  // pixels per scene unit. (Stroke outlines themselves are built when the
+  // scene is rendered, to 1/16 of an output pixel at whatever scale.)
   std::function<Affine(double width, double height)> view;
   double device_scale = 2;
-  // Also gather the strokes as the stroke stage's input (ParseResult::strokes;
-  // stroke_stats compares the stage with the conversion on real documents).
-  bool collect_strokes = false;
 
   // Folders whose files <image> may read besides the document's own
   // folder tree (which is always allowed): relative hrefs, absolute paths
