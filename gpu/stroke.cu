@@ -254,7 +254,7 @@ size_t StrokeStage::run(const StrokeBatch& b, DeviceBuffer<InputSegment>& out, s
     nelem += b.subpaths[s].segment_count + subpath_vertices(b.subpaths[s]);
   }
   upload(first_element, first.empty() ? std::vector<uint32_t>{0} : first);
-  MPVG_CUDA(cudaDeviceSynchronize());
+  if (times) MPVG_CUDA(cudaStreamSynchronize(cudaStreamPerThread));
   t.upload_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - w0).count();
 
   const uint32_t nseg = static_cast<uint32_t>(b.segments.size()), nsub = static_cast<uint32_t>(b.subpaths.size());
@@ -265,9 +265,15 @@ size_t StrokeStage::run(const StrokeBatch& b, DeviceBuffer<InputSegment>& out, s
   StrokeInput in{strokes.data(), subpaths.data(), segments.data(), dashes.data(), seg_length.data(),
                  seg_start.data(), sub_length.data(), static_cast<uint32_t>(b.strokes.size()), nsub, nseg,
                  b.nvertices};
+  // Events only when times are asked for (tools): a frame records none.
   cudaEvent_t ev[4];
-  for (cudaEvent_t& e : ev) MPVG_CUDA(cudaEventCreate(&e));
-  MPVG_CUDA(cudaEventRecord(ev[0]));
+  if (times) {
+    for (cudaEvent_t& e : ev) MPVG_CUDA(cudaEventCreate(&e));
+    MPVG_CUDA(cudaEventRecord(ev[0]));
+  }
+  auto mark = [&](int k) {
+    if (times) MPVG_CUDA(cudaEventRecord(ev[k]));
+  };
   if (nseg) {
     k_stroke_measure<<<grid_for(nseg, kBlock), kBlock>>>(in, seg_length.data(), keys.data());
     MPVG_LAUNCHED();
@@ -286,7 +292,7 @@ size_t StrokeStage::run(const StrokeBatch& b, DeviceBuffer<InputSegment>& out, s
     MPVG_LAUNCHED();
     t.launches++;
   }
-  MPVG_CUDA(cudaEventRecord(ev[1]));
+  mark(1);
   // Elements, then parts, spans and fit items; each kind counts, scans and
   // writes. Output: the elements' segments, the parts', the fit items'.
   mismatch.resize(1);
@@ -294,6 +300,10 @@ size_t StrokeStage::run(const StrokeBatch& b, DeviceBuffer<InputSegment>& out, s
   // Per-kernel GPU times (events around each), read at the end.
   std::vector<std::pair<const char*, std::pair<cudaEvent_t, cudaEvent_t>>> marks;
   auto timed = [&](const char* name, auto f) {
+    if (!times) {
+      f();
+      return;
+    }
     cudaEvent_t a, z;
     MPVG_CUDA(cudaEventCreate(&a));
     MPVG_CUDA(cudaEventCreate(&z));
@@ -347,27 +357,29 @@ size_t StrokeStage::run(const StrokeBatch& b, DeviceBuffer<InputSegment>& out, s
   launch("fit_count", k_fit_count, nfits + 1, in, parts.data(), breaks.data(), spans.data(), knots.data(), fits.data(), nfits,
          count.data());
   const uint32_t c_total = scan(count, offset, nfits);
-  MPVG_CUDA(cudaEventRecord(ev[2]));
+  mark(2);
   const uint32_t total = a_total + b_total + c_total;
   out.grow_keep(at + total + 1);
   launch("fit_write", k_fit_write, nfits, in, parts.data(), breaks.data(), spans.data(), knots.data(), fits.data(), nfits,
          offset.data(), out.data() + at + a_total + b_total, mismatch.data());
 
-  MPVG_CUDA(cudaEventRecord(ev[3]));
-  MPVG_CUDA(cudaEventSynchronize(ev[3]));
-  float ms[3];
-  for (int k = 0; k < 3; k++) MPVG_CUDA(cudaEventElapsedTime(&ms[k], ev[k], ev[k + 1]));
-  for (cudaEvent_t& e : ev) MPVG_CUDA(cudaEventDestroy(e));
-  for (auto& m : marks) {
-    float k = 0;
-    MPVG_CUDA(cudaEventElapsedTime(&k, m.second.first, m.second.second));
-    t.kernels.push_back({m.first, k});
-    cudaEventDestroy(m.second.first);
-    cudaEventDestroy(m.second.second);
+  if (times) {
+    MPVG_CUDA(cudaEventRecord(ev[3]));
+    MPVG_CUDA(cudaEventSynchronize(ev[3]));
+    float ms[3];
+    for (int k = 0; k < 3; k++) MPVG_CUDA(cudaEventElapsedTime(&ms[k], ev[k], ev[k + 1]));
+    for (cudaEvent_t& e : ev) MPVG_CUDA(cudaEventDestroy(e));
+    for (auto& m : marks) {
+      float k = 0;
+      MPVG_CUDA(cudaEventElapsedTime(&k, m.second.first, m.second.second));
+      t.kernels.push_back({m.first, k});
+      cudaEventDestroy(m.second.first);
+      cudaEventDestroy(m.second.second);
+    }
+    t.measure_ms = ms[0];
+    t.count_ms = ms[1];
+    t.write_ms = ms[2];
   }
-  t.measure_ms = ms[0];
-  t.count_ms = ms[1];
-  t.write_ms = ms[2];
   if (read_word(mismatch.data())) throw Error("stroke: an item wrote a different count than it counted (GPU)");
   t.segments = total;
   if (times) *times = t;
@@ -396,7 +408,7 @@ void group_by_path(DeviceBuffer<InputSegment>& segs, size_t n, size_t npaths, De
     prim.calls++;
     k_gather<<<grid_for(n, kBlock), kBlock>>>(segs.data(), idx_out.data(), static_cast<uint32_t>(n), grouped.data());
     MPVG_LAUNCHED();
-    MPVG_CUDA(cudaMemcpy(segs.data(), grouped.data(), n * sizeof(InputSegment), cudaMemcpyDeviceToDevice));
+    segs.swap(grouped);
   }
   path_input.resize(npaths + 1);
   k_path_first<<<grid_for(npaths + 1, kBlock), kBlock>>>(keys_out.data(), static_cast<uint32_t>(n),
