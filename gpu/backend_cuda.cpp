@@ -176,7 +176,9 @@ void FrameRenderer::warm_up(const RenderOptions& like, size_t pool_bytes) {
   cudaSetDevice(impl_->device);
   gpu::reserve_pool(pool_bytes);
   // A filled shape with lines and a curve, a clip and an even-odd fill:
-  // abstraction, subdivision, pruning, the tree and the solid sampler.
+  // abstraction, subdivision, pruning, the tree and the solid sampler; and
+  // a dashed stroke of a curve: every kernel of the stroke stage (parts,
+  // spans, fit items, the grouping by path).
   SceneBuilder b(64, 64);
   Path shape = Path::rectangle(4, 4, 60, 36);
   shape.move_to({8, 60});
@@ -189,6 +191,14 @@ void FrameRenderer::warm_up(const RenderOptions& like, size_t pool_bytes) {
   paint.color = RGBA{0.2f, 0.4f, 0.8f, 1};
   b.fill(b.add_geometry(shape), Affine{}, FillRule::EvenOdd, paint);
   b.pop();
+  Path curve;
+  curve.move_to({6, 50});
+  curve.cubic_to({20, 10}, {44, 90}, {58, 50});
+  StrokeStyle stroke;
+  stroke.width = 3;
+  stroke.join = LineJoin::Round;
+  stroke.dashes = {9, 3};
+  b.stroke(b.add_geometry(curve), Affine{}, stroke, paint);
   const Scene scene = b.finish();
   RenderOptions o = like;
   o.width = o.height = 64;
