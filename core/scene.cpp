@@ -308,6 +308,14 @@ void SceneBuilder::clip(uint32_t geometry, const Affine& xf, FillRule rule, bool
   (in_clip_section ? f.group->clip_items : f.group->content).push_back(n);
 }
 
+void SceneBuilder::clip_stroke(uint32_t geometry, const Affine& xf, const StrokeStyle& style, bool aliased) {
+  clip(geometry, xf, FillRule::NonZero, aliased);
+  Frame& f = frame();
+  Node* n = (!f.activated ? f.group->clip_items : f.group->content).back();
+  n->path.stroke = static_cast<int32_t>(scene_.strokes.size());
+  scene_.strokes.push_back(style);
+}
+
 void SceneBuilder::push() {
   Frame& f = frame();
   const bool in_clip_section = !f.activated;
@@ -620,7 +628,10 @@ struct Replay {
       const Element& e = s.stream[first];
       if (e.kind == ElementKind::Clip) {
         const ScenePath& sp = s.paths[e.path];
-        b.clip(geom(sp.geometry), xf * sp.xf, sp.rule, sp.aliased);
+        if (sp.stroke >= 0)
+          b.clip_stroke(geom(sp.geometry), xf * sp.xf, s.strokes[sp.stroke], sp.aliased);
+        else
+          b.clip(geom(sp.geometry), xf * sp.xf, sp.rule, sp.aliased);
       } else {
         group(first, true);
         b.pop();

@@ -375,6 +375,9 @@ class SceneBuilder {
   // is itself a clip-path). pop() ends the group.
   void push();
   void clip(uint32_t geometry, const Affine& xf, FillRule rule, bool aliased = false);
+  // A clip test with the stroke of a centreline (PDF's stroked text and
+  // paths as clips).
+  void clip_stroke(uint32_t geometry, const Affine& xf, const StrokeStyle& style, bool aliased = false);
   void activate();
   void pop();
 

@@ -25,7 +25,6 @@
 #include "core/error.h"
 #include "core/mesh_build.h"
 #include "parsers/pdf/pdf_device.h"
-#include "stroker/stroker.h"
 
 namespace mpvg::pdf::detail {
 
@@ -122,11 +121,11 @@ fz_pixmap* rgb_pixmap(fz_context* ctx, fz_image* image, fz_color_params cp, fz_m
   return rgb;
 }
 
-stroke::Cap to_cap(fz_linecap c) {
+LineCap to_cap(fz_linecap c) {
   switch (c) {
-    case FZ_LINECAP_ROUND: return stroke::Cap::Round;
-    case FZ_LINECAP_SQUARE: return stroke::Cap::Square;
-    default: return stroke::Cap::Butt;  // triangle caps (XPS) come later
+    case FZ_LINECAP_ROUND: return LineCap::Round;
+    case FZ_LINECAP_SQUARE: return LineCap::Square;
+    default: return LineCap::Butt;  // triangle caps (XPS) come later
   }
 }
 
@@ -198,18 +197,19 @@ struct Lowering {
     return p;
   }
 
-  // The fill geometry of a stroke, in the path's space. Width 0 is the
-  // thinnest visible line: one output pixel.
-  Path stroke_geometry(const Path& p, const fz_stroke_state* s, const Affine& ctm) {
-    stroke::Style st;
+  // The style of a stroke, placed by ctm. Width 0 is the thinnest visible
+  // line: one output pixel. The stroke stage builds the outline when the
+  // page is rendered.
+  StrokeStyle stroke_style(const fz_stroke_state* s, const Affine& ctm) {
+    StrokeStyle st;
     const Affine to_device = device * adjust.inverted() * ctm;
     const double scale = std::sqrt(std::fabs(to_device.a * to_device.d - to_device.b * to_device.c));
     st.width = s->linewidth > 0 ? s->linewidth : (scale > 0 ? 1.0 / scale : 1.0);
     st.cap = to_cap(s->start_cap);
     switch (s->linejoin) {
-      case FZ_LINEJOIN_ROUND: st.join = stroke::Join::Round; break;
-      case FZ_LINEJOIN_BEVEL: st.join = stroke::Join::Bevel; break;
-      default: st.join = stroke::Join::Miter; break;
+      case FZ_LINEJOIN_ROUND: st.join = LineJoin::Round; break;
+      case FZ_LINEJOIN_BEVEL: st.join = LineJoin::Bevel; break;
+      default: st.join = LineJoin::Miter; break;
     }
     st.miter_limit = s->miterlimit;
     // dash_list is declared float[32] but MuPDF allocates the state with
@@ -218,7 +218,12 @@ struct Lowering {
     const float* dashes = s->dash_list;
     st.dashes.assign(dashes, dashes + std::max(0, s->dash_len));
     st.dash_offset = s->dash_phase;
-    return stroke::stroke_to_fill(p, st, to_device);
+    return st;
+  }
+
+  void stroke(Path centreline, const Affine& xf, const StrokeStyle& style, const Paint& paint) {
+    if (centreline.empty() && centreline.contours().empty()) return;
+    b->stroke(b->add_geometry(std::move(centreline)), xf, style, paint);
   }
 
   void fill(Path geometry, const Affine& xf, FillRule rule, const Paint& paint) {
@@ -337,8 +342,7 @@ void stroke_path(fz_context* ctx, fz_device* dev, const fz_path* path, const fz_
   Lowering* l = Lowering::of(dev);
   l->guarded([&] {
     const Affine xf = l->place(ctm);
-    l->fill(l->stroke_geometry(to_path(ctx, path), stroke, xf), xf, FillRule::NonZero,
-            l->solid(ctx, cs, color, alpha, cp));
+    l->stroke(to_path(ctx, path), xf, l->stroke_style(stroke, xf), l->solid(ctx, cs, color, alpha, cp));
   });
 }
 
@@ -354,7 +358,12 @@ void clip_stroke_path(fz_context* ctx, fz_device* dev, const fz_path* path, cons
   Lowering* l = Lowering::of(dev);
   l->guarded([&] {
     const Affine xf = l->place(ctm);
-    l->clip(l->stroke_geometry(to_path(ctx, path), stroke, xf), xf, FillRule::NonZero);
+    Path centreline = to_path(ctx, path);
+    l->b->push();
+    if (!centreline.contours().empty())
+      l->b->clip_stroke(l->b->add_geometry(std::move(centreline)), xf, l->stroke_style(stroke, xf));
+    l->b->activate();
+    l->pops.push_back(Lowering::ClipGroup);
   });
 }
 
@@ -497,8 +506,8 @@ void stroke_text(fz_context* ctx, fz_device* dev, const fz_text* text, const fz_
   l->guarded([&] {
     const Paint paint = l->solid(ctx, cs, color, alpha, cp);
     const Affine xf = l->place(ctm);
-    l->glyphs(ctx, text, ctm,
-              [&](Path p) { l->fill(l->stroke_geometry(p, stroke, xf), xf, FillRule::NonZero, paint); });
+    const StrokeStyle st = l->stroke_style(stroke, xf);
+    l->glyphs(ctx, text, ctm, [&](Path p) { l->stroke(std::move(p), xf, st, paint); });
   });
 }
 
@@ -520,9 +529,9 @@ void clip_stroke_text(fz_context* ctx, fz_device* dev, const fz_text* text, cons
   l->guarded([&] {
     const Affine xf = l->place(ctm);
     l->b->push();
+    const StrokeStyle st = l->stroke_style(stroke, xf);
     l->glyphs(ctx, text, ctm, [&](Path p) {
-      Path g = l->stroke_geometry(p, stroke, xf);
-      if (!g.empty()) l->b->clip(l->b->add_geometry(std::move(g)), xf, FillRule::NonZero);
+      if (!p.empty()) l->b->clip_stroke(l->b->add_geometry(std::move(p)), xf, st);
     });
     l->b->activate();
     l->pops.push_back(Lowering::ClipGroup);
