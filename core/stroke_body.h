@@ -167,10 +167,10 @@ MPVG_HD_INLINE double fit_split(const Boundary& g, double u, double v, bool unev
 // uniform in t all fall at one end, which the even turning check detects.
 // Returns true with *out set when [u, v] is one piece, else false with
 // *split set.
-MPVG_HD_INLINE bool fit_piece(const Boundary& g, double tol, double u, double v, int depth, Piece* out,
-                              double* split) {
-  Vec2 du, dv;
-  const Vec2 pu = g.point(u, &du), pv = g.point(v, &dv);
+// pu, du and pv, dv are the boundary's points and tangent directions at u
+// and v (g.point).
+MPVG_HD_INLINE bool fit_piece(const Boundary& g, double tol, double u, double v, Vec2 pu, Vec2 du, Vec2 pv, Vec2 dv,
+                              int depth, Piece* out, double* split) {
   if (depth >= kFitDepth || !(v - u > 1e-15)) {
     *out = {CURVE_LINE, pu, {}, pv};
     return true;
@@ -230,23 +230,31 @@ MPVG_HD void emit_piece(Sink& out, Piece q, bool backwards);
 
 template <class Sink>
 MPVG_HD void fit_interval(const Boundary& g, double tol, double u, double v, bool backwards, Sink& out) {
+  // Each node carries its ends' points, computed once where it was split
+  // off (the same values g.point gives there: the pieces do not change).
   struct Node {
     double u, v;
+    Vec2 pu, du, pv, dv;
     int depth;
   };
   Node stack[kFitDepth + 2];
   int top = 0;
-  stack[top++] = {u, v, 0};
+  Node root{u, v, {}, {}, {}, {}, 0};
+  root.pu = g.point(u, &root.du);
+  root.pv = g.point(v, &root.dv);
+  stack[top++] = root;
   while (top > 0) {
     const Node nd = stack[--top];
     Piece pc;
     double m = 0;
-    if (fit_piece(g, tol, nd.u, nd.v, nd.depth, &pc, &m)) {
+    if (fit_piece(g, tol, nd.u, nd.v, nd.pu, nd.du, nd.pv, nd.dv, nd.depth, &pc, &m)) {
       emit_piece(out, pc, backwards);
       continue;
     }
-    stack[top++] = {m, nd.v, nd.depth + 1};
-    stack[top++] = {nd.u, m, nd.depth + 1};
+    Vec2 dm;
+    const Vec2 pm = g.point(m, &dm);
+    stack[top++] = {m, nd.v, pm, dm, nd.pv, nd.dv, nd.depth + 1};
+    stack[top++] = {nd.u, m, nd.pu, nd.du, pm, dm, nd.depth + 1};
   }
 }
 
