@@ -15,18 +15,20 @@
 // offsets are quadratics within the tolerance (never polylines), lines stay
 // lines, circular arcs are exact conics.
 //
-// Elements, each independent of the others once the measuring pass is done:
-//   - segment i: its body (core/stroke_body.h), or with dashes the bodies of
-//     the dashes' parts on it, the caps of the dashes that begin or end on
-//     it, and its zero-length dashes;
+// Items, each independent of the others of its kind once the kinds before
+// it are done:
+//   - segment i: the parts of it to build bodies for (the whole segment, or
+//     with dashes the dashes' parts on it), the caps of the dashes that
+//     begin or end on it, and its zero-length dashes;
 //   - vertex v of a subpath: the join there (core/stroke_joins.h) when the
 //     stroke runs through it, the caps of an undashed open subpath, the dot
-//     of a zero-length subpath.
+//     of a zero-length subpath;
+//   - the parts, their spans and their fit items (core/stroke_body.h).
 // Dash phases come from the arc length at each segment's start: segment
-// lengths (the measuring pass), summed by a scan within each subpath.
-// Every element runs twice: counting its output segments, then (after a
-// scan of the counts) writing them, in pixels, as the abstraction stage's
-// input.
+// lengths (the measuring pass), summed by a scan within each subpath. The
+// GPU runs each kind twice, counting its output segments, then (after a
+// scan of the counts) writing them; the CPU appends them in one pass.
+// Segments are written in pixels, as the abstraction stage's input.
 #pragma once
 #include <cstdint>
 
@@ -103,7 +105,8 @@ struct StrokeInput {
   const double* seg_length;  // measuring pass: arc length of each segment
   const double* seg_start;   // scan: arc length from the subpath's start
   const double* sub_length;  // arc length of each subpath
-  uint32_t nstrokes, nsubpaths, nsegments, nvertices;
+  const uint32_t* first_element;  // per subpath: its first element (see element_of)
+  uint32_t nstrokes, nsubpaths, nsegments, nelements;
 };
 
 // ---------------------------------------------------------------- dashes
@@ -238,12 +241,13 @@ MPVG_HD void stroke_segment(const StrokeInput& in, uint32_t i, Emitter<Sink>& ou
     if (s >= s1) return 1.0;
     return table.param_at(s - s0);
   };
-  // Start one period early, so that every element reaching into the segment
-  // is seen; stop past its end.
+  // Start at the first element of the period before the one s0 falls in,
+  // so that every element reaching into the segment is seen; stop past its
+  // end.
   double k;
-  uint32_t j = dp.element_after(s0, &k);
+  dp.element_after(s0, &k);
   k -= 1;
-  j = 0;
+  uint32_t j = 0;
   const double guard = (s1 - s0) / dp.sum * dp.n + 4.0 * dp.n + 8;
   for (double it = 0; it < guard; it++) {
     const double start = dp.element_start(k, j), end = start + dp.d[j];
@@ -285,6 +289,29 @@ MPVG_HD_INLINE uint32_t vertex_subpath(const StrokeInput& in, uint32_t v) {
       hi = mid;
   }
   return lo;
+}
+
+// Element e: elements come per subpath, its segments then its vertices,
+// so that outputs come grouped by stroke; the subpath is found by binary
+// search on first_element.
+struct ElementRef {
+  bool vertex;
+  uint32_t index;  // segment or vertex
+  uint32_t stroke;
+};
+MPVG_HD_INLINE ElementRef element_of(const StrokeInput& in, uint32_t e) {
+  uint32_t lo = 0, hi = in.nsubpaths;
+  while (hi - lo > 1) {
+    const uint32_t mid = (lo + hi) / 2;
+    if (in.first_element[mid] <= e)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  const StrokeSubpath& sp = in.subpaths[lo];
+  const uint32_t k = e - in.first_element[lo];
+  if (k < sp.segment_count) return {false, sp.first_segment + k, sp.stroke};
+  return {true, sp.first_vertex + (k - sp.segment_count), sp.stroke};
 }
 
 // Vertex element v.

@@ -1,5 +1,6 @@
 // Stage "stroke", bodies: the region a segment's normals sweep, as closed
-// positively oriented contours (one thread per segment; both executors).
+// positively oriented contours, built by parts, spans and fit items (see
+// "bodies" below; both executors).
 //
 // A segment c(t) with unit tangent T(t), left normal n(t) = T rotated by
 // +90° and signed curvature k(t) sweeps the normal segments
@@ -28,10 +29,10 @@
 // evolute), and so that the tangent turns by at most 80° per fitted span.
 //
 // Everything here runs in bounded memory without allocation: the breaks of
-// a segment are a fixed array, a span's knots are recomputed where needed,
-// and the fitter walks its subdivision with an explicit stack, forwards or
-// backwards with the same pieces (a closed contour runs along one side
-// forwards and the other backwards).
+// a part and the knots of a span are fixed arrays, and the fitter walks its
+// subdivision with an explicit stack whose every decision depends on the
+// interval alone (a contour runs along one side forwards and the other
+// backwards: the same pieces, reversed).
 #pragma once
 #include <cstdint>
 
@@ -225,8 +226,21 @@ MPVG_HD_INLINE bool fit_piece(const Boundary& g, double tol, double u, double v,
 // The pieces of the boundary over [u, v] (each reversed when backwards),
 // to the sink. The walk is depth first with an explicit stack; every
 // decision depends on the interval alone.
+// A line a -> b to the sink, unless it has no length.
 template <class Sink>
-MPVG_HD void emit_piece(Sink& out, Piece q, bool backwards);
+MPVG_HD void emit_line(Sink& out, Vec2 a, Vec2 b) {
+  if (!(a == b)) out.segment(CURVE_LINE, a, b, b, 1);
+}
+
+// A fitted piece to the sink (reversed when backwards), unless degenerate.
+template <class Sink>
+MPVG_HD void emit_piece(Sink& out, Piece q, bool backwards) {
+  if (backwards) q = reversed(q);
+  if (q.type == CURVE_LINE)
+    emit_line(out, q.p0, q.p2);
+  else if (q.p0 != q.p2 || q.p1 != q.p0)
+    out.segment(q.type, q.p0, q.p1, q.p2, q.w);
+}
 
 template <class Sink>
 MPVG_HD void fit_interval(const Boundary& g, double tol, double u, double v, bool backwards, Sink& out) {
@@ -673,22 +687,6 @@ MPVG_HD_INLINE Boundary boundary_of(const Curve& c, const Span& sp, const Role& 
   g.h = h;
   g.side = sp.kind;
   return g;
-}
-
-// A line a -> b to the sink, unless it has no length.
-template <class Sink>
-MPVG_HD void emit_line(Sink& out, Vec2 a, Vec2 b) {
-  if (!(a == b)) out.segment(CURVE_LINE, a, b, b, 1);
-}
-
-// A fitted piece to the sink (reversed when backwards), unless degenerate.
-template <class Sink>
-MPVG_HD void emit_piece(Sink& out, Piece q, bool backwards) {
-  if (backwards) q = reversed(q);
-  if (q.type == CURVE_LINE)
-    emit_line(out, q.p0, q.p2);
-  else if (q.p0 != q.p2 || q.p1 != q.p0)
-    out.segment(q.type, q.p0, q.p1, q.p2, q.w);
 }
 
 // The part's analysis: its breaks (none for a line). Returns its spans.

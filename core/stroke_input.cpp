@@ -121,6 +121,8 @@ bool StrokeBatch::add(const Path& path, const StrokeStyle& style, const Affine& 
     }
     sp.first_vertex = nvertices;
     nvertices += subpath_vertices(sp);
+    first_element.push_back(nelements);
+    nelements += sp.segment_count + subpath_vertices(sp);
     subpaths.push_back(sp);
   }
   if (subpaths.size() == subpaths0) {

@@ -18,7 +18,8 @@ struct StrokeBatch {
   std::vector<stroking::StrokeSubpath> subpaths;
   std::vector<stroking::StrokeSegment> segments;
   std::vector<double> dashes;
-  uint32_t nvertices = 0;
+  std::vector<uint32_t> first_element;  // per subpath (StrokeInput::first_element)
+  uint32_t nvertices = 0, nelements = 0;
 
   // Adds the stroke of `path` (user space) with output path id `path_id`.
   // `to_pixels` maps user space to pixels, where the output lies within

@@ -64,8 +64,9 @@ struct SegmentSink {
   }
 };
 
-// Builds closed contours from pieces. A contour is only started by its
-// first element of positive length, so degenerate pieces leave nothing.
+// Builds closed contours from pieces, one at a time: bridges gaps with
+// lines, leaves out pieces of no length (a contour of degenerate pieces
+// leaves nothing) and closes each contour back to where it began.
 template <class Sink>
 class Emitter {
  public:
@@ -73,7 +74,6 @@ class Emitter {
 
   MPVG_HD void begin(Vec2 p) {
     start_ = cur_ = p;
-    pending_ = true;
     open_ = false;
   }
   MPVG_HD void line(Vec2 p) {
@@ -95,7 +95,7 @@ class Emitter {
   }
   MPVG_HD void close() {
     if (open_) line(start_);
-    pending_ = open_ = false;
+    open_ = false;
   }
 
   // A convex polygon, counter-clockwise whatever the order given, so that
@@ -141,7 +141,7 @@ class Emitter {
  private:
   Sink& sink_;
   Vec2 start_, cur_;
-  bool pending_ = false, open_ = false;
+  bool open_ = false;  // a segment of the contour has been emitted
 };
 
 }  // namespace mpvg::stroking

@@ -6,14 +6,15 @@
 // fit items (fitted boundary pieces). Each kind counts its output, an
 // exclusive scan places it, and the same items write it. The segments are
 // then grouped by path (a stable radix sort), as abstraction takes them.
+#include <algorithm>
 #include <chrono>
+#include <deque>
 
 #include "core/error.h"
 #include "core/stroke.h"
 #include "gpu/context.cuh"
 #include "gpu/stroke.cuh"
 #include "gpu/stroke.h"
-#include <algorithm>
 
 namespace mpvg::gpu {
 
@@ -43,39 +44,21 @@ __global__ void k_stroke_subpath_length(StrokeInput in, double* sub_length) {
   sub_length[s] = in.seg_start[last] + in.seg_length[last];
 }
 
-// Element e: a segment or a vertex of the subpath whose range holds it.
-struct ElementRef {
-  bool vertex;
-  uint32_t index;
-  uint32_t stroke;
-};
-__device__ ElementRef element_of(const StrokeInput& in, const uint32_t* first_element, uint32_t e) {
-  uint32_t lo = 0, hi = in.nsubpaths;
-  while (hi - lo > 1) {
-    const uint32_t mid = (lo + hi) / 2;
-    if (first_element[mid] <= e) lo = mid; else hi = mid;
-  }
-  const StrokeSubpath& sp = in.subpaths[lo];
-  const uint32_t k = e - first_element[lo];
-  if (k < sp.segment_count) return {false, sp.first_segment + k, sp.stroke};
-  return {true, sp.first_vertex + (k - sp.segment_count), sp.stroke};
-}
-
 __device__ SegmentSink sink_at(const StrokeInput& in, uint32_t stroke, InputSegment* out, uint32_t capacity) {
   const StrokeRecord& rec = in.strokes[stroke];
   return SegmentSink{out, capacity, rec.path, rec.xf, 0};
 }
 
 // Elements: their own segments (caps, joins, dots) and their parts.
-__global__ void k_element_count(StrokeInput in, const uint32_t* first_element, uint32_t nelem, uint32_t* count,
-                                uint32_t* part_count) {
+__global__ void k_element_count(StrokeInput in, uint32_t* count, uint32_t* part_count) {
+  const uint32_t nelem = in.nelements;
   const uint32_t e = blockIdx.x * blockDim.x + threadIdx.x;
   if (e > nelem) return;
   if (e == nelem) {
     count[e] = part_count[e] = 0;
     return;
   }
-  const ElementRef r = element_of(in, first_element, e);
+  const ElementRef r = element_of(in, e);
   CountSink sink;
   Emitter<CountSink> out(sink);
   uint32_t parts = 0;
@@ -87,12 +70,12 @@ __global__ void k_element_count(StrokeInput in, const uint32_t* first_element, u
   part_count[e] = parts;
 }
 
-__global__ void k_element_write(StrokeInput in, const uint32_t* first_element, uint32_t nelem, const uint32_t* offset,
-                                const uint32_t* part_offset, InputSegment* segs, StrokePart* parts,
-                                uint32_t* mismatch) {
+__global__ void k_element_write(StrokeInput in, const uint32_t* offset, const uint32_t* part_offset,
+                                InputSegment* segs, StrokePart* parts, uint32_t* mismatch) {
+  const uint32_t nelem = in.nelements;
   const uint32_t e = blockIdx.x * blockDim.x + threadIdx.x;
   if (e >= nelem) return;
-  const ElementRef r = element_of(in, first_element, e);
+  const ElementRef r = element_of(in, e);
   SegmentSink sink = sink_at(in, r.stroke, segs + offset[e], offset[e + 1] - offset[e]);
   Emitter<SegmentSink> out(sink);
   uint32_t np = 0;
@@ -165,39 +148,30 @@ __global__ void k_span_items(const Knots* knots, uint32_t nspans, const uint32_t
 }
 
 // Fit items: the fitted pieces of one boundary over one knot interval.
-template <class Sink>
-__device__ void run_fit(const StrokeInput& in, const StrokePart* parts, const Breaks* breaks, const SpanRef* spans,
-                        const Knots* knots, FitRef f, uint32_t* stroke, Sink& sink) {
-  const SpanRef sr = spans[f.span];
-  const PartCurve pc = part_curve(in, parts[sr.part]);
-  *stroke = pc.stroke;
-  fit_item(pc.c, pc.h, pc.tol, knots[f.span], f.interval, f.role, sink);
-}
-
-__global__ void k_fit_count(StrokeInput in, const StrokePart* parts, const Breaks* breaks, const SpanRef* spans,
-                            const Knots* knots, const FitRef* fits, uint32_t nfits, uint32_t* count) {
+__global__ void k_fit_count(StrokeInput in, const StrokePart* parts, const SpanRef* spans, const Knots* knots,
+                            const FitRef* fits, uint32_t nfits, uint32_t* count) {
   const uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i > nfits) return;
   if (i == nfits) {
     count[i] = 0;
     return;
   }
+  const FitRef f = fits[i];
+  const PartCurve pc = part_curve(in, parts[spans[f.span].part]);
   CountSink sink;
-  uint32_t stroke;
-  run_fit(in, parts, breaks, spans, knots, fits[i], &stroke, sink);
+  fit_item(pc.c, pc.h, pc.tol, knots[f.span], f.interval, f.role, sink);
   count[i] = sink.n;
 }
 
-__global__ void k_fit_write(StrokeInput in, const StrokePart* parts, const Breaks* breaks, const SpanRef* spans,
-                            const Knots* knots, const FitRef* fits, uint32_t nfits, const uint32_t* offset,
-                            InputSegment* segs, uint32_t* mismatch) {
+__global__ void k_fit_write(StrokeInput in, const StrokePart* parts, const SpanRef* spans, const Knots* knots,
+                            const FitRef* fits, uint32_t nfits, const uint32_t* offset, InputSegment* segs,
+                            uint32_t* mismatch) {
   const uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= nfits) return;
-  const SpanRef sr = spans[fits[i].span];
-  const uint32_t stroke = in.subpaths[in.segments[parts[sr.part].segment].subpath].stroke;
-  SegmentSink sink = sink_at(in, stroke, segs + offset[i], offset[i + 1] - offset[i]);
-  uint32_t s;
-  run_fit(in, parts, breaks, spans, knots, fits[i], &s, sink);
+  const FitRef f = fits[i];
+  const PartCurve pc = part_curve(in, parts[spans[f.span].part]);
+  SegmentSink sink = sink_at(in, pc.stroke, segs + offset[i], offset[i + 1] - offset[i]);
+  fit_item(pc.c, pc.h, pc.tol, knots[f.span], f.interval, f.role, sink);
   if (sink.n != offset[i + 1] - offset[i]) atomicOr(mismatch, 1u);
 }
 
@@ -226,11 +200,6 @@ __global__ void k_gather(const InputSegment* segs, const uint32_t* index, uint32
   if (i < n) out[i] = segs[index[i]];
 }
 
-template <class T>
-void upload(DeviceBuffer<T>& d, const std::vector<T>& h) {
-  d.upload(h);
-}
-
 uint32_t read_word(const uint32_t* p) {
   uint32_t v = 0;
   MPVG_CUDA(cudaMemcpy(&v, p, sizeof v, cudaMemcpyDeviceToHost));
@@ -243,74 +212,33 @@ size_t StrokeStage::run(const StrokeBatch& b, DeviceBuffer<InputSegment>& out, s
                         StrokeGpuTimes* times) {
   StrokeGpuTimes t;
   const auto w0 = std::chrono::steady_clock::now();
-  upload(strokes, b.strokes);
-  upload(subpaths, b.subpaths);
-  upload(segments, b.segments);
-  upload(dashes, b.dashes.empty() ? std::vector<double>{0.0} : b.dashes);
-  std::vector<uint32_t> first(b.subpaths.size());
-  uint32_t nelem = 0;
-  for (size_t s = 0; s < b.subpaths.size(); s++) {
-    first[s] = nelem;
-    nelem += b.subpaths[s].segment_count + subpath_vertices(b.subpaths[s]);
-  }
-  upload(first_element, first.empty() ? std::vector<uint32_t>{0} : first);
+  strokes.upload(b.strokes);
+  subpaths.upload(b.subpaths);
+  segments.upload(b.segments);
+  dashes.upload(b.dashes.empty() ? std::vector<double>{0.0} : b.dashes);
+  first_element.upload(b.first_element.empty() ? std::vector<uint32_t>{0} : b.first_element);
   if (times) MPVG_CUDA(cudaStreamSynchronize(cudaStreamPerThread));
   t.upload_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - w0).count();
 
   const uint32_t nseg = static_cast<uint32_t>(b.segments.size()), nsub = static_cast<uint32_t>(b.subpaths.size());
+  const uint32_t nelem = b.nelements;
   seg_length.resize(nseg + 1);
   seg_start.resize(nseg + 1);
   sub_length.resize(nsub + 1);
   keys.resize(nseg + 1);
-  StrokeInput in{strokes.data(), subpaths.data(), segments.data(), dashes.data(), seg_length.data(),
-                 seg_start.data(), sub_length.data(), static_cast<uint32_t>(b.strokes.size()), nsub, nseg,
-                 b.nvertices};
-  // Events only when times are asked for (tools): a frame records none.
-  cudaEvent_t ev[4];
-  if (times) {
-    for (cudaEvent_t& e : ev) MPVG_CUDA(cudaEventCreate(&e));
-    MPVG_CUDA(cudaEventRecord(ev[0]));
-  }
-  auto mark = [&](int k) {
-    if (times) MPVG_CUDA(cudaEventRecord(ev[k]));
-  };
-  if (nseg) {
-    k_stroke_measure<<<grid_for(nseg, kBlock), kBlock>>>(in, seg_length.data(), keys.data());
-    MPVG_LAUNCHED();
-    t.launches++;
-    size_t bytes = 0;
-    MPVG_CUDA(cub::DeviceScan::ExclusiveSumByKey(nullptr, bytes, keys.data(), seg_length.data(), seg_start.data(),
-                                                 static_cast<int>(nseg)));
-    temp.resize(bytes);
-    MPVG_CUDA(cub::DeviceScan::ExclusiveSumByKey(temp.data(), bytes, keys.data(), seg_length.data(),
-                                                 seg_start.data(), static_cast<int>(nseg)));
-    MPVG_LAUNCHED();
-    t.launches++;
-  }
-  if (nsub) {
-    k_stroke_subpath_length<<<grid_for(nsub, kBlock), kBlock>>>(in, sub_length.data());
-    MPVG_LAUNCHED();
-    t.launches++;
-  }
-  mark(1);
-  // Elements, then parts, spans and fit items; each kind counts, scans and
-  // writes. Output: the elements' segments, the parts', the fit items'.
-  mismatch.resize(1);
-  MPVG_CUDA(cudaMemset(mismatch.data(), 0, sizeof(uint32_t)));
-  // Per-kernel GPU times (events around each), read at the end.
-  std::vector<std::pair<const char*, std::pair<cudaEvent_t, cudaEvent_t>>> marks;
+  const StrokeInput in{strokes.data(),    subpaths.data(),      segments.data(),
+                       dashes.data(),     seg_length.data(),    seg_start.data(),
+                       sub_length.data(), first_element.data(), static_cast<uint32_t>(b.strokes.size()),
+                       nsub,              nseg,                 nelem};
+  // GPU times only when asked for (tools): a frame records no events. The
+  // phases, and each kernel and scan within them (named slots).
+  StageTimer phases(times != nullptr), kernels(times != nullptr);
+  std::deque<std::pair<const char*, double>> slots;
   auto timed = [&](const char* name, auto f) {
-    if (!times) {
-      f();
-      return;
-    }
-    cudaEvent_t a, z;
-    MPVG_CUDA(cudaEventCreate(&a));
-    MPVG_CUDA(cudaEventCreate(&z));
-    MPVG_CUDA(cudaEventRecord(a));
+    slots.push_back({name, 0.0});
+    kernels.start(&slots.back().second);
     f();
-    MPVG_CUDA(cudaEventRecord(z));
-    marks.push_back({name, {a, z}});
+    kernels.stop();
   };
   auto launch = [&](const char* name, auto kernel, uint32_t n, auto... args) {
     if (!n) return;
@@ -325,16 +253,38 @@ size_t StrokeStage::run(const StrokeBatch& b, DeviceBuffer<InputSegment>& out, s
     t.round_trips++;
     return read_word(o.data() + n);
   };
+
+  phases.start(&t.measure_ms);
+  launch("measure", k_stroke_measure, nseg, in, seg_length.data(), keys.data());
+  if (nseg) {
+    size_t bytes = 0;
+    MPVG_CUDA(cub::DeviceScan::ExclusiveSumByKey(nullptr, bytes, keys.data(), seg_length.data(), seg_start.data(),
+                                                 static_cast<int>(nseg)));
+    temp.resize(bytes);
+    timed("scan by subpath", [&] {
+      MPVG_CUDA(cub::DeviceScan::ExclusiveSumByKey(temp.data(), bytes, keys.data(), seg_length.data(),
+                                                   seg_start.data(), static_cast<int>(nseg)));
+    });
+    t.launches++;
+  }
+  launch("subpath_length", k_stroke_subpath_length, nsub, in, sub_length.data());
+  phases.stop();
+
+  // Elements, then parts, spans and fit items; each kind counts, scans and
+  // writes. Output: the elements' segments, the parts', the fit items'.
+  phases.start(&t.count_ms);
+  mismatch.resize(1);
+  MPVG_CUDA(cudaMemset(mismatch.data(), 0, sizeof(uint32_t)));
   count.resize(nelem + 1);
   pcount.resize(nelem + 1);
-  launch("element_count", k_element_count, nelem + 1, in, first_element.data(), nelem, count.data(), pcount.data());
+  launch("element_count", k_element_count, nelem + 1, in, count.data(), pcount.data());
   const uint32_t a_total = scan(count, offset, nelem);
   const uint32_t nparts = scan(pcount, poffset, nelem);
   // Room for the elements' segments now; the others' are added as counted.
   out.grow_keep(at + a_total + 1);
   parts.resize(nparts + 1);
-  launch("element_write", k_element_write, nelem, in, first_element.data(), nelem, offset.data(), poffset.data(), out.data() + at,
-         parts.data(), mismatch.data());
+  launch("element_write", k_element_write, nelem, in, offset.data(), poffset.data(), out.data() + at, parts.data(),
+         mismatch.data());
 
   breaks.resize(nparts + 1);
   count.resize(nparts + 1);
@@ -349,37 +299,27 @@ size_t StrokeStage::run(const StrokeBatch& b, DeviceBuffer<InputSegment>& out, s
 
   knots.resize(nspans + 1);
   count.resize(nspans + 1);
-  launch("span_knots", k_span_knots, nspans + 1, in, parts.data(), breaks.data(), spans.data(), nspans, knots.data(), count.data());
+  launch("span_knots", k_span_knots, nspans + 1, in, parts.data(), breaks.data(), spans.data(), nspans, knots.data(),
+         count.data());
   const uint32_t nfits = scan(count, offset, nspans);
   fits.resize(nfits + 1);
   launch("span_items", k_span_items, nspans, knots.data(), nspans, offset.data(), fits.data());
   count.resize(nfits + 1);
-  launch("fit_count", k_fit_count, nfits + 1, in, parts.data(), breaks.data(), spans.data(), knots.data(), fits.data(), nfits,
+  launch("fit_count", k_fit_count, nfits + 1, in, parts.data(), spans.data(), knots.data(), fits.data(), nfits,
          count.data());
   const uint32_t c_total = scan(count, offset, nfits);
-  mark(2);
+  phases.stop();
+
+  phases.start(&t.write_ms);
   const uint32_t total = a_total + b_total + c_total;
   out.grow_keep(at + total + 1);
-  launch("fit_write", k_fit_write, nfits, in, parts.data(), breaks.data(), spans.data(), knots.data(), fits.data(), nfits,
+  launch("fit_write", k_fit_write, nfits, in, parts.data(), spans.data(), knots.data(), fits.data(), nfits,
          offset.data(), out.data() + at + a_total + b_total, mismatch.data());
+  phases.stop();
 
-  if (times) {
-    MPVG_CUDA(cudaEventRecord(ev[3]));
-    MPVG_CUDA(cudaEventSynchronize(ev[3]));
-    float ms[3];
-    for (int k = 0; k < 3; k++) MPVG_CUDA(cudaEventElapsedTime(&ms[k], ev[k], ev[k + 1]));
-    for (cudaEvent_t& e : ev) MPVG_CUDA(cudaEventDestroy(e));
-    for (auto& m : marks) {
-      float k = 0;
-      MPVG_CUDA(cudaEventElapsedTime(&k, m.second.first, m.second.second));
-      t.kernels.push_back({m.first, k});
-      cudaEventDestroy(m.second.first);
-      cudaEventDestroy(m.second.second);
-    }
-    t.measure_ms = ms[0];
-    t.count_ms = ms[1];
-    t.write_ms = ms[2];
-  }
+  phases.collect();
+  kernels.collect();
+  t.kernels.assign(slots.begin(), slots.end());
   if (read_word(mismatch.data())) throw Error("stroke: an item wrote a different count than it counted (GPU)");
   t.segments = total;
   if (times) *times = t;

@@ -24,10 +24,11 @@ std::vector<InputSegment> stroke_cpu(const StrokeBatch& b, int threads, StrokeTi
   auto t0 = std::chrono::steady_clock::now();
   const size_t nseg = b.segments.size(), nsub = b.subpaths.size();
   std::vector<double> seg_length(nseg), seg_start(nseg), sub_length(nsub);
-  StrokeInput in{b.strokes.data(),     b.subpaths.data(),  b.segments.data(),
-                 b.dashes.data(),      seg_length.data(),  seg_start.data(),
-                 sub_length.data(),    static_cast<uint32_t>(b.strokes.size()),
-                 static_cast<uint32_t>(nsub), static_cast<uint32_t>(nseg), b.nvertices};
+  StrokeInput in{b.strokes.data(),        b.subpaths.data(),  b.segments.data(),
+                 b.dashes.data(),         seg_length.data(),  seg_start.data(),
+                 sub_length.data(),       b.first_element.data(),
+                 static_cast<uint32_t>(b.strokes.size()), static_cast<uint32_t>(nsub),
+                 static_cast<uint32_t>(nseg), b.nelements};
   parallel_for(nseg, threads, [&](size_t i) { seg_length[i] = stroke_measure(in, static_cast<uint32_t>(i)); });
   for (size_t s = 0; s < nsub; s++) {
     const StrokeSubpath& sp = b.subpaths[s];
@@ -40,17 +41,6 @@ std::vector<InputSegment> stroke_cpu(const StrokeBatch& b, int threads, StrokeTi
   }
   if (times) times->measure_ms += ms_since(t0);
 
-  // Elements in output order: per subpath, its segments, then its vertices.
-  struct Element {
-    bool vertex;
-    uint32_t index;
-  };
-  std::vector<Element> elems;
-  elems.reserve(nseg + b.nvertices);
-  for (const StrokeSubpath& sp : b.subpaths) {
-    for (uint32_t k = 0; k < sp.segment_count; k++) elems.push_back({false, sp.first_segment + k});
-    for (uint32_t k = 0; k < subpath_vertices(sp); k++) elems.push_back({true, sp.first_vertex + k});
-  }
   // Items of each kind in one pass: each chunk appends its segments to its
   // own list (the GPU counts first to place its writes; here lists grow),
   // and the lists are joined in order.
@@ -74,11 +64,10 @@ std::vector<InputSegment> stroke_cpu(const StrokeBatch& b, int threads, StrokeTi
     return VectorSink{&list, b.strokes[stroke].path, b.strokes[stroke].xf};
   };
   t0 = std::chrono::steady_clock::now();
-  std::vector<std::vector<StrokePart>> part_lists((elems.size() + kChunk - 1) / kChunk);
-  auto from_elements = chunked(elems.size(), [&](size_t i, std::vector<InputSegment>& list) {
-    const Element& e = elems[i];
-    const uint32_t sub = e.vertex ? vertex_subpath(in, e.index) : b.segments[e.index].subpath;
-    VectorSink sink = sink_for(b.subpaths[sub].stroke, list);
+  std::vector<std::vector<StrokePart>> part_lists((b.nelements + kChunk - 1) / kChunk);
+  auto from_elements = chunked(b.nelements, [&](size_t i, std::vector<InputSegment>& list) {
+    const ElementRef e = element_of(in, static_cast<uint32_t>(i));
+    VectorSink sink = sink_for(e.stroke, list);
     Emitter<VectorSink> out(sink);
     if (e.vertex)
       stroke_vertex(in, e.index, out);

@@ -221,8 +221,10 @@ struct Lowering {
     return st;
   }
 
+  // A centreline without contours strokes nothing; one whose contours have
+  // no segments ("M p Z") still has caps.
   void stroke(Path centreline, const Affine& xf, const StrokeStyle& style, const Paint& paint) {
-    if (centreline.empty() && centreline.contours().empty()) return;
+    if (centreline.contours().empty()) return;
     b->stroke(b->add_geometry(std::move(centreline)), xf, style, paint);
   }
 
@@ -230,12 +232,21 @@ struct Lowering {
     if (geometry.empty()) return;
     b->fill(b->add_geometry(std::move(geometry)), xf, rule, paint);
   }
-  void clip(Path geometry, const Affine& xf, FillRule rule) {
+  // A clip group around what follows: the path filled with `rule`, or
+  // with `stroke` the stroke of the centreline.
+  void clip(Path geometry, const Affine& xf, FillRule rule, const StrokeStyle* stroke = nullptr) {
     b->push();
-    if (!geometry.empty()) b->clip(b->add_geometry(std::move(geometry)), xf, rule);
+    if (stroke ? !geometry.contours().empty() : !geometry.empty()) {
+      const uint32_t g = b->add_geometry(std::move(geometry));
+      if (stroke)
+        b->clip_stroke(g, xf, *stroke);
+      else
+        b->clip(g, xf, rule);
+    }
     b->activate();
     pops.push_back(ClipGroup);
   }
+
   // Calls f(glyph path in user space) for every glyph of `text`; Type 3
   // glyphs without an outline run their procedures through this device.
   template <class F>
@@ -358,12 +369,8 @@ void clip_stroke_path(fz_context* ctx, fz_device* dev, const fz_path* path, cons
   Lowering* l = Lowering::of(dev);
   l->guarded([&] {
     const Affine xf = l->place(ctm);
-    Path centreline = to_path(ctx, path);
-    l->b->push();
-    if (!centreline.contours().empty())
-      l->b->clip_stroke(l->b->add_geometry(std::move(centreline)), xf, l->stroke_style(stroke, xf));
-    l->b->activate();
-    l->pops.push_back(Lowering::ClipGroup);
+    const StrokeStyle st = l->stroke_style(stroke, xf);
+    l->clip(to_path(ctx, path), xf, FillRule::NonZero, &st);
   });
 }
 
