@@ -24,6 +24,9 @@ struct Options {
   Gamma gamma = Gamma::Linear;
   Backend backend = Backend::Auto;
   int bits = 8;
+  // --compression 0..9 (apps/png_writer.h); -1: 1 where the GPU renders
+  // (compressed there), png::kDefaultCpuLevel on the CPU.
+  int compression = -1;
   bool stats = false;
   bool quiet = false;
   // --allow-read: folders whose files the document may read (images)

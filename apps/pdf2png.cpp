@@ -79,6 +79,9 @@ void usage() {
       "Output:\n"
       "      --transparent         no white page background\n"
       "      --bits 8|16           bits per channel of the PNG (default 8)\n"
+      "      --compression 0..9    PNG deflate level: 0 none, 1 mpvg's parallel deflate\n"
+      "                            (on the GPU where it renders), 2-9 libdeflate's (default:\n"
+      "                            1 on the GPU, 2 on the CPU)\n"
       "Antialiasing (the paper's modes):\n"
       "      --aa MODE             4x4x32 (default), 1x32 or 1x8 (see svg2png --help)\n"
       "      --filter F, --samples N, --pattern P, --seed N, --gamma linear|srgb\n"
@@ -262,6 +265,7 @@ int main(int argc, char** argv) {
     c.stats = opt.stats;
     c.quiet = opt.quiet;
     c.bits = opt.bits;
+    c.compression = opt.compression;
     c.gamma = opt.gamma;
     // Worker 0 uses the document opened here; the others a clone each
     // (made on first use), with MuPDF contexts of their own unless

@@ -135,9 +135,12 @@ struct State {
 
   void write(Job& job) {
     const auto t0 = Clock::now();
+    png::EncodeOptions options;
+    if (c.compression >= 0) options.level = c.compression;
     const std::vector<uint8_t> bytes =
-        c.bits == 16 ? png::encode_rgba16(job.width, job.height, to_rgba16(job.image, c.gamma).data())
-                     : png::encode_rgba8(job.width, job.height, job.rgba8.data());
+        !job.png.zlib.empty() ? png::wrap(job.width, job.height, 8, job.png.channels, job.png.zlib.data(), job.png.zlib.size())
+        : c.bits == 16        ? png::encode_rgba16(job.width, job.height, to_rgba16(job.image, c.gamma).data(), options)
+                              : png::encode_rgba8(job.width, job.height, job.rgba8.data(), options);
     const auto t1 = Clock::now();
     png::write_file(job.out, bytes);
     job.write_ms = ms_since(t1);
@@ -251,6 +254,8 @@ struct State {
       try {
         if (c.bits == 16)
           job->image = renderer->render(job->scene, job->options, &job->stats);
+        else if (renderer->backend() == Backend::Cuda && (c.compression < 0 || c.compression == 1))
+          job->png = renderer->render_png(job->scene, job->plan, job->options, &job->stats);
         else
           job->rgba8 = renderer->render_rgba8(job->scene, job->plan, job->options, &job->stats, std::move(storage));
       } catch (const std::exception& e) {

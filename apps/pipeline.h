@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "core/png_encode.h"
 #include "core/renderer.h"
 #include "gpu/backend.h"
 
@@ -29,6 +30,7 @@ struct Job {
   EncodedScene scene;
   ImageF image;               // --bits 16
   std::vector<uint8_t> rgba8; // --bits 8 (converted where it was rendered)
+  png::ImageData png;         // --bits 8, compressed where it was rendered (level 1 on the GPU)
   RenderStats stats;
   double prepare_ms[2] = {0, 0};  // the front end's two stages (Config::prepare_names)
   double render_ms = 0, png_ms = 0, write_ms = 0;  // png_ms includes write_ms
@@ -46,6 +48,7 @@ struct Config {
   bool stats = false;        // per-item stage times and the job's summary
   bool quiet = false;        // no warnings
   int bits = 8;
+  int compression = -1;  // cli::Options::compression
   Gamma gamma = Gamma::Linear;
   // --timeout: seconds an item may spend from the start of its preparation
   // to the end of its rendering (0: no limit). An item past it fails with

@@ -1,9 +1,13 @@
-// The PNG encoder of pdf2png's batches (and of builds without OpenImageIO):
-// a PNG is a signature, an IHDR chunk, IDAT chunks holding one zlib stream
-// of filtered rows, and IEND. The container and the row filters are the
-// PNG specification's (sections 5, 9 and 11); compression is libdeflate's
-// whole-buffer deflate where the build found it (two to four times
-// zlib's speed at the same level, BENCHMARKS.md) and zlib's otherwise.
+// mpvg's PNG encoder: a PNG is a signature, an IHDR chunk, IDAT chunks
+// holding one zlib stream of filtered rows, and IEND (the PNG
+// specification's sections 5, 9 and 11). Rows are filtered by
+// core/png_filter.h; the compression level chooses what deflates them:
+//   0     stored blocks, no compression;
+//   1     core/deflate.h's parallel deflate (the GPU's, FrameRenderer::
+//         render_png; here its CPU executor, slower than libdeflate's 2);
+//   2-12  libdeflate's whole-buffer deflate where the build found it (two
+//         to four times zlib's speed at the same level, BENCHMARKS.md),
+//         zlib's (2-9) otherwise.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -11,9 +15,12 @@
 
 namespace mpvg::png {
 
+// The default level where the image is compressed on the CPU (measured,
+// BENCHMARKS.md "PNG on the GPU"); where the GPU renders, 1.
+constexpr int kDefaultCpuLevel = 2;
+
 struct EncodeOptions {
-  // Deflate effort, 1 (fastest) to 9 (libdeflate goes to 12).
-  int level = 2;
+  int level = kDefaultCpuLevel;
   // Threads for one image (0: every core). With more than one, a large
   // image is cut into strips of rows filtered and deflated in parallel
   // (zlib streams ended by a sync flush, each primed with the 32 KiB
@@ -27,6 +34,10 @@ struct EncodeOptions {
 // mutool write pages. 16-bit values are taken in native byte order.
 std::vector<uint8_t> encode_rgba8(int width, int height, const uint8_t* rgba, const EncodeOptions& options = {});
 std::vector<uint8_t> encode_rgba16(int width, int height, const uint16_t* rgba, const EncodeOptions& options = {});
+
+// The PNG of an image compressed elsewhere (core/png_encode.h's ImageData):
+// bit_depth 8 or 16, channels 3 (RGB) or 4 (RGBA), the zlib stream.
+std::vector<uint8_t> wrap(int width, int height, int bit_depth, int channels, const uint8_t* zlib, size_t n);
 
 // Writes bytes to path ("-": standard output), whole or not at all
 // (apps/output_file.h). Throws mpvg::Error.

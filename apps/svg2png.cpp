@@ -246,8 +246,10 @@ int run(const cli::Options& opt, const Document& source, Renderers& renderers, c
   const auto t_render = Clock::now();
   std::vector<uint8_t> rgba8;
   std::vector<uint16_t> rgba16;
+  png::ImageData compressed;  // level 1 on the GPU: filtered and deflated there
   if (gpu) {
     if (opt.bits == 16) rgba16 = to_rgba16(gpu->render(enc, ro, &stats), ro.gamma);
+    else if (opt.compression < 0 || opt.compression == 1) compressed = gpu->render_png(enc, plan, ro, &stats);
     else rgba8 = gpu->render_rgba8(enc, plan, ro, &stats);
   } else {
     ImageF img = render_cpu(enc, plan, ro, &stats);
@@ -261,8 +263,11 @@ int run(const cli::Options& opt, const Document& source, Renderers& renderers, c
   // One image, every core: rows filtered and deflated in strips.
   png::EncodeOptions png_options;
   png_options.threads = 0;
-  io.write(opt.bits == 16 ? png::encode_rgba16(width, height, rgba16.data(), png_options)
-                          : png::encode_rgba8(width, height, rgba8.data(), png_options));
+  if (opt.compression >= 0) png_options.level = opt.compression;
+  io.write(!compressed.zlib.empty()
+               ? png::wrap(width, height, 8, compressed.channels, compressed.zlib.data(), compressed.zlib.size())
+           : opt.bits == 16 ? png::encode_rgba16(width, height, rgba16.data(), png_options)
+                            : png::encode_rgba8(width, height, rgba8.data(), png_options));
   const double write_ms = ms_since(t_write);
   if (opt.stats) {
     if (server::serving()) std::fprintf(err, "persistent renderer: pid %d\n", static_cast<int>(getpid()));
@@ -284,7 +289,8 @@ int run(const cli::Options& opt, const Document& source, Renderers& renderers, c
     }
     if (!choice_note.empty()) std::fprintf(err, "%s\n", choice_note.c_str());
     std::fprintf(err, "%s", cli::format_stats(stats).c_str());
-    std::fprintf(err, "render + 8/16-bit conversion %.3f ms\nPNG %.3f ms\nwall %.3f ms\n", render_ms, write_ms,
+    std::fprintf(err, "render + %s %.3f ms\nPNG %.3f ms\nwall %.3f ms\n",
+                 compressed.zlib.empty() ? "8/16-bit conversion" : "PNG filtering and deflate on the device", render_ms, write_ms,
                  ms_since(t_start));
   }
   return 0;
@@ -391,6 +397,7 @@ int run_batch(const cli::Options& opt, Renderers& renderers) {
   c.stats = opt.stats;
   c.quiet = opt.quiet;
   c.bits = opt.bits;
+  c.compression = opt.compression;
   c.gamma = opt.gamma;
   c.label = [&](int t) { return items[t].first; };
   c.prepare = [&](int t, int) {

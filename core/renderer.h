@@ -41,6 +41,7 @@ struct RenderStats {
   std::string note;     // e.g. why auto fell back to the CPU
   double encode_ms = 0, stroke_ms = 0, abstract_ms = 0, subdivide_ms = 0, prune_ms = 0, schedule_ms = 0, sample_ms = 0;
   double total_ms = 0;
+  double png_ms = 0;  // FrameRenderer::render_png's PNG stage (with CUDA: its kernels, timed on the device)
   size_t input_segments = 0, abstract_segments = 0, leaves = 0, leaf_entries = 0;
   size_t tree_bytes = 0;
   int depth = 0;

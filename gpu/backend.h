@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/png_encode.h"
 #include "core/renderer.h"
 
 namespace mpvg {
@@ -48,6 +49,13 @@ class FrameRenderer {
   // (batches hand back the buffers of written pages).
   std::vector<uint8_t> render_rgba8(const EncodedScene& scene, const RenderPlan& plan, const RenderOptions& options,
                                     RenderStats* stats = nullptr, std::vector<uint8_t> storage = {});
+
+  // As render_rgba8(), the image filtered and deflated for a PNG by
+  // core/png_encode.h's stages (compression level 1): with CUDA on the
+  // device, so that only the compressed data is copied back; on the CPU by
+  // their reference executor. The same bytes either way.
+  png::ImageData render_png(const EncodedScene& scene, const RenderPlan& plan, const RenderOptions& options,
+                            RenderStats* stats = nullptr);
 
   // Readies the first real frame: reserves device memory in the pool the
   // buffers come from (`pool_bytes`), and renders a small built-in scene

@@ -44,6 +44,18 @@ std::vector<uint8_t> FrameRenderer::render_rgba8(const EncodedScene& scene, cons
   return out;
 }
 
+png::ImageData FrameRenderer::render_png(const EncodedScene& scene, const RenderPlan& plan, const RenderOptions& options,
+                                         RenderStats* stats) {
+  RenderStats local;
+  RenderStats& st = stats ? *stats : local;
+  const ImageF img = render_cpu(scene, plan, options, &st);
+  st.note = impl_->note;
+  const auto t0 = std::chrono::steady_clock::now();
+  png::ImageData data = png::compress_rgba8(to_rgba8(img, options.gamma).data(), img.width, img.height);
+  st.png_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return data;
+}
+
 void FrameRenderer::warm_up(const RenderOptions&, size_t) {}
 
 struct GpuStartup::State {};

@@ -171,6 +171,27 @@ std::vector<uint8_t> FrameRenderer::render_rgba8(const EncodedScene& scene, cons
   });
 }
 
+png::ImageData FrameRenderer::render_png(const EncodedScene& scene, const RenderPlan& plan, const RenderOptions& options,
+                                         RenderStats* stats) {
+  RenderStats local;
+  RenderStats& st = stats ? *stats : local;
+  st.note = impl_->note;
+  if (impl_->backend == Backend::Cpu) {
+    const ImageF img = render_cpu(scene, plan, options, &st);
+    const auto t0 = std::chrono::steady_clock::now();
+    png::ImageData data = png::compress_rgba8(to_rgba8(img, options.gamma).data(), img.width, img.height);
+    st.png_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return data;
+  }
+  cudaSetDevice(impl_->device);
+  gpu::Context& ctx = *impl_->ctx;
+  return render_cuda(ctx, scene, plan, options, st, [&](const PaintRecord& bg, gpu::GpuTimes* gt) {
+    png::ImageData data = ctx.render_png(plan.integ, plan.frame, bg, options.gamma == Gamma::Linear, gt);
+    st.png_ms += gt->png_ms;
+    return data;
+  });
+}
+
 void FrameRenderer::warm_up(const RenderOptions& like, size_t pool_bytes) {
   if (impl_->backend != Backend::Cuda) return;
   cudaSetDevice(impl_->device);

@@ -1,5 +1,6 @@
 // gpu::Context: the host-facing side of the CUDA executor.
 #include "gpu/context.cuh"
+#include "gpu/png_encode.cuh"
 #include "gpu/stroke.cuh"
 
 #include <mutex>
@@ -98,6 +99,17 @@ std::vector<uint8_t> Context::render_rgba8(const Integration& integ, const Integ
                                           std::vector<uint8_t> storage) {
   impl_->render(integ, frame, background, times);
   return impl_->download_rgba8(linear, std::move(storage));
+}
+
+png::ImageData Context::render_png(const Integration& integ, const IntegrationFrame& frame,
+                                  const PaintRecord& background, bool linear, GpuTimes* times) {
+  impl_->render(integ, frame, background, times);
+  StageTimer timer(times != nullptr);
+  timer.start(times ? &times->png_ms : nullptr);
+  png::ImageData data = impl_->download_png(linear);
+  timer.stop();
+  timer.collect();
+  return data;
 }
 
 Context::BuildCounts Context::build_counts() const {

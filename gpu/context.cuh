@@ -9,6 +9,7 @@
 #include "core/abstraction.h"
 #include "core/paint.h"
 #include "core/paint_data.h"
+#include "core/png_encode.h"
 #include "core/rgba8.h"
 #include "core/scan.h"
 #include "core/shortcut_tree.h"
@@ -20,6 +21,7 @@
 namespace mpvg::gpu {
 
 class StrokeStage;  // gpu/stroke.cuh
+class PngStage;     // gpu/png_encode.cuh
 
 // Scans, reductions and compactions through CUB, with one temporary buffer
 // ("ask for the temp storage size first").
@@ -166,6 +168,7 @@ struct Context::Impl {
   DeviceBuffer<unsigned long long> acc;  // fixed-point accumulators, 4 per pixel
   DeviceBuffer<SrgbCodeTable> srgb_table;  // core/rgba8.h's, uploaded on first use
   DeviceBuffer<uint32_t> rgba8;            // the image as 8-bit codes (rgba8.cu)
+  std::unique_ptr<PngStage> png_stage;     // made for the first render_png
   int out_width = 0, out_height = 0;
   SamplerShape shape;
   int width = 0, height = 0;
@@ -208,8 +211,13 @@ struct Context::Impl {
   void stash_tile(TileTree& t);
   void render(const Integration& integ, const IntegrationFrame& frame, const PaintRecord& background,
               GpuTimes* times);
-  // The rendered image as straight 8-bit codes (core/rgba8.h), copied back.
+  // The rendered image as straight 8-bit codes (core/rgba8.h) in rgba8.
+  void convert_rgba8(bool linear);
+  // ... copied back.
   std::vector<uint8_t> download_rgba8(bool linear, std::vector<uint8_t> storage);
+  // ... filtered and deflated on the device (png_encode.cu): the PNG's
+  // channels and IDAT stream, copied back.
+  png::ImageData download_png(bool linear);
 };
 
 }  // namespace mpvg::gpu

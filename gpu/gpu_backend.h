@@ -10,6 +10,7 @@
 #include "core/cpu/cpu_stages.h"
 #include "core/encoding.h"
 #include "core/integration.h"
+#include "core/png_encode.h"
 #include "core/tree.h"
 
 namespace mpvg::gpu {
@@ -18,6 +19,7 @@ namespace mpvg::gpu {
 struct GpuTimes {
   double stroke_ms = 0, abstract_ms = 0, subdivide_ms = 0, prune_ms = 0, schedule_ms = 0, sample_ms = 0;
   double integrate_ms = 0;  // wide filters: normalisation, prefilter, output
+  double png_ms = 0;        // the PNG stage on the device (render_png)
   double preprocess_ms() const { return stroke_ms + abstract_ms + subdivide_ms + prune_ms; }
   double render_ms() const { return schedule_ms + sample_ms + integrate_ms; }
 };
@@ -71,6 +73,13 @@ class Context {
   std::vector<uint8_t> render_rgba8(const Integration& integ, const IntegrationFrame& frame,
                                     const PaintRecord& background, bool linear, GpuTimes* times = nullptr,
                                     std::vector<uint8_t> storage = {});
+
+  // As render_rgba8(), the image filtered and deflated on the device
+  // (core/png_encode.h's stages, gpu/png_encode.cu): only the PNG's
+  // compressed data is copied back; the same bytes as the CPU executor's
+  // filter_image and deflate_zlib give.
+  png::ImageData render_png(const Integration& integ, const IntegrationFrame& frame, const PaintRecord& background,
+                            bool linear, GpuTimes* times = nullptr);
 
   // As render(), leaving the image on the device (benchmarks); returns the
   // GPU time of the whole render, gaps between kernels included, in ms.

@@ -19,7 +19,7 @@ __global__ void k_rgba8(const float4* image, size_t n, bool linear, const SrgbCo
 
 }  // namespace
 
-std::vector<uint8_t> Context::Impl::download_rgba8(bool linear, std::vector<uint8_t> out) {
+void Context::Impl::convert_rgba8(bool linear) {
   if (srgb_table.size() == 0) srgb_table.upload(std::vector<SrgbCodeTable>{srgb_code_table()});
   const size_t n = size_t(out_width) * out_height;
   rgba8.resize(n);
@@ -27,6 +27,11 @@ std::vector<uint8_t> Context::Impl::download_rgba8(bool linear, std::vector<uint
     k_rgba8<<<grid_for(n, kBlock), kBlock>>>(image.data(), n, linear, srgb_table.data(), rgba8.data());
     launched();
   }
+}
+
+std::vector<uint8_t> Context::Impl::download_rgba8(bool linear, std::vector<uint8_t> out) {
+  convert_rgba8(linear);
+  const size_t n = size_t(out_width) * out_height;
   out.resize(4 * n);
   if (n) MPVG_CUDA(cudaMemcpy(out.data(), rgba8.data(), 4 * n, cudaMemcpyDeviceToHost));
   return out;

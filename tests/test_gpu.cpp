@@ -15,6 +15,8 @@
 #include "core/renderer.h"
 #include "gpu/backend.h"
 #include "gpu/gpu_backend.h"
+#include "gpu/png_encode.h"
+#include "core/png_encode.h"
 #include "gpu/stroke.h"
 #include "parsers/svg/svg_parser.h"
 #include "tests/catch.h"
@@ -367,5 +369,51 @@ TEST_CASE("stroke stage: stroked scenes render alike on the GPU and the CPU", "[
     int worst = 0;
     for (size_t i = 0; i < qc.size(); i++) worst = std::max(worst, std::abs(qc[i] - qg[i]));
     CHECK(worst <= 1);
+  }
+}
+
+// The PNG stage on the device (gpu/png_encode.cu) against its CPU executor
+// (core/png_encode.h): the same bytes, for images of many sizes (one
+// row to several chunks), opaque or not, flat, smooth and noisy; and for a
+// rendered frame, FrameRenderer::render_png's bytes are those of the CPU
+// executor on the frame's 8-bit image.
+TEST_CASE("png stage: GPU and CPU executors give the same bytes", "[gpu][png]") {
+  std::mt19937 rng(17);
+  const int sizes[][2] = {{1, 1}, {3, 1}, {1, 7}, {33, 9}, {1024, 1}, {300, 200}, {1024, 1055}, {1500, 917}, {4000, 3}};
+  for (int k = 0; k < int(std::size(sizes)); k++) {
+    const int w = sizes[k][0], h = sizes[k][1];
+    for (int kind = 0; kind < 3; kind++) {
+      std::vector<uint8_t> px(size_t(w) * h * 4);
+      for (size_t i = 0; i < px.size(); i++) {
+        const size_t x = (i / 4) % w, y = i / 4 / w;
+        const uint8_t v = kind == 0   ? static_cast<uint8_t>((x / 40 + y / 30) % 2 ? 200 : 20)
+                          : kind == 1 ? static_cast<uint8_t>(x + 2 * y + (i % 4) * 50)
+                                      : static_cast<uint8_t>(rng());
+        px[i] = i % 4 == 3 && (k + kind) % 2 ? 255 : v;
+      }
+      INFO(w << "x" << h << ", kind " << kind);
+      const png::ImageData cpu = png::compress_rgba8(px.data(), w, h);
+      const png::ImageData gpu1 = gpu::compress_rgba8_gpu(px.data(), w, h);
+      CHECK(gpu1.channels == cpu.channels);
+      CHECK(gpu1.zlib == cpu.zlib);
+    }
+  }
+  for (const Case& c : cases()) {
+    INFO(c.name);
+    RenderOptions o;
+    o.width = c.width;
+    o.height = c.height;
+    o.samples = 32;
+    o.filter = Filter::Box;
+    o.backend = Backend::Cuda;
+    const RenderPlan plan = plan_render(o);
+    FrameRenderer r(Backend::Cuda);
+    RenderStats st;
+    const png::ImageData g = r.render_png(c.enc, plan, o, &st);
+    const std::vector<uint8_t> rgba = r.render_rgba8(c.enc, plan, o);
+    const png::ImageData cpu = png::compress_rgba8(rgba.data(), c.width, c.height);
+    CHECK(st.png_ms > 0);
+    CHECK(g.channels == cpu.channels);
+    CHECK(g.zlib == cpu.zlib);
   }
 }
