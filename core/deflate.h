@@ -84,28 +84,48 @@ MPVG_HD_INLINE uint32_t match_token(uint32_t length, uint32_t distance) { return
 MPVG_HD_INLINE uint32_t token_length(uint32_t t) { return t >> 16; }
 MPVG_HD_INLINE uint32_t token_distance(uint32_t t) { return t & 0xffff; }
 
-// The length of the match at p with data[p - d ..], at most `limit` bytes,
-// or 0 where it is shorter than worth coding: 3 bytes, 4 beyond 1 KiB back
-// (whose distance codes carry 10 or more extra bits).
+// A match of `run` equal bytes at distance d, where at most `limit` may be
+// taken: its length, or 0 where it is shorter than worth coding: 3 bytes,
+// 4 beyond 1 KiB back (whose distance codes carry 10 or more extra bits).
+MPVG_HD_INLINE uint32_t clamp_match(uint32_t run, uint32_t d, uint32_t limit) {
+  run = run < limit ? run : limit;
+  return run >= (d > 1024 ? kMinMatch + 1 : kMinMatch) ? run : 0;
+}
+
+// Can position p reach back d bytes?
+MPVG_HD_INLINE bool valid_distance(size_t p, uint32_t d) { return d != 0 && d <= p && d <= kWindow; }
+
+// The length of the match at p with data[p - d ..], at most `limit` bytes
+// (clamp_match's).
 MPVG_HD_INLINE uint32_t match_length(const uint8_t* data, size_t p, uint32_t d, uint32_t limit) {
-  if (d == 0 || d > p || d > kWindow) return 0;
+  if (!valid_distance(p, d)) return 0;
   const uint8_t* a = data + p;
   const uint8_t* b = a - d;
   uint32_t k = 0;
   while (k < limit && a[k] == b[k]) k++;
-  return k >= (d > 1024 ? kMinMatch + 1 : kMinMatch) ? k : 0;
+  return clamp_match(k, d, limit);
+}
+
+// The most bytes a match at p may take in the piece [.., end).
+MPVG_HD_INLINE uint32_t match_limit(size_t p, size_t end) {
+  return static_cast<uint32_t>(end - p < kMaxMatch ? end - p : kMaxMatch);
 }
 
 // A match as a key whose order is preference: longer, or as long and
 // nearer (fewer extra bits); 0 for none. The parse takes the largest.
 MPVG_HD_INLINE uint32_t match_key(uint32_t len, uint32_t d) { return len ? len << 16 | (0xffffu - d) : 0; }
+MPVG_HD_INLINE uint32_t key_length(uint32_t key) { return key >> 16; }
+MPVG_HD_INLINE uint32_t key_distance(uint32_t key) { return 0xffffu - (key & 0xffff); }
 MPVG_HD_INLINE uint32_t key_token(uint32_t key, uint8_t literal) {
-  return key ? match_token(key >> 16, 0xffffu - (key & 0xffff)) : literal_token(literal);
+  return key ? match_token(key_length(key), key_distance(key)) : literal_token(literal);
 }
 
 // Besides the fixed distances, a hash table of 4-byte strings finds
-// repeats anywhere in the window (text, patterns): one entry per hash, the
-// latest position seen, started from the kSeed bytes before the piece.
+// repeats anywhere in the window (text, patterns): the latest earlier
+// position of the same hash, every position of the piece entered (as
+// libdeflate's fast levels do), started from the kSeed bytes before the
+// piece. So each position's previous occurrence is a property of the data,
+// not of the parse, and positions can find theirs in parallel.
 constexpr int kHashBits = 13;
 constexpr uint32_t kSeed = 16384;
 constexpr uint16_t kNoPosition = 0xffff;  // positions are kept relative to the piece's seed start
@@ -122,46 +142,53 @@ MPVG_HD_INLINE size_t seed_start(size_t begin) { return begin > kSeed ? begin - 
 // replaces an earlier one of the same hash): [seed_start, begin - 3).
 MPVG_HD_INLINE size_t seed_end(size_t begin) { return begin >= 3 + seed_start(begin) ? begin - 3 : seed_start(begin); }
 
-// Candidate k of the parse at p in the piece [.., end) as a match key:
-// k < c.count the fixed distance k, k == c.count the hash table's entry
-// (the table then takes p). `table` has 1 << kHashBits entries, positions
-// relative to `base`, the piece's seed start.
-MPVG_HD_INLINE uint32_t candidate_key(const uint8_t* data, size_t p, size_t end, size_t base, const Candidates& c,
-                                      int k, uint16_t* table) {
-  const uint32_t limit = static_cast<uint32_t>(end - p < kMaxMatch ? end - p : kMaxMatch);
-  if (k < c.count) return match_key(match_length(data, p, c.distance[k], limit), c.distance[k]);
-  if (p + 4 > end) return 0;
-  const uint32_t h = hash4(data + p);
-  const uint16_t q = table[h];
-  table[h] = static_cast<uint16_t>(p - base);
-  if (q == kNoPosition) return 0;
-  const uint32_t d = static_cast<uint32_t>(p - base - q);
+// Does position p of the piece [.., end) enter the table (its 4 bytes are
+// in the piece)?
+MPVG_HD_INLINE bool hashed(size_t p, size_t end) { return p + 4 <= end; }
+
+// The key of the hash candidate at distance d (0: none) given the best
+// key of the fixed candidates; 0 where it cannot beat it (its distance is
+// one of theirs, or they already take `limit` bytes from nearer), so that
+// the comparison is only made where it can matter.
+MPVG_HD_INLINE uint32_t hash_key(const uint8_t* data, size_t p, uint32_t limit, uint32_t d, uint32_t best,
+                                 const Candidates& c) {
+  if (d == 0) return 0;
+  for (int k = 0; k < c.count; k++)
+    if (c.distance[k] == d) return 0;
+  if (key_length(best) == limit && d > key_distance(best)) return 0;
   return match_key(match_length(data, p, d, limit), d);
 }
 
-// One step of the greedy parse at p: the token of the best candidate.
-MPVG_HD_INLINE uint32_t parse_step(const uint8_t* data, size_t p, size_t end, size_t base, const Candidates& c,
-                                   uint16_t* table) {
-  uint32_t best = 0;
-  for (int k = 0; k <= c.count; k++) {
-    const uint32_t key = candidate_key(data, p, end, base, c, k, table);
-    best = key > best ? key : best;
-  }
-  return key_token(best, data[p]);
-}
-
 // Greedy LZ77 parse of the piece data[begin, end) into tokens; returns
-// their count (at most end - begin). The executors' reference order.
+// their count (at most end - begin). At a token's start the best of the
+// fixed candidates and the hash's; then the token's length on. The
+// executors' reference order; `table` has 1 << kHashBits entries.
 MPVG_HD_INLINE int parse_piece(const uint8_t* data, size_t begin, size_t end, const Candidates& c, uint16_t* table,
                                uint32_t* tokens) {
   const size_t base = seed_start(begin);
   for (int i = 0; i < (1 << kHashBits); i++) table[i] = kNoPosition;
   for (size_t q = base; q < seed_end(begin); q++) table[hash4(data + q)] = static_cast<uint16_t>(q - base);
   int n = 0;
-  for (size_t p = begin; p < end;) {
-    const uint32_t t = parse_step(data, p, end, base, c, table);
+  size_t next = begin;
+  for (size_t p = begin; p < end; p++) {
+    uint32_t d_hash = 0;
+    if (hashed(p, end)) {
+      const uint32_t h = hash4(data + p);
+      if (table[h] != kNoPosition) d_hash = static_cast<uint32_t>(p - base - table[h]);
+      table[h] = static_cast<uint16_t>(p - base);
+    }
+    if (p != next) continue;
+    const uint32_t limit = match_limit(p, end);
+    uint32_t best = 0;
+    for (int k = 0; k < c.count; k++) {
+      const uint32_t key = match_key(match_length(data, p, c.distance[k], limit), c.distance[k]);
+      best = key > best ? key : best;
+    }
+    const uint32_t h = hash_key(data, p, limit, d_hash, best, c);
+    best = h > best ? h : best;
+    const uint32_t t = key_token(best, data[p]);
     tokens[n++] = t;
-    p += token_length(t) ? token_length(t) : 1;
+    next = p + (token_length(t) ? token_length(t) : 1);
   }
   return n;
 }
@@ -219,41 +246,33 @@ MPVG_HD_INLINE void count_token(uint32_t t, Frequencies& f, const Add& add) {
   add(&f.dist[distance_symbol(token_distance(t), eb, ex)], 1u);
 }
 
-// Code lengths (at most `limit` bits) for n <= kLitLenSymbols symbols of
-// the given frequencies; unused symbols get 0. Huffman's lengths by Moffat
-// and Katajainen's in-place method on the frequencies sorted ascending,
-// then, where a length exceeds the limit, the lengths' counts are folded
-// down and Kraft's sum restored by lengthening the deepest codes above the
-// limit's (as miniz and zlib do); the most frequent symbols keep the
-// shortest codes. At least two symbols must be used (the caller's job).
-MPVG_HD_INLINE void huffman_lengths(const uint32_t* freq, int n, int limit, uint8_t* length) {
-  uint32_t key[kLitLenSymbols];  // frequency << 9 | symbol, sorted ascending
-  int used = 0;
-  for (int s = 0; s < n; s++) {
-    length[s] = 0;
-    if (freq[s]) key[used++] = freq[s] << 9 | static_cast<uint32_t>(s);
+// Huffman code lengths work on the used symbols sorted by frequency:
+// keys frequency << 9 | symbol (frequencies < 2^23), unique, ascending.
+MPVG_HD_INLINE uint32_t symbol_key(const uint32_t* freq, int s) {
+  return freq[s] ? freq[s] << 9 | static_cast<uint32_t>(s) : 0;
+}
+
+// Where symbol s's key goes among the used symbols' (ascending): the count
+// of smaller ones. Independent per symbol (a thread each on the GPU).
+MPVG_HD_INLINE int key_rank(const uint32_t* freq, int n, int s) {
+  const uint32_t k = symbol_key(freq, s);
+  int r = 0;
+  for (int t = 0; t < n; t++) {
+    const uint32_t kt = symbol_key(freq, t);
+    r += kt != 0 && kt < k;
   }
-  // heap sort
-  auto sift = [&](int i, int size) {
-    for (;;) {
-      int m = i;
-      const int l = 2 * i + 1, r = l + 1;
-      if (l < size && key[l] > key[m]) m = l;
-      if (r < size && key[r] > key[m]) m = r;
-      if (m == i) return;
-      const uint32_t t = key[i];
-      key[i] = key[m];
-      key[m] = t;
-      i = m;
-    }
-  };
-  for (int i = used / 2 - 1; i >= 0; i--) sift(i, used);
-  for (int end = used - 1; end > 0; end--) {
-    const uint32_t t = key[0];
-    key[0] = key[end];
-    key[end] = t;
-    sift(0, end);
-  }
+  return r;
+}
+
+// Code lengths (at most `limit` bits) for the `used` symbols whose keys are
+// sorted ascending in key[] (which this overwrites); length[] of the
+// alphabet must be zeroed. Huffman's lengths by Moffat and Katajainen's
+// in-place method, then, where a length exceeds the limit, the lengths'
+// counts are folded down and Kraft's sum restored by lengthening the
+// deepest codes above the limit's (as miniz and zlib do); the most
+// frequent symbols keep the shortest codes. At least two symbols must be
+// used (the caller's job).
+MPVG_HD_INLINE void huffman_lengths_sorted(uint32_t* key, int used, int limit, uint8_t* length) {
   if (used < 2) {
     if (used) length[key[0] & 511] = 1;
     return;
@@ -322,6 +341,52 @@ MPVG_HD_INLINE void huffman_lengths(const uint32_t* freq, int n, int limit, uint
     for (uint32_t k = 0; k < count[l]; k++) length[key[i++] & 511] = static_cast<uint8_t>(l);
 }
 
+// Code lengths for n <= kLitLenSymbols symbols of the given frequencies
+// (unused symbols get 0): the keys sorted by rank, then the above.
+MPVG_HD_INLINE void huffman_lengths(const uint32_t* freq, int n, int limit, uint8_t* length) {
+  uint32_t key[kLitLenSymbols];
+  int used = 0;
+  for (int s = 0; s < n; s++) {
+    length[s] = 0;
+    used += freq[s] != 0;
+  }
+  for (int s = 0; s < n; s++)
+    if (freq[s]) key[key_rank(freq, n, s)] = symbol_key(freq, s);
+  huffman_lengths_sorted(key, used, limit, length);
+}
+
+// The frequencies a block's codes are built from: its symbols', the end
+// of block once, and at least two codes in each alphabet (a single one-bit
+// code is not a complete code, which strict decoders reject).
+MPVG_HD_INLINE void ensure_two(uint32_t* q, int n) {
+  int nz = 0;
+  for (int s = 0; s < n; s++) nz += q[s] != 0;
+  for (int s = 0; nz < 2; s++)
+    if (!q[s]) {
+      q[s] = 1;
+      nz++;
+    }
+}
+
+MPVG_HD_INLINE void code_frequencies(const Frequencies& f, uint32_t* litlen, uint32_t* dist) {
+  for (int s = 0; s < kLitLenSymbols; s++) litlen[s] = f.litlen[s];
+  for (int s = 0; s < kDistSymbols; s++) dist[s] = f.dist[s];
+  litlen[kEndOfBlock] = 1;
+  ensure_two(litlen, kLitLenSymbols);
+  ensure_two(dist, kDistSymbols);
+}
+
+// The low `bits` bits of v in reverse order.
+MPVG_HD_INLINE uint32_t reverse_bits(uint32_t v, int bits) {
+#if defined(__CUDA_ARCH__)
+  return __brev(v) >> (32 - bits);
+#else
+  uint32_t r = 0;
+  for (int b = 0; b < bits; b++, v >>= 1) r = r << 1 | (v & 1);
+  return r;
+#endif
+}
+
 // Canonical codes for the lengths (3.2.2), bit-reversed: deflate sends a
 // Huffman code's most significant bit first into a stream filled from each
 // byte's least significant bit.
@@ -340,9 +405,7 @@ MPVG_HD_INLINE void canonical_codes(const uint8_t* length, int n, uint16_t* code
       code[s] = 0;
       continue;
     }
-    uint32_t v = next[l]++, r = 0;
-    for (int b = 0; b < l; b++, v >>= 1) r = r << 1 | (v & 1);
-    code[s] = static_cast<uint16_t>(r);
+    code[s] = static_cast<uint16_t>(reverse_bits(next[l]++, l));
   }
 }
 
@@ -387,35 +450,17 @@ struct BlockCode {
   uint32_t header_bits;
 };
 
+// copied as words between executors' buffers
+static_assert(sizeof(BlockCode) % 4 == 0, "BlockCode is copied as 32-bit words");
+
 struct PlainOr {
   MPVG_HD_INLINE void operator()(uint32_t* w, uint32_t v) const { *w |= v; }
 };
 
-// The block's codes from its frequencies (end of block counted here), and
-// its header. `final`: the stream's last block.
-MPVG_HD_INLINE void build_block_code(const Frequencies& f, bool final, BlockCode& b) {
-  uint32_t lf[kLitLenSymbols], df[kDistSymbols];
-  for (int s = 0; s < kLitLenSymbols; s++) lf[s] = f.litlen[s];
-  for (int s = 0; s < kDistSymbols; s++) df[s] = f.dist[s];
-  lf[kEndOfBlock] = 1;
-  // at least two codes in each alphabet: a single one-bit code is not a
-  // complete code, which strict decoders reject
-  auto two = [](uint32_t* q, int n) {
-    int nz = 0;
-    for (int s = 0; s < n; s++) nz += q[s] != 0;
-    for (int s = 0; nz < 2; s++)
-      if (!q[s]) {
-        q[s] = 1;
-        nz++;
-      }
-  };
-  two(lf, kLitLenSymbols);
-  two(df, kDistSymbols);
-  huffman_lengths(lf, kLitLenSymbols, 15, b.litlen_length);
-  huffman_lengths(df, kDistSymbols, 15, b.dist_length);
-  canonical_codes(b.litlen_length, kLitLenSymbols, b.litlen_code);
-  canonical_codes(b.dist_length, kDistSymbols, b.dist_code);
-
+// The block's header from its code lengths (set by the caller, with the
+// codes): HLIT and HDIST, the code length code and the run-length coded
+// lengths.
+MPVG_HD_INLINE void write_block_header(BlockCode& b, bool final) {
   int nlit = kLitLenSymbols, ndist = kDistSymbols;
   while (nlit > 257 && !b.litlen_length[nlit - 1]) nlit--;
   while (ndist > 1 && !b.dist_length[ndist - 1]) ndist--;
@@ -462,7 +507,7 @@ MPVG_HD_INLINE void build_block_code(const Frequencies& f, bool final, BlockCode
   }
   uint32_t cf[kCodeLengthSymbols] = {};
   for (int i = 0; i < runs; i++) cf[sym[i]]++;
-  two(cf, kCodeLengthSymbols);
+  ensure_two(cf, kCodeLengthSymbols);
   uint8_t cl[kCodeLengthSymbols];
   uint16_t cc[kCodeLengthSymbols];
   huffman_lengths(cf, kCodeLengthSymbols, 7, cl);
@@ -489,6 +534,19 @@ MPVG_HD_INLINE void build_block_code(const Frequencies& f, bool final, BlockCode
   }
   out.flush();
   b.header_bits = bits;
+}
+
+// The block's codes from its frequencies, and its header. `final`: the
+// stream's last block. (The GPU runs the same steps, the sorts a thread
+// per symbol.)
+MPVG_HD_INLINE void build_block_code(const Frequencies& f, bool final, BlockCode& b) {
+  uint32_t lf[kLitLenSymbols], df[kDistSymbols];
+  code_frequencies(f, lf, df);
+  huffman_lengths(lf, kLitLenSymbols, 15, b.litlen_length);
+  huffman_lengths(df, kDistSymbols, 15, b.dist_length);
+  canonical_codes(b.litlen_length, kLitLenSymbols, b.litlen_code);
+  canonical_codes(b.dist_length, kDistSymbols, b.dist_code);
+  write_block_header(b, final);
 }
 
 // The bits a token takes under the block's codes.

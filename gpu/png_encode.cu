@@ -24,11 +24,23 @@ __global__ void k_png_translucent(const uint32_t* rgba, size_t n, uint32_t* tran
   if (i < n && (rgba[i] >> 24) != 0xff) *translucent = 1;
 }
 
+// The layout the translucency flag gives: RGB or RGBA rows. The kernels
+// after the flag read it on the device (their grids cover RGBA's sizes),
+// so that the host does not wait for it.
+__device__ png::FilterLayout layout_of(int width, int height, const uint32_t* translucent) {
+  png::FilterLayout l;
+  l.width = width;
+  l.height = height;
+  l.channels = *translucent ? 4 : 3;
+  return l;
+}
+
 // A warp per row: the Up and Sub sums, the choice, the filtered bytes.
-__global__ void k_png_filter(const uint8_t* rgba, png::FilterLayout l, uint8_t* out) {
+__global__ void k_png_filter(const uint8_t* rgba, int width, int height, const uint32_t* translucent, uint8_t* out) {
   const int y = static_cast<int>((blockIdx.x * size_t(blockDim.x) + threadIdx.x) / kWarp);
   const int lane = threadIdx.x % kWarp;
-  if (y >= l.height) return;
+  if (y >= height) return;
+  const png::FilterLayout l = layout_of(width, height, translucent);
   unsigned long long up = 0, sub = 0;
   for (int x = lane; x < l.width; x += kWarp) {
     uint32_t u, s;
@@ -46,40 +58,104 @@ __global__ void k_png_filter(const uint8_t* rgba, png::FilterLayout l, uint8_t* 
   for (int x = lane; x < l.width; x += kWarp) png::filter_pixel(rgba, l, y, x, type, row + 1);
 }
 
+// The warp's positions q0 + lane enter the table, the last of equal hashes
+// writing (the order of one thread); returns each lane's previous
+// position of its hash as a distance (0: none). `enter`: the lane's
+// position takes part.
+__device__ uint32_t enter_group(const uint8_t* data, size_t q0, bool enter, size_t base, uint16_t* table) {
+  const int lane = threadIdx.x % kWarp;
+  const size_t q = q0 + lane;
+  const uint32_t h = enter ? hash4(data + q) : (1u << kHashBits) + lane;  // lanes left out match no one
+  const unsigned same = __match_any_sync(0xffffffffu, h);
+  const unsigned below = same & ((1u << lane) - 1);
+  uint32_t d = 0;
+  if (enter) {
+    if (below) d = static_cast<uint32_t>(lane - (31 - __clz(below)));
+    else if (table[h] != kNoPosition) d = static_cast<uint32_t>(q - base - table[h]);
+  }
+  __syncwarp();
+  if (enter && lane == 31 - __clz(same)) table[h] = static_cast<uint16_t>(q - base);
+  __syncwarp();
+  return d;
+}
+
+// The run of equal bytes data[p..] == data[p - d..] for every lane's p in
+// the group [g, g + 32) of the piece [.., end), from equality ballots: a
+// lane's run is its ones upward, and where it reaches the group's end the
+// following groups' leading ones (shared by every such lane), up to a
+// match's most.
+__device__ uint32_t group_run(const uint8_t* data, size_t g, size_t end, uint32_t d) {
+  const int lane = threadIdx.x % kWarp;
+  auto equal = [&](size_t p) { return p < end && p >= d && data[p] == data[p - d]; };
+  const unsigned bal = __ballot_sync(0xffffffffu, equal(g + lane));
+  const unsigned mine = bal >> lane;  // zeros above the group: not equal
+  uint32_t run = ~mine == 0 ? 32 : __ffs(~mine) - 1;
+  if (bal >> 31) {  // some run reaches the group's end: its continuation
+    uint32_t more = 0;
+    for (size_t h = g + kWarp; more < kMaxMatch && h < end; h += kWarp) {
+      const unsigned b = __ballot_sync(0xffffffffu, equal(h + lane));
+      const uint32_t ones = ~b == 0 ? 32 : __ffs(~b) - 1;
+      more += ones;
+      if (ones < kWarp) break;
+    }
+    if (run == kWarp - lane) run += more;
+  }
+  return run;
+}
+
 constexpr int kParseWarps = 2;  // per block: two hash tables of 16 KiB
 
-// A warp per piece: the table seeded (each group of 32 positions at once,
-// the last of equal hashes writing: the order of one thread), then each
-// step's candidates evaluated by one lane each and the best taken; the
-// tokens' symbols counted into the chunk's frequencies and the piece's
-// Adler-32 part.
-__global__ void k_deflate_parse(const uint8_t* data, size_t n, Candidates c, uint32_t* tokens, uint32_t* counts,
-                                Frequencies* freq, AdlerPart* adler) {
+// A warp per piece: the table seeded, then group by group of 32 positions
+// every position's previous occurrence (enter_group) and, where the parse
+// has a token starting in the group, every position's best key (fixed
+// candidates by group_run, the hash candidate by hash_key); the parse
+// walks the group's keys. Then the tokens' symbols are counted into the
+// chunk's frequencies, and the piece's Adler-32 part is summed. The same
+// tokens as parse_piece.
+__global__ void __launch_bounds__(kParseWarps * kWarp)
+    k_deflate_parse(const uint8_t* data, int width, int height, const uint32_t* translucent, uint32_t* tokens,
+                    uint32_t* counts, Frequencies* freq, AdlerPart* adler) {
   __shared__ uint16_t tables[kParseWarps][1 << kHashBits];
+  const png::FilterLayout l = layout_of(width, height, translucent);
+  const size_t n = l.size();
   const size_t piece = (blockIdx.x * size_t(blockDim.x) + threadIdx.x) / kWarp;
   const int lane = threadIdx.x % kWarp;
   if (piece >= piece_count(n)) return;
+  const Candidates c = png_candidates(static_cast<uint32_t>(l.bpp()), static_cast<uint32_t>(l.stride()));
   uint16_t* table = tables[threadIdx.x / kWarp];
   const size_t begin = piece * kPiece, end = begin + kPiece < n ? begin + kPiece : n;
   const size_t base = seed_start(begin), seeded = seed_end(begin);
   for (int i = lane; i < (1 << kHashBits); i += kWarp) table[i] = kNoPosition;
   __syncwarp();
-  for (size_t q0 = base; q0 < seeded; q0 += kWarp) {
-    const size_t q = q0 + lane;
-    const uint32_t h = q < seeded ? hash4(data + q) : 0xffffffffu;
-    const unsigned same = __match_any_sync(0xffffffffu, h);
-    if (q < seeded && lane == 31 - __clz(same)) table[h] = static_cast<uint16_t>(q - base);
-    __syncwarp();
-  }
+  for (size_t q0 = base; q0 < seeded; q0 += kWarp) enter_group(data, q0, q0 + lane < seeded, base, table);
   uint32_t* out = tokens + piece * kPiece;
   int count = 0;
-  for (size_t p = begin; p < end;) {
-    const uint32_t key = lane <= c.count ? candidate_key(data, p, end, base, c, lane, table) : 0;
-    const uint32_t best = __reduce_max_sync(0xffffffffu, key);
-    const uint32_t t = key_token(best, data[p]);
-    if (lane == 0) out[count] = t;
-    count++;
-    p += token_length(t) ? token_length(t) : 1;
+  size_t next = begin;
+  for (size_t g = begin; g < end; g += kWarp) {
+    const size_t p = g + lane;
+    const uint32_t d_hash = enter_group(data, g, p < end && hashed(p, end), base, table);
+    if (next >= g + kWarp) continue;  // inside a match
+    const uint32_t limit = p < end ? match_limit(p, end) : 0;
+    uint32_t best = 0;
+    for (int k = 0; k < c.count; k++) {
+      const uint32_t run = group_run(data, g, end, c.distance[k]);
+      const uint32_t key = p < end && valid_distance(p, c.distance[k])
+                               ? match_key(clamp_match(run, c.distance[k], limit), c.distance[k])
+                               : 0;
+      best = key > best ? key : best;
+    }
+    if (p < end) {
+      const uint32_t h = hash_key(data, p, limit, d_hash, best, c);
+      best = h > best ? h : best;
+    }
+    const uint8_t byte = p < end ? data[p] : 0;
+    while (next < g + kWarp && next < end) {
+      const int at = static_cast<int>(next - g);
+      const uint32_t t = key_token(__shfl_sync(0xffffffffu, best, at), __shfl_sync(0xffffffffu, byte, at));
+      if (lane == 0) out[count] = t;
+      count++;
+      next += token_length(t) ? token_length(t) : 1;
+    }
   }
   if (lane == 0) counts[piece] = static_cast<uint32_t>(count);
   __syncwarp();
@@ -99,9 +175,48 @@ __global__ void k_deflate_parse(const uint8_t* data, size_t n, Candidates c, uin
   if (lane == 0) adler[piece] = AdlerPart{static_cast<uint32_t>(a % kAdlerBase), static_cast<uint32_t>(b % kAdlerBase), len};
 }
 
-__global__ void k_deflate_code(const Frequencies* freq, size_t chunks, BlockCode* codes) {
-  const size_t c = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
-  if (c < chunks) build_block_code(freq[c], c + 1 == chunks, codes[c]);
+constexpr int kCodeThreads = 320;  // a thread per symbol of both alphabets
+
+// A block per chunk: the frequencies, the symbols sorted a thread each
+// (key_rank), the two alphabets' lengths and codes on a thread of their
+// own each, then the header: build_block_code's steps.
+__global__ void __launch_bounds__(kCodeThreads)
+    k_deflate_code(const Frequencies* freq, int width, int height, const uint32_t* translucent, BlockCode* codes) {
+  __shared__ uint32_t lf[kLitLenSymbols], df[kDistSymbols], lkey[kLitLenSymbols], dkey[kDistSymbols];
+  __shared__ int lused, dused;
+  __shared__ BlockCode b;
+  const size_t chunk = blockIdx.x, chunks = chunk_count(layout_of(width, height, translucent).size());
+  if (chunk >= chunks) return;
+  const int t = threadIdx.x;
+  if (t == 0) {
+    code_frequencies(freq[chunk], lf, df);
+    lused = dused = 0;
+    for (int s = 0; s < kLitLenSymbols; s++) lused += lf[s] != 0;
+    for (int s = 0; s < kDistSymbols; s++) dused += df[s] != 0;
+  }
+  __syncthreads();
+  if (t < kLitLenSymbols) {
+    b.litlen_length[t] = 0;
+    if (lf[t]) lkey[key_rank(lf, kLitLenSymbols, t)] = symbol_key(lf, t);
+  } else if (t - kLitLenSymbols < kDistSymbols) {
+    const int s = t - kLitLenSymbols;
+    b.dist_length[s] = 0;
+    if (df[s]) dkey[key_rank(df, kDistSymbols, s)] = symbol_key(df, s);
+  }
+  __syncthreads();
+  if (t == 0) {
+    huffman_lengths_sorted(lkey, lused, 15, b.litlen_length);
+    canonical_codes(b.litlen_length, kLitLenSymbols, b.litlen_code);
+  } else if (t == kWarp) {
+    huffman_lengths_sorted(dkey, dused, 15, b.dist_length);
+    canonical_codes(b.dist_length, kDistSymbols, b.dist_code);
+  }
+  __syncthreads();
+  if (t == 0) write_block_header(b, chunk + 1 == chunks);
+  __syncthreads();
+  const uint32_t* from = reinterpret_cast<const uint32_t*>(&b);
+  uint32_t* to = reinterpret_cast<uint32_t*>(codes + chunk);
+  for (size_t i = t; i < sizeof(BlockCode) / 4; i += blockDim.x) to[i] = from[i];
 }
 
 struct AtomicOr {
@@ -112,20 +227,26 @@ struct AtomicOr {
 
 // A block per chunk, a warp per piece: the pieces' bit counts, their scan,
 // dynamic or stored, then every token written at its bit.
-__global__ void k_deflate_write(const uint8_t* data, size_t n, const uint32_t* tokens, const uint32_t* counts,
-                                const BlockCode* codes, const AdlerPart* piece_adler, uint32_t* slots,
-                                uint32_t* sizes, AdlerPart* chunk_adler) {
+__global__ void __launch_bounds__(kPiecesPerChunk * kWarp)
+    k_deflate_write(const uint8_t* data, int width, int height, const uint32_t* translucent, const uint32_t* tokens,
+                    const uint32_t* counts, const BlockCode* codes, const AdlerPart* piece_adler, uint32_t* slots,
+                    uint32_t* sizes, AdlerPart* chunk_adler) {
   __shared__ unsigned long long start[kPiecesPerChunk + 1];
   __shared__ bool dynamic;
+  __shared__ BlockCode code;
+  const size_t n = layout_of(width, height, translucent).size();
   const size_t chunk = blockIdx.x, chunks = chunk_count(n);
+  if (chunk >= chunks) return;
   const int warp = threadIdx.x / kWarp, lane = threadIdx.x % kWarp;
   const size_t begin = chunk * kChunk, end = begin + kChunk < n ? begin + kChunk : n;
   const bool final = chunk + 1 == chunks;
   const int pieces = static_cast<int>((end - begin + kPiece - 1) / kPiece);
   const size_t piece = chunk * kPiecesPerChunk + warp;
-  const BlockCode& code = codes[chunk];
   uint32_t* slot = slots + chunk * (kSlotBytes / 4);
   for (size_t i = threadIdx.x; i < kSlotBytes / 4; i += blockDim.x) slot[i] = 0;
+  for (size_t i = threadIdx.x; i < sizeof(BlockCode) / 4; i += blockDim.x)
+    reinterpret_cast<uint32_t*>(&code)[i] = reinterpret_cast<const uint32_t*>(codes + chunk)[i];
+  __syncthreads();
   const uint32_t* t = tokens + piece * kPiece;
   const int count = warp < pieces ? static_cast<int>(counts[piece]) : 0;
   unsigned long long bits = 0;
@@ -174,9 +295,10 @@ __global__ void k_deflate_write(const uint8_t* data, size_t n, const uint32_t* t
 // A block per chunk: its bytes copied to their place in the stream; the
 // last block adds the zlib header, the Adler-32 trailer and the length.
 __global__ void k_deflate_join(const uint32_t* slots, const uint32_t* sizes, const AdlerPart* chunk_adler,
-                               size_t chunks, uint8_t* out, uint32_t* length) {
+                               int width, int height, const uint32_t* translucent, uint8_t* out, uint32_t* length) {
   __shared__ size_t at;
-  const size_t chunk = blockIdx.x;
+  const size_t chunk = blockIdx.x, chunks = chunk_count(layout_of(width, height, translucent).size());
+  if (chunk >= chunks) return;
   if (threadIdx.x == 0) {
     size_t o = 2;
     for (size_t k = 0; k < chunk; k++) o += sizes[k];
@@ -207,28 +329,15 @@ png::ImageData PngStage::run(const uint32_t* rgba, int width, int height) {
     MPVG_LAUNCHED();
     launches++;
   };
-  auto read = [&](const uint32_t* p) {
-    uint32_t v = 0;
-    MPVG_CUDA(cudaMemcpy(&v, p, sizeof v, cudaMemcpyDeviceToHost));
-    syncs++;
-    return v;
-  };
-  png::ImageData result;
-  flag_.resize(1);
-  MPVG_CUDA(cudaMemsetAsync(flag_.data(), 0, sizeof(uint32_t)));
-  k_png_translucent<<<grid_for(pixels, 256), 256>>>(rgba, pixels, flag_.data());
-  launched();
-  result.channels = read(flag_.data()) ? 4 : 3;
+  // Sizes for RGBA rows, the larger layout: the kernels find the image's
+  // own from the flag on the device.
   png::FilterLayout l;
   l.width = width;
   l.height = height;
-  l.channels = result.channels;
-  const size_t n = l.size();
+  l.channels = 4;
+  const size_t n = l.size(), chunks = chunk_count(n), pieces = piece_count(n);
+  flag_.resize(1);
   filtered_.resize(n);
-  k_png_filter<<<grid_for(size_t(height) * kWarp, 128), 128>>>(reinterpret_cast<const uint8_t*>(rgba), l,
-                                                                filtered_.data());
-  launched();
-  const size_t chunks = chunk_count(n), pieces = piece_count(n);
   tokens_.resize(pieces * kPiece);
   counts_.resize(pieces);
   freq_.resize(chunks);
@@ -239,23 +348,37 @@ png::ImageData PngStage::run(const uint32_t* rgba, int width, int height) {
   sizes_.resize(chunks);
   out_.resize(2 + chunks * kSlotBytes + 4);
   length_.resize(1);
+  MPVG_CUDA(cudaMemsetAsync(flag_.data(), 0, sizeof(uint32_t)));
   MPVG_CUDA(cudaMemsetAsync(freq_.data(), 0, chunks * sizeof(Frequencies)));
-  const Candidates c = png_candidates(static_cast<uint32_t>(l.bpp()), static_cast<uint32_t>(l.stride()));
+  k_png_translucent<<<grid_for(pixels, 256), 256>>>(rgba, pixels, flag_.data());
+  launched();
+  k_png_filter<<<grid_for(size_t(height) * kWarp, 128), 128>>>(reinterpret_cast<const uint8_t*>(rgba), width, height,
+                                                                flag_.data(), filtered_.data());
+  launched();
   k_deflate_parse<<<grid_for(pieces * kWarp, kParseWarps * kWarp), kParseWarps * kWarp>>>(
-      filtered_.data(), n, c, tokens_.data(), counts_.data(), freq_.data(), piece_adler_.data());
+      filtered_.data(), width, height, flag_.data(), tokens_.data(), counts_.data(), freq_.data(),
+      piece_adler_.data());
   launched();
-  k_deflate_code<<<grid_for(chunks, 32), 32>>>(freq_.data(), chunks, codes_.data());
+  k_deflate_code<<<unsigned(chunks), kCodeThreads>>>(freq_.data(), width, height, flag_.data(), codes_.data());
   launched();
-  k_deflate_write<<<unsigned(chunks), kPiecesPerChunk * kWarp>>>(filtered_.data(), n, tokens_.data(), counts_.data(),
-                                                                 codes_.data(), piece_adler_.data(), slots_.data(),
-                                                                 sizes_.data(), chunk_adler_.data());
+  k_deflate_write<<<unsigned(chunks), kPiecesPerChunk * kWarp>>>(filtered_.data(), width, height, flag_.data(),
+                                                                 tokens_.data(), counts_.data(), codes_.data(),
+                                                                 piece_adler_.data(), slots_.data(), sizes_.data(),
+                                                                 chunk_adler_.data());
   launched();
-  k_deflate_join<<<unsigned(chunks), 256>>>(slots_.data(), sizes_.data(), chunk_adler_.data(), chunks, out_.data(),
-                                            length_.data());
+  k_deflate_join<<<unsigned(chunks), 256>>>(slots_.data(), sizes_.data(), chunk_adler_.data(), width, height,
+                                            flag_.data(), out_.data(), length_.data());
   launched();
-  const uint32_t length = read(length_.data());
-  result.zlib.resize(length);
-  MPVG_CUDA(cudaMemcpy(result.zlib.data(), out_.data(), length, cudaMemcpyDeviceToHost));
+  // One round trip: the flag and the length, then the stream.
+  uint32_t head[2];
+  MPVG_CUDA(cudaMemcpyAsync(&head[0], flag_.data(), sizeof(uint32_t), cudaMemcpyDeviceToHost));
+  MPVG_CUDA(cudaMemcpyAsync(&head[1], length_.data(), sizeof(uint32_t), cudaMemcpyDeviceToHost));
+  MPVG_CUDA(cudaStreamSynchronize(0));
+  syncs++;
+  png::ImageData result;
+  result.channels = head[0] ? 4 : 3;
+  result.zlib.resize(head[1]);
+  MPVG_CUDA(cudaMemcpy(result.zlib.data(), out_.data(), head[1], cudaMemcpyDeviceToHost));
   return result;
 }
 
