@@ -272,14 +272,14 @@ MPVG_HD_INLINE int key_rank(const uint32_t* freq, int n, int s) {
 // deepest codes above the limit's (as miniz and zlib do); the most
 // frequent symbols keep the shortest codes. At least two symbols must be
 // used (the caller's job).
-MPVG_HD_INLINE void huffman_lengths_sorted(uint32_t* key, int used, int limit, uint8_t* length) {
+// `A` is scratch of `used` words.
+MPVG_HD_INLINE void huffman_lengths_sorted(uint32_t* key, int used, int limit, uint8_t* length, uint32_t* A) {
   if (used < 2) {
     if (used) length[key[0] & 511] = 1;
     return;
   }
   // Moffat & Katajainen, "In-place calculation of minimum-redundancy codes"
   // (1995): A holds weights, then parent pointers, then depths.
-  uint32_t A[kLitLenSymbols] = {};
   for (int i = 0; i < used; i++) A[i] = key[i] >> 9;
   {
     int root = 0, leaf = 2;
@@ -344,7 +344,7 @@ MPVG_HD_INLINE void huffman_lengths_sorted(uint32_t* key, int used, int limit, u
 // Code lengths for n <= kLitLenSymbols symbols of the given frequencies
 // (unused symbols get 0): the keys sorted by rank, then the above.
 MPVG_HD_INLINE void huffman_lengths(const uint32_t* freq, int n, int limit, uint8_t* length) {
-  uint32_t key[kLitLenSymbols];
+  uint32_t key[kLitLenSymbols], A[kLitLenSymbols];
   int used = 0;
   for (int s = 0; s < n; s++) {
     length[s] = 0;
@@ -352,7 +352,7 @@ MPVG_HD_INLINE void huffman_lengths(const uint32_t* freq, int n, int limit, uint
   }
   for (int s = 0; s < n; s++)
     if (freq[s]) key[key_rank(freq, n, s)] = symbol_key(freq, s);
-  huffman_lengths_sorted(key, used, limit, length);
+  huffman_lengths_sorted(key, used, limit, length, A);
 }
 
 // The frequencies a block's codes are built from: its symbols', the end
@@ -387,26 +387,35 @@ MPVG_HD_INLINE uint32_t reverse_bits(uint32_t v, int bits) {
 #endif
 }
 
-// Canonical codes for the lengths (3.2.2), bit-reversed: deflate sends a
-// Huffman code's most significant bit first into a stream filled from each
-// byte's least significant bit.
-MPVG_HD_INLINE void canonical_codes(const uint8_t* length, int n, uint16_t* code) {
-  uint32_t count[16] = {}, next[16] = {};
+// Canonical codes (3.2.2): first[l], the first code of length l, from
+// the count of shorter codes; a symbol's code is its length's first plus
+// the count of smaller symbols of the same length (a thread per symbol on
+// the GPU), bit-reversed: deflate sends a Huffman code's most significant
+// bit first into a stream filled from each byte's least significant bit.
+MPVG_HD_INLINE void first_codes(const uint8_t* length, int n, uint32_t* first) {
+  uint32_t count[16] = {};
   for (int s = 0; s < n; s++) count[length[s]]++;
   count[0] = 0;
   uint32_t c = 0;
+  first[0] = 0;
   for (int l = 1; l < 16; l++) {
     c = (c + count[l - 1]) << 1;
-    next[l] = c;
+    first[l] = c;
   }
-  for (int s = 0; s < n; s++) {
-    const int l = length[s];
-    if (!l) {
-      code[s] = 0;
-      continue;
-    }
-    code[s] = static_cast<uint16_t>(reverse_bits(next[l]++, l));
-  }
+}
+
+MPVG_HD_INLINE uint16_t canonical_code(const uint8_t* length, int s, const uint32_t* first) {
+  const int l = length[s];
+  if (!l) return 0;
+  uint32_t rank = 0;
+  for (int t = 0; t < s; t++) rank += length[t] == l;
+  return static_cast<uint16_t>(reverse_bits(first[l] + rank, l));
+}
+
+MPVG_HD_INLINE void canonical_codes(const uint8_t* length, int n, uint16_t* code) {
+  uint32_t first[16];
+  first_codes(length, n, first);
+  for (int s = 0; s < n; s++) code[s] = canonical_code(length, s, first);
 }
 
 // Writes bits into zeroed 32-bit words, least significant first (bit k of

@@ -103,6 +103,16 @@ __device__ uint32_t group_run(const uint8_t* data, size_t g, size_t end, uint32_
   return run;
 }
 
+// The seed's positions q0 + lane (where `enter`) enter the table: the
+// last of equal hashes writes.
+__device__ void seed_group(const uint8_t* data, size_t q0, bool enter, size_t base, uint16_t* table) {
+  const int lane = threadIdx.x % kWarp;
+  const uint32_t h = enter ? hash4(data + q0 + lane) : (1u << kHashBits) + lane;
+  const unsigned same = __match_any_sync(0xffffffffu, h);
+  if (enter && lane == 31 - __clz(same)) table[h] = static_cast<uint16_t>(q0 + lane - base);
+  __syncwarp();
+}
+
 constexpr int kParseWarps = 2;  // per block: two hash tables of 16 KiB
 
 // A warp per piece: the table seeded, then group by group of 32 positions
@@ -127,7 +137,7 @@ __global__ void __launch_bounds__(kParseWarps * kWarp)
   const size_t base = seed_start(begin), seeded = seed_end(begin);
   for (int i = lane; i < (1 << kHashBits); i += kWarp) table[i] = kNoPosition;
   __syncwarp();
-  for (size_t q0 = base; q0 < seeded; q0 += kWarp) enter_group(data, q0, q0 + lane < seeded, base, table);
+  for (size_t q0 = base; q0 < seeded; q0 += kWarp) seed_group(data, q0, q0 + lane < seeded, base, table);
   uint32_t* out = tokens + piece * kPiece;
   int count = 0;
   size_t next = begin;
@@ -148,13 +158,24 @@ __global__ void __launch_bounds__(kParseWarps * kWarp)
       const uint32_t h = hash_key(data, p, limit, d_hash, best, c);
       best = h > best ? h : best;
     }
-    const uint8_t byte = p < end ? data[p] : 0;
-    while (next < g + kWarp && next < end) {
+    // The walk: a run of literals (lanes up to the next match) in one
+    // step, each lane writing its own; a match by lane 0.
+    const unsigned matches = __ballot_sync(0xffffffffu, best != 0);
+    const int last = end - g < kWarp ? static_cast<int>(end - g) : static_cast<int>(kWarp);
+    while (next < g + last) {
       const int at = static_cast<int>(next - g);
-      const uint32_t t = key_token(__shfl_sync(0xffffffffu, best, at), __shfl_sync(0xffffffffu, byte, at));
-      if (lane == 0) out[count] = t;
+      const unsigned ahead = matches & (~0u << at);
+      const int stop = ahead ? __ffs(ahead) - 1 : last;
+      if (stop > at) {
+        if (lane >= at && lane < stop) out[count + lane - at] = literal_token(data[p]);
+        count += stop - at;
+        next = g + stop;
+        continue;
+      }
+      const uint32_t key = __shfl_sync(0xffffffffu, best, at);
+      if (lane == 0) out[count] = match_token(key_length(key), key_distance(key));
       count++;
-      next += token_length(t) ? token_length(t) : 1;
+      next += key_length(key);
     }
   }
   if (lane == 0) counts[piece] = static_cast<uint32_t>(count);
@@ -183,6 +204,7 @@ constexpr int kCodeThreads = 320;  // a thread per symbol of both alphabets
 __global__ void __launch_bounds__(kCodeThreads)
     k_deflate_code(const Frequencies* freq, int width, int height, const uint32_t* translucent, BlockCode* codes) {
   __shared__ uint32_t lf[kLitLenSymbols], df[kDistSymbols], lkey[kLitLenSymbols], dkey[kDistSymbols];
+  __shared__ uint32_t la[kLitLenSymbols], da[kDistSymbols], lfirst[16], dfirst[16];
   __shared__ int lused, dused;
   __shared__ BlockCode b;
   const size_t chunk = blockIdx.x, chunks = chunk_count(layout_of(width, height, translucent).size());
@@ -205,12 +227,15 @@ __global__ void __launch_bounds__(kCodeThreads)
   }
   __syncthreads();
   if (t == 0) {
-    huffman_lengths_sorted(lkey, lused, 15, b.litlen_length);
-    canonical_codes(b.litlen_length, kLitLenSymbols, b.litlen_code);
+    huffman_lengths_sorted(lkey, lused, 15, b.litlen_length, la);
+    first_codes(b.litlen_length, kLitLenSymbols, lfirst);
   } else if (t == kWarp) {
-    huffman_lengths_sorted(dkey, dused, 15, b.dist_length);
-    canonical_codes(b.dist_length, kDistSymbols, b.dist_code);
+    huffman_lengths_sorted(dkey, dused, 15, b.dist_length, da);
+    first_codes(b.dist_length, kDistSymbols, dfirst);
   }
+  __syncthreads();
+  if (t < kLitLenSymbols) b.litlen_code[t] = canonical_code(b.litlen_length, t, lfirst);
+  else if (t - kLitLenSymbols < kDistSymbols) b.dist_code[t - kLitLenSymbols] = canonical_code(b.dist_length, t - kLitLenSymbols, dfirst);
   __syncthreads();
   if (t == 0) write_block_header(b, chunk + 1 == chunks);
   __syncthreads();
