@@ -103,16 +103,6 @@ __device__ uint32_t group_run(const uint8_t* data, size_t g, size_t end, uint32_
   return run;
 }
 
-// The seed's positions q0 + lane (where `enter`) enter the table: the
-// last of equal hashes writes.
-__device__ void seed_group(const uint8_t* data, size_t q0, bool enter, size_t base, uint16_t* table) {
-  const int lane = threadIdx.x % kWarp;
-  const uint32_t h = enter ? hash4(data + q0 + lane) : (1u << kHashBits) + lane;
-  const unsigned same = __match_any_sync(0xffffffffu, h);
-  if (enter && lane == 31 - __clz(same)) table[h] = static_cast<uint16_t>(q0 + lane - base);
-  __syncwarp();
-}
-
 constexpr int kParseWarps = 2;  // per block: two hash tables of 16 KiB
 
 // A warp per piece: the table seeded, then group by group of 32 positions
@@ -137,7 +127,20 @@ __global__ void __launch_bounds__(kParseWarps * kWarp)
   const size_t base = seed_start(begin), seeded = seed_end(begin);
   for (int i = lane; i < (1 << kHashBits); i += kWarp) table[i] = kNoPosition;
   __syncwarp();
-  for (size_t q0 = base; q0 < seeded; q0 += kWarp) seed_group(data, q0, q0 + lane < seeded, base, table);
+  // four groups' hashes loaded at once, then entered in order
+  constexpr int kAhead = 4;
+  for (size_t q0 = base; q0 < seeded; q0 += kAhead * kWarp) {
+    uint32_t h[kAhead];
+    for (int k = 0; k < kAhead; k++) {
+      const size_t q = q0 + k * kWarp + lane;
+      h[k] = q < seeded ? hash4(data + q) : (1u << kHashBits) + lane;  // lanes left out match no one
+    }
+    for (int k = 0; k < kAhead; k++) {
+      const unsigned same = __match_any_sync(0xffffffffu, h[k]);
+      if (h[k] < (1u << kHashBits) && lane == 31 - __clz(same)) table[h[k]] = static_cast<uint16_t>(q0 + k * kWarp + lane - base);
+      __syncwarp();
+    }
+  }
   uint32_t* out = tokens + piece * kPiece;
   int count = 0;
   size_t next = begin;
@@ -148,6 +151,9 @@ __global__ void __launch_bounds__(kParseWarps * kWarp)
     const uint32_t limit = p < end ? match_limit(p, end) : 0;
     uint32_t best = 0;
     for (int k = 0; k < c.count; k++) {
+      // Nearest first: once every lane has a match as long as it may be, a
+      // farther one can only tie, and ties go to the nearer.
+      if (!__any_sync(0xffffffffu, p < end && key_length(best) < limit)) break;
       const uint32_t run = group_run(data, g, end, c.distance[k]);
       const uint32_t key = p < end && valid_distance(p, c.distance[k])
                                ? match_key(clamp_match(run, c.distance[k], limit), c.distance[k])
@@ -210,11 +216,18 @@ __global__ void __launch_bounds__(kCodeThreads)
   const size_t chunk = blockIdx.x, chunks = chunk_count(layout_of(width, height, translucent).size());
   if (chunk >= chunks) return;
   const int t = threadIdx.x;
+  // code_frequencies: the counts, the end of block, two codes at least
+  if (t < kLitLenSymbols) lf[t] = t == kEndOfBlock ? 1 : freq[chunk].litlen[t];
+  else if (t - kLitLenSymbols < kDistSymbols) df[t - kLitLenSymbols] = freq[chunk].dist[t - kLitLenSymbols];
+  __syncthreads();
+  if (t == 0) ensure_two(lf, kLitLenSymbols);
+  if (t == kWarp) ensure_two(df, kDistSymbols);
+  __syncthreads();
+  const int lu = __syncthreads_count(t < kLitLenSymbols && lf[t] != 0);
+  const int du = __syncthreads_count(t - kLitLenSymbols < kDistSymbols && t >= kLitLenSymbols && df[t - kLitLenSymbols] != 0);
   if (t == 0) {
-    code_frequencies(freq[chunk], lf, df);
-    lused = dused = 0;
-    for (int s = 0; s < kLitLenSymbols; s++) lused += lf[s] != 0;
-    for (int s = 0; s < kDistSymbols; s++) dused += df[s] != 0;
+    lused = lu;
+    dused = du;
   }
   __syncthreads();
   if (t < kLitLenSymbols) {
