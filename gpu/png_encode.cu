@@ -58,33 +58,36 @@ __global__ void k_png_filter(const uint8_t* rgba, int width, int height, const u
   for (int x = lane; x < l.width; x += kWarp) png::filter_pixel(rgba, l, y, x, type, row + 1);
 }
 
-// A piece's bytes from its seed's start on, staged in shared memory: every
-// byte the parse reads from there on (the few fixed distances reaching
-// farther back, two rows of a wide image, read the data in global memory).
+// A piece's bytes and the kStageBack before it, staged in shared memory:
+// the bytes the parse reads most (the seed's older part, and matches
+// reaching farther back, read the data in global memory).
+constexpr size_t kStageBack = 8192;
+
 struct Staged {
   const uint8_t* data;
   const uint8_t* stage;
-  size_t base;
-  __device__ uint8_t operator()(size_t q) const { return q >= base ? stage[q - base] : data[q]; }
+  size_t from;  // the first staged byte
+  __device__ uint8_t operator()(size_t q) const { return q >= from ? stage[q - from] : data[q]; }
+  __device__ uint32_t hash(size_t q) const { return hash4(q >= from ? stage + (q - from) : data + q); }
 };
 
 // The warp's positions q0 + lane enter the table, the last of equal hashes
 // writing (the order of one thread); returns each lane's previous
 // position of its hash as a distance (0: none). `enter`: the lane's
 // position takes part.
-__device__ uint32_t enter_group(const Staged& at, size_t q0, bool enter, uint16_t* table) {
+__device__ uint32_t enter_group(const Staged& at, size_t q0, size_t base, bool enter, uint16_t* table) {
   const int lane = threadIdx.x % kWarp;
   const size_t q = q0 + lane;
-  const uint32_t h = enter ? hash4(at.stage + (q - at.base)) : (1u << kHashBits) + lane;  // others match no one
+  const uint32_t h = enter ? at.hash(q) : (1u << kHashBits) + lane;  // others match no one
   const unsigned same = __match_any_sync(0xffffffffu, h);
   const unsigned below = same & ((1u << lane) - 1);
   uint32_t d = 0;
   if (enter) {
     if (below) d = static_cast<uint32_t>(lane - (31 - __clz(below)));
-    else if (table[h] != kNoPosition) d = static_cast<uint32_t>(q - at.base - table[h]);
+    else if (table[h] != kNoPosition) d = static_cast<uint32_t>(q - base - table[h]);
   }
   __syncwarp();
-  if (enter && lane == 31 - __clz(same)) table[h] = static_cast<uint16_t>(q - at.base);
+  if (enter && lane == 31 - __clz(same)) table[h] = static_cast<uint16_t>(q - base);
   __syncwarp();
   return d;
 }
@@ -113,8 +116,8 @@ __device__ uint32_t group_run(const Staged& at, size_t g, size_t end, uint32_t d
   return run;
 }
 
-// One warp per block: its hash table (16 KiB) and staged bytes (20 KiB).
-constexpr size_t kStageBytes = kSeed + kPiece + 16;
+// One warp per block: its hash table (16 KiB) and staged bytes (16 KiB).
+constexpr size_t kStageBytes = kStageBack + kPiece + 16;
 
 // A warp per piece: its bytes staged, the table seeded, then group by
 // group of 32 positions every position's previous occurrence
@@ -136,17 +139,18 @@ __global__ void __launch_bounds__(kWarp)
   const Candidates c = png_candidates(static_cast<uint32_t>(l.bpp()), static_cast<uint32_t>(l.stride()));
   const size_t begin = piece * kPiece, end = begin + kPiece < n ? begin + kPiece : n;
   const size_t base = seed_start(begin), seeded = seed_end(begin);
-  // base is a multiple of kPiece: 16-byte loads (the buffer has 16 bytes
-  // of slack past the data)
-  const uint4* from = reinterpret_cast<const uint4*>(data + base);
+  // the staged bytes start at a multiple of kPiece: 16-byte loads (the
+  // buffer has 16 bytes of slack past the data)
+  const size_t staged = begin > kStageBack ? begin - kStageBack : 0;
+  const uint4* from = reinterpret_cast<const uint4*>(data + staged);
   uint4* to = reinterpret_cast<uint4*>(stage);
-  for (size_t i = lane; i < (end - base + 15) / 16; i += kWarp) to[i] = from[i];
+  for (size_t i = lane; i < (end - staged + 15) / 16; i += kWarp) to[i] = from[i];
   for (int i = lane; i < (1 << kHashBits); i += kWarp) table[i] = kNoPosition;
   __syncwarp();
-  const Staged at{data, stage, base};
+  const Staged at{data, stage, staged};
   for (size_t q0 = base; q0 < seeded; q0 += kWarp) {
     const size_t q = q0 + lane;
-    const uint32_t h = q < seeded ? hash4(stage + (q - base)) : (1u << kHashBits) + lane;
+    const uint32_t h = q < seeded ? at.hash(q) : (1u << kHashBits) + lane;
     const unsigned same = __match_any_sync(0xffffffffu, h);
     if (q < seeded && lane == 31 - __clz(same)) table[h] = static_cast<uint16_t>(q - base);
     __syncwarp();
@@ -156,7 +160,7 @@ __global__ void __launch_bounds__(kWarp)
   size_t next = begin;
   for (size_t g = begin; g < end; g += kWarp) {
     const size_t p = g + lane;
-    const uint32_t d_hash = enter_group(at, g, p < end && hashed(p, end), table);
+    const uint32_t d_hash = enter_group(at, g, base, p < end && hashed(p, end), table);
     if (next >= g + kWarp) continue;  // inside a match
     const uint32_t limit = p < end ? match_limit(p, end) : 0;
     uint32_t best = 0;
