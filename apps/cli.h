@@ -24,8 +24,9 @@ struct Options {
   Gamma gamma = Gamma::Linear;
   Backend backend = Backend::Auto;
   int bits = 8;
-  // --compression 0..9 (apps/png_writer.h); -1: 1 where the GPU renders
-  // (compressed there), png::kDefaultCpuLevel on the CPU.
+  // --compression 0..9 (apps/png_writer.h); -1: measured defaults (one
+  // image on the GPU: 1, compressed there; batches:
+  // pipeline::png_on_device; else png::kDefaultCpuLevel).
   int compression = -1;
   bool stats = false;
   bool quiet = false;

@@ -39,6 +39,7 @@ struct State {
   int in_flight = 0;  // items taken and not yet finished
   int preparing = 0;  // items being prepared now
   int max_in_flight = 1;
+  bool png_on_device = false;  // CUDA render threads compress the PNGs (png_on_device())
   int renderers = 0;     // render threads still running
   bool rendering_done = false;
   Result result;
@@ -254,7 +255,7 @@ struct State {
       try {
         if (c.bits == 16)
           job->image = renderer->render(job->scene, job->options, &job->stats);
-        else if (renderer->backend() == Backend::Cuda && (c.compression < 0 || c.compression == 1))
+        else if (renderer->backend() == Backend::Cuda && png_on_device)
           job->png = renderer->render_png(job->scene, job->plan, job->options, &job->stats);
         else
           job->rgba8 = renderer->render_rgba8(job->scene, job->plan, job->options, &job->stats, std::move(storage));
@@ -293,6 +294,20 @@ struct State {
 
 }  // namespace
 
+bool png_on_device(int compression, int workers, int render_threads) {
+  if (compression >= 0) return compression == 1;
+  // Unset: on the workers unless they are few for the render threads. On
+  // the H100 host (16 cores, BENCHMARKS.md "PNG stage"), a worker spends
+  // ~48 ms per 1024 px file with PNG (libdeflate level 2) and ~22 without,
+  // a render thread ~12 ms, and the device's PNG stage holds it up ~2.7 ms
+  // more: with 14 workers for 2 render threads the workers keep up, and
+  // compressing on the device loses 15 % (99-105 files/s against 121-124);
+  // pdf2png's pages alike (63 ms per page on a worker, 17-24 ms per render
+  // thread of 3). The workers stop keeping up below about four per render
+  // thread.
+  return workers < 4 * render_threads;
+}
+
 Result run(const Config& config) {
   auto state = std::make_shared<State>(config);
   State& s = *state;
@@ -301,6 +316,7 @@ Result run(const Config& config) {
   const int renderers = std::max(1, std::min(config.render_threads, config.tickets));
   s.max_in_flight = workers + 4 + renderers;
   s.renderers = renderers;
+  s.png_on_device = png_on_device(config.compression, workers, renderers);
   s.live_threads = renderers + workers;
   auto ended = [](State& st) {
     std::lock_guard<std::mutex> lock(st.m);

@@ -81,6 +81,12 @@ struct Result {
   double render_idle = 0, worker_idle = 0;  // time the threads waited for work
 };
 
+// Does a batch compress its PNGs on the device (FrameRenderer::render_png,
+// where the render threads use CUDA) rather than on the workers? Level 1
+// does, 0 and 2-9 do not; unset (-1), measured: where workers are few for
+// the render threads.
+bool png_on_device(int compression, int workers, int render_threads);
+
 // Runs every ticket through. A job of several items ends with a summary
 // line on standard error ("svg2png: 203 files, 201 written, 2 failed"),
 // on a terminal or not; -q leaves it out when nothing failed.

@@ -35,8 +35,8 @@
 
 namespace mpvg::deflate {
 
-constexpr int kPiece = 8192;        // bytes parsed by one thread (a warp on the GPU)
-constexpr int kPiecesPerChunk = 8;  // one block of 64 KiB
+constexpr int kPiece = 4096;         // bytes parsed by one thread (a warp on the GPU)
+constexpr int kPiecesPerChunk = 16;  // one block of 64 KiB
 constexpr size_t kChunk = size_t(kPiece) * kPiecesPerChunk;
 constexpr uint32_t kMinMatch = 3, kMaxMatch = 258, kWindow = 32768;
 constexpr int kLitLenSymbols = 286, kDistSymbols = 30, kCodeLengthSymbols = 19;

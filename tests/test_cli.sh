@@ -29,9 +29,31 @@ check "-o names the output" cmp -s "$tmp/a.png" "$tmp/h.png"
 check "--seed changes the sample pattern" differ "$tmp/a.png" "$tmp/i.png"
 # The box filter's images are the same bit for bit on every backend (wide
 # filters agree within 1/255: test_gpu).
-"$bin" -q --aa 1x32 "$svg" "$tmp/j1.png"
-"$bin" -q --aa 1x32 --backend cpu "$svg" "$tmp/j2.png"
+# --compression 1 is the same deflate on either executor: the same bytes.
+"$bin" -q --aa 1x32 --compression 1 "$svg" "$tmp/j1.png"
+"$bin" -q --aa 1x32 --compression 1 --backend cpu "$svg" "$tmp/j2.png"
 check "--backend cpu renders the same 1x32 image" cmp -s "$tmp/j1.png" "$tmp/j2.png"
+# Every level holds the same filtered rows (inflated by Python's zlib).
+rows() {
+  python3 - "$1" <<'PY'
+import struct, sys, zlib
+d = open(sys.argv[1], "rb").read()
+i, z = 8, b""
+while i < len(d):
+    n = struct.unpack(">I", d[i:i + 4])[0]
+    if d[i + 4:i + 8] == b"IDAT":
+        z += d[i + 8:i + 8 + n]
+    i += 12 + n
+print(zlib.decompress(z).hex())
+PY
+}
+for l in 0 1 2 9; do "$bin" -q --compression $l "$svg" "$tmp/z$l.png"; done
+check "--compression 0, 1, 2 and 9 hold the same rows" test "$(rows "$tmp/z0.png")" = "$(rows "$tmp/z1.png")" \
+  -a "$(rows "$tmp/z1.png")" = "$(rows "$tmp/z2.png")" -a "$(rows "$tmp/z2.png")" = "$(rows "$tmp/z9.png")"
+check "--compression 0 stores, 1 and 9 deflate" test "$(stat -c %s "$tmp/z0.png")" -gt "$(stat -c %s "$tmp/z1.png")" \
+  -a "$(stat -c %s "$tmp/z1.png")" -gt "$(stat -c %s "$tmp/z9.png")"
+"$bin" -q --compression 10 "$svg" "$tmp/x.png" 2>/dev/null; rc=$?
+check "--compression 10: exit 2" test "$rc" = 2
 "$bin" -q --bits 16 "$svg" "$tmp/k.png"
 check "--bits 16 writes a 16-bit PNG" test "$(od -An -tu1 -j24 -N1 "$tmp/k.png" | tr -d ' ')" = 16
 
