@@ -58,27 +58,14 @@ __global__ void k_png_filter(const uint8_t* rgba, int width, int height, const u
   for (int x = lane; x < l.width; x += kWarp) png::filter_pixel(rgba, l, y, x, type, row + 1);
 }
 
-// A piece's bytes and the kStageBack before it, staged in shared memory:
-// the bytes the parse reads most (the seed's older part, and matches
-// reaching farther back, read the data in global memory).
-constexpr size_t kStageBack = 8192;
-
-struct Staged {
-  const uint8_t* data;
-  const uint8_t* stage;
-  size_t from;  // the first staged byte
-  __device__ uint8_t operator()(size_t q) const { return q >= from ? stage[q - from] : data[q]; }
-  __device__ uint32_t hash(size_t q) const { return hash4(q >= from ? stage + (q - from) : data + q); }
-};
-
 // The warp's positions q0 + lane enter the table, the last of equal hashes
 // writing (the order of one thread); returns each lane's previous
 // position of its hash as a distance (0: none). `enter`: the lane's
 // position takes part.
-__device__ uint32_t enter_group(const Staged& at, size_t q0, size_t base, bool enter, uint16_t* table) {
+__device__ uint32_t enter_group(const uint8_t* data, size_t q0, bool enter, size_t base, uint16_t* table) {
   const int lane = threadIdx.x % kWarp;
   const size_t q = q0 + lane;
-  const uint32_t h = enter ? at.hash(q) : (1u << kHashBits) + lane;  // others match no one
+  const uint32_t h = enter ? hash4(data + q) : (1u << kHashBits) + lane;  // lanes left out match no one
   const unsigned same = __match_any_sync(0xffffffffu, h);
   const unsigned below = same & ((1u << lane) - 1);
   uint32_t d = 0;
@@ -92,14 +79,14 @@ __device__ uint32_t enter_group(const Staged& at, size_t q0, size_t base, bool e
   return d;
 }
 
-// The run of equal bytes at p and d before, for every lane's p in the
-// group [g, g + 32) of the piece [.., end), from equality ballots: a lane's
-// run is its ones upward, and where it reaches the group's end the
+// The run of equal bytes data[p..] == data[p - d..] for every lane's p in
+// the group [g, g + 32) of the piece [.., end), from equality ballots: a
+// lane's run is its ones upward, and where it reaches the group's end the
 // following groups' leading ones (shared by every such lane), up to a
 // match's most.
-__device__ uint32_t group_run(const Staged& at, size_t g, size_t end, uint32_t d) {
+__device__ uint32_t group_run(const uint8_t* data, size_t g, size_t end, uint32_t d) {
   const int lane = threadIdx.x % kWarp;
-  auto equal = [&](size_t p) { return p < end && p >= d && at(p) == at(p - d); };
+  auto equal = [&](size_t p) { return p < end && p >= d && data[p] == data[p - d]; };
   const unsigned bal = __ballot_sync(0xffffffffu, equal(g + lane));
   const unsigned mine = bal >> lane;  // zeros above the group: not equal
   uint32_t run = ~mine == 0 ? 32 : __ffs(~mine) - 1;
@@ -116,52 +103,50 @@ __device__ uint32_t group_run(const Staged& at, size_t g, size_t end, uint32_t d
   return run;
 }
 
-// One warp per block: its hash table (16 KiB) and staged bytes (12 KiB):
-// eight blocks on an SM, one wave of warps for a 1024 px image.
-constexpr size_t kStageBytes = kStageBack + kPiece + 16;
+constexpr int kParseWarps = 2;  // per block: two hash tables of 16 KiB
 
-// A warp per piece: its bytes staged, the table seeded, then group by
-// group of 32 positions every position's previous occurrence
-// (enter_group) and, where the parse has a token starting in the group,
-// every position's best key (fixed candidates by group_run, nearest first,
-// the hash candidate by hash_key); the parse walks the group's keys. Then
-// the tokens' symbols are counted into the chunk's frequencies, and the
-// piece's Adler-32 part is summed. The same tokens as parse_piece.
-__global__ void __launch_bounds__(kWarp)
+// A warp per piece: the table seeded, then group by group of 32 positions
+// every position's previous occurrence (enter_group) and, where the parse
+// has a token starting in the group, every position's best key (fixed
+// candidates by group_run, the hash candidate by hash_key); the parse
+// walks the group's keys. Then the tokens' symbols are counted into the
+// chunk's frequencies, and the piece's Adler-32 part is summed. The same
+// tokens as parse_piece.
+__global__ void __launch_bounds__(kParseWarps * kWarp)
     k_deflate_parse(const uint8_t* data, int width, int height, const uint32_t* translucent, uint32_t* tokens,
                     uint32_t* counts, Frequencies* freq, AdlerPart* adler) {
-  __shared__ uint16_t table[1 << kHashBits];
-  __shared__ __align__(16) uint8_t stage[kStageBytes];
+  __shared__ uint16_t tables[kParseWarps][1 << kHashBits];
   const png::FilterLayout l = layout_of(width, height, translucent);
   const size_t n = l.size();
-  const size_t piece = blockIdx.x;
-  const int lane = threadIdx.x;
+  const size_t piece = (blockIdx.x * size_t(blockDim.x) + threadIdx.x) / kWarp;
+  const int lane = threadIdx.x % kWarp;
   if (piece >= piece_count(n)) return;
   const Candidates c = png_candidates(static_cast<uint32_t>(l.bpp()), static_cast<uint32_t>(l.stride()));
+  uint16_t* table = tables[threadIdx.x / kWarp];
   const size_t begin = piece * kPiece, end = begin + kPiece < n ? begin + kPiece : n;
   const size_t base = seed_start(begin), seeded = seed_end(begin);
-  // the staged bytes start at a multiple of kPiece: 16-byte loads (the
-  // buffer has 16 bytes of slack past the data)
-  const size_t staged = begin > kStageBack ? begin - kStageBack : 0;
-  const uint4* from = reinterpret_cast<const uint4*>(data + staged);
-  uint4* to = reinterpret_cast<uint4*>(stage);
-  for (size_t i = lane; i < (end - staged + 15) / 16; i += kWarp) to[i] = from[i];
   for (int i = lane; i < (1 << kHashBits); i += kWarp) table[i] = kNoPosition;
   __syncwarp();
-  const Staged at{data, stage, staged};
-  for (size_t q0 = base; q0 < seeded; q0 += kWarp) {
-    const size_t q = q0 + lane;
-    const uint32_t h = q < seeded ? at.hash(q) : (1u << kHashBits) + lane;
-    const unsigned same = __match_any_sync(0xffffffffu, h);
-    if (q < seeded && lane == 31 - __clz(same)) table[h] = static_cast<uint16_t>(q - base);
-    __syncwarp();
+  // four groups' hashes loaded at once, then entered in order
+  constexpr int kAhead = 4;
+  for (size_t q0 = base; q0 < seeded; q0 += kAhead * kWarp) {
+    uint32_t h[kAhead];
+    for (int k = 0; k < kAhead; k++) {
+      const size_t q = q0 + k * kWarp + lane;
+      h[k] = q < seeded ? hash4(data + q) : (1u << kHashBits) + lane;  // lanes left out match no one
+    }
+    for (int k = 0; k < kAhead; k++) {
+      const unsigned same = __match_any_sync(0xffffffffu, h[k]);
+      if (h[k] < (1u << kHashBits) && lane == 31 - __clz(same)) table[h[k]] = static_cast<uint16_t>(q0 + k * kWarp + lane - base);
+      __syncwarp();
+    }
   }
   uint32_t* out = tokens + piece * kPiece;
   int count = 0;
   size_t next = begin;
   for (size_t g = begin; g < end; g += kWarp) {
     const size_t p = g + lane;
-    const uint32_t d_hash = enter_group(at, g, base, p < end && hashed(p, end), table);
+    const uint32_t d_hash = enter_group(data, g, p < end && hashed(p, end), base, table);
     if (next >= g + kWarp) continue;  // inside a match
     const uint32_t limit = p < end ? match_limit(p, end) : 0;
     uint32_t best = 0;
@@ -169,14 +154,14 @@ __global__ void __launch_bounds__(kWarp)
       // Nearest first: once every lane has a match as long as it may be, a
       // farther one can only tie, and ties go to the nearer.
       if (!__any_sync(0xffffffffu, p < end && key_length(best) < limit)) break;
-      const uint32_t run = group_run(at, g, end, c.distance[k]);
+      const uint32_t run = group_run(data, g, end, c.distance[k]);
       const uint32_t key = p < end && valid_distance(p, c.distance[k])
                                ? match_key(clamp_match(run, c.distance[k], limit), c.distance[k])
                                : 0;
       best = key > best ? key : best;
     }
     if (p < end) {
-      const uint32_t h = hash_key(at, p, limit, d_hash, best, c);
+      const uint32_t h = hash_key(ArrayBytes{data}, p, limit, d_hash, best, c);
       best = h > best ? h : best;
     }
     // The walk: a run of literals (lanes up to the next match) in one
@@ -184,16 +169,16 @@ __global__ void __launch_bounds__(kWarp)
     const unsigned matches = __ballot_sync(0xffffffffu, best != 0);
     const int last = end - g < kWarp ? static_cast<int>(end - g) : static_cast<int>(kWarp);
     while (next < g + last) {
-      const int first = static_cast<int>(next - g);
-      const unsigned ahead = matches & (~0u << first);
+      const int at = static_cast<int>(next - g);
+      const unsigned ahead = matches & (~0u << at);
       const int stop = ahead ? __ffs(ahead) - 1 : last;
-      if (stop > first) {
-        if (lane >= first && lane < stop) out[count + lane - first] = literal_token(at(p));
-        count += stop - first;
+      if (stop > at) {
+        if (lane >= at && lane < stop) out[count + lane - at] = literal_token(data[p]);
+        count += stop - at;
         next = g + stop;
         continue;
       }
-      const uint32_t key = __shfl_sync(0xffffffffu, best, first);
+      const uint32_t key = __shfl_sync(0xffffffffu, best, at);
       if (lane == 0) out[count] = match_token(key_length(key), key_distance(key));
       count++;
       next += key_length(key);
@@ -207,8 +192,8 @@ __global__ void __launch_bounds__(kWarp)
   unsigned long long a = 0, b = 0;
   const size_t len = end - begin;
   for (size_t i = lane; i < len; i += kWarp) {
-    a += at(begin + i);
-    b += (len - i) * static_cast<unsigned long long>(at(begin + i));
+    a += data[begin + i];
+    b += (len - i) * static_cast<unsigned long long>(data[begin + i]);
   }
   for (int o = kWarp / 2; o > 0; o /= 2) {
     a += __shfl_xor_sync(0xffffffffu, a, o);
@@ -390,7 +375,7 @@ png::ImageData PngStage::run(const uint32_t* rgba, int width, int height) {
   l.channels = 4;
   const size_t n = l.size(), chunks = chunk_count(n), pieces = piece_count(n);
   flag_.resize(1);
-  filtered_.resize(n + 16);  // the parse's 16-byte loads may pass the end
+  filtered_.resize(n);
   tokens_.resize(pieces * kPiece);
   counts_.resize(pieces);
   freq_.resize(chunks);
@@ -408,7 +393,7 @@ png::ImageData PngStage::run(const uint32_t* rgba, int width, int height) {
   k_png_filter<<<grid_for(size_t(height) * kWarp, 128), 128>>>(reinterpret_cast<const uint8_t*>(rgba), width, height,
                                                                 flag_.data(), filtered_.data());
   launched();
-  k_deflate_parse<<<unsigned(pieces), kWarp>>>(
+  k_deflate_parse<<<grid_for(pieces * kWarp, kParseWarps * kWarp), kParseWarps * kWarp>>>(
       filtered_.data(), width, height, flag_.data(), tokens_.data(), counts_.data(), freq_.data(),
       piece_adler_.data());
   launched();
