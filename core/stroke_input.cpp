@@ -134,4 +134,13 @@ bool StrokeBatch::add(const Path& path, const StrokeStyle& style, const Affine& 
   return true;
 }
 
+Hairline hairline(double width, const Affine& to_device, double min_device_width) {
+  const double scale = std::sqrt(std::fabs(to_device.det()));
+  if (!(scale > 0) || !std::isfinite(scale) || !(min_device_width > 0)) return {width, 1};
+  const double min_user = min_device_width / scale;
+  if (!(width > 0)) return {min_user, 1};
+  if (width >= min_user) return {width, 1};
+  return {min_user, width / min_user};
+}
+
 }  // namespace mpvg

@@ -1,7 +1,8 @@
 // Stage "stroke", host side: stroked paths (a Path, a style, the transform
 // to pixels) gathered into the flat arrays of core/stroke.h that either
 // executor expands: records, subpaths, segments and dash patterns. Only
-// the centreline crosses to the device; the stroke is built there.
+// the centreline crosses to the device; the stroke is built there. Also
+// the hairline rule that frontends apply to the widths they stroke with.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -41,5 +42,19 @@ struct StrokeTimes {
   double measure_ms = 0, elements_ms = 0, parts_ms = 0, fit_ms = 0;
 };
 std::vector<InputSegment> stroke_cpu(const StrokeBatch& batch, int threads = 0, StrokeTimes* times = nullptr);
+
+// Hairlines. A stroke whose device width is below `min_device_width` pixels
+// would be thinner than a pixel and, with point sampling, flicker in and out
+// of existence. It is drawn instead at the minimum width with its opacity
+// multiplied by width / minimum width: the same amount of ink per unit
+// length, but smoothly antialiased. The device width of a user-space width
+// is measured with sqrt(|det|), the geometric mean of the transform's
+// scales. A width of zero is the thinnest line that can be drawn (PDF's
+// line width 0): the minimum width at full opacity.
+struct Hairline {
+  double width;    // user units
+  double opacity;  // factor for the stroke's opacity
+};
+Hairline hairline(double width, const Affine& to_device, double min_device_width = 1.0);
 
 }  // namespace mpvg

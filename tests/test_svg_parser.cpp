@@ -11,7 +11,6 @@
 #include "parsers/svg/svg_geometry.h"
 #include "parsers/svg/svg_parser.h"
 #include "parsers/svg/xml_encoding.h"
-#include "stroker/stroker.h"
 #include "tests/catch.h"
 #include "tests/svg_test_util.h"
 

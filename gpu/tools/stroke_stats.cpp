@@ -5,11 +5,10 @@
 //   - the stroke stage (core/stroke.h) on the CPU executor, one thread and
 //     every core;
 //   - in a CUDA build with a device, the stage on the GPU (device time of
-//     its kernels, per kernel, and the upload of the centrelines);
-//   - the old stroker (stroker/, one thread), for its time and its segment
-//     count on the same strokes.
+//     its kernels, per kernel, and the upload of the centrelines).
 //
 // usage: stroke_stats [-w WIDTH_PIXELS] [-r REPEATS] FILE.svg...
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -20,56 +19,10 @@
 #include "core/encoding.h"
 #include "core/stroke_input.h"
 #include "parsers/svg/svg_parser.h"
-#include "stroker/stroker.h"
 #ifdef MPVG_WITH_CUDA
 #include "gpu/backend.h"
 #include "gpu/stroke.h"
 #endif
-
-namespace {
-
-// The old stroker's output for every stroke of the batch (its centrelines
-// and styles back as Paths); returns the segment count, closing lines
-// included.
-size_t old_stroker(const mpvg::StrokeBatch& batch) {
-  size_t segments = 0;
-  size_t sub = 0;
-  for (size_t s = 0; s < batch.strokes.size(); s++) {
-    const mpvg::stroking::StrokeRecord& rec = batch.strokes[s];
-    mpvg::Path p;
-    for (; sub < batch.subpaths.size() && batch.subpaths[sub].stroke == s; sub++) {
-      const mpvg::stroking::StrokeSubpath& sp = batch.subpaths[sub];
-      p.move_to(sp.start);
-      for (uint32_t k = 0; k < sp.segment_count; k++) {
-        const mpvg::stroking::Curve& c = batch.segments[sp.first_segment + k].curve;
-        if (c.type == mpvg::stroking::CURVE_LINE) p.line_to(c.p[1]);
-        if (c.type == mpvg::stroking::CURVE_QUAD) p.quad_to(c.p[1], c.p[2]);
-        if (c.type == mpvg::stroking::CURVE_RQUAD) p.rquad_to(c.p[1], c.p[2], c.w);
-        if (c.type == mpvg::stroking::CURVE_CUBIC) p.cubic_to(c.p[1], c.p[2], c.p[3]);
-      }
-      if (sp.flags & mpvg::stroking::SUBPATH_CLOSED) p.close();
-    }
-    mpvg::stroke::Style st;
-    st.width = 2 * rec.h;
-    st.join = static_cast<mpvg::stroke::Join>(rec.join);
-    st.cap = static_cast<mpvg::stroke::Cap>(rec.cap);
-    st.miter_limit = rec.miter_limit;
-    st.dashes.assign(batch.dashes.begin() + rec.dash_first, batch.dashes.begin() + rec.dash_first + rec.dash_count);
-    st.dash_offset = rec.dash_offset;
-    const mpvg::Affine xf{rec.xf[0], rec.xf[1], rec.xf[2], rec.xf[3], rec.xf[4], rec.xf[5]};
-    const mpvg::Path g = mpvg::stroke::stroke_to_fill(p, st, xf);
-    segments += g.segments().size();
-    for (const mpvg::Path::Contour& c : g.contours()) {
-      if (c.segment_count == 0) continue;
-      const mpvg::Path::Segment& last = g.segments()[c.first_segment + c.segment_count - 1];
-      const mpvg::Vec2 end = g.points()[last.first_point + mpvg::segment_degree(last.type)];
-      if (!(end == g.points()[c.start_point])) segments++;
-    }
-  }
-  return segments;
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   int width = 1024, repeats = 5;
@@ -100,13 +53,11 @@ int main(int argc, char** argv) {
       const double scale = r.scene.width > 0 ? width / r.scene.width : 1;
       const mpvg::StrokeBatch batch =
           mpvg::encode(r.scene, mpvg::Affine::scale(scale, scale), mpvg::Gamma::Srgb).strokes;
-      size_t old_segments = 0, made = 0;
-      const double old = best_of([&] { old_segments = old_stroker(batch); });
+      size_t made = 0;
       const double one = best_of([&] { made = mpvg::stroke_cpu(batch, 1).size(); });
       const double all = best_of([&] { mpvg::stroke_cpu(batch, 0); });
       std::printf("%s: parse %.2f ms; %zu strokes, %zu centreline segments\n", argv[i], parse, batch.strokes.size(),
                   batch.segments.size());
-      std::printf("  old stroker: %zu segments, %.2f ms on one thread\n", old_segments, old);
       std::printf("  stage on the CPU: %zu segments; %.2f ms on one thread, %.2f ms on every core\n", made, one, all);
 #ifdef MPVG_WITH_CUDA
       if (mpvg::cuda_available()) {

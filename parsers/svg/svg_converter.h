@@ -46,7 +46,6 @@
 #include "parsers/svg/svg_parser.h"
 #include "parsers/svg/svg_resources.h"
 #include "parsers/svg/svg_values.h"
-#include "stroker/stroker.h"
 
 namespace mpvg::svg::detail {
 
@@ -135,8 +134,8 @@ struct Inherited {
   PaintSpec stroke;  // initial value: none
   double stroke_opacity = 1;
   double stroke_width = 1;
-  stroke::Join stroke_join = stroke::Join::Miter;
-  stroke::Cap stroke_cap = stroke::Cap::Butt;
+  LineJoin stroke_join = LineJoin::Miter;
+  LineCap stroke_cap = LineCap::Butt;
   double stroke_miterlimit = 4;
   std::vector<double> stroke_dasharray;  // empty: none
   double stroke_dashoffset = 0;

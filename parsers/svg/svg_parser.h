@@ -13,9 +13,10 @@
 // stroke-dashoffset, paint-order, vector-effect, opacity, clip-path,
 // clip-rule, display, visibility, color and transform. Curves stay curves;
 // arcs, circles and rounded corners become exact rational quadratics.
-// Strokes become filled paths (stroker/), painted with the nonzero rule
-// above or below the fill as paint-order says; they are not part of clip
-// paths or bounding boxes.
+// Strokes become fill geometry (the stroke stage, core/stroke.h, builds it
+// from the centreline when the scene is rendered), painted with the nonzero
+// rule above or below the fill as paint-order says; they are not part of
+// clip paths or bounding boxes.
 //
 // Paint servers, for fills and strokes: linearGradient and radialGradient
 // (gradientUnits, gradientTransform, spreadMethod, fx/fy/fr as the
@@ -60,11 +61,11 @@ struct ParseResult {
 
 struct ParseOptions {
   // Hairlines (strokes thinner than a pixel) are drawn one pixel wide with
-  // their opacity scaled to keep the ink (stroke::hairline), which needs to
-  // know what a pixel is. `view`, when set, is called once with the
-  // document's size (scene units) and returns the scene-to-pixel transform
-  // the document will be rendered with (svg2png passes the one its
-  // -w/-h/-z give). Without it, the scene is prepared for `device_scale`
+  // their opacity scaled to keep the ink (hairline(), core/stroke_input.h),
+  // which needs to know what a pixel is. `view`, when set, is called once
+  // with the document's size (scene units) and returns the scene-to-pixel
+  // transform the document will be rendered with (svg2png passes the one
+  // its -w/-h/-z give). Without it, the scene is prepared for `device_scale`
   // pixels per scene unit. (Stroke outlines themselves are built when the
   // scene is rendered, to 1/16 of an output pixel at whatever scale.)
   std::function<Affine(double width, double height)> view;

@@ -1,6 +1,7 @@
 // Strokes: each painted stroke becomes a stroke operation, its centreline
 // and style, which the scene carries (SceneBuilder::stroke) and the stroke
 // stage builds when the scene is rendered.
+#include "core/stroke_input.h"
 #include "parsers/svg/svg_converter.h"
 
 namespace mpvg::svg::detail {
@@ -14,8 +15,8 @@ std::optional<Op> Converter::shape_stroke(uint32_t shape, const Style& st, const
   const Inherited& inh = st.inh;
   if (inh.stroke.kind == PaintSpec::Kind::None || !inh.visible || !(inh.stroke_width > 0)) return std::nullopt;
   StrokeStyle style;
-  style.join = static_cast<LineJoin>(inh.stroke_join);
-  style.cap = static_cast<LineCap>(inh.stroke_cap);
+  style.join = inh.stroke_join;
+  style.cap = inh.stroke_cap;
   style.miter_limit = inh.stroke_miterlimit;
   style.dashes = inh.stroke_dasharray;
   style.dash_offset = inh.stroke_dashoffset;
@@ -26,17 +27,17 @@ std::optional<Op> Converter::shape_stroke(uint32_t shape, const Style& st, const
   op.shape = shape;
   // Hairlines need to know what a pixel is: the scene as the parse options
   // expect it to be rendered.
-  stroke::Hairline hl;
+  Hairline hl;
   if (st.non_scaling_stroke) {
     // vector-effect: non-scaling-stroke: the stroke is computed in the
     // host coordinate space, here scene units (SVG 2 coords.html#VectorEffects):
     // the centreline mapped there.
-    hl = stroke::hairline(inh.stroke_width, device_);
+    hl = hairline(inh.stroke_width, device_);
     op.shape = static_cast<uint32_t>(shapes_.size());
     shapes_.push_back(shapes_[shape].transformed(space));
     op.xf = Affine{};
   } else {
-    hl = stroke::hairline(inh.stroke_width, device_ * space);
+    hl = hairline(inh.stroke_width, device_ * space);
     op.xf = space;
   }
   const auto paint = make_paint(inh.stroke, inh.stroke_opacity * hl.opacity, bbox, space);

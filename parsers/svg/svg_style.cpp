@@ -621,27 +621,27 @@ void Converter::stroke_style(const Element& e, Inherited& inh, Style& st) {
     return w;
   });
   if (width.state == Prop<double>::Set) inh.stroke_width = width.value;
-  const auto join = property<stroke::Join>(e, "stroke-linejoin", [](std::string_view v) {
-    std::optional<stroke::Join> none;
+  const auto join = property<LineJoin>(e, "stroke-linejoin", [](std::string_view v) {
+    std::optional<LineJoin> none;
     const auto k = parse_keyword(v);
     if (!k) return none;
-    if (*k == "miter") return std::optional(stroke::Join::Miter);
-    if (*k == "miter-clip") return std::optional(stroke::Join::MiterClip);
-    if (*k == "round") return std::optional(stroke::Join::Round);
-    if (*k == "bevel") return std::optional(stroke::Join::Bevel);
-    if (*k == "arcs") return std::optional(stroke::Join::Arcs);
+    if (*k == "miter") return std::optional(LineJoin::Miter);
+    if (*k == "miter-clip") return std::optional(LineJoin::MiterClip);
+    if (*k == "round") return std::optional(LineJoin::Round);
+    if (*k == "bevel") return std::optional(LineJoin::Bevel);
+    if (*k == "arcs") return std::optional(LineJoin::Arcs);
     return none;
   });
-  if (join.state == Prop<stroke::Join>::Set) inh.stroke_join = join.value;
-  const auto cap = property<stroke::Cap>(e, "stroke-linecap", [](std::string_view v) -> std::optional<stroke::Cap> {
+  if (join.state == Prop<LineJoin>::Set) inh.stroke_join = join.value;
+  const auto cap = property<LineCap>(e, "stroke-linecap", [](std::string_view v) -> std::optional<LineCap> {
     const auto k = parse_keyword(v);
     if (!k) return std::nullopt;
-    if (*k == "butt") return stroke::Cap::Butt;
-    if (*k == "round") return stroke::Cap::Round;
-    if (*k == "square") return stroke::Cap::Square;
+    if (*k == "butt") return LineCap::Butt;
+    if (*k == "round") return LineCap::Round;
+    if (*k == "square") return LineCap::Square;
     return std::nullopt;
   });
-  if (cap.state == Prop<stroke::Cap>::Set) inh.stroke_cap = cap.value;
+  if (cap.state == Prop<LineCap>::Set) inh.stroke_cap = cap.value;
   // A <number> of at least 1 (SVG 2 painting.html#StrokeMiterlimitProperty); "5mm" is not one.
   const auto ml = property<double>(e, "stroke-miterlimit", [](std::string_view v) -> std::optional<double> {
     const auto n = parse_number(v);
