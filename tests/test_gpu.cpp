@@ -283,7 +283,7 @@ TEST_CASE("CPU and GPU agree within 1/255 under every preset, filter and colour 
 }
 
 // Stage "stroke": the kernels run the per-element functions the CPU
-// executor runs (test_stroke holds that one to the old stroker), on random
+// executor runs (test_stroker holds that one to brute-force oracles), on random
 // centrelines under every join and cap, with and without dashes, under
 // random transforms: the same segment counts up to a few (libm and CUDA's
 // maths may round a fitting decision differently), every pixel's coverage
