@@ -1,6 +1,7 @@
 // Random centrelines for the stroke tests (test_stroker, test_stroke):
 // every segment type with the hard cases of stroking.
 #pragma once
+#include <cmath>
 #include <random>
 
 #include "core/scene.h"
@@ -65,6 +66,19 @@ inline Path random_path(std::mt19937& rng, int contours) {
     }
     if (closed(rng)) p.close();
   }
+  return p;
+}
+
+// A circle as four exact conic quarters: right, bottom, left, top.
+inline Path circle(Vec2 c, double r) {
+  const double k = M_SQRT1_2;
+  Path p;
+  p.move_to({c.x + r, c.y});
+  p.rquad_to({c.x + r, c.y + r}, {c.x, c.y + r}, k);
+  p.rquad_to({c.x - r, c.y + r}, {c.x - r, c.y}, k);
+  p.rquad_to({c.x - r, c.y - r}, {c.x, c.y - r}, k);
+  p.rquad_to({c.x + r, c.y - r}, {c.x + r, c.y}, k);
+  p.close();
   return p;
 }
 

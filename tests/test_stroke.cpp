@@ -138,15 +138,7 @@ std::string describe(int iter, const StrokeStyle& st) {
 }
 
 // Shapes to fill, all wound the same way so that nonzero is their union.
-void add_disk(Path& p, Vec2 c, double r) {
-  const double k = M_SQRT1_2;
-  p.move_to({c.x + r, c.y});
-  p.rquad_to({c.x + r, c.y + r}, {c.x, c.y + r}, k);
-  p.rquad_to({c.x - r, c.y + r}, {c.x - r, c.y}, k);
-  p.rquad_to({c.x - r, c.y - r}, {c.x, c.y - r}, k);
-  p.rquad_to({c.x + r, c.y - r}, {c.x + r, c.y}, k);
-  p.close();
-}
+void add_disk(Path& p, Vec2 c, double r) { p.append(circle(c, r)); }
 void add_box(Path& p, double x0, double y0, double x1, double y1) { p.append(Path::rectangle(x0, y0, x1, y1)); }
 
 }  // namespace

@@ -455,17 +455,6 @@ int check_polygons(const Segments& out, const std::vector<Poly>& expected, const
   return wrong;
 }
 
-Path circle(Vec2 c, double r) {
-  const double k = M_SQRT1_2;
-  Path p;
-  p.move_to({c.x + r, c.y});
-  p.rquad_to({c.x + r, c.y + r}, {c.x, c.y + r}, k);
-  p.rquad_to({c.x - r, c.y + r}, {c.x - r, c.y}, k);
-  p.rquad_to({c.x - r, c.y - r}, {c.x, c.y - r}, k);
-  p.rquad_to({c.x + r, c.y - r}, {c.x + r, c.y}, k);
-  p.close();
-  return p;
-}
 
 // Whether two outputs are the same segments, bit for bit.
 bool same(const Segments& a, const Segments& b) {
