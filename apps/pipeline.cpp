@@ -255,9 +255,15 @@ struct State {
       try {
         if (c.bits == 16)
           job->image = renderer->render(job->scene, job->options, &job->stats);
-        else if (renderer->backend() == Backend::Cuda && png_on_device)
-          job->png = renderer->render_png(job->scene, job->plan, job->options, &job->stats);
-        else
+        else if (renderer->backend() == Backend::Cuda && png_on_device) {
+          try {
+            job->png = renderer->render_png(job->scene, job->plan, job->options, &job->stats);
+          } catch (const Error&) {
+            // the PNG stage's buffers did not fit the device: the frame
+            // again, compressed by a worker
+            job->rgba8 = renderer->render_rgba8(job->scene, job->plan, job->options, &job->stats, std::move(storage));
+          }
+        } else
           job->rgba8 = renderer->render_rgba8(job->scene, job->plan, job->options, &job->stats, std::move(storage));
       } catch (const std::exception& e) {
         error = job->label + ": " + error_message(e);

@@ -249,7 +249,15 @@ int run(const cli::Options& opt, const Document& source, Renderers& renderers, c
   png::ImageData compressed;  // level 1 on the GPU: filtered and deflated there
   if (gpu) {
     if (opt.bits == 16) rgba16 = to_rgba16(gpu->render(enc, ro, &stats), ro.gamma);
-    else if (opt.compression < 0 || opt.compression == 1) compressed = gpu->render_png(enc, plan, ro, &stats);
+    else if (opt.compression < 0 || opt.compression == 1) {
+      try {
+        compressed = gpu->render_png(enc, plan, ro, &stats);
+      } catch (const Error&) {
+        // The PNG stage's buffers (five bytes a pixel) did not fit the
+        // device: the frame again, compressed on the CPU.
+        rgba8 = gpu->render_rgba8(enc, plan, ro, &stats);
+      }
+    }
     else rgba8 = gpu->render_rgba8(enc, plan, ro, &stats);
   } else {
     ImageF img = render_cpu(enc, plan, ro, &stats);

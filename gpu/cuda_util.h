@@ -45,9 +45,13 @@ class DeviceBuffer {
 
   void resize(size_t n) {
     if (n > cap_) {
+      const size_t cap = std::max(n, cap_ + cap_ / 2);
       release();
-      cap_ = std::max(n, cap_ + cap_ / 2);
-      MPVG_CUDA(cudaMallocAsync(&p_, std::max<size_t>(cap_, 1) * sizeof(T), cudaStreamPerThread));
+      // capacity only once allocated: a failed allocation (out of device
+      // memory, an exception) leaves an empty buffer, not a null one that
+      // claims room
+      MPVG_CUDA(cudaMallocAsync(&p_, std::max<size_t>(cap, 1) * sizeof(T), cudaStreamPerThread));
+      cap_ = cap;
     }
     n_ = n;
   }
