@@ -300,18 +300,15 @@ struct State {
 
 }  // namespace
 
-bool png_on_device(int compression, int workers, int render_threads) {
-  if (compression >= 0) return compression == 1;
-  // Unset: on the workers unless they are few for the render threads. On
-  // the H100 host (16 cores, BENCHMARKS.md "PNG stage"), a worker spends
-  // ~48 ms per 1024 px file with PNG (libdeflate level 2) and ~22 without,
-  // a render thread ~12 ms, and the device's PNG stage holds it up ~2.7 ms
-  // more: with 14 workers for 2 render threads the workers keep up, and
-  // compressing on the device loses 15 % (99-105 files/s against 121-124);
-  // pdf2png's pages alike (63 ms per page on a worker, 17-24 ms per render
-  // thread of 3). The workers stop keeping up below about four per render
-  // thread.
-  return workers < 4 * render_threads;
+bool png_on_device(int compression) {
+  // Only where asked for: the default (level 2 on the workers) gives the
+  // same bytes whichever backend renders and however many cores there are
+  // per device, and on the H100 host (16 cores, BENCHMARKS.md "PNG stage")
+  // it is also faster: the render threads bound a batch, and the device's
+  // PNG stage holds each up ~1.4 ms more per file (111-117 files/s against
+  // 128-135). Level 1 pays off where workers are few for the render
+  // threads: it takes ~22 ms of a worker's time per 1024 px file to ~1.
+  return compression == 1;
 }
 
 Result run(const Config& config) {
@@ -322,7 +319,7 @@ Result run(const Config& config) {
   const int renderers = std::max(1, std::min(config.render_threads, config.tickets));
   s.max_in_flight = workers + 4 + renderers;
   s.renderers = renderers;
-  s.png_on_device = png_on_device(config.compression, workers, renderers);
+  s.png_on_device = png_on_device(config.compression);
   s.live_threads = renderers + workers;
   auto ended = [](State& st) {
     std::lock_guard<std::mutex> lock(st.m);

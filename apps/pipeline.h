@@ -83,9 +83,8 @@ struct Result {
 
 // Does a batch compress its PNGs on the device (FrameRenderer::render_png,
 // where the render threads use CUDA) rather than on the workers? Level 1
-// does, 0 and 2-9 do not; unset (-1), measured: where workers are few for
-// the render threads.
-bool png_on_device(int compression, int workers, int render_threads);
+// only (the default, -1, is level 2 on the workers).
+bool png_on_device(int compression);
 
 // Runs every ticket through. A job of several items ends with a summary
 // line on standard error ("svg2png: 203 files, 201 written, 2 failed"),

@@ -15,8 +15,10 @@
 
 namespace mpvg::png {
 
-// The default level where the image is compressed on the CPU (measured,
-// BENCHMARKS.md "PNG on the GPU"); where the GPU renders, 1.
+// The default level: libdeflate's 2, the same bytes whichever backend
+// renders (BENCHMARKS.md "PNG stage": also the faster batch on a 16-core
+// GPU host; level 1 compresses on the device, for CPU-starved hosts and
+// one image at a time).
 constexpr int kDefaultCpuLevel = 2;
 
 struct EncodeOptions {

@@ -249,7 +249,7 @@ int run(const cli::Options& opt, const Document& source, Renderers& renderers, c
   png::ImageData compressed;  // level 1 on the GPU: filtered and deflated there
   if (gpu) {
     if (opt.bits == 16) rgba16 = to_rgba16(gpu->render(enc, ro, &stats), ro.gamma);
-    else if (opt.compression < 0 || opt.compression == 1) {
+    else if (opt.compression == 1) {
       try {
         compressed = gpu->render_png(enc, plan, ro, &stats);
       } catch (const Error&) {
