@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <thread>
 
 #include "core/deflate.h"
 #include "core/parallel.h"
@@ -59,7 +60,8 @@ int filter(const Sample* rgba, int width, int height, int threads, std::vector<u
       }
     }
   };
-  const int strips = threads == 1 ? 1 : std::max(1, std::min(threads > 0 ? threads : 64, height / 64));
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int strips = threads == 1 ? 1 : std::max(1, std::min(threads > 0 ? threads : cores, height / 64));
   if (strips == 1) {
     rows(0, height);
   } else {
