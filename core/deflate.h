@@ -95,21 +95,16 @@ MPVG_HD_INLINE uint32_t clamp_match(uint32_t run, uint32_t d, uint32_t limit) {
 // Can position p reach back d bytes?
 MPVG_HD_INLINE bool valid_distance(size_t p, uint32_t d) { return d != 0 && d <= p && d <= kWindow; }
 
-// The length of the match at p with the bytes d before, at most `limit`
-// bytes (clamp_match's). `at(q)`: byte q of the data (a plain array on the
-// CPU; on the GPU, shared memory where the piece's bytes were staged).
-template <class Bytes>
-MPVG_HD_INLINE uint32_t match_length(const Bytes& at, size_t p, uint32_t d, uint32_t limit) {
+// The length of the match at p with data[p - d ..], at most `limit` bytes
+// (clamp_match's).
+MPVG_HD_INLINE uint32_t match_length(const uint8_t* data, size_t p, uint32_t d, uint32_t limit) {
   if (!valid_distance(p, d)) return 0;
+  const uint8_t* a = data + p;
+  const uint8_t* b = a - d;
   uint32_t k = 0;
-  while (k < limit && at(p + k) == at(p - d + k)) k++;
+  while (k < limit && a[k] == b[k]) k++;
   return clamp_match(k, d, limit);
 }
-
-struct ArrayBytes {
-  const uint8_t* data;
-  MPVG_HD_INLINE uint8_t operator()(size_t q) const { return data[q]; }
-};
 
 // The most bytes a match at p may take in the piece [.., end).
 MPVG_HD_INLINE uint32_t match_limit(size_t p, size_t end) {
@@ -155,14 +150,13 @@ MPVG_HD_INLINE bool hashed(size_t p, size_t end) { return p + 4 <= end; }
 // key of the fixed candidates; 0 where it cannot beat it (its distance is
 // one of theirs, or they already take `limit` bytes from nearer), so that
 // the comparison is only made where it can matter.
-template <class Bytes>
-MPVG_HD_INLINE uint32_t hash_key(const Bytes& at, size_t p, uint32_t limit, uint32_t d, uint32_t best,
+MPVG_HD_INLINE uint32_t hash_key(const uint8_t* data, size_t p, uint32_t limit, uint32_t d, uint32_t best,
                                  const Candidates& c) {
   if (d == 0) return 0;
   for (int k = 0; k < c.count; k++)
     if (c.distance[k] == d) return 0;
   if (key_length(best) == limit && d > key_distance(best)) return 0;
-  return match_key(match_length(at, p, d, limit), d);
+  return match_key(match_length(data, p, d, limit), d);
 }
 
 // Greedy LZ77 parse of the piece data[begin, end) into tokens; returns
@@ -187,10 +181,10 @@ MPVG_HD_INLINE int parse_piece(const uint8_t* data, size_t begin, size_t end, co
     const uint32_t limit = match_limit(p, end);
     uint32_t best = 0;
     for (int k = 0; k < c.count; k++) {
-      const uint32_t key = match_key(match_length(ArrayBytes{data}, p, c.distance[k], limit), c.distance[k]);
+      const uint32_t key = match_key(match_length(data, p, c.distance[k], limit), c.distance[k]);
       best = key > best ? key : best;
     }
-    const uint32_t h = hash_key(ArrayBytes{data}, p, limit, d_hash, best, c);
+    const uint32_t h = hash_key(data, p, limit, d_hash, best, c);
     best = h > best ? h : best;
     const uint32_t t = key_token(best, data[p]);
     tokens[n++] = t;
@@ -374,10 +368,12 @@ MPVG_HD_INLINE void ensure_two(uint32_t* q, int n) {
     }
 }
 
+// A literal/length symbol's count for the codes: the end of block once.
+MPVG_HD_INLINE uint32_t litlen_frequency(const Frequencies& f, int s) { return s == kEndOfBlock ? 1 : f.litlen[s]; }
+
 MPVG_HD_INLINE void code_frequencies(const Frequencies& f, uint32_t* litlen, uint32_t* dist) {
-  for (int s = 0; s < kLitLenSymbols; s++) litlen[s] = f.litlen[s];
+  for (int s = 0; s < kLitLenSymbols; s++) litlen[s] = litlen_frequency(f, s);
   for (int s = 0; s < kDistSymbols; s++) dist[s] = f.dist[s];
-  litlen[kEndOfBlock] = 1;
   ensure_two(litlen, kLitLenSymbols);
   ensure_two(dist, kDistSymbols);
 }

@@ -161,7 +161,7 @@ __global__ void __launch_bounds__(kParseWarps * kWarp)
       best = key > best ? key : best;
     }
     if (p < end) {
-      const uint32_t h = hash_key(ArrayBytes{data}, p, limit, d_hash, best, c);
+      const uint32_t h = hash_key(data, p, limit, d_hash, best, c);
       best = h > best ? h : best;
     }
     // The walk: a run of literals (lanes up to the next match) in one
@@ -217,7 +217,7 @@ __global__ void __launch_bounds__(kCodeThreads)
   if (chunk >= chunks) return;
   const int t = threadIdx.x;
   // code_frequencies: the counts, the end of block, two codes at least
-  if (t < kLitLenSymbols) lf[t] = t == kEndOfBlock ? 1 : freq[chunk].litlen[t];
+  if (t < kLitLenSymbols) lf[t] = litlen_frequency(freq[chunk], t);
   else if (t - kLitLenSymbols < kDistSymbols) df[t - kLitLenSymbols] = freq[chunk].dist[t - kLitLenSymbols];
   __syncthreads();
   if (t == 0) ensure_two(lf, kLitLenSymbols);
