@@ -39,7 +39,6 @@ struct State {
   int in_flight = 0;  // items taken and not yet finished
   int preparing = 0;  // items being prepared now
   int max_in_flight = 1;
-  bool png_on_device = false;  // CUDA render threads compress the PNGs (png_on_device())
   int renderers = 0;     // render threads still running
   bool rendering_done = false;
   Result result;
@@ -255,7 +254,14 @@ struct State {
       try {
         if (c.bits == 16)
           job->image = renderer->render(job->scene, job->options, &job->stats);
-        else if (renderer->backend() == Backend::Cuda && png_on_device) {
+        else if (renderer->backend() == Backend::Cuda && c.compression == 1) {
+          // Level 1 only, asked for: the default (level 2 on the workers)
+          // gives the same bytes whichever backend renders, and on the H100
+          // host (16 cores, BENCHMARKS.md "PNG stage") it is also faster:
+          // the render threads bound a batch, and the device's PNG stage
+          // holds each up ~1.4 ms more per file (111-117 files/s against
+          // 128-135). Level 1 pays off where workers are few for the render
+          // threads: ~22 ms of a worker's time per 1024 px file become ~1.
           try {
             job->png = renderer->render_png(job->scene, job->plan, job->options, &job->stats);
           } catch (const Error&) {
@@ -300,17 +306,6 @@ struct State {
 
 }  // namespace
 
-bool png_on_device(int compression) {
-  // Only where asked for: the default (level 2 on the workers) gives the
-  // same bytes whichever backend renders and however many cores there are
-  // per device, and on the H100 host (16 cores, BENCHMARKS.md "PNG stage")
-  // it is also faster: the render threads bound a batch, and the device's
-  // PNG stage holds each up ~1.4 ms more per file (111-117 files/s against
-  // 128-135). Level 1 pays off where workers are few for the render
-  // threads: it takes ~22 ms of a worker's time per 1024 px file to ~1.
-  return compression == 1;
-}
-
 Result run(const Config& config) {
   auto state = std::make_shared<State>(config);
   State& s = *state;
@@ -319,7 +314,6 @@ Result run(const Config& config) {
   const int renderers = std::max(1, std::min(config.render_threads, config.tickets));
   s.max_in_flight = workers + 4 + renderers;
   s.renderers = renderers;
-  s.png_on_device = png_on_device(config.compression);
   s.live_threads = renderers + workers;
   auto ended = [](State& st) {
     std::lock_guard<std::mutex> lock(st.m);

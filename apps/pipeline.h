@@ -48,7 +48,7 @@ struct Config {
   bool stats = false;        // per-item stage times and the job's summary
   bool quiet = false;        // no warnings
   int bits = 8;
-  int compression = -1;  // cli::Options::compression
+  int compression = -1;  // cli::Options::compression (1: compressed by CUDA render threads)
   Gamma gamma = Gamma::Linear;
   // --timeout: seconds an item may spend from the start of its preparation
   // to the end of its rendering (0: no limit). An item past it fails with
@@ -80,11 +80,6 @@ struct Result {
   double prepare[2] = {0, 0}, encode = 0, preprocess = 0, render = 0, render_wall = 0, png = 0, write = 0;
   double render_idle = 0, worker_idle = 0;  // time the threads waited for work
 };
-
-// Does a batch compress its PNGs on the device (FrameRenderer::render_png,
-// where the render threads use CUDA) rather than on the workers? Level 1
-// only (the default, -1, is level 2 on the workers).
-bool png_on_device(int compression);
 
 // Runs every ticket through. A job of several items ends with a summary
 // line on standard error ("svg2png: 203 files, 201 written, 2 failed"),
