@@ -169,7 +169,7 @@ int main(int argc, char** argv) {
     const std::string device = gpu::device_name();
     std::printf("device: %s, %d runs per measurement (median)\n\n", device.c_str(), runs);
     std::string json = "{\n  \"device\": \"" + device + "\",\n  \"runs\": " + std::to_string(runs) + ",\n  \"inputs\": [\n";
-    std::printf("%-10s %7s %7s %7s %7s %8s %7s %7s %7s %7s %7s %7s %9s | %8s %8s %8s\n", "input", "abstr",
+    std::printf("%-10s %7s %7s %7s %7s %7s %8s %7s %7s %7s %7s %7s %7s %9s | %8s %8s %8s\n", "input", "stroke", "abstr",
                 "subdiv", "prune", "pre", "pre-wall", "sched", "sample", "1x8", "1x32", "4x4x32", "MiB", "svg2png",
                 "paper-pre", "paper-32", "paper-44");
     gpu::Context ctx;
@@ -210,7 +210,7 @@ int main(int argc, char** argv) {
         r8(nullptr);
         r32(nullptr);
       }
-      std::vector<double> ab, sd, pr, pre, prew, sch32, sam32, t8, t32, t4432, integ4432;
+      std::vector<double> sk, ab, sd, pr, pre, prew, sch32, sam32, t8, t32, t4432, integ4432;
       for (int r = 0; r < runs; r++) {
         gpu::GpuTimes tc;
         ctx.build(enc_c, pc.frame.ua_w, pc.frame.ua_h, params);
@@ -218,6 +218,7 @@ int main(int argc, char** argv) {
         integ4432.push_back(tc.integrate_ms);
         gpu::GpuTimes tb;
         prew.push_back(ctx.build_timed(enc, w, h, params, &tb));
+        sk.push_back(tb.stroke_ms);
         ab.push_back(tb.abstract_ms);
         sd.push_back(tb.subdivide_ms);
         pr.push_back(tb.prune_ms);
@@ -243,8 +244,8 @@ int main(int argc, char** argv) {
       }
       const auto paper = kPaper.find(name);
       char line[512];
-      std::snprintf(line, sizeof line, "%-10s %7.3f %7.3f %7.3f %7.3f %8.3f %7.3f %7.3f %7.3f %7.3f %7.3f %7.2f %9.1f | %8.2f %8.2f %8.2f",
-                    name.c_str(), median(ab), median(sd), median(pr), median(pre), median(prew), median(sch32),
+      std::snprintf(line, sizeof line, "%-10s %7.3f %7.3f %7.3f %7.3f %7.3f %8.3f %7.3f %7.3f %7.3f %7.3f %7.3f %7.2f %9.1f | %8.2f %8.2f %8.2f",
+                    name.c_str(), median(sk), median(ab), median(sd), median(pr), median(pre), median(prew), median(sch32),
                     median(sam32), median(t8), median(t32), median(t4432), mib, e2e.empty() ? NAN : median(e2e),
                     paper != kPaper.end() ? paper->second.pre : NAN, paper != kPaper.end() ? paper->second.r32 : NAN,
                     paper != kPaper.end() ? paper->second.r4432 : NAN);
@@ -264,12 +265,12 @@ int main(int argc, char** argv) {
       char js[2048];
       std::snprintf(js, sizeof js,
                     "    {\"input\": \"%s\", \"width\": %d, \"height\": %d, \"input_segments\": %zu, "
-                    "\"abstract_ms\": %.4f, \"subdivide_ms\": %.4f, \"prune_ms\": %.4f, \"preprocess_ms\": %.4f, "
+                    "\"stroke_ms\": %.4f, \"abstract_ms\": %.4f, \"subdivide_ms\": %.4f, \"prune_ms\": %.4f, \"preprocess_ms\": %.4f, "
                     "\"preprocess_wall_ms\": %.4f, \"schedule_1x32_ms\": %.4f, \"sample_integrate_1x32_ms\": %.4f, "
                     "\"render_1x8_ms\": %.4f, \"render_1x32_ms\": %.4f, \"render_4x4x32_ms\": %.4f, "
                     "\"integrate_4x4x32_ms\": %.4f, \"tree_mib\": %.3f, \"svg2png_ms\": %.2f, "
                     "\"depth\": %d, \"launches\": %zu, \"cub_calls\": %zu, \"host_round_trips\": %zu}",
-                    name.c_str(), w, h, enc.input_segment_count, median(ab), median(sd), median(pr), median(pre),
+                    name.c_str(), w, h, enc.input_segment_count, median(sk), median(ab), median(sd), median(pr), median(pre),
                     median(prew), median(sch32), median(sam32), median(t8), median(t32), median(t4432),
                     median(integ4432), mib,
                     e2e.empty() ? -1.0 : median(e2e), bc.depth, bc.launches, bc.cub_calls, bc.syncs);

@@ -357,41 +357,55 @@ class Analysis {
       smp[i] = {dot(d1, d1), cross(d1, d2), length(d1), length(d2)};
       max_speed = dmax(max_speed, smp[i].len1);
     }
+    // The searches below are listed first (sample bit masks) and then run
+    // one after another: on the GPU, the threads of a warp then run their
+    // k-th searches together instead of each at its own sample.
     // Speed minima: cusps where the speed vanishes (the tangent reverses),
     // and sharp near-cusps, where the tangent turns fast.
+    uint64_t minima = 0;
     for (int i = 1; i < kSamples; i++) {
       const double s0 = smp[i - 1].speed2, s1 = smp[i].speed2, s2 = smp[i + 1].speed2;
       // Sampled this fast, the speed cannot drop near zero between samples.
-      if (s1 <= s0 && s1 <= s2 && (s1 < s0 || s1 < s2) && !(s1 > 0.0625 * max_speed * max_speed)) {
-        const double tm = golden_min(c_, t_of(i - 1), t_of(i + 1), 0, 1);
-        const double sp = sqrt(speed2(tm));
-        if (sp <= 1e-10 * e)
-          add(br, tm, true);
-        else if (sp < 0.05 * max_speed)
-          add(br, tm, false);
-      }
+      if (s1 <= s0 && s1 <= s2 && (s1 < s0 || s1 < s2) && !(s1 > 0.0625 * max_speed * max_speed))
+        minima |= uint64_t{1} << i;
+    }
+    for (; minima; minima &= minima - 1) {
+      const int i = lowest_bit(minima);
+      const double tm = golden_min(c_, t_of(i - 1), t_of(i + 1), 0, 1);
+      const double sp = sqrt(speed2(tm));
+      if (sp <= 1e-10 * e)
+        add(br, tm, true);
+      else if (sp < 0.05 * max_speed)
+        add(br, tm, false);
     }
     // Inflections: sign changes of c' x c'' (values at rounding level count
-    // as zero, so straight curves have none).
+    // as zero, so straight curves have none), between a sample and the
+    // previous one that counts.
     {
+      uint64_t counted = 0, changes = 0;
       int last = -1;
       bool last_pos = false;
       for (int i = 0; i <= kSamples; i++) {
         const double v = smp[i].cr;
         if (fabs(v) <= 1e-12 * smp[i].len1 * smp[i].len2) continue;
-        if (last >= 0 && (v > 0) != last_pos) {
-          double lo = t_of(last), hi = t_of(i);
-          for (int it = 0; it < 60; it++) {
-            const double m = (lo + hi) / 2;
-            if ((cross_at(m) > 0) == last_pos)
-              lo = m;
-            else
-              hi = m;
-          }
-          add(br, (lo + hi) / 2, false);
-        }
+        if (last >= 0 && (v > 0) != last_pos) changes |= uint64_t{1} << i;
+        counted |= uint64_t{1} << i;
         last = i;
         last_pos = v > 0;
+      }
+      for (; changes; changes &= changes - 1) {
+        const int i = lowest_bit(changes);
+        const int prev = highest_bit(counted & ((uint64_t{1} << i) - 1));
+        const bool prev_pos = smp[prev].cr > 0;
+        double lo = t_of(prev), hi = t_of(i);
+        for (int it = 0; it < 60; it++) {
+          const double m = (lo + hi) / 2;
+          if ((cross_at(m) > 0) == prev_pos)
+            lo = m;
+          else
+            hi = m;
+        }
+        add(br, (lo + hi) / 2, false);
       }
     }
     push(br, 0, false);
@@ -400,7 +414,9 @@ class Analysis {
     // Where |k| h crosses 1, sampled on the uniform grid and at the breaks
     // so far (curvature peaks sit at near-cusps), merged in order.
     // Curvature is infinite at a cusp, and near one only noise decides.
-    double cross_t[kMaxBreaks];
+    // The intervals are listed first and then searched (see above).
+    double cross_lo[kMaxBreaks], cross_hi[kMaxBreaks];
+    uint64_t cross_from_high = 0;
     int ncross = 0;
     {
       int b = 0;
@@ -409,16 +425,9 @@ class Analysis {
       bool prev_high = false;
       auto visit = [&](double t, bool high) {
         if (have && high != prev_high && t > prev_t && ncross < kMaxBreaks) {
-          const bool h0 = prev_high;
-          double lo = prev_t, hi = t;
-          for (int it = 0; it < 60; it++) {
-            const double m = (lo + hi) / 2;
-            if ((excess(m) > 0) == h0)
-              lo = m;
-            else
-              hi = m;
-          }
-          cross_t[ncross++] = (lo + hi) / 2;
+          if (prev_high) cross_from_high |= uint64_t{1} << ncross;
+          cross_lo[ncross] = prev_t;
+          cross_hi[ncross++] = t;
         }
         have = true;
         prev_t = t;
@@ -431,7 +440,19 @@ class Analysis {
         if (i <= kSamples) visit(ti, sample_high(i, smp[i]));
       }
     }
-    for (int k = 0; k < ncross; k++) add(br, cross_t[k], false);
+    for (int k = 0; k < ncross; k++) {
+      const bool h0 = (cross_from_high >> k) & 1;
+      double lo = cross_lo[k], hi = cross_hi[k];
+      for (int it = 0; it < 60; it++) {
+        const double m = (lo + hi) / 2;
+        if ((excess(m) > 0) == h0)
+          lo = m;
+        else
+          hi = m;
+      }
+      cross_lo[k] = (lo + hi) / 2;
+    }
+    for (int k = 0; k < ncross; k++) add(br, cross_lo[k], false);
     sort_breaks(br);
   }
 
@@ -449,13 +470,19 @@ class Analysis {
     for (int i = 0; i <= n; i++) t[i] = a + (b - a) * i / n;
     t[n] = b;
     if (kind != 0) {
+      // Listed first, then searched (as in find_breaks).
       double r[n + 1];
       for (int i = 0; i <= n; i++) r[i] = golden_value(c_, t[i], 1);
+      uint32_t extrema = 0, maxima = 0;
       for (int i = 1; i < n; i++) {
         const bool is_max = r[i] > r[i - 1] && r[i] >= r[i + 1];
         const bool is_min = r[i] < r[i - 1] && r[i] <= r[i + 1];
-        if ((is_max || is_min) && finite(r[i]) && nk < kMaxKnots)
-          k[nk++] = golden_min(c_, t[i - 1], t[i + 1], 1, is_max ? -1 : 1);
+        if ((is_max || is_min) && finite(r[i])) extrema |= 1u << i;
+        if (is_max) maxima |= 1u << i;
+      }
+      for (; extrema && nk < kMaxKnots; extrema &= extrema - 1) {
+        const int i = lowest_bit(extrema);
+        k[nk++] = golden_min(c_, t[i - 1], t[i + 1], 1, (maxima >> i) & 1 ? -1 : 1);
       }
     }
     // Turning: the tangent turns one way inside a span (spans end at

@@ -36,6 +36,22 @@ MPVG_HD_INLINE Vec2 normalized(Vec2 v) {
   return l > 0 ? Vec2{v.x / l, v.y / l} : Vec2{};
 }
 
+// The index of the lowest / highest set bit of m (m != 0).
+MPVG_HD_INLINE int lowest_bit(uint64_t m) {
+#if defined(__CUDA_ARCH__)
+  return __ffsll(static_cast<long long>(m)) - 1;
+#else
+  return __builtin_ctzll(m);
+#endif
+}
+MPVG_HD_INLINE int highest_bit(uint64_t m) {
+#if defined(__CUDA_ARCH__)
+  return 63 - __clzll(static_cast<long long>(m));
+#else
+  return 63 - __builtin_clzll(m);
+#endif
+}
+
 struct Curve {
   uint32_t type = CURVE_LINE;
   Vec2 p[4];

@@ -76,10 +76,11 @@ __global__ void k_stream_expand(const Entry* placeholders, size_t m, const uint3
 // them on the device, then every path's segments grouped and the first of
 // each path found, on the device too.
 void Context::Impl::stroke(const EncodedScene& scene) {
-  input.upload(scene.segments);
+  staging.begin(HostStaging::room(scene.segments.size() * sizeof(InputSegment)));
+  staging.put(input, scene.segments);
   ninput = scene.segments.size();
   if (!stroke_stage) stroke_stage = std::make_unique<StrokeStage>();
-  ninput += stroke_stage->run(scene.strokes, input, ninput, prim);
+  ninput += stroke_stage->run(scene.strokes, input, ninput, prim, host_words);
   group_by_path(input, ninput, scene.paths.size(), path_input, prim);
 }
 
@@ -94,13 +95,15 @@ void Context::Impl::abstract(const EncodedScene& scene) {
     if (entry_closes(e)) d--;
   }
   if (scene.strokes.empty()) {
-    input.upload(scene.segments);
     ninput = scene.segments.size();
     // First input segment of each path; segments come grouped by path.
     std::vector<uint32_t> first(npaths + 1, 0);
     for (const InputSegment& s : scene.segments) first[s.path + 1]++;
     for (size_t p = 0; p < npaths; p++) first[p + 1] += first[p];
-    path_input.upload(first);
+    staging.begin(HostStaging::room(scene.segments.size() * sizeof(InputSegment)) +
+                  HostStaging::room(first.size() * sizeof(uint32_t)));
+    staging.put(input, scene.segments);
+    staging.put(path_input, first);
   }
   const size_t n = ninput;
 

@@ -2,11 +2,15 @@
 #pragma once
 #include <cub/cub.cuh>
 
+#include <algorithm>
+#include <cstring>
 #include <initializer_list>
 #include <memory>
 #include <utility>
+#include <vector>
 
 #include "core/abstraction.h"
+#include "core/error.h"
 #include "core/paint.h"
 #include "core/paint_data.h"
 #include "core/png_encode.h"
@@ -22,6 +26,91 @@ namespace mpvg::gpu {
 
 class StrokeStage;  // gpu/stroke.cuh
 class PngStage;     // gpu/png_encode.cuh
+
+// Small results the host reads back. Once pinned (page-locked memory), the
+// copies of several words are queued and one synchronization waits for all
+// of them; before, each copy waits on its own (locking pages takes time a
+// one-shot run would not earn back: the owner pins from its second frame).
+class HostWords {
+ public:
+  static constexpr size_t kMax = 8;
+  HostWords() = default;
+  ~HostWords() {
+    if (words_) cudaFreeHost(words_);
+  }
+  HostWords(const HostWords&) = delete;
+  HostWords& operator=(const HostWords&) = delete;
+  void pin() {
+    if (!words_) MPVG_CUDA(cudaMallocHost(&words_, kMax * sizeof(uint32_t)));
+  }
+  // *host = *device for each pair (at most kMax), in one round trip.
+  void read(std::initializer_list<std::pair<const uint32_t*, uint32_t*>> words) {
+    if (!words_) {
+      for (const auto& w : words) MPVG_CUDA(cudaMemcpy(w.second, w.first, sizeof(uint32_t), cudaMemcpyDeviceToHost));
+      return;
+    }
+    size_t k = 0;
+    for (const auto& w : words)
+      MPVG_CUDA(cudaMemcpyAsync(words_ + k++, w.first, sizeof(uint32_t), cudaMemcpyDeviceToHost));
+    MPVG_CUDA(cudaStreamSynchronize(0));
+    k = 0;
+    for (const auto& w : words) *w.second = words_[k++];
+  }
+
+ private:
+  uint32_t* words_ = nullptr;
+};
+
+// Host memory the device copies from without waiting: page-locked, grown
+// as needed and kept. begin() makes room for a set of arrays (waiting for
+// copies still queued from it), put() copies one in and queues its upload;
+// the caller's next round trip finds them done. Locking pages costs
+// milliseconds per megabyte, which only a reused context earns back: the
+// first set goes up the plain way (a copy that waits), later sets through
+// the staging.
+class HostStaging {
+ public:
+  HostStaging() = default;
+  ~HostStaging() {
+    if (p_) cudaFreeHost(p_);
+  }
+  HostStaging(const HostStaging&) = delete;
+  HostStaging& operator=(const HostStaging&) = delete;
+
+  static size_t room(size_t bytes) { return (bytes + 255) & ~size_t{255}; }
+  void begin(size_t bytes) {
+    used_ = 0;
+    staged_ = sets_++ > 0;
+    if (!staged_) return;
+    MPVG_CUDA(cudaStreamSynchronize(0));
+    if (bytes <= cap_) return;
+    const size_t cap = std::max(bytes, cap_ + cap_ / 2);  // room for sets to vary
+    if (p_) MPVG_CUDA(cudaFreeHost(p_));
+    p_ = nullptr;
+    cap_ = 0;
+    MPVG_CUDA(cudaMallocHost(&p_, cap));
+    cap_ = cap;
+  }
+  template <class T>
+  void put(DeviceBuffer<T>& dst, const std::vector<T>& v) {
+    if (!staged_) {
+      dst.upload(v);
+      return;
+    }
+    dst.resize(v.size());
+    const size_t bytes = v.size() * sizeof(T);
+    if (!bytes) return;
+    if (used_ + room(bytes) > cap_) throw Error("staging: more bytes put than begin() made room for");
+    std::memcpy(p_ + used_, v.data(), bytes);
+    MPVG_CUDA(cudaMemcpyAsync(dst.data(), p_ + used_, bytes, cudaMemcpyHostToDevice));
+    used_ += room(bytes);
+  }
+
+ private:
+  unsigned char* p_ = nullptr;
+  size_t cap_ = 0, used_ = 0, sets_ = 0;
+  bool staged_ = false;
+};
 
 // Scans, reductions and compactions through CUB, with one temporary buffer
 // ("ask for the temp storage size first").
@@ -188,10 +277,12 @@ struct Context::Impl {
   }
   // Reads several device words in one round trip.
   void read_words(std::initializer_list<std::pair<const uint32_t*, uint32_t*>> words) {
-    for (const auto& w : words) MPVG_CUDA(cudaMemcpyAsync(w.second, w.first, sizeof(uint32_t), cudaMemcpyDeviceToHost));
-    MPVG_CUDA(cudaStreamSynchronize(0));
+    host_words.read(words);
     syncs++;
   }
+  HostWords host_words;
+  HostStaging staging;  // uploads that need not wait
+  size_t builds = 0;
   // GPU-side allocation failure flag: a kernel that would write past its
   // output's capacity sets it and writes nothing; the host grows the buffer
   // and runs the kernel again.

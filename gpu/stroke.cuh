@@ -12,22 +12,24 @@ class StrokeStage {
  public:
   // Expands `batch` on the device, appending its segments (in pixels) to
   // out[at, at + n), growing `out` and keeping out[0, at); returns n. The
-  // segments are not grouped by path.
+  // segments are not grouped by path. Totals come back through `words`.
   size_t run(const StrokeBatch& batch, DeviceBuffer<InputSegment>& out, size_t at, Primitives& prim,
-             StrokeGpuTimes* times = nullptr);
+             HostWords& words, StrokeGpuTimes* times = nullptr);
 
  private:
   DeviceBuffer<stroking::StrokeRecord> strokes;
   DeviceBuffer<stroking::StrokeSubpath> subpaths;
   DeviceBuffer<stroking::StrokeSegment> segments;
   DeviceBuffer<double> dashes, seg_length, seg_start, sub_length;
-  DeviceBuffer<uint32_t> keys, first_element, count, offset, mismatch;
+  DeviceBuffer<uint32_t> keys, first_element, count, offset, flags;
   DeviceBuffer<uint32_t> pcount, poffset, scount, soffset;
   DeviceBuffer<stroking::StrokePart> parts;
   DeviceBuffer<stroking::Breaks> breaks;
   DeviceBuffer<stroking::SpanRef> spans;
   DeviceBuffer<stroking::Knots> knots;
   DeviceBuffer<stroking::FitRef> fits;
+  DeviceBuffer<InputSegment> part_slots, fit_slots;  // a few segments per part, per fit item
+  HostStaging staging;
   DeviceBuffer<uint8_t> temp;
 };
 

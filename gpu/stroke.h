@@ -21,12 +21,16 @@ struct StrokeGpuTimes {
   size_t segments = 0;    // output segments
   size_t launches = 0;    // kernels and CUB calls
   size_t round_trips = 0; // device-to-host reads that wait for the GPU
+  // Parts and fit items run again (more segments than their slots hold).
+  size_t part_refits = 0, fit_refits = 0;
   // GPU time of each kernel and scan, in order (events around each).
   std::vector<std::pair<const char*, double>> kernels;
 };
 
 // Expands a batch on the current device and copies the segments back (for
-// tests and tools: in a frame they stay on the device).
-std::vector<InputSegment> stroke_gpu(const StrokeBatch& batch, StrokeGpuTimes* times = nullptr);
+// tests and tools: in a frame they stay on the device). With repeats > 1
+// the stage runs that many times on the same buffers, as frame after frame
+// does, and *times tells of the fastest run.
+std::vector<InputSegment> stroke_gpu(const StrokeBatch& batch, StrokeGpuTimes* times = nullptr, int repeats = 1);
 
 }  // namespace mpvg::gpu

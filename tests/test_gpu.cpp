@@ -322,6 +322,44 @@ TEST_CASE("stroke stage: GPU and CPU executors agree", "[gpu][stroke_stage]") {
   CHECK(differing <= 10);
 }
 
+// Parts and fit items keep up to a few segments in slots of their own and
+// are copied into place; one that makes more is run again. Here: a wide
+// stroke of a cubic whose curvature crosses 1/h several times (a part with
+// 16 segments of its own: the normals closing each run), and a tolerance
+// of 1e-5 px on tight curves (fit items of many pieces). Either way the
+// output is the CPU's.
+TEST_CASE("stroke stage: items with more segments than their slots", "[gpu][stroke_stage]") {
+  for (int c = 0; c < 2; c++) {
+    StrokeBatch b;
+    StrokeStyle st;
+    Path p;
+    if (c == 0) {
+      st.width = 44;
+      p.move_to({20.7, 0.5});
+      p.cubic_to({14.6, 70.3}, {43.3, 31.1}, {10.2, 54.1});
+      REQUIRE(b.add(p, st, Affine{}, 0));
+    } else {
+      st.width = 24;
+      st.join = LineJoin::Round;
+      p.move_to({10, 60});
+      p.cubic_to({120, 0}, {-20, 0}, {90, 60});
+      p.quad_to({50, 90}, {20, 70});
+      REQUIRE(b.add(p, st, Affine{}, 0, 1e-5));
+    }
+    const std::vector<InputSegment> cpu = stroke_cpu(b, 1);
+    gpu::StrokeGpuTimes t;
+    const std::vector<InputSegment> g = gpu::stroke_gpu(b, &t);
+    INFO("case " << c << ": " << cpu.size() << " segments on the CPU, " << g.size() << " on the GPU; run again: "
+                 << t.part_refits << " parts, " << t.fit_refits << " fit items");
+    CHECK((c == 0 ? t.part_refits : t.fit_refits) > 0);
+    CHECK(std::abs(static_cast<long>(cpu.size()) - static_cast<long>(g.size())) <= 8);
+    const std::vector<float> a = test::coverage(cpu), cg = test::coverage(g);
+    int n = 0;
+    for (size_t i = 0; i < a.size(); i++) n += std::fabs(a[i] - cg[i]) > 1.0f / 255;
+    CHECK(n <= 2);
+  }
+}
+
 // Stroked scene elements through the frame: the GPU builds the strokes'
 // segments on the device (stage "stroke"), groups them with the fills' by
 // path and builds the tree from them; the image agrees with the CPU's

@@ -10,11 +10,13 @@
 // usage: stroke_stats [-w WIDTH_PIXELS] [-r REPEATS] FILE.svg...
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <string>
+#include <vector>
 
 #include "core/encoding.h"
 #include "core/stroke_input.h"
@@ -45,6 +47,15 @@ int main(int argc, char** argv) {
     }
     return best;
   };
+  // FNV-1a of the output's bytes: a restructuring of the stage that keeps
+  // its arithmetic shows the same hash, and the executors' hashes tell
+  // whether they agree bit for bit.
+  auto hash = [](const std::vector<mpvg::InputSegment>& v) {
+    uint64_t h = 1469598103934665603ull;
+    const auto* p = reinterpret_cast<const unsigned char*>(v.data());
+    for (size_t k = 0; k < v.size() * sizeof(mpvg::InputSegment); k++) h = (h ^ p[k]) * 1099511628211ull;
+    return h;
+  };
   const mpvg::svg::ParseOptions options = mpvg::svg::ParseOptions::at_width(width);
   for (; i < argc; i++) {
     try {
@@ -56,25 +67,27 @@ int main(int argc, char** argv) {
       size_t made = 0;
       const double one = best_of([&] { made = mpvg::stroke_cpu(batch, 1).size(); });
       const double all = best_of([&] { mpvg::stroke_cpu(batch, 0); });
-      std::printf("%s: parse %.2f ms; %zu strokes, %zu centreline segments\n", argv[i], parse, batch.strokes.size(),
-                  batch.segments.size());
-      std::printf("  stage on the CPU: %zu segments; %.2f ms on one thread, %.2f ms on every core\n", made, one, all);
+      size_t by_type[4] = {};
+      for (const auto& seg : batch.segments) by_type[std::min<uint32_t>(seg.curve.type, 3)]++;
+      std::printf("%s: parse %.2f ms; %zu strokes, %zu centreline segments (types 0-3: %zu %zu %zu %zu)\n", argv[i],
+                  parse, batch.strokes.size(), batch.segments.size(), by_type[0], by_type[1], by_type[2], by_type[3]);
+      std::printf("  stage on the CPU: %zu segments (hash %016llx); %.2f ms on one thread, %.2f ms on every core\n", made,
+                  static_cast<unsigned long long>(hash(mpvg::stroke_cpu(batch, 1))), one, all);
 #ifdef MPVG_WITH_CUDA
       if (mpvg::cuda_available()) {
+        const uint64_t gpu_hash = hash(mpvg::gpu::stroke_gpu(batch));
+        // The first run loads the kernels; the best of the others, on
+        // buffers kept from run to run.
         mpvg::gpu::StrokeGpuTimes best;
-        best.measure_ms = 1e300;
-        for (int k = 0; k < repeats + 1; k++) {  // the first run loads the kernels
-          mpvg::gpu::StrokeGpuTimes t;
-          mpvg::gpu::stroke_gpu(batch, &t);
-          if (k > 0 && t.device_ms() < best.device_ms()) best = t;
-        }
-        std::printf("  stage on the GPU: %zu segments; %.3f ms on the device (measure %.3f, count %.3f, write %.3f), "
+        mpvg::gpu::stroke_gpu(batch, &best, repeats + 1);
+        std::printf("  stage on the GPU: %zu segments (hash %016llx); %.3f ms on the device (measure %.3f, count %.3f, write %.3f), "
                     "upload %.3f ms, %zu launches\n",
-                    best.segments, best.device_ms(), best.measure_ms, best.count_ms, best.write_ms, best.upload_ms,
+                    best.segments, static_cast<unsigned long long>(gpu_hash), best.device_ms(), best.measure_ms, best.count_ms, best.write_ms, best.upload_ms,
                     best.launches);
         std::printf("   ");
         for (const auto& [name, ms] : best.kernels) std::printf(" %s %.3f", name, ms);
-        std::printf(" (ms; %zu round trips)\n", best.round_trips);
+        std::printf(" (ms; %zu round trips; run again: %zu parts, %zu fit items)\n", best.round_trips, best.part_refits,
+                    best.fit_refits);
       }
 #endif
     } catch (const std::exception& e) {
