@@ -84,9 +84,47 @@ MPVG_HD_INLINE int32_t prune_depth_delta(const Entry* entries, uint32_t i) {
   return d;
 }
 
-// The per-depth link scans sum 1s in segments that start at each '(' of
-// that depth: Segmented<uint32_t> with SegmentedSum (core/scan.h).
+// Cross-links over all depths at once. A group's elements of its own
+// depth (its '(' or '{', its direct content, '|', ')') are those of that
+// depth after its opening and before the next opening of that depth (the
+// element after a ')' drops the depth, a nested group raises it). So the
+// elements are sorted stably by depth (each depth's in index order, `sorted`
+// holding their indices, `first` the first sorted position of each depth
+// and one past the last), and a segmented max-scan over that order, one
+// segment per depth, carries the last opening seen: 1 + its index, 0 for
+// none (LinkSeg, SegmentedMax in core/scan.h).
 using LinkSeg = Segmented<uint32_t>;
+
+// The scan's input at sorted position p.
+MPVG_HD_INLINE LinkSeg prune_link_start(const Entry* e, const uint32_t* sorted, const int32_t* depth, uint32_t p) {
+  const uint32_t i = sorted[p];
+  const bool head = p == 0 || depth[sorted[p - 1]] != depth[i];
+  return LinkSeg{entry_opens(e[i]) ? i + 1 : 0u, head ? 1u : 0u};
+}
+
+// The links of the element at sorted position p, from the scanned `last`:
+// its group's opening (open), and as that opening's '|' or ')' (bar,
+// close); for an opening, the group it lies in (parent: the last opening
+// one depth up before it, found by binary search in that depth's range).
+// Depth-0 elements lie in no group. Every write has one writer.
+MPVG_HD_INLINE void prune_link(const Entry* e, const uint32_t* sorted, const int32_t* depth, const LinkSeg* last,
+                               const uint32_t* first, uint32_t p, uint32_t* open, uint32_t* bar, uint32_t* close,
+                               uint32_t* parent) {
+  const uint32_t i = sorted[p];
+  const int32_t d = depth[i];
+  if (d <= 0) return;
+  const uint32_t o = last[p].value - 1;
+  open[i] = o;
+  if (entry_kind(e[i]) == ENTRY_ACTIVATE) bar[o] = i;
+  if (entry_closes(e[i])) close[o] = i;
+  if (!entry_opens(e[i]) || d < 2) return;
+  uint32_t lo = first[d - 1], hi = first[d];  // the last position in [lo, hi) whose index is below i
+  while (hi - lo > 1) {
+    const uint32_t mid = lo + (hi - lo) / 2;
+    if (sorted[mid] < i) lo = mid; else hi = mid;
+  }
+  parent[i] = last[lo].value - 1;
+}
 
 // Classifies element i of a cell [begin, end): is it a whole path reduced to
 // one winding entry, and what does its fill rule say?

@@ -23,4 +23,12 @@ struct SegmentedSum {
   }
 };
 
+// The largest value since the segment's head.
+template <class T>
+struct SegmentedMax {
+  MPVG_HD_INLINE Segmented<T> operator()(Segmented<T> a, Segmented<T> b) const {
+    return Segmented<T>{b.head ? b.value : (a.value > b.value ? a.value : b.value), a.head | b.head};
+  }
+};
+
 }  // namespace mpvg

@@ -146,6 +146,16 @@ class Primitives {
     MPVG_CUDA(cub::DeviceScan::ExclusiveScan(nullptr, bytes, in, out, op, init, static_cast<int>(n)));
     MPVG_CUDA(cub::DeviceScan::ExclusiveScan(temp(bytes), bytes, in, out, op, init, static_cast<int>(n)));
   }
+  // Stable: equal keys keep their order. Only keys' bits [0, bits) count.
+  template <class K, class V>
+  void sort_pairs(const K* keys_in, K* keys_out, const V* values_in, V* values_out, size_t n, int bits) {
+    calls++;
+    size_t bytes = 0;
+    MPVG_CUDA(cub::DeviceRadixSort::SortPairs(nullptr, bytes, keys_in, keys_out, values_in, values_out,
+                                              static_cast<int>(n), 0, bits));
+    MPVG_CUDA(cub::DeviceRadixSort::SortPairs(temp(bytes), bytes, keys_in, keys_out, values_in, values_out,
+                                              static_cast<int>(n), 0, bits));
+  }
   template <class In, class Out>
   void reduce_max(In in, Out out, size_t n) {
     calls++;
@@ -244,6 +254,7 @@ struct Context::Impl {
   DeviceBuffer<int32_t> i32[2];
   DeviceBuffer<Segmented<int32_t>> wind;
   DeviceBuffer<Segmented<uint32_t>> link;
+  DeviceBuffer<uint32_t> by_depth[4];  // prune: indices, their depths sorted, the sort's input, each depth's first
   DeviceBuffer<LevelCounts> counts;
   DeviceBuffer<uint32_t> scalar;  // small results read back by the host
   // Rendering.

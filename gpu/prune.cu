@@ -1,5 +1,5 @@
-// Stage "prune" on the GPU (§4.4): depth by an inclusive scan, one segmented
-// scan per depth to cross-link delimiters, every element marking the
+// Stage "prune" on the GPU (§4.4): depth by an inclusive scan, a sort by
+// depth and one segmented scan to cross-link delimiters, every element marking the
 // elimination array with atomic increments and decrements, an inclusive scan,
 // and an order-preserving compaction; repeated until nothing changes.
 #include <thrust/iterator/counting_iterator.h>
@@ -38,30 +38,37 @@ __global__ void k_round_init(const Entry* e, const uint32_t* entry_cell, size_t 
   open[i] = bar[i] = close[i] = first_c1[i] = parent[i] = ~0u;
 }
 
-// The link scans' input for depth d, read through a transform iterator
-// instead of written by a kernel of its own.
+// The link scan's input at sorted position p (core/pruning.h), read
+// through a transform iterator instead of written by a kernel of its own.
 struct LinkStart {
   const Entry* e;
+  const uint32_t* sorted;
   const int32_t* depth;
-  int32_t d;
-  __host__ __device__ Segmented<uint32_t> operator()(uint32_t i) const {
-    return Segmented<uint32_t>{1u, (entry_opens(e[i]) && depth[i] == d) ? 1u : 0u};
-  }
+  __host__ __device__ LinkSeg operator()(uint32_t p) const { return prune_link_start(e, sorted, depth, p); }
 };
 
-__global__ void k_link_apply(const Entry* e, const int32_t* depth, size_t n, int32_t d,
-                             const Segmented<uint32_t>* link, uint32_t* open, uint32_t* bar, uint32_t* close,
-                             uint32_t* parent) {
+__global__ void k_index(uint32_t* idx, size_t n) {
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
-  if (i >= n) return;
-  // A '(' or '{' one level deeper lies in the nearest '(' or '{' of depth d.
-  if (depth[i] == d + 1 && entry_opens(e[i])) parent[i] = static_cast<uint32_t>(i) - (link[i].value - 1);
-  if (depth[i] != d) return;
-  const uint32_t o = static_cast<uint32_t>(i) - (link[i].value - 1);
-  open[i] = o;
-  const uint32_t k = entry_kind(e[i]);
-  if (k == ENTRY_ACTIVATE) bar[o] = static_cast<uint32_t>(i);
-  if (entry_closes(e[i])) close[o] = static_cast<uint32_t>(i);
+  if (i < n) idx[i] = static_cast<uint32_t>(i);
+}
+
+// The first sorted position of each depth 0..max_depth + 1 (keys sorted).
+__global__ void k_depth_first(const uint32_t* keys, size_t n, uint32_t max_depth, uint32_t* first) {
+  const uint32_t d = blockIdx.x * blockDim.x + threadIdx.x;
+  if (d > max_depth + 1) return;
+  size_t lo = 0, hi = n;
+  while (lo < hi) {
+    const size_t mid = (lo + hi) / 2;
+    if (keys[mid] < d) lo = mid + 1; else hi = mid;
+  }
+  first[d] = static_cast<uint32_t>(lo);
+}
+
+__global__ void k_link(const Entry* e, const uint32_t* sorted, const int32_t* depth, const LinkSeg* last,
+                       const uint32_t* first, size_t n, uint32_t* open, uint32_t* bar, uint32_t* close,
+                       uint32_t* parent) {
+  const size_t p = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (p < n) prune_link(e, sorted, depth, last, first, static_cast<uint32_t>(p), open, bar, close, parent);
 }
 
 __global__ void k_first_c1(const uint32_t* term, size_t n, PruneLinks links, uint32_t* first_c1) {
@@ -128,14 +135,26 @@ int Context::Impl::prune(DeviceLevel& lv) {
                                                        parent_of);
     launched();
     if (groups) {
+      // Cross-links over all depths at once (core/pruning.h): a stable sort
+      // by depth, one segmented scan, then each element's links; the same
+      // few launches whatever the nesting.
       prim.inclusive_sum(depth, depth, n);
+      uint32_t* sorted = (by_depth[0].resize(n), by_depth[0].data());
+      uint32_t* sorted_depth = (by_depth[1].resize(n), by_depth[1].data());
+      uint32_t* index = (by_depth[2].resize(n), by_depth[2].data());
+      uint32_t* first = (by_depth[3].resize(scene_depth + 2), by_depth[3].data());
+      k_index<<<grid, kBlock>>>(index, n);
+      launched();
+      int bits = 1;
+      while (bits < 31 && (int64_t{1} << bits) <= scene_depth) bits++;
+      prim.sort_pairs(reinterpret_cast<const uint32_t*>(depth), sorted_depth, index, sorted, n, bits);
+      k_depth_first<<<grid_for(scene_depth + 2, kBlock), kBlock>>>(sorted_depth, n, scene_depth, first);
+      launched();
       link.resize(n);
-      for (int32_t d = 1; d <= scene_depth; d++) {
-        const auto start = thrust::make_transform_iterator(thrust::counting_iterator<uint32_t>(0), LinkStart{e, depth, d});
-        prim.inclusive_scan(start, link.data(), SegmentedSum<uint32_t>{}, n);
-        k_link_apply<<<grid, kBlock>>>(e, depth, n, d, link.data(), open, bar, close, parent_of);
-        launched();
-      }
+      const auto start = thrust::make_transform_iterator(thrust::counting_iterator<uint32_t>(0), LinkStart{e, sorted, depth});
+      prim.inclusive_scan(start, link.data(), SegmentedMax<uint32_t>{}, n);
+      k_link<<<grid, kBlock>>>(e, sorted, depth, link.data(), first, n, open, bar, close, parent_of);
+      launched();
     }
     const PruneLinks links{depth, open, bar, close, first_c1, parent_of};
     if (groups) {

@@ -3,12 +3,14 @@
 //   - pruned and unpruned trees give bit-identical sample colours;
 //   - the flat-clipping machine agrees with a recursive, stack-based
 //     evaluation of the same scene expression with brute-force windings.
+#include <algorithm>
 #include <cmath>
 #include <random>
 
 #include "core/cpu/cpu_stages.h"
 #include "core/encoding.h"
 #include "core/flat_clipping.h"
+#include "core/pruning.h"
 #include "core/sampling.h"
 #include "tests/catch.h"
 #include "tests/oracle.h"
@@ -187,4 +189,62 @@ TEST_CASE("pruned and unpruned trees give identical samples", "[prune]") {
   INFO("root-only trees: " << pruned_entries << " entries pruned vs " << unpruned_entries << " unpruned");
   CHECK(compared > 37000);
   CHECK(pruned_entries < unpruned_entries);
+}
+
+// Cross-links over all depths at once (core/pruning.h: a stable sort by
+// depth, a segmented max-scan, each element's links), against a stack walk
+// of the stream: every element's group opening, each opening's '|' and ')',
+// and each opening's enclosing group, on the streams of random scenes
+// nested up to 6 deep, one scene after another as cells follow each other
+// in a level.
+TEST_CASE("pruning cross-links: one pass over all depths equals a stack walk", "[prune]") {
+  std::vector<Entry> e;
+  for (uint32_t seed = 300; seed < 340; seed++) {
+    const EncodedScene enc = encode(random_scenes::clip_scene(seed, 2 + seed % 5, kSize), Affine{}, Gamma::Srgb);
+    e.insert(e.end(), enc.stream.begin(), enc.stream.end());
+  }
+  const size_t n = e.size();
+  std::vector<uint32_t> want_open(n, ~0u), want_bar(n, ~0u), want_close(n, ~0u), want_parent(n, ~0u), stack;
+  for (uint32_t i = 0; i < n; i++) {
+    if (entry_opens(e[i])) {
+      if (!stack.empty()) want_parent[i] = stack.back();
+      stack.push_back(i);
+    }
+    if (stack.empty()) continue;
+    const uint32_t o = stack.back();
+    want_open[i] = o;
+    if (entry_kind(e[i]) == ENTRY_ACTIVATE) want_bar[o] = i;
+    if (entry_closes(e[i])) {
+      want_close[o] = i;
+      stack.pop_back();
+    }
+  }
+  REQUIRE(stack.empty());
+
+  std::vector<int32_t> depth(n);
+  int32_t max_depth = 0, acc = 0;
+  for (uint32_t i = 0; i < n; i++) max_depth = std::max(max_depth, depth[i] = acc += prune_depth_delta(e.data(), i));
+  REQUIRE(max_depth >= 4);
+  std::vector<uint32_t> sorted(n), first(static_cast<size_t>(max_depth) + 2, 0);
+  for (uint32_t i = 0; i < n; i++) sorted[i] = i;
+  std::stable_sort(sorted.begin(), sorted.end(), [&](uint32_t a, uint32_t b) { return depth[a] < depth[b]; });
+  for (size_t p = 0; p < n; p++) first[depth[sorted[p]] + 1]++;
+  for (size_t d = 1; d < first.size(); d++) first[d] += first[d - 1];
+  std::vector<LinkSeg> last(n);
+  for (uint32_t p = 0; p < n; p++) last[p] = prune_link_start(e.data(), sorted.data(), depth.data(), p);
+  for (size_t p = 1; p < n; p++) last[p] = SegmentedMax<uint32_t>{}(last[p - 1], last[p]);
+  std::vector<uint32_t> open(n, ~0u), bar(n, ~0u), close(n, ~0u), parent(n, ~0u);
+  for (uint32_t p = 0; p < n; p++)
+    prune_link(e.data(), sorted.data(), depth.data(), last.data(), first.data(), p, open.data(), bar.data(),
+               close.data(), parent.data());
+  size_t nested = 0;
+  for (uint32_t i = 0; i < n; i++) {
+    INFO("element " << i << " of " << n << ", depth " << depth[i]);
+    REQUIRE(open[i] == want_open[i]);
+    REQUIRE(bar[i] == want_bar[i]);
+    REQUIRE(close[i] == want_close[i]);
+    REQUIRE(parent[i] == want_parent[i]);
+    nested += parent[i] != ~0u;
+  }
+  CHECK(nested > 100);
 }

@@ -1,6 +1,6 @@
 // Stage "prune" on the CPU: mark-and-sweep rounds of §4.4 until a round
-// eliminates nothing. Cross-links come from the depth scan and one segmented
-// scan per depth, exactly as on the GPU.
+// eliminates nothing. Cross-links come from the depth scan, a sort by depth
+// and one segmented scan, exactly as on the GPU.
 #include <algorithm>
 #include <numeric>
 
@@ -34,23 +34,22 @@ bool prune_batch(TreeLevel& level, size_t k0, size_t k1, const std::vector<PathR
   std::inclusive_scan(depth.begin(), depth.end(), depth.begin());
   const int32_t max_depth = n ? *std::max_element(depth.begin(), depth.end()) : 0;
 
-  // Cross-links, one segmented scan per depth.
+  // Cross-links over all depths at once (core/pruning.h): the elements
+  // sorted stably by depth (a counting sort), a segmented max-scan, then
+  // each element's links.
   std::vector<uint32_t> open(n, ~0u), bar(n, ~0u), close(n, ~0u), parent(n, ~0u);
-  std::vector<LinkSeg> link(n);
-  for (int32_t d = 1; d <= max_depth; d++) {
-    for (size_t i = 0; i < n; i++)
-      link[i] = LinkSeg{1u, (entry_opens(e[i]) && depth[i] == d) ? 1u : 0u};
-    std::inclusive_scan(link.begin(), link.end(), link.begin(), SegmentedSum<uint32_t>{});
-    for (size_t i = 0; i < n; i++) {
-      // A '(' or '{' one level deeper lies in the nearest '(' or '{' of depth d.
-      if (depth[i] == d + 1 && entry_opens(e[i])) parent[i] = static_cast<uint32_t>(i) - (link[i].value - 1);
-      if (depth[i] != d) continue;
-      const uint32_t o = static_cast<uint32_t>(i) - (link[i].value - 1);
-      open[i] = o;
-      const uint32_t k = entry_kind(e[i]);
-      if (k == ENTRY_ACTIVATE) bar[o] = static_cast<uint32_t>(i);
-      if (entry_closes(e[i])) close[o] = static_cast<uint32_t>(i);
-    }
+  if (max_depth > 0) {
+    std::vector<uint32_t> first(static_cast<size_t>(max_depth) + 2, 0), sorted(n);
+    for (size_t i = 0; i < n; i++) first[depth[i] + 1]++;
+    for (size_t d = 1; d < first.size(); d++) first[d] += first[d - 1];
+    std::vector<uint32_t> at(first.begin(), first.end() - 1);
+    for (size_t i = 0; i < n; i++) sorted[at[depth[i]]++] = static_cast<uint32_t>(i);
+    std::vector<LinkSeg> last(n);
+    for (size_t p = 0; p < n; p++) last[p] = prune_link_start(e, sorted.data(), depth.data(), static_cast<uint32_t>(p));
+    std::inclusive_scan(last.begin(), last.end(), last.begin(), SegmentedMax<uint32_t>{});
+    for (size_t p = 0; p < n; p++)
+      prune_link(e, sorted.data(), depth.data(), last.data(), first.data(), static_cast<uint32_t>(p), open.data(),
+                 bar.data(), close.data(), parent.data());
   }
 
   // Terminals, and the first C1 of every content section.
