@@ -51,10 +51,10 @@
 // to drop a positive count.
 //
 // Cross-links: depth by an inclusive scan (+1 at '(', -1 just after ')'), so
-// '(' and ')' share the depth of their group; then for each depth n, a
-// segmented scan of 1s restarting at every '(' of depth n gives each element
-// of depth n its distance to its '(' (open link), and the '|' and ')' of
-// depth n register with their '(' (bar and close links).
+// '(' and ')' share the depth of their group; then, over all depths at
+// once, a stable sort by depth and a segmented scan give each element its
+// group's '(' (open link), and the '|' and ')' register with their '(' (bar
+// and close links; see prune_link below).
 #pragma once
 #include <cstdint>
 
@@ -88,9 +88,8 @@ MPVG_HD_INLINE int32_t prune_depth_delta(const Entry* entries, uint32_t i) {
 // depth (its '(' or '{', its direct content, '|', ')') are those of that
 // depth after its opening and before the next opening of that depth (the
 // element after a ')' drops the depth, a nested group raises it). So the
-// elements are sorted stably by depth (each depth's in index order, `sorted`
-// holding their indices, `first` the first sorted position of each depth
-// and one past the last), and a segmented max-scan over that order, one
+// elements are sorted stably by depth (`sorted` holds their indices: in
+// order of (depth, index)), and a segmented max-scan over that order, one
 // segment per depth, carries the last opening seen: 1 + its index, 0 for
 // none (LinkSeg, SegmentedMax in core/scan.h).
 using LinkSeg = Segmented<uint32_t>;
@@ -102,13 +101,14 @@ MPVG_HD_INLINE LinkSeg prune_link_start(const Entry* e, const uint32_t* sorted, 
   return LinkSeg{entry_opens(e[i]) ? i + 1 : 0u, head ? 1u : 0u};
 }
 
-// The links of the element at sorted position p, from the scanned `last`:
-// its group's opening (open), and as that opening's '|' or ')' (bar,
-// close); for an opening, the group it lies in (parent: the last opening
-// one depth up before it, found by binary search in that depth's range).
-// Depth-0 elements lie in no group. Every write has one writer.
+// The links of the element at sorted position p of n, from the scanned
+// `last`: its group's opening (open), and as that opening's '|' or ')'
+// (bar, close); for an opening of depth d >= 2, the group it lies in
+// (parent: the last opening of depth d - 1 before it, at the last sorted
+// position before (d - 1, i), found by binary search). Depth-0 elements
+// lie in no group. Every write has one writer.
 MPVG_HD_INLINE void prune_link(const Entry* e, const uint32_t* sorted, const int32_t* depth, const LinkSeg* last,
-                               const uint32_t* first, uint32_t p, uint32_t* open, uint32_t* bar, uint32_t* close,
+                               uint32_t n, uint32_t p, uint32_t* open, uint32_t* bar, uint32_t* close,
                                uint32_t* parent) {
   const uint32_t i = sorted[p];
   const int32_t d = depth[i];
@@ -118,12 +118,13 @@ MPVG_HD_INLINE void prune_link(const Entry* e, const uint32_t* sorted, const int
   if (entry_kind(e[i]) == ENTRY_ACTIVATE) bar[o] = i;
   if (entry_closes(e[i])) close[o] = i;
   if (!entry_opens(e[i]) || d < 2) return;
-  uint32_t lo = first[d - 1], hi = first[d];  // the last position in [lo, hi) whose index is below i
-  while (hi - lo > 1) {
+  uint32_t lo = 0, hi = n;  // the first position at or after (d - 1, i)
+  while (lo < hi) {
     const uint32_t mid = lo + (hi - lo) / 2;
-    if (sorted[mid] < i) lo = mid; else hi = mid;
+    const uint32_t j = sorted[mid];
+    if (depth[j] < d - 1 || (depth[j] == d - 1 && j < i)) lo = mid + 1; else hi = mid;
   }
-  parent[i] = last[lo].value - 1;
+  parent[i] = last[lo - 1].value - 1;
 }
 
 // Classifies element i of a cell [begin, end): is it a whole path reduced to

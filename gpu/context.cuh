@@ -254,7 +254,7 @@ struct Context::Impl {
   DeviceBuffer<int32_t> i32[2];
   DeviceBuffer<Segmented<int32_t>> wind;
   DeviceBuffer<Segmented<uint32_t>> link;
-  DeviceBuffer<uint32_t> by_depth[4];  // prune: indices, their depths sorted, the sort's input, each depth's first
+  DeviceBuffer<uint32_t> by_depth[3];  // prune: indices sorted by depth, their depths, the sort's input
   DeviceBuffer<LevelCounts> counts;
   DeviceBuffer<uint32_t> scalar;  // small results read back by the host
   // Rendering.

@@ -20,10 +20,12 @@ constexpr unsigned kBlock = 256;
 // costs the render thread 4-6 us of driver time, and a page's tree takes
 // about a thousand of them: BENCHMARKS.md): each element's depth delta (or
 // 0 without groups), its pruning term, its elimination count zeroed and
-// its links unset. Thread n only zeroes the count the sweep's scan ends on.
+// its links unset, and (with groups) its index as the sort by depth's
+// input. Thread n only zeroes the count the sweep's scan ends on.
 __global__ void k_round_init(const Entry* e, const uint32_t* entry_cell, size_t n, const Cell* cells,
                              const PathRecord* paths, bool groups, int32_t* depth, uint32_t* term, int32_t* elim,
-                             uint32_t* open, uint32_t* bar, uint32_t* close, uint32_t* first_c1, uint32_t* parent) {
+                             uint32_t* open, uint32_t* bar, uint32_t* close, uint32_t* first_c1, uint32_t* parent,
+                             uint32_t* index) {
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
   if (i > n) return;
   elim[i] = 0;
@@ -36,6 +38,7 @@ __global__ void k_round_init(const Entry* e, const uint32_t* entry_cell, size_t 
   }
   depth[i] = prune_depth_delta(e, static_cast<uint32_t>(i));
   open[i] = bar[i] = close[i] = first_c1[i] = parent[i] = ~0u;
+  index[i] = static_cast<uint32_t>(i);
 }
 
 // The link scan's input at sorted position p (core/pruning.h), read
@@ -47,28 +50,11 @@ struct LinkStart {
   __host__ __device__ LinkSeg operator()(uint32_t p) const { return prune_link_start(e, sorted, depth, p); }
 };
 
-__global__ void k_index(uint32_t* idx, size_t n) {
-  const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
-  if (i < n) idx[i] = static_cast<uint32_t>(i);
-}
-
-// The first sorted position of each depth 0..max_depth + 1 (keys sorted).
-__global__ void k_depth_first(const uint32_t* keys, size_t n, uint32_t max_depth, uint32_t* first) {
-  const uint32_t d = blockIdx.x * blockDim.x + threadIdx.x;
-  if (d > max_depth + 1) return;
-  size_t lo = 0, hi = n;
-  while (lo < hi) {
-    const size_t mid = (lo + hi) / 2;
-    if (keys[mid] < d) lo = mid + 1; else hi = mid;
-  }
-  first[d] = static_cast<uint32_t>(lo);
-}
-
-__global__ void k_link(const Entry* e, const uint32_t* sorted, const int32_t* depth, const LinkSeg* last,
-                       const uint32_t* first, size_t n, uint32_t* open, uint32_t* bar, uint32_t* close,
-                       uint32_t* parent) {
+__global__ void k_link(const Entry* e, const uint32_t* sorted, const int32_t* depth, const LinkSeg* last, size_t n,
+                       uint32_t* open, uint32_t* bar, uint32_t* close, uint32_t* parent) {
   const size_t p = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
-  if (p < n) prune_link(e, sorted, depth, last, first, static_cast<uint32_t>(p), open, bar, close, parent);
+  if (p < n)
+    prune_link(e, sorted, depth, last, static_cast<uint32_t>(n), static_cast<uint32_t>(p), open, bar, close, parent);
 }
 
 __global__ void k_first_c1(const uint32_t* term, size_t n, PruneLinks links, uint32_t* first_c1) {
@@ -130,9 +116,10 @@ int Context::Impl::prune(DeviceLevel& lv) {
     uint32_t* parent_of = (u32[5].resize(n), u32[5].data());
 
     const bool groups = scene_depth > 0;
+    uint32_t* index = groups ? (by_depth[2].resize(n), by_depth[2].data()) : nullptr;
     k_round_init<<<grid_for(n + 1, kBlock), kBlock>>>(e, lv.entry_cell.data(), n, lv.cells.data(), paths.data(),
                                                        groups, depth, term, elim, open, bar, close, first_c1,
-                                                       parent_of);
+                                                       parent_of, index);
     launched();
     if (groups) {
       // Cross-links over all depths at once (core/pruning.h): a stable sort
@@ -141,19 +128,13 @@ int Context::Impl::prune(DeviceLevel& lv) {
       prim.inclusive_sum(depth, depth, n);
       uint32_t* sorted = (by_depth[0].resize(n), by_depth[0].data());
       uint32_t* sorted_depth = (by_depth[1].resize(n), by_depth[1].data());
-      uint32_t* index = (by_depth[2].resize(n), by_depth[2].data());
-      uint32_t* first = (by_depth[3].resize(scene_depth + 2), by_depth[3].data());
-      k_index<<<grid, kBlock>>>(index, n);
-      launched();
       int bits = 1;
       while (bits < 31 && (int64_t{1} << bits) <= scene_depth) bits++;
       prim.sort_pairs(reinterpret_cast<const uint32_t*>(depth), sorted_depth, index, sorted, n, bits);
-      k_depth_first<<<grid_for(scene_depth + 2, kBlock), kBlock>>>(sorted_depth, n, scene_depth, first);
-      launched();
       link.resize(n);
       const auto start = thrust::make_transform_iterator(thrust::counting_iterator<uint32_t>(0), LinkStart{e, sorted, depth});
       prim.inclusive_scan(start, link.data(), SegmentedMax<uint32_t>{}, n);
-      k_link<<<grid, kBlock>>>(e, sorted, depth, link.data(), first, n, open, bar, close, parent_of);
+      k_link<<<grid, kBlock>>>(e, sorted, depth, link.data(), n, open, bar, close, parent_of);
       launched();
     }
     const PruneLinks links{depth, open, bar, close, first_c1, parent_of};

@@ -225,18 +225,16 @@ TEST_CASE("pruning cross-links: one pass over all depths equals a stack walk", "
   int32_t max_depth = 0, acc = 0;
   for (uint32_t i = 0; i < n; i++) max_depth = std::max(max_depth, depth[i] = acc += prune_depth_delta(e.data(), i));
   REQUIRE(max_depth >= 4);
-  std::vector<uint32_t> sorted(n), first(static_cast<size_t>(max_depth) + 2, 0);
+  std::vector<uint32_t> sorted(n);
   for (uint32_t i = 0; i < n; i++) sorted[i] = i;
   std::stable_sort(sorted.begin(), sorted.end(), [&](uint32_t a, uint32_t b) { return depth[a] < depth[b]; });
-  for (size_t p = 0; p < n; p++) first[depth[sorted[p]] + 1]++;
-  for (size_t d = 1; d < first.size(); d++) first[d] += first[d - 1];
   std::vector<LinkSeg> last(n);
   for (uint32_t p = 0; p < n; p++) last[p] = prune_link_start(e.data(), sorted.data(), depth.data(), p);
   for (size_t p = 1; p < n; p++) last[p] = SegmentedMax<uint32_t>{}(last[p - 1], last[p]);
   std::vector<uint32_t> open(n, ~0u), bar(n, ~0u), close(n, ~0u), parent(n, ~0u);
   for (uint32_t p = 0; p < n; p++)
-    prune_link(e.data(), sorted.data(), depth.data(), last.data(), first.data(), p, open.data(), bar.data(),
-               close.data(), parent.data());
+    prune_link(e.data(), sorted.data(), depth.data(), last.data(), static_cast<uint32_t>(n), p, open.data(),
+               bar.data(), close.data(), parent.data());
   size_t nested = 0;
   for (uint32_t i = 0; i < n; i++) {
     INFO("element " << i << " of " << n << ", depth " << depth[i]);

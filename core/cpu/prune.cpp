@@ -39,17 +39,16 @@ bool prune_batch(TreeLevel& level, size_t k0, size_t k1, const std::vector<PathR
   // each element's links.
   std::vector<uint32_t> open(n, ~0u), bar(n, ~0u), close(n, ~0u), parent(n, ~0u);
   if (max_depth > 0) {
-    std::vector<uint32_t> first(static_cast<size_t>(max_depth) + 2, 0), sorted(n);
-    for (size_t i = 0; i < n; i++) first[depth[i] + 1]++;
-    for (size_t d = 1; d < first.size(); d++) first[d] += first[d - 1];
-    std::vector<uint32_t> at(first.begin(), first.end() - 1);
+    std::vector<uint32_t> at(static_cast<size_t>(max_depth) + 2, 0), sorted(n);
+    for (size_t i = 0; i < n; i++) at[depth[i] + 1]++;
+    for (size_t d = 1; d < at.size(); d++) at[d] += at[d - 1];
     for (size_t i = 0; i < n; i++) sorted[at[depth[i]]++] = static_cast<uint32_t>(i);
     std::vector<LinkSeg> last(n);
     for (size_t p = 0; p < n; p++) last[p] = prune_link_start(e, sorted.data(), depth.data(), static_cast<uint32_t>(p));
     std::inclusive_scan(last.begin(), last.end(), last.begin(), SegmentedMax<uint32_t>{});
     for (size_t p = 0; p < n; p++)
-      prune_link(e, sorted.data(), depth.data(), last.data(), first.data(), static_cast<uint32_t>(p), open.data(),
-                 bar.data(), close.data(), parent.data());
+      prune_link(e, sorted.data(), depth.data(), last.data(), static_cast<uint32_t>(n), static_cast<uint32_t>(p),
+                 open.data(), bar.data(), close.data(), parent.data());
   }
 
   // Terminals, and the first C1 of every content section.
