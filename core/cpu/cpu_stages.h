@@ -20,8 +20,9 @@ std::vector<Entry> initial_stream(const EncodedScene& scene, const std::vector<A
 
 // Entries a batch of cells spans at most in subdivide_cpu and prune_cpu,
 // whose per-pair and per-entry arrays grow with it (1 << 20: ~80 MB); a
-// cell's stream is balanced, so batches are independent. Tests set it
-// small to run many batches.
+// cell's stream is balanced, so batches are independent, and run on every
+// core (a level of 65,536 entries or more is cut into at least one batch
+// per core). Tests set it small to run many batches.
 extern size_t cpu_batch_entries;
 
 // subdivide: the four passes of §4.2 over `cells` of a level (entries

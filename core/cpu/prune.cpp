@@ -3,13 +3,18 @@
 // and one segmented scan, exactly as on the GPU.
 #include <algorithm>
 #include <numeric>
+#include <thread>
 
 #include "core/cpu/cpu_stages.h"
+#include "core/parallel.h"
 #include "core/pruning.h"
 
 namespace mpvg {
 
 namespace {
+
+// A level of this many entries or more is pruned in batches on every core.
+constexpr size_t kParallelEntries = size_t(1) << 16;
 
 // One round over a batch of cells, k0 .. k1 - 1 (cpu_batch_entries): a
 // cell's stream is balanced, so depths and cross-links never leave it, and
@@ -84,19 +89,42 @@ bool prune_batch(TreeLevel& level, size_t k0, size_t k1, const std::vector<PathR
 }
 
 // One round over the whole level; returns whether anything was eliminated.
+// Batches of cells (at most cpu_batch_entries entries; a large level in at
+// least one batch per core) are pruned in parallel, each into a list of its
+// own with its cells' ranges counted from the list's start; the lists are
+// then joined in order and the ranges moved by what precedes them.
 bool prune_round(TreeLevel& level, const std::vector<PathRecord>& paths) {
   if (level.entries.empty()) return false;
-  std::vector<Entry> kept;
-  kept.reserve(level.entries.size());
-  bool any = false;
+  const int cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  size_t limit = cpu_batch_entries;
+  if (level.entries.size() >= kParallelEntries && cores > 1)
+    limit = std::min(limit, level.entries.size() / static_cast<size_t>(cores) + 1);
+  std::vector<size_t> starts;
   for (size_t k0 = 0; k0 < level.cells.size();) {
+    starts.push_back(k0);
     size_t k1 = k0 + 1;
-    while (k1 < level.cells.size() && level.cells[k1].end - level.cells[k0].begin <= cpu_batch_entries) k1++;
-    any = prune_batch(level, k0, k1, paths, kept) || any;
+    while (k1 < level.cells.size() && level.cells[k1].end - level.cells[k0].begin <= limit) k1++;
     k0 = k1;
   }
-  if (any) level.entries.swap(kept);
-  return any;
+  auto end_of = [&](size_t b) { return b + 1 < starts.size() ? starts[b + 1] : level.cells.size(); };
+  std::vector<std::vector<Entry>> kept(starts.size());
+  std::vector<char> pruned(starts.size(), 0);
+  parallel_for(starts.size(), cores,
+               [&](size_t b) { pruned[b] = prune_batch(level, starts[b], end_of(b), paths, kept[b]); });
+  size_t total = 0;
+  for (size_t b = 0; b < starts.size(); b++) {
+    for (size_t k = starts[b]; k < end_of(b); k++) {
+      level.cells[k].begin += static_cast<uint32_t>(total);
+      level.cells[k].end += static_cast<uint32_t>(total);
+    }
+    total += kept[b].size();
+  }
+  if (std::find(pruned.begin(), pruned.end(), 1) == pruned.end()) return false;
+  std::vector<Entry> joined;
+  joined.reserve(total);
+  for (const std::vector<Entry>& k : kept) joined.insert(joined.end(), k.begin(), k.end());
+  level.entries.swap(joined);
+  return true;
 }
 
 }  // namespace

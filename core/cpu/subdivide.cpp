@@ -1,9 +1,13 @@
 // Stage "subdivide" on the CPU: the four passes of §4.2 (split, segmented
-// scan of windings, offset scan, scatter) over every cell of a level.
+// scan of windings, offset scan, scatter) over every cell of a level, in
+// batches of cells, a large level's batches on every core.
+#include <algorithm>
 #include <cstdint>
 #include <numeric>
+#include <thread>
 
 #include "core/cpu/cpu_stages.h"
+#include "core/parallel.h"
 #include "core/subdivision.h"
 
 namespace mpvg {
@@ -16,21 +20,30 @@ namespace {
 // of four, and a shortcut entry for its run in each.
 constexpr size_t kMaxGrowth = 8;
 
+// A level of this many entries or more is cut into batches that run in
+// parallel, one per core.
+constexpr size_t kParallelEntries = size_t(1) << 16;
+
+// One batch's passes 1 to 3.
+struct Scratch {
+  std::vector<uint32_t> flags, count, offset;
+  std::vector<WindSeg> wind;
+};
+
 struct Subdivision {
   const std::vector<Cell>& cells;
   const Entry* in;
   const std::vector<AbstractSegment>& segments;
   uint32_t fanout;
   std::vector<CellBox> boxes;
-  std::vector<uint32_t> flags, count, offset;
-  std::vector<WindSeg> wind;
 
   // Passes 1 to 3 over cells k0 .. k1 - 1: the entries their children get
   // (offset[pairs]). Pair (entry i of cell k, child c) lives at
   // fanout*(begin-first) + c*size + (i-begin), first the batch's first
   // entry: each child's block lists the parent's entries in order (slots
   // between cells that are not subdivided count nothing).
-  size_t count_batch(size_t k0, size_t k1) {
+  size_t count_batch(size_t k0, size_t k1, Scratch& sc) const {
+    auto& [flags, count, offset, wind] = sc;
     const uint32_t first = cells[k0].begin;
     const size_t pairs = fanout * size_t(cells[k1 - 1].end - first);
     flags.resize(pairs);
@@ -67,7 +80,8 @@ struct Subdivision {
 
   // Pass 4 after count_batch: scatter into out from `base`; child cell
   // ranges fall out of the offsets.
-  void scatter_batch(size_t k0, size_t k1, size_t base, TreeLevel& out) {
+  void scatter_batch(size_t k0, size_t k1, size_t base, TreeLevel& out, const Scratch& sc) const {
+    const auto& [flags, count, offset, wind] = sc;
     const uint32_t first = cells[k0].begin;
     for (size_t k = k0; k < k1; k++) {
       const Cell& pc = cells[k];
@@ -90,10 +104,11 @@ struct Subdivision {
     return fanout * size_t(pc.begin - first) + size_t(c) * (pc.end - pc.begin) + (i - pc.begin);
   }
 
-  // The end of the batch starting at cell k0.
-  size_t batch_end(size_t k0) const {
+  // The end of the batch starting at cell k0: cells up to `limit` entries
+  // in all (a larger cell alone).
+  size_t batch_end(size_t k0, size_t limit) const {
     size_t k1 = k0 + 1;
-    while (k1 < cells.size() && cells[k1].end - cells[k0].begin <= cpu_batch_entries) k1++;
+    while (k1 < cells.size() && cells[k1].end - cells[k0].begin <= limit) k1++;
     return k1;
   }
 };
@@ -104,7 +119,7 @@ TreeLevel subdivide_cpu(const std::vector<Cell>& cells, const Entry* entries,
                         const std::vector<AbstractSegment>& segments, uint32_t root_size, bool root,
                         size_t max_entries, bool* overflow) {
   if (overflow) *overflow = false;
-  Subdivision sd{cells, entries, segments, root ? 1u : 4u, {}, {}, {}, {}, {}};
+  Subdivision sd{cells, entries, segments, root ? 1u : 4u, {}};
   TreeLevel out;
   out.cells.resize(sd.fanout * cells.size());
   sd.boxes.resize(out.cells.size());
@@ -124,20 +139,42 @@ TreeLevel subdivide_cpu(const std::vector<Cell>& cells, const Entry* entries,
   // A level that might pass the cap is counted first, so that it is given
   // up before its entries are made.
   if (span > max_entries / kMaxGrowth) {
+    Scratch sc;
     size_t total = 0;
-    for (size_t k0 = 0; k0 < cells.size(); k0 = sd.batch_end(k0)) total += sd.count_batch(k0, sd.batch_end(k0));
+    for (size_t k0 = 0, k1; k0 < cells.size(); k0 = k1) {
+      k1 = sd.batch_end(k0, cpu_batch_entries);
+      total += sd.count_batch(k0, k1, sc);
+    }
     if (total > max_entries) {
       if (overflow) *overflow = true;
       return TreeLevel{};
     }
     out.entries.reserve(total);
   }
-  for (size_t k0 = 0; k0 < cells.size();) {
-    const size_t k1 = sd.batch_end(k0);
-    const size_t base = out.entries.size();
-    out.entries.resize(base + sd.count_batch(k0, k1));
-    sd.scatter_batch(k0, k1, base, out);
-    k0 = k1;
+  // Batches of at most cpu_batch_entries entries; a large level in at least
+  // one batch per core. Each group of as many batches as cores counts in
+  // parallel, then places its entries after the previous group's and
+  // scatters in parallel (batches are independent: no cell spans two, and
+  // the output depends on the cells alone). Scratch stays bounded by one
+  // group's batches.
+  const int cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  size_t limit = cpu_batch_entries;
+  if (span >= kParallelEntries && cores > 1) limit = std::min(limit, span / static_cast<size_t>(cores) + 1);
+  std::vector<size_t> starts;
+  for (size_t k0 = 0; k0 < cells.size(); k0 = sd.batch_end(k0, limit)) starts.push_back(k0);
+  const size_t group = std::min<size_t>(static_cast<size_t>(cores), std::max<size_t>(1, starts.size()));
+  std::vector<Scratch> scratch(group);
+  std::vector<size_t> base(group + 1);
+  for (size_t g = 0; g < starts.size(); g += group) {
+    const size_t m = std::min(group, starts.size() - g);
+    auto end_of = [&](size_t b) { return g + b + 1 < starts.size() ? starts[g + b + 1] : cells.size(); };
+    parallel_for(m, static_cast<int>(m),
+                 [&](size_t b) { base[b + 1] = sd.count_batch(starts[g + b], end_of(b), scratch[b]); });
+    base[0] = out.entries.size();
+    for (size_t b = 0; b < m; b++) base[b + 1] += base[b];
+    out.entries.resize(base[m]);
+    parallel_for(m, static_cast<int>(m),
+                 [&](size_t b) { sd.scatter_batch(starts[g + b], end_of(b), base[b], out, scratch[b]); });
   }
   return out;
 }
