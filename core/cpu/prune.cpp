@@ -120,10 +120,17 @@ bool prune_round(TreeLevel& level, const std::vector<PathRecord>& paths) {
     total += kept[b].size();
   }
   if (std::find(pruned.begin(), pruned.end(), 1) == pruned.end()) return false;
-  std::vector<Entry> joined;
-  joined.reserve(total);
-  for (const std::vector<Entry>& k : kept) joined.insert(joined.end(), k.begin(), k.end());
-  level.entries.swap(joined);
+  // Joined in place: a batch's survivors land at or before where its
+  // entries were, so only entries already done are overwritten; each list
+  // is freed once copied (peak memory: the level and its survivors, as
+  // when one list grew).
+  size_t at = 0;
+  for (std::vector<Entry>& k : kept) {
+    std::copy(k.begin(), k.end(), level.entries.begin() + static_cast<std::ptrdiff_t>(at));
+    at += k.size();
+    std::vector<Entry>().swap(k);
+  }
+  level.entries.resize(total);
   return true;
 }
 
