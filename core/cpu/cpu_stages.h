@@ -25,6 +25,17 @@ std::vector<Entry> initial_stream(const EncodedScene& scene, const std::vector<A
 // per core). Tests set it small to run many batches.
 extern size_t cpu_batch_entries;
 
+// Batches of a level's cells for subdivide_cpu and prune_cpu. batch_end:
+// the end of the batch starting at cell k0, cells up to `limit` entries in
+// all (a larger cell alone). cell_batches: the first cell of each batch of
+// a level of `span` entries: batches of cpu_batch_entries, and from 65,536
+// entries on, of at most a core's share of min(span, cpu_batch_entries).
+// batch_group: how many batches from batch g run at once: up to `cores`,
+// at most cpu_batch_entries entries in all (a larger batch alone).
+size_t batch_end(const std::vector<Cell>& cells, size_t k0, size_t limit);
+std::vector<size_t> cell_batches(const std::vector<Cell>& cells, size_t span, size_t cores);
+size_t batch_group(const std::vector<Cell>& cells, const std::vector<size_t>& starts, size_t g, size_t cores);
+
 // subdivide: the four passes of §4.2 over `cells` of a level (entries
 // indexes their ranges; cells in ascending order, not necessarily
 // adjacent), a batch of cells at a time. With root set, the one cell is

@@ -13,9 +13,6 @@ namespace mpvg {
 
 namespace {
 
-// A level of this many entries or more is pruned in batches on every core.
-constexpr size_t kParallelEntries = size_t(1) << 16;
-
 // One round over a batch of cells, k0 .. k1 - 1 (cpu_batch_entries): a
 // cell's stream is balanced, so depths and cross-links never leave it, and
 // the round's dozen per-entry arrays (about 60 bytes an entry) grow with
@@ -89,28 +86,23 @@ bool prune_batch(TreeLevel& level, size_t k0, size_t k1, const std::vector<PathR
 }
 
 // One round over the whole level; returns whether anything was eliminated.
-// Batches of cells (at most cpu_batch_entries entries; a large level in at
-// least one batch per core) are pruned in parallel, each into a list of its
-// own with its cells' ranges counted from the list's start; the lists are
-// then joined in order and the ranges moved by what precedes them.
+// Batches of cells (cell_batches) are pruned a group at a time in parallel
+// (batch_group), each into a list of its own with its cells' ranges counted
+// from the list's start; the lists are then joined in order and the ranges
+// moved by what precedes them.
 bool prune_round(TreeLevel& level, const std::vector<PathRecord>& paths) {
   if (level.entries.empty()) return false;
-  const int cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  size_t limit = cpu_batch_entries;
-  if (level.entries.size() >= kParallelEntries && cores > 1)
-    limit = std::min(limit, level.entries.size() / static_cast<size_t>(cores) + 1);
-  std::vector<size_t> starts;
-  for (size_t k0 = 0; k0 < level.cells.size();) {
-    starts.push_back(k0);
-    size_t k1 = k0 + 1;
-    while (k1 < level.cells.size() && level.cells[k1].end - level.cells[k0].begin <= limit) k1++;
-    k0 = k1;
-  }
+  const size_t cores = std::max(1u, std::thread::hardware_concurrency());
+  const std::vector<size_t> starts = cell_batches(level.cells, level.entries.size(), cores);
   auto end_of = [&](size_t b) { return b + 1 < starts.size() ? starts[b + 1] : level.cells.size(); };
   std::vector<std::vector<Entry>> kept(starts.size());
   std::vector<char> pruned(starts.size(), 0);
-  parallel_for(starts.size(), cores,
-               [&](size_t b) { pruned[b] = prune_batch(level, starts[b], end_of(b), paths, kept[b]); });
+  for (size_t g = 0, m; g < starts.size(); g += m) {  // scratch bounded as with one batch
+    m = batch_group(level.cells, starts, g, cores);
+    parallel_for(m, static_cast<int>(m), [&](size_t b) {
+      pruned[g + b] = prune_batch(level, starts[g + b], end_of(g + b), paths, kept[g + b]);
+    });
+  }
   size_t total = 0;
   for (size_t b = 0; b < starts.size(); b++) {
     for (size_t k = starts[b]; k < end_of(b); k++) {

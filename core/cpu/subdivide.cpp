@@ -14,15 +14,36 @@ namespace mpvg {
 
 size_t cpu_batch_entries = size_t(1) << 20;
 
+size_t batch_end(const std::vector<Cell>& cells, size_t k0, size_t limit) {
+  size_t k1 = k0 + 1;
+  while (k1 < cells.size() && cells[k1].end - cells[k0].begin <= limit) k1++;
+  return k1;
+}
+
+std::vector<size_t> cell_batches(const std::vector<Cell>& cells, size_t span, size_t cores) {
+  constexpr size_t kParallelEntries = size_t(1) << 16;
+  size_t limit = cpu_batch_entries;
+  if (span >= kParallelEntries && cores > 1) limit = std::min(cpu_batch_entries, span) / cores + 1;
+  std::vector<size_t> starts;
+  for (size_t k0 = 0; k0 < cells.size(); k0 = batch_end(cells, k0, limit)) starts.push_back(k0);
+  return starts;
+}
+
+size_t batch_group(const std::vector<Cell>& cells, const std::vector<size_t>& starts, size_t g, size_t cores) {
+  auto entries = [&](size_t b) {
+    const size_t k1 = b + 1 < starts.size() ? starts[b + 1] : cells.size();
+    return size_t(cells[k1 - 1].end - cells[starts[b]].begin);
+  };
+  size_t m = 1, total = entries(g);
+  while (m < cores && g + m < starts.size() && total + entries(g + m) <= cpu_batch_entries) total += entries(g + m++);
+  return m;
+}
+
 namespace {
 
 // An entry makes at most this many entries in its children: itself in each
 // of four, and a shortcut entry for its run in each.
 constexpr size_t kMaxGrowth = 8;
-
-// A level of this many entries or more is cut into batches that run in
-// parallel, one per core.
-constexpr size_t kParallelEntries = size_t(1) << 16;
 
 // One batch's passes 1 to 3.
 struct Scratch {
@@ -106,11 +127,8 @@ struct Subdivision {
 
   // The end of the batch starting at cell k0: cells up to `limit` entries
   // in all (a larger cell alone).
-  size_t batch_end(size_t k0, size_t limit) const {
-    size_t k1 = k0 + 1;
-    while (k1 < cells.size() && cells[k1].end - cells[k0].begin <= limit) k1++;
-    return k1;
-  }
+  size_t batch_end(size_t k0, size_t limit) const { return mpvg::batch_end(cells, k0, limit); }
+  std::vector<size_t> batches(size_t span, size_t cores) const { return cell_batches(cells, span, cores); }
 };
 
 }  // namespace
@@ -152,29 +170,25 @@ TreeLevel subdivide_cpu(const std::vector<Cell>& cells, const Entry* entries,
     out.entries.reserve(total);
   }
   // Batches of at most cpu_batch_entries entries; a large level in at least
-  // one batch per core. Each group of as many batches as cores counts in
-  // parallel, then places its entries after the previous group's and
-  // scatters in parallel (batches are independent: no cell spans two, and
-  // the output depends on the cells alone). Scratch stays bounded by one
-  // group's batches.
-  const int cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  size_t limit = cpu_batch_entries;
-  if (span >= kParallelEntries && cores > 1) limit = std::min(limit, span / static_cast<size_t>(cores) + 1);
-  std::vector<size_t> starts;
-  for (size_t k0 = 0; k0 < cells.size(); k0 = sd.batch_end(k0, limit)) starts.push_back(k0);
-  const size_t group = std::min<size_t>(static_cast<size_t>(cores), std::max<size_t>(1, starts.size()));
-  std::vector<Scratch> scratch(group);
-  std::vector<size_t> base(group + 1);
-  for (size_t g = 0; g < starts.size(); g += group) {
-    const size_t m = std::min(group, starts.size() - g);
-    auto end_of = [&](size_t b) { return g + b + 1 < starts.size() ? starts[g + b + 1] : cells.size(); };
+  // one batch per core. Groups of up to as many batches as cores, at most
+  // cpu_batch_entries entries in all (a larger batch alone), count in
+  // parallel, place their entries after the previous group's and scatter
+  // in parallel (batches are independent: no cell spans two, and the output
+  // depends on the cells alone). Scratch stays bounded as with one batch.
+  const size_t cores = std::max(1u, std::thread::hardware_concurrency());
+  const std::vector<size_t> starts = sd.batches(span, cores);
+  auto end_of = [&](size_t b) { return b + 1 < starts.size() ? starts[b + 1] : cells.size(); };
+  std::vector<Scratch> scratch(std::min(cores, starts.size()));
+  std::vector<size_t> base(scratch.size() + 1);
+  for (size_t g = 0, m; g < starts.size(); g += m) {
+    m = batch_group(cells, starts, g, cores);
     parallel_for(m, static_cast<int>(m),
-                 [&](size_t b) { base[b + 1] = sd.count_batch(starts[g + b], end_of(b), scratch[b]); });
+                 [&](size_t b) { base[b + 1] = sd.count_batch(starts[g + b], end_of(g + b), scratch[b]); });
     base[0] = out.entries.size();
     for (size_t b = 0; b < m; b++) base[b + 1] += base[b];
     out.entries.resize(base[m]);
     parallel_for(m, static_cast<int>(m),
-                 [&](size_t b) { sd.scatter_batch(starts[g + b], end_of(b), base[b], out, scratch[b]); });
+                 [&](size_t b) { sd.scatter_batch(starts[g + b], end_of(g + b), base[b], out, scratch[b]); });
   }
   return out;
 }
