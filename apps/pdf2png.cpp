@@ -38,12 +38,12 @@
 #include <mutex>
 #include <queue>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "apps/cli.h"
 #include "apps/pipeline.h"
 #include "core/error.h"
+#include "core/parallel.h"
 #include "gpu/backend.h"
 #include "parsers/pdf/pdf_parser.h"
 
@@ -245,7 +245,7 @@ int main(int argc, char** argv) {
           std::fprintf(stderr, "pdf2png: %s; rendering on the CPU\n", why.c_str());
       });
     };
-    const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    const int cores = hardware_threads();
     pipeline::Config c;
     c.program = "pdf2png";
     c.unit = "page";

@@ -11,7 +11,6 @@
 
 #include <zlib.h>
 
-#include <thread>
 
 #include "core/parallel.h"
 
@@ -119,7 +118,7 @@ void deflate_strip(const uint8_t* data, size_t at, size_t end, bool last, int le
 // up), into sc.deflated; returns its length. With several threads, a large
 // image is deflated in strips by zlib.
 size_t deflate_filtered(Scratch& sc, int height, size_t stride, int level, int threads) {
-  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int cores = hardware_threads();
   threads = threads > 0 ? threads : cores;
   // Strips of at least 64 rows and 256 KiB: below that, threads cost more
   // than they save.

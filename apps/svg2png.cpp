@@ -21,7 +21,6 @@
 #include <map>
 #include <mutex>
 #include <optional>
-#include <thread>
 #include <unistd.h>
 
 #include "apps/cli.h"
@@ -31,6 +30,7 @@
 #include "apps/server.h"
 #include "core/error.h"
 #include "core/memory_budget.h"
+#include "core/parallel.h"
 #include "gpu/backend.h"
 #include "parsers/svg/svg_parser.h"
 
@@ -214,7 +214,7 @@ int run(const cli::Options& opt, const Document& source, Renderers& renderers, c
     in.samples = plan.integ.samples;
     in.support = plan.integ.support;
     in.pixels = size_t(width) * size_t(height);
-    in.cpu_threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    in.cpu_threads = hardware_threads();
     std::string why_not;
     if (startup.done()) {
       // Whether CUDA works; a renderer is lent only if it is chosen.
@@ -372,7 +372,7 @@ std::vector<std::pair<std::string, std::string>> batch_items(const cli::Options&
 int run_batch(const cli::Options& opt, Renderers& renderers) {
   const std::vector<std::pair<std::string, std::string>> items = batch_items(opt);
   if (items.empty()) return 0;
-  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int cores = hardware_threads();
   // The backend: with auto, CUDA wherever a device works (a batch
   // amortises its start-up), the CPU otherwise.
   std::string why;

@@ -13,11 +13,14 @@
 
 namespace mpvg {
 
+// The machine's hardware threads, at least one.
+inline int hardware_threads() { return std::max(1, static_cast<int>(std::thread::hardware_concurrency())); }
+
 // threads <= 0: one per hardware thread. An exception thrown by f stops the
 // remaining items and is rethrown here once every thread has finished.
 template <class F>
 void parallel_for(size_t n, int threads, F&& f) {
-  int nt = threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency());
+  int nt = threads > 0 ? threads : hardware_threads();
   nt = std::max(1, std::min<int>(nt, static_cast<int>(std::min<size_t>(n, 1 << 20))));
   std::atomic<size_t> next{0};
   std::exception_ptr error;

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cstring>
-#include <thread>
 
 #include "core/deflate.h"
 #include "core/parallel.h"
@@ -60,7 +59,7 @@ int filter(const Sample* rgba, int width, int height, int threads, std::vector<u
       }
     }
   };
-  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int cores = hardware_threads();
   const int strips = threads == 1 ? 1 : std::max(1, std::min(threads > 0 ? threads : cores, height / 64));
   if (strips == 1) {
     rows(0, height);

@@ -3,7 +3,6 @@
 // and one segmented scan, exactly as on the GPU.
 #include <algorithm>
 #include <numeric>
-#include <thread>
 
 #include "core/cpu/cpu_stages.h"
 #include "core/parallel.h"
@@ -92,7 +91,7 @@ bool prune_batch(TreeLevel& level, size_t k0, size_t k1, const std::vector<PathR
 // moved by what precedes them.
 bool prune_round(TreeLevel& level, const std::vector<PathRecord>& paths) {
   if (level.entries.empty()) return false;
-  const size_t cores = std::max(1u, std::thread::hardware_concurrency());
+  const size_t cores = static_cast<size_t>(hardware_threads());
   const std::vector<size_t> starts = cell_batches(level.cells, level.entries.size(), cores);
   auto end_of = [&](size_t b) { return b + 1 < starts.size() ? starts[b + 1] : level.cells.size(); };
   std::vector<std::vector<Entry>> kept(starts.size());

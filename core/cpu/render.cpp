@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <thread>
 
 #include "core/cpu/cpu_stages.h"
 #include "core/parallel.h"
@@ -121,7 +120,7 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
   // one per ~64k, so that a small frame does not pay for starting every
   // core's thread in each pass (a 10x10 image at 4x4x32 took 4.6 ms on 16
   // cores, 0.3 ms on one).
-  const int all = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int all = threads > 0 ? threads : hardware_threads();
   auto threads_for = [all](double work) { return std::max(1, std::min(all, static_cast<int>(work / 65536)));
   };
   // Uniform leaves hold solid paints only (entry_varies); the rest is

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cstdint>
 #include <numeric>
-#include <thread>
 
 #include "core/cpu/cpu_stages.h"
 #include "core/parallel.h"
@@ -125,10 +124,6 @@ struct Subdivision {
     return fanout * size_t(pc.begin - first) + size_t(c) * (pc.end - pc.begin) + (i - pc.begin);
   }
 
-  // The end of the batch starting at cell k0: cells up to `limit` entries
-  // in all (a larger cell alone).
-  size_t batch_end(size_t k0, size_t limit) const { return mpvg::batch_end(cells, k0, limit); }
-  std::vector<size_t> batches(size_t span, size_t cores) const { return cell_batches(cells, span, cores); }
 };
 
 }  // namespace
@@ -160,7 +155,7 @@ TreeLevel subdivide_cpu(const std::vector<Cell>& cells, const Entry* entries,
     Scratch sc;
     size_t total = 0;
     for (size_t k0 = 0, k1; k0 < cells.size(); k0 = k1) {
-      k1 = sd.batch_end(k0, cpu_batch_entries);
+      k1 = batch_end(cells, k0, cpu_batch_entries);
       total += sd.count_batch(k0, k1, sc);
     }
     if (total > max_entries) {
@@ -175,8 +170,8 @@ TreeLevel subdivide_cpu(const std::vector<Cell>& cells, const Entry* entries,
   // parallel, place their entries after the previous group's and scatter
   // in parallel (batches are independent: no cell spans two, and the output
   // depends on the cells alone). Scratch stays bounded as with one batch.
-  const size_t cores = std::max(1u, std::thread::hardware_concurrency());
-  const std::vector<size_t> starts = sd.batches(span, cores);
+  const size_t cores = static_cast<size_t>(hardware_threads());
+  const std::vector<size_t> starts = cell_batches(cells, span, cores);
   auto end_of = [&](size_t b) { return b + 1 < starts.size() ? starts[b + 1] : cells.size(); };
   std::vector<Scratch> scratch(std::min(cores, starts.size()));
   std::vector<size_t> base(scratch.size() + 1);
