@@ -48,7 +48,9 @@
 //
 // Marking: +1 at the first element of a range to eliminate and -1 just past
 // it, into an elimination array; an inclusive scan then gives every element
-// to drop a positive count.
+// to drop a positive count. Rules 16, 19 and 23 are marked after the others
+// are scanned, on what those leave (prune_mark_empty, prune_mark_unwrap
+// below), so that a round empties nested groups all at once.
 //
 // Cross-links: depth by an inclusive scan (+1 at '(', -1 just after ')'), so
 // '(' and ')' share the depth of their group; then, over all depths at
@@ -101,6 +103,19 @@ MPVG_HD_INLINE LinkSeg prune_link_start(const Entry* e, const uint32_t* sorted, 
   return LinkSeg{entry_opens(e[i]) ? i + 1 : 0u, head ? 1u : 0u};
 }
 
+// The first position of the (key, index) order `sorted` (of n elements)
+// at or after (k, i), by binary search.
+MPVG_HD_INLINE uint32_t prune_lower_bound(const uint32_t* sorted, const int32_t* key, uint32_t n, int32_t k,
+                                          uint32_t i) {
+  uint32_t lo = 0, hi = n;
+  while (lo < hi) {
+    const uint32_t mid = lo + (hi - lo) / 2;
+    const uint32_t j = sorted[mid];
+    if (key[j] < k || (key[j] == k && j < i)) lo = mid + 1; else hi = mid;
+  }
+  return lo;
+}
+
 // The links of the element at sorted position p of n, from the scanned
 // `last`: its group's opening (open), and as that opening's '|' or ')'
 // (bar, close); for an opening of depth d >= 2, the group it lies in
@@ -118,13 +133,7 @@ MPVG_HD_INLINE void prune_link(const Entry* e, const uint32_t* sorted, const int
   if (entry_kind(e[i]) == ENTRY_ACTIVATE) bar[o] = i;
   if (entry_closes(e[i])) close[o] = i;
   if (!entry_opens(e[i]) || d < 2) return;
-  uint32_t lo = 0, hi = n;  // the first position at or after (d - 1, i)
-  while (lo < hi) {
-    const uint32_t mid = lo + (hi - lo) / 2;
-    const uint32_t j = sorted[mid];
-    if (depth[j] < d - 1 || (depth[j] == d - 1 && j < i)) lo = mid + 1; else hi = mid;
-  }
-  parent[i] = last[lo - 1].value - 1;
+  parent[i] = last[prune_lower_bound(sorted, depth, n, d - 1, i) - 1].value - 1;
 }
 
 // Classifies element i of a cell [begin, end): is it a whole path reduced to
@@ -274,11 +283,6 @@ MPVG_HD_INLINE void prune_mark(const Entry* entries, const uint32_t* term, const
     add(l.close[i] + 1, -1);
     return;
   }
-  if (kind == ENTRY_ACTIVATE && entry_kind(entries[i + 1]) == ENTRY_POP) {  // rule 16
-    add(l.open[i], 1);
-    add(i + 2, -1);
-    return;
-  }
   if (entry_is_group_end(entries[i])) {
     const uint32_t o = l.open[i];
     if ((entries[i].head & GROUP_ENTRY_MASK) && i == o + 2 && (term[o + 1] & TERM_FILLS_MASK)) {  // rule 21
@@ -286,20 +290,7 @@ MPVG_HD_INLINE void prune_mark(const Entry* entries, const uint32_t* term, const
       add(i + 1, -1);
       return;
     }
-    if (!(entries[i].head & GROUP_ENTRY_MASK)) {
-      if (prune_list_start(entries, l, o) == i) {  // rule 19
-        add(o, 1);
-        add(i + 1, -1);
-      } else if ((entries[o].head & GROUP_ENTRY_DISSOLVES) && prune_unmasked(entries, term, l, o)) {  // rule 23
-        const uint32_t first = prune_list_start(entries, l, o);  // after a mask rule 21 removes
-        if (prune_single_item(entries, l, first, i - 1)) {
-          add(o, 1);
-          add(o + 1, -1);
-          add(i, 1);
-          add(i + 1, -1);
-        }
-      }
-    } else if (o + 1 == i && (entries[i].head & GROUP_ENTRY_EMPTY_HIDES)) {  // rule 20
+    if ((entries[i].head & GROUP_ENTRY_MASK) && o + 1 == i && (entries[i].head & GROUP_ENTRY_EMPTY_HIDES)) {  // rule 20
       const uint32_t p = o - 1;  // the group this mask belongs to
       if (!(entries[p].head & GROUP_ENTRY_MASK)) {
         add(p, 1);
@@ -312,6 +303,132 @@ MPVG_HD_INLINE void prune_mark(const Entry* entries, const uint32_t* term, const
       }
     }
   }
+}
+
+// Rules 16, 19 and 23 ask what a list holds, and a round's other rules
+// empty lists. Applied to the stream the round starts from, a group
+// emptied by a round goes in the next, its parent in the one after
+// (tiger_groups: about four rounds per level, one per nesting step). So
+// they are applied to what the round's other marks leave, as if deepest
+// group first, by counting survivors: after prune_mark's marks are
+// scanned, prune_mark_empty (rules 16, 19) and then prune_mark_unwrap
+// (rule 23) mark into a second elimination array; an element is kept when
+// neither array eliminates it.
+//
+// A list's emptiness. The paths of a clip section or of a mask show
+// nothing by themselves: an element's section count (scan of
+// prune_section_delta) is how many of those it lies in. A group's list, a
+// clip group's content, and the lists and contents nested in them share
+// the section count of the group's opening; masks and clip sections
+// nested in them count more. So the list, with everything nested in it,
+// is empty after the round when no surviving path entry of that count
+// lies in its range: counted by binary search in the elements' (section,
+// index) order and a prefix sum of survivors over that order (PruneShown).
+// Emptying happens deepest first in effect: a list holding only groups
+// whose lists are empty is empty too, and each of those goes by its own
+// count.
+MPVG_HD_INLINE int32_t prune_section_delta(const Entry* e, uint32_t i) {
+  int32_t d = 0;
+  if (prune_is_mask_begin(e, i)) d += 1;  // a mask's content, with its '{' and '}'
+  if (entry_kind(e[i]) == ENTRY_ACTIVATE) d -= 1;
+  if (i > 0) {
+    if (entry_kind(e[i - 1]) == ENTRY_PUSH) d += 1;  // a clip section, after its '('
+    if (entry_is_group_end(e[i - 1]) && (e[i - 1].head & GROUP_ENTRY_MASK)) d -= 1;
+  }
+  return d;
+}
+
+// Is element i a path entry that survives the round's first marks (the
+// scanned elimination array)?
+MPVG_HD_INLINE uint32_t prune_shows(const Entry* e, const int32_t* elim, uint32_t i) {
+  return !entry_is_delimiter(e[i]) && elim[i] <= 0 ? 1u : 0u;
+}
+
+struct PruneShown {
+  const int32_t* section;  // per element
+  const uint32_t* sorted;  // elements in (section, index) order
+  const uint32_t* shown;   // n + 1: elements that show, before each position of `sorted`
+  uint32_t n;
+};
+
+// Elements of section count c in [a, b) that show.
+MPVG_HD_INLINE uint32_t prune_shown_in(const PruneShown& s, int32_t c, uint32_t a, uint32_t b) {
+  if (a >= b) return 0;
+  return s.shown[prune_lower_bound(s.sorted, s.section, s.n, c, b)] -
+         s.shown[prune_lower_bound(s.sorted, s.section, s.n, c, a)];
+}
+
+// Rule 23 counts the items of a list: a path's run at the list's depth,
+// and a group or clip group (its opening, one deeper). prune_mark_empty
+// gives every element its weight as an item: 1 for the first entry of a
+// surviving path run, kItemGroup for an opening that stays, 2 kItemGroup
+// for a clip group that rule 17 dissolves with content left (one item or
+// more: rule 23 then waits a round). Prefix sums of the weights in the
+// (depth, index) order of the cross-links count the items of any list.
+constexpr uint64_t kItemGroup = uint64_t{1} << 32;
+
+// Rules 16 and 19 at element i, and i's weight as an item. [cell_begin,
+// ...) is i's cell; elim is the scanned first marks.
+//   (16) (A | ) -> e     a clip group whose content shows nothing
+//   (19) {M?} -> e       a group whose list shows nothing
+template <class Add>
+MPVG_HD_INLINE uint64_t prune_mark_empty(const Entry* e, const int32_t* elim, const PruneLinks& l,
+                                         const PruneShown& s, uint32_t i, uint32_t cell_begin, Add&& add) {
+  const Entry x = e[i];
+  const bool survives = elim[i] <= 0;
+  if (!entry_is_delimiter(x)) return survives && (i == cell_begin || !entry_same_path(e[i - 1], x)) ? 1u : 0u;
+  if (!entry_opens(x) || prune_is_mask_begin(e, i)) return 0;  // a mask empties by rule 20
+  const uint32_t close = l.close[i];
+  const uint32_t first = entry_kind(x) == ENTRY_PUSH ? l.bar[i] + 1 : prune_list_start(e, l, i);
+  if (prune_shown_in(s, s.section[i], first, close) == 0) {
+    add(i, 1);
+    add(close + 1, -1);
+    return 0;
+  }
+  return survives ? kItemGroup : 2 * kItemGroup;
+}
+
+struct PruneItems {
+  const uint32_t* sorted;  // the cross-links' (depth, index) order
+  const uint64_t* items;   // n + 1: item weights before each position of `sorted`
+  uint32_t n;
+};
+
+// Rule 23 at the group opening at o, on the list the round leaves:
+//   (23) {X} -> X        one item X (a path, or a group of normal blending
+//                        that does not start from its backdrop) in an
+//                        unmasked solid group that does not start from its
+//                        backdrop and whose list runs in its parent's order
+template <class Add>
+MPVG_HD_INLINE void prune_mark_unwrap(const Entry* e, const uint32_t* term, const PruneLinks& l, const PruneItems& it,
+                                      uint32_t o, Add&& add) {
+  const Entry x = e[o];
+  if (!entry_is_group_begin(x) || (x.head & GROUP_ENTRY_MASK) || !(x.head & GROUP_ENTRY_DISSOLVES) ||
+      !prune_unmasked(e, term, l, o))
+    return;
+  const uint32_t first = prune_list_start(e, l, o), close = l.close[o];  // after a mask rule 21 removes
+  const int32_t d = l.depth[o];
+  const uint64_t* w = it.items;
+  const uint32_t paths = static_cast<uint32_t>(w[prune_lower_bound(it.sorted, l.depth, it.n, d, close)] -
+                                               w[prune_lower_bound(it.sorted, l.depth, it.n, d, first)]);
+  uint32_t q = prune_lower_bound(it.sorted, l.depth, it.n, d + 1, first);
+  const uint32_t q1 = prune_lower_bound(it.sorted, l.depth, it.n, d + 1, close);
+  const uint64_t g0 = w[q] >> 32;
+  const uint64_t groups = (w[q1] >> 32) - g0;
+  if (paths + groups != 1) return;
+  if (groups == 1) {  // the group: the position where the count rises
+    uint32_t hi = q1 - 1;
+    while (q < hi) {
+      const uint32_t mid = q + (hi - q) / 2;
+      if ((w[mid + 1] >> 32) > g0) hi = mid; else q = mid + 1;
+    }
+    const uint32_t j = it.sorted[q];
+    if (!prune_single_item(e, l, j, l.close[j])) return;
+  }
+  add(o, 1);
+  add(o + 1, -1);
+  add(close, 1);
+  add(close + 1, -1);
 }
 
 }  // namespace mpvg

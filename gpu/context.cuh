@@ -255,6 +255,13 @@ struct Context::Impl {
   DeviceBuffer<Segmented<int32_t>> wind;
   DeviceBuffer<Segmented<uint32_t>> link;
   DeviceBuffer<uint32_t> by_depth[3];  // prune: indices sorted by depth, their depths, the sort's input
+  // prune, rules 16, 19, 23 (core/pruning.h): depth and section deltas
+  // packed for one scan, section counts, indices sorted by them and their
+  // counts, survivors before each sorted position, item weights and their
+  // sums in depth order, the second elimination array.
+  DeviceBuffer<uint64_t> depth_section, weight, items;
+  DeviceBuffer<int32_t> section, elim2;
+  DeviceBuffer<uint32_t> by_section[2], shown;
   DeviceBuffer<LevelCounts> counts;
   DeviceBuffer<uint32_t> scalar;  // small results read back by the host
   // Rendering.
@@ -303,7 +310,7 @@ struct Context::Impl {
   void stroke(const EncodedScene& scene);  // before abstract(), for scenes with strokes
   void abstract(const EncodedScene& scene);
   void subdivide(const DeviceLevel& from, DeviceLevel& to, bool root);
-  int prune(DeviceLevel& lv);
+  bool prune(DeviceLevel& lv);
   // The whole frame's trees: paint tables uploaded, tiles built and put
   // aside, then the scene's tree.
   void build(const EncodedScene& scene, int width, int height, const TreeParams& params, GpuTimes* times);

@@ -1,9 +1,15 @@
-// Stage "prune" on the GPU (§4.4): depth by an inclusive scan, a sort by
-// depth and one segmented scan to cross-link delimiters, every element marking the
-// elimination array with atomic increments and decrements, an inclusive scan,
-// and an order-preserving compaction; repeated until nothing changes.
+// Stage "prune" on the GPU (§4.4), one round per level: depth by an
+// inclusive scan, a sort by depth and one segmented scan to cross-link
+// delimiters, every element marking the elimination array with atomic
+// increments and decrements, an inclusive scan; with groups, rules 16, 19
+// and 23 on what those marks leave (section counts, a sort by them, two
+// prefix sums, two marking kernels: core/pruning.h); then an exclusive
+// scan and an order-preserving compaction.
 #include <thrust/iterator/counting_iterator.h>
 #include <thrust/iterator/transform_iterator.h>
+#include <thrust/iterator/transform_output_iterator.h>
+#include <thrust/iterator/zip_iterator.h>
+#include <thrust/tuple.h>
 
 #include <algorithm>
 
@@ -23,12 +29,13 @@ constexpr unsigned kBlock = 256;
 // its links unset, and (with groups) its index as the sort by depth's
 // input. Thread n only zeroes the count the sweep's scan ends on.
 __global__ void k_round_init(const Entry* e, const uint32_t* entry_cell, size_t n, const Cell* cells,
-                             const PathRecord* paths, bool groups, int32_t* depth, uint32_t* term, int32_t* elim,
-                             uint32_t* open, uint32_t* bar, uint32_t* close, uint32_t* first_c1, uint32_t* parent,
-                             uint32_t* index) {
+                             const PathRecord* paths, bool groups, int32_t* depth, uint64_t* depth_section,
+                             uint32_t* term, int32_t* elim, int32_t* elim2, uint32_t* open, uint32_t* bar,
+                             uint32_t* close, uint32_t* first_c1, uint32_t* parent, uint32_t* index) {
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
   if (i > n) return;
   elim[i] = 0;
+  if (groups) elim2[i] = 0;
   if (i == n) return;
   const Cell c = cells[entry_cell[i]];
   term[i] = prune_classify(e, static_cast<uint32_t>(i), c.begin, c.end, paths);
@@ -36,10 +43,20 @@ __global__ void k_round_init(const Entry* e, const uint32_t* entry_cell, size_t 
     depth[i] = 0;
     return;
   }
-  depth[i] = prune_depth_delta(e, static_cast<uint32_t>(i));
+  // Depth in the low word, section count in the high one: their sums are
+  // never negative, so one 64-bit scan gives both (SplitDepthSection).
+  depth_section[i] = static_cast<uint64_t>(static_cast<int64_t>(prune_depth_delta(e, static_cast<uint32_t>(i)))) +
+                     (static_cast<uint64_t>(static_cast<int64_t>(prune_section_delta(e, static_cast<uint32_t>(i))))
+                      << 32);
   open[i] = bar[i] = close[i] = first_c1[i] = parent[i] = ~0u;
   index[i] = static_cast<uint32_t>(i);
 }
+
+struct SplitDepthSection {
+  __host__ __device__ thrust::tuple<int32_t, int32_t> operator()(uint64_t v) const {
+    return thrust::make_tuple(static_cast<int32_t>(static_cast<uint32_t>(v)), static_cast<int32_t>(v >> 32));
+  }
+};
 
 // The link scan's input at sorted position p (core/pruning.h), read
 // through a transform iterator instead of written by a kernel of its own.
@@ -72,17 +89,56 @@ __global__ void k_mark(const Entry* e, const uint32_t* entry_cell, size_t n, con
   prune_mark(e, term, links, static_cast<uint32_t>(i), c.begin, c.end, add);
 }
 
-// An element survives when its elimination count is not positive.
+// Rules 16, 19, 23 (core/pruning.h): what shows at each position of the
+// section order (0 past the end, where the exclusive scan ends), ...
+struct Shows {
+  const Entry* e;
+  const int32_t* elim;
+  const uint32_t* sorted;
+  uint32_t n;
+  __host__ __device__ uint32_t operator()(uint32_t p) const { return p < n ? prune_shows(e, elim, sorted[p]) : 0u; }
+};
+
+__global__ void k_empty(const Entry* e, const uint32_t* entry_cell, size_t n, const Cell* cells, const int32_t* elim,
+                        PruneLinks links, PruneShown shown, uint64_t* weight, int32_t* elim2) {
+  const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  auto add = [elim2](uint32_t at, int32_t v) { atomicAdd(&elim2[at], v); };
+  weight[i] = prune_mark_empty(e, elim, links, shown, static_cast<uint32_t>(i), cells[entry_cell[i]].begin, add);
+}
+
+// ... the item weights in depth order ...
+struct Weighs {
+  const uint64_t* weight;
+  const uint32_t* sorted;
+  uint32_t n;
+  __host__ __device__ uint64_t operator()(uint32_t p) const { return p < n ? weight[sorted[p]] : uint64_t{0}; }
+};
+
+__global__ void k_unwrap(const Entry* e, size_t n, const uint32_t* term, PruneLinks links, PruneItems items,
+                         int32_t* elim2) {
+  const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  auto add = [elim2](uint32_t at, int32_t v) { atomicAdd(&elim2[at], v); };
+  prune_mark_unwrap(e, term, links, items, static_cast<uint32_t>(i), add);
+}
+
+// An element survives when neither elimination count is positive (the
+// second array only with groups).
 struct Kept {
-  __host__ __device__ uint32_t operator()(int32_t elim) const { return elim <= 0 ? 1u : 0u; }
+  const int32_t* elim;
+  const int32_t* elim2;
+  __host__ __device__ uint32_t operator()(uint32_t i) const {
+    return elim[i] <= 0 && (!elim2 || elim2[i] <= 0) ? 1u : 0u;
+  }
 };
 
 // The sweep, one launch: survivors to their slots (threads below n) and
 // every cell's range renumbered (threads below ncells).
-__global__ void k_compact(const Entry* e, const uint32_t* entry_cell, size_t n, const int32_t* elim,
-                          const uint32_t* kpos, Entry* out, uint32_t* out_cell, Cell* cells, size_t ncells) {
+__global__ void k_compact(const Entry* e, const uint32_t* entry_cell, size_t n, const uint32_t* kpos, Entry* out,
+                          uint32_t* out_cell, Cell* cells, size_t ncells) {
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
-  if (i < n && elim[i] <= 0) {
+  if (i < n && kpos[i + 1] != kpos[i]) {
     out[kpos[i]] = e[i];
     out_cell[kpos[i]] = entry_cell[i];
   }
@@ -94,77 +150,100 @@ __global__ void k_compact(const Entry* e, const uint32_t* entry_cell, size_t n, 
 
 }  // namespace
 
-int Context::Impl::prune(DeviceLevel& lv) {
-  // Without clip groups or transparency groups only rules 12 and 14 (at the
-  // top level) apply; they depend on nothing another elimination can
-  // change, so one round reaches the fixpoint, and there is no depth to
-  // scan. With groups, the scene's nesting depth bounds every cell's: no
-  // read-back is needed to know how many link scans to run.
-  int rounds = 0;
-  for (;;) {
-    const size_t n = lv.nentries;
-    if (n == 0) return rounds;
-    const unsigned grid = grid_for(n, kBlock);
-    const Entry* e = lv.entries.data();
-    int32_t* depth = (i32[0].resize(n), i32[0].data());
-    int32_t* elim = (i32[1].resize(n + 1), i32[1].data());
-    uint32_t* open = (u32[0].resize(n), u32[0].data());
-    uint32_t* bar = (u32[1].resize(n), u32[1].data());
-    uint32_t* close = (u32[2].resize(n), u32[2].data());
-    uint32_t* term = (u32[3].resize(n + 1), u32[3].data());
-    uint32_t* first_c1 = (u32[4].resize(n + 1), u32[4].data());
-    uint32_t* parent_of = (u32[5].resize(n), u32[5].data());
+bool Context::Impl::prune(DeviceLevel& lv) {
+  // One round (core/pruning.h). Without clip groups or transparency groups
+  // only rules 12 and 14 (at the top level) apply, and there is no depth to
+  // scan.
+  const size_t n = lv.nentries;
+  if (n == 0) return false;
+  const unsigned grid = grid_for(n, kBlock);
+  const Entry* e = lv.entries.data();
+  int32_t* depth = (i32[0].resize(n), i32[0].data());
+  int32_t* elim = (i32[1].resize(n + 1), i32[1].data());
+  uint32_t* open = (u32[0].resize(n), u32[0].data());
+  uint32_t* bar = (u32[1].resize(n), u32[1].data());
+  uint32_t* close = (u32[2].resize(n), u32[2].data());
+  uint32_t* term = (u32[3].resize(n + 1), u32[3].data());
+  uint32_t* first_c1 = (u32[4].resize(n + 1), u32[4].data());
+  uint32_t* parent_of = (u32[5].resize(n), u32[5].data());
 
-    const bool groups = scene_depth > 0;
-    uint32_t* index = groups ? (by_depth[2].resize(n), by_depth[2].data()) : nullptr;
-    k_round_init<<<grid_for(n + 1, kBlock), kBlock>>>(e, lv.entry_cell.data(), n, lv.cells.data(), paths.data(),
-                                                       groups, depth, term, elim, open, bar, close, first_c1,
-                                                       parent_of, index);
+  const bool groups = scene_depth > 0;
+  uint32_t* index = groups ? (by_depth[2].resize(n), by_depth[2].data()) : nullptr;
+  uint64_t* packed = groups ? (depth_section.resize(n), depth_section.data()) : nullptr;
+  int32_t* sec = groups ? (section.resize(n), section.data()) : nullptr;
+  int32_t* elim_b = groups ? (elim2.resize(n + 1), elim2.data()) : nullptr;
+  k_round_init<<<grid_for(n + 1, kBlock), kBlock>>>(e, lv.entry_cell.data(), n, lv.cells.data(), paths.data(),
+                                                     groups, depth, packed, term, elim, elim_b, open, bar, close,
+                                                     first_c1, parent_of, index);
+  launched();
+  int bits = 1;
+  while (bits < 31 && (int64_t{1} << bits) <= scene_depth) bits++;
+  uint32_t* sorted = nullptr;
+  if (groups) {
+    // Depths and section counts in one scan; then cross-links over all
+    // depths at once (core/pruning.h): a stable sort by depth, one
+    // segmented scan, then each element's links.
+    prim.inclusive_sum(packed, thrust::make_transform_output_iterator(thrust::make_zip_iterator(depth, sec),
+                                                                      SplitDepthSection{}),
+                       n);
+    sorted = (by_depth[0].resize(n), by_depth[0].data());
+    uint32_t* sorted_depth = (by_depth[1].resize(n), by_depth[1].data());
+    prim.sort_pairs(reinterpret_cast<const uint32_t*>(depth), sorted_depth, index, sorted, n, bits);
+    link.resize(n);
+    const auto start = thrust::make_transform_iterator(thrust::counting_iterator<uint32_t>(0), LinkStart{e, sorted, depth});
+    prim.inclusive_scan(start, link.data(), SegmentedMax<uint32_t>{}, n);
+    k_link<<<grid, kBlock>>>(e, sorted, depth, link.data(), n, open, bar, close, parent_of);
     launched();
-    if (groups) {
-      // Cross-links over all depths at once (core/pruning.h): a stable sort
-      // by depth, one segmented scan, then each element's links; the same
-      // few launches whatever the nesting.
-      prim.inclusive_sum(depth, depth, n);
-      uint32_t* sorted = (by_depth[0].resize(n), by_depth[0].data());
-      uint32_t* sorted_depth = (by_depth[1].resize(n), by_depth[1].data());
-      int bits = 1;
-      while (bits < 31 && (int64_t{1} << bits) <= scene_depth) bits++;
-      prim.sort_pairs(reinterpret_cast<const uint32_t*>(depth), sorted_depth, index, sorted, n, bits);
-      link.resize(n);
-      const auto start = thrust::make_transform_iterator(thrust::counting_iterator<uint32_t>(0), LinkStart{e, sorted, depth});
-      prim.inclusive_scan(start, link.data(), SegmentedMax<uint32_t>{}, n);
-      k_link<<<grid, kBlock>>>(e, sorted, depth, link.data(), n, open, bar, close, parent_of);
-      launched();
-    }
-    const PruneLinks links{depth, open, bar, close, first_c1, parent_of};
-    if (groups) {
-      k_first_c1<<<grid, kBlock>>>(term, n, links, first_c1);
-      launched();
-    }
-    k_mark<<<grid, kBlock>>>(e, lv.entry_cell.data(), n, lv.cells.data(), term, links, elim);
-    launched();
-    prim.inclusive_sum(elim, elim, n + 1);
-
-    // Sweep: the exclusive scan of the keep flags gives every survivor its
-    // slot and every cell its new range (item n only completes the scan).
-    uint32_t* kpos = term;
-    prim.exclusive_sum(thrust::make_transform_iterator(elim, Kept{}), kpos, n + 1);
-    const size_t kept = read_u32(kpos + n);
-    if (kept == n) return rounds;
-    rounds++;
-    DeviceLevel& out = parent;  // scratch level
-    out.entries.resize(kept);
-    out.entry_cell.resize(kept);
-    k_compact<<<grid_for(std::max(n, lv.ncells), kBlock), kBlock>>>(e, lv.entry_cell.data(), n, elim, kpos,
-                                                                     out.entries.data(), out.entry_cell.data(),
-                                                                     lv.cells.data(), lv.ncells);
-    launched();
-    lv.entries.swap(out.entries);
-    lv.entry_cell.swap(out.entry_cell);
-    lv.nentries = kept;
-    if (scene_depth == 0) return rounds;
   }
+  const PruneLinks links{depth, open, bar, close, first_c1, parent_of};
+  if (groups) {
+    k_first_c1<<<grid, kBlock>>>(term, n, links, first_c1);
+    launched();
+  }
+  k_mark<<<grid, kBlock>>>(e, lv.entry_cell.data(), n, lv.cells.data(), term, links, elim);
+  launched();
+  prim.inclusive_sum(elim, elim, n + 1);
+
+  if (groups) {
+    // Rules 16 and 19, then 23, on what those marks leave.
+    uint32_t* by_sec = (by_section[0].resize(n), by_section[0].data());
+    uint32_t* by_sec_keys = (by_section[1].resize(n), by_section[1].data());
+    prim.sort_pairs(reinterpret_cast<const uint32_t*>(sec), by_sec_keys, index, by_sec, n, bits);
+    uint32_t* shown_before = (shown.resize(n + 1), shown.data());
+    const auto shows = thrust::make_transform_iterator(thrust::counting_iterator<uint32_t>(0),
+                                                       Shows{e, elim, by_sec, static_cast<uint32_t>(n)});
+    prim.exclusive_sum(shows, shown_before, n + 1);
+    uint64_t* w = (weight.resize(n), weight.data());
+    k_empty<<<grid, kBlock>>>(e, lv.entry_cell.data(), n, lv.cells.data(), elim, links,
+                              PruneShown{sec, by_sec, shown_before, static_cast<uint32_t>(n)}, w, elim_b);
+    launched();
+    uint64_t* item_sums = (items.resize(n + 1), items.data());
+    const auto weighs = thrust::make_transform_iterator(thrust::counting_iterator<uint32_t>(0),
+                                                        Weighs{w, sorted, static_cast<uint32_t>(n)});
+    prim.exclusive_sum(weighs, item_sums, n + 1);
+    k_unwrap<<<grid, kBlock>>>(e, n, term, links, PruneItems{sorted, item_sums, static_cast<uint32_t>(n)}, elim_b);
+    launched();
+    prim.inclusive_sum(elim_b, elim_b, n + 1);
+  }
+
+  // Sweep: the exclusive scan of the keep flags gives every survivor its
+  // slot and every cell its new range (item n only completes the scan).
+  uint32_t* kpos = term;
+  const auto keep = thrust::make_transform_iterator(thrust::counting_iterator<uint32_t>(0), Kept{elim, elim_b});
+  prim.exclusive_sum(keep, kpos, n + 1);
+  const size_t kept = read_u32(kpos + n);
+  if (kept == n) return false;
+  DeviceLevel& out = parent;  // scratch level
+  out.entries.resize(kept);
+  out.entry_cell.resize(kept);
+  k_compact<<<grid_for(std::max(n, lv.ncells), kBlock), kBlock>>>(e, lv.entry_cell.data(), n, kpos,
+                                                                   out.entries.data(), out.entry_cell.data(),
+                                                                   lv.cells.data(), lv.ncells);
+  launched();
+  lv.entries.swap(out.entries);
+  lv.entry_cell.swap(out.entry_cell);
+  lv.nentries = kept;
+  return true;
 }
 
 }  // namespace mpvg::gpu

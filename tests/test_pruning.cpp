@@ -246,3 +246,73 @@ TEST_CASE("pruning cross-links: one pass over all depths equals a stack walk", "
   }
   CHECK(nested > 100);
 }
+
+// One round of pruning on hand-made streams of one cell: rules 16, 19 and
+// 23 act on what the round's other rules leave, so nested groups that the
+// round empties go at once, deepest first in effect, and a group left with
+// one item dissolves in the same round.
+TEST_CASE("pruning: one round empties and dissolves nested groups", "[prune]") {
+  // Paths: 0 a fill outside the cell (F0), 1 and 3 translucent fills that
+  // cover it (kept as they are), 2 a clip path covering the cell (C1), 4 a
+  // clip path crossing it (a segment: undecided).
+  const std::vector<PathRecord> paths{{0, 0}, {0, 0}, {PATH_CLIP, 0}, {0, 0}, {PATH_CLIP, 0}};
+  const Entry f0 = make_entry(ENTRY_WINDING, 0, 0), p1 = make_entry(ENTRY_WINDING, 1, 1),
+              c1 = make_entry(ENTRY_WINDING, 2, 1), p3 = make_entry(ENTRY_WINDING, 3, 1),
+              c4 = make_entry(ENTRY_SEGMENT, 4, 0);
+  const uint32_t dissolves = GROUP_ENTRY_SOLID | GROUP_ENTRY_DISSOLVES | GROUP_ENTRY_NORMAL;
+  const uint32_t keeps = GROUP_ENTRY_NORMAL;  // translucent: never dissolves
+  uint32_t id = 0;
+  auto group = [&](uint32_t bits, std::vector<Entry> content) {
+    std::vector<Entry> s{make_entry(ENTRY_GROUP, bits, id)};
+    s.insert(s.end(), content.begin(), content.end());
+    s.push_back(make_entry(ENTRY_GROUP, bits | GROUP_ENTRY_END, id++));
+    return s;
+  };
+  auto clip = [](std::vector<Entry> section, std::vector<Entry> content) {
+    std::vector<Entry> s{make_entry(ENTRY_PUSH, 0, 0)};
+    s.insert(s.end(), section.begin(), section.end());
+    s.push_back(make_entry(ENTRY_ACTIVATE, 0, 0));
+    s.insert(s.end(), content.begin(), content.end());
+    s.push_back(make_entry(ENTRY_POP, 0, 0));
+    return s;
+  };
+  auto cat = [](std::vector<std::vector<Entry>> parts) {
+    std::vector<Entry> s;
+    for (auto& p : parts) s.insert(s.end(), p.begin(), p.end());
+    return s;
+  };
+  auto round = [&](const std::vector<Entry>& s) {
+    TreeLevel level;
+    level.entries = s;
+    level.cells.push_back(Cell{0, static_cast<uint32_t>(s.size()), 0, 0, 0, 0});
+    prune_cpu(level, paths);
+    REQUIRE(level.cells[0].begin == 0);
+    REQUIRE(level.cells[0].end == level.entries.size());
+    return level.entries;
+  };
+  auto same = [](const std::vector<Entry>& a, const std::vector<Entry>& b) {
+    if (a.size() != b.size()) return false;
+    for (size_t i = 0; i < a.size(); i++)
+      if (a[i].head != b[i].head || a[i].data != b[i].data) return false;
+    return true;
+  };
+
+  // {{{F0}}} P1 -> P1, whatever the groups.
+  CHECK(same(round(cat({group(keeps, group(keeps, group(keeps, {f0}))), {p1}})), {p1}));
+  // {{P1} {F0}} -> P1: the empty group goes, the two others dissolve.
+  CHECK(same(round(group(dissolves, cat({group(dissolves, {p1}), group(dissolves, {f0})}))), {p1}));
+  // Translucent outer group: {{P1} {F0}} -> {P1}.
+  const std::vector<Entry> kept = round(group(keeps, cat({group(dissolves, {p1}), group(dissolves, {f0})})));
+  REQUIRE(kept.size() == 3);
+  CHECK(same({kept[1]}, {p1}));
+  CHECK(entry_is_group_begin(kept[0]));
+  // A clip group whose content the round empties: (C4 | {{F0}}) -> e.
+  CHECK(round(clip({c4}, group(dissolves, group(keeps, {f0})))).empty());
+  // Two items stay two: rule 17 dissolves the clip group, the group it
+  // leaves in holds P1 and P3, and stays.
+  const std::vector<Entry> two = round(group(dissolves, clip({c1}, {p1, p3})));
+  REQUIRE(two.size() == 4);
+  CHECK(same({two[1], two[2]}, {p1, p3}));
+  // {A {F0}} with A one path: the empty group goes and the outer dissolves.
+  CHECK(same(round(cat({{p3}, group(dissolves, cat({{p1}, group(keeps, {f0})}))})), {p3, p1}));
+}

@@ -46,9 +46,12 @@ TreeLevel subdivide_cpu(const std::vector<Cell>& cells, const Entry* entries,
                         const std::vector<AbstractSegment>& segments, uint32_t root_size, bool root,
                         size_t max_entries = SIZE_MAX, bool* overflow = nullptr);
 
-// prune: mark-and-sweep rounds until nothing changes (§4.4). Returns the
-// number of rounds that eliminated something.
-int prune_cpu(TreeLevel& level, const std::vector<PathRecord>& paths);
+// prune: one mark-and-sweep round (§4.4; core/pruning.h). Its rules for
+// what lists hold act on what its other rules leave, so one round reaches
+// what rounds until nothing changes would but for rare chains (a clip
+// section or mask emptied by the round; the next level's round takes
+// those). Returns whether anything was eliminated.
+bool prune_cpu(TreeLevel& level, const std::vector<PathRecord>& paths);
 
 struct BuildTimes {
   double stroke_ms = 0, abstract_ms = 0, subdivide_ms = 0, prune_ms = 0;

@@ -1,6 +1,6 @@
-// Stage "prune" on the CPU: mark-and-sweep rounds of §4.4 until a round
-// eliminates nothing. Cross-links come from the depth scan, a sort by depth
-// and one segmented scan, exactly as on the GPU.
+// Stage "prune" on the CPU: one mark-and-sweep round of §4.4 per level.
+// Cross-links come from the depth scan, a sort by depth and one segmented
+// scan, exactly as on the GPU.
 #include <algorithm>
 #include <numeric>
 
@@ -38,9 +38,10 @@ bool prune_batch(TreeLevel& level, size_t k0, size_t k1, const std::vector<PathR
   // Cross-links over all depths at once (core/pruning.h): the elements
   // sorted stably by depth (a counting sort), a segmented max-scan, then
   // each element's links.
-  std::vector<uint32_t> open(n, ~0u), bar(n, ~0u), close(n, ~0u), parent(n, ~0u);
+  std::vector<uint32_t> open(n, ~0u), bar(n, ~0u), close(n, ~0u), parent(n, ~0u), sorted;
   if (max_depth > 0) {
-    std::vector<uint32_t> at(static_cast<size_t>(max_depth) + 2, 0), sorted(n);
+    std::vector<uint32_t> at(static_cast<size_t>(max_depth) + 2, 0);
+    sorted.resize(n);
     for (size_t i = 0; i < n; i++) at[depth[i] + 1]++;
     for (size_t d = 1; d < at.size(); d++) at[d] += at[d - 1];
     for (size_t i = 0; i < n; i++) sorted[at[depth[i]]++] = static_cast<uint32_t>(i);
@@ -68,13 +69,41 @@ bool prune_batch(TreeLevel& level, size_t k0, size_t k1, const std::vector<PathR
   for (size_t i = 0; i < n; i++)
     prune_mark(e, term.data(), links, static_cast<uint32_t>(i), begin_of(cell_of[i]), end_of(cell_of[i]), add);
 
-  // Sweep.
   std::inclusive_scan(elim.begin(), elim.end(), elim.begin());
+
+  // Rules 16, 19 and 23 on what those marks leave (core/pruning.h), into a
+  // second elimination array: section counts, the elements sorted by them
+  // (a counting sort), the survivors' prefix sum in that order; then the
+  // items' prefix sum in the order of depths.
+  std::vector<int32_t> elim2(n + 1, 0);
+  if (max_depth > 0) {
+    std::vector<int32_t> section(n);
+    for (size_t i = 0; i < n; i++) section[i] = prune_section_delta(e, static_cast<uint32_t>(i));
+    std::inclusive_scan(section.begin(), section.end(), section.begin());
+    const int32_t max_section = *std::max_element(section.begin(), section.end());
+    std::vector<uint32_t> at(static_cast<size_t>(max_section) + 2, 0), by_section(n), shown(n + 1, 0);
+    for (size_t i = 0; i < n; i++) at[section[i] + 1]++;
+    for (size_t d = 1; d < at.size(); d++) at[d] += at[d - 1];
+    for (size_t i = 0; i < n; i++) by_section[at[section[i]]++] = static_cast<uint32_t>(i);
+    for (size_t p = 0; p < n; p++) shown[p + 1] = shown[p] + prune_shows(e, elim.data(), by_section[p]);
+    const PruneShown s{section.data(), by_section.data(), shown.data(), static_cast<uint32_t>(n)};
+    auto add2 = [&](uint32_t at, int32_t v) { elim2[at] += v; };
+    std::vector<uint64_t> weight(n);
+    for (size_t i = 0; i < n; i++)
+      weight[i] = prune_mark_empty(e, elim.data(), links, s, static_cast<uint32_t>(i), begin_of(cell_of[i]), add2);
+    std::vector<uint64_t> items(n + 1, 0);
+    for (size_t p = 0; p < n; p++) items[p + 1] = items[p] + weight[sorted[p]];
+    const PruneItems it{sorted.data(), items.data(), static_cast<uint32_t>(n)};
+    for (size_t i = 0; i < n; i++) prune_mark_unwrap(e, term.data(), links, it, static_cast<uint32_t>(i), add2);
+    std::inclusive_scan(elim2.begin(), elim2.end(), elim2.begin());
+  }
+
+  // Sweep.
   std::vector<uint32_t> kept_before(n + 1, 0);
-  for (size_t i = 0; i < n; i++) kept_before[i + 1] = kept_before[i] + (elim[i] <= 0 ? 1u : 0u);
+  for (size_t i = 0; i < n; i++) kept_before[i + 1] = kept_before[i] + (elim[i] <= 0 && elim2[i] <= 0 ? 1u : 0u);
   const uint32_t base = static_cast<uint32_t>(kept.size());
   for (size_t i = 0; i < n; i++)
-    if (elim[i] <= 0) kept.push_back(e[i]);
+    if (elim[i] <= 0 && elim2[i] <= 0) kept.push_back(e[i]);
   for (size_t k = k0; k < k1; k++) {
     Cell& c = level.cells[k];
     const uint32_t b = begin_of(k), en = end_of(k);
@@ -127,10 +156,6 @@ bool prune_round(TreeLevel& level, const std::vector<PathRecord>& paths) {
 
 }  // namespace
 
-int prune_cpu(TreeLevel& level, const std::vector<PathRecord>& paths) {
-  int rounds = 0;
-  while (prune_round(level, paths)) rounds++;
-  return rounds;
-}
+bool prune_cpu(TreeLevel& level, const std::vector<PathRecord>& paths) { return prune_round(level, paths); }
 
 }  // namespace mpvg
