@@ -21,6 +21,11 @@ struct TreeParams {
   // cells stay leaves, coarser. RenderOptions::memory_budget lowers it.
   size_t max_entries = size_t(1) << 27;
   bool prune = true;
+  // Levels subdivided whole, without deciding or pruning: the coarse grid
+  // of 4^k cells that starts the tree (the paper's future work, §7), k
+  // levels of decisions, pruning rounds and their round trips saved. -1:
+  // from the scene's density (tree_grid_levels).
+  int grid_levels = -1;
   bool keep_levels = false;     // keep every level after pruning (tests, backend comparison)
 };
 
@@ -75,6 +80,24 @@ inline int tree_max_level(uint32_t root_size, const TreeParams& p) {
   int lv = 0;
   while ((root_size >> lv) > 1) lv++;
   return (p.max_depth >= 0 && p.max_depth < lv) ? p.max_depth : lv;
+}
+
+// Levels of the coarse grid (TreeParams::grid_levels) for a scene whose
+// top level holds `entries` entries: level l is subdivided whole while its
+// 4^l cells would average kGridCellFactor times min_segments geometry
+// entries or more, so that almost all of them would be subdivided anyway
+// (cells of the bench inputs that far up: 75-100 %). Cells the grid
+// subdivides that the density rule would not have are cheap: their
+// children hold as few entries.
+constexpr size_t kGridCellFactor = 64;
+inline int tree_grid_levels(size_t entries, int max_level, const TreeParams& p) {
+  int k = p.grid_levels;
+  if (k < 0) {
+    const size_t per_cell = kGridCellFactor * (p.min_segments > 0 ? p.min_segments : 1);
+    k = 0;
+    while (k < 16 && (entries >> (2 * k)) >= per_cell) k++;
+  }
+  return k < max_level ? k : max_level;
 }
 
 }  // namespace mpvg

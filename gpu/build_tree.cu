@@ -70,6 +70,13 @@ __global__ void k_cells_out(const Cell* cells, size_t ncells, const LevelCounts*
   }
 }
 
+// A level of the coarse grid (TreeParams::grid_levels): every cell is
+// subdivided, cell k's children the next level's cells 4k .. 4k + 3.
+__global__ void k_grid_nodes(Node* nodes, size_t node_base, size_t ncells, size_t child_base) {
+  const size_t k = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (k < ncells) nodes[node_base + k] = Node{static_cast<int32_t>(child_base + 4 * k), 0};
+}
+
 TreeLevel download_level(const DeviceLevel& lv) {
   TreeLevel t;
   t.cells = lv.cells.download(lv.ncells);
@@ -166,13 +173,16 @@ void Context::Impl::build_tree(const EncodedScene& scene, int w, int h, const Tr
   subdivide(level, child, true);
   timer.stop();
   std::swap(level, child);
-  if (params.prune) {
+  const int max_level = tree_max_level(root_size, params);
+  // Levels [0, grid) are subdivided whole and not pruned (the coarse grid:
+  // core/tree.h); level `grid` is the first pruned.
+  const int grid = tree_grid_levels(level.nentries, max_level, params);
+  if (params.prune && grid == 0) {
     timer.start(&t.prune_ms);
     prune(level);
     timer.stop();
   }
 
-  const int max_level = tree_max_level(root_size, params);
   size_t total_entries = level.nentries;
   nnodes = 1;
   nodes.grow_keep(1);
@@ -184,6 +194,30 @@ void Context::Impl::build_tree(const EncodedScene& scene, int w, int h, const Tr
     peak_level_entries = std::max(peak_level_entries, level.nentries);
     if (params.keep_levels) kept_levels.push_back(download_level(level));
     const size_t ncells = level.ncells;
+    if (lv < grid) {
+      // The coarse grid: no weights, no decisions, no placement; the
+      // level's entries are the parent level as they are.
+      timer.start(&t.subdivide_ms);
+      const size_t child_base = node_base + ncells;
+      nodes.grow_keep(child_base + 4 * ncells);
+      k_grid_nodes<<<grid_for(ncells, kBlock), kBlock>>>(nodes.data(), node_base, ncells, child_base);
+      launched();
+      subdivide(level, child, false);
+      timer.stop();
+      if (total_entries + child.nentries <= params.max_entries) {
+        nnodes = child_base + 4 * ncells;
+        if (params.prune && lv + 1 >= grid) {
+          timer.start(&t.prune_ms);
+          prune(child);
+          timer.stop();
+        }
+        total_entries += child.nentries;
+        node_base = child_base;
+        std::swap(level, child);
+        continue;
+      }
+      // Memory cap: this level's cells become leaves, as below.
+    }
     uint32_t* weight = (u32[5].resize(ncells), u32[5].data());
     counts.resize(2 * (ncells + 1));
     LevelCounts* cnt = counts.data();
@@ -196,7 +230,7 @@ void Context::Impl::build_tree(const EncodedScene& scene, int w, int h, const Tr
                                                               level.nentries, weight);
       launched();
     }
-    bool may_subdivide = lv < max_level;
+    bool may_subdivide = lv < max_level && lv >= grid;
     LevelCounts tot{};
     size_t child_entries = 0;
     for (int attempt = 0; attempt < 2; attempt++) {

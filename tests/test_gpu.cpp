@@ -132,10 +132,11 @@ size_t first_difference(const std::vector<T>& a, const std::vector<T>& b) {
 
 TEST_CASE("CPU and GPU build identical trees, stage by stage", "[gpu]") {
   gpu::Context ctx;
-  for (const Case& c : cases()) {
-    INFO(c.name);
+  for (const Case& c : cases()) for (int grid : {-1, 0, 3}) {
+    INFO(c.name << ", coarse grid levels " << grid);
     TreeParams params;
     params.keep_levels = true;
+    params.grid_levels = grid;
     const ShortcutTree cpu = build_tree_cpu(c.enc, c.width, c.height, params);
     ctx.build(c.enc, c.width, c.height, params);
     const ShortcutTree gpu = ctx.download_tree();

@@ -102,18 +102,23 @@ TEST_CASE("groups: pruned and unpruned trees give identical samples", "[groups][
     for (int max_depth : {0, 3, -1}) {
       TreeParams on = params(true), off = params(false);
       on.max_depth = off.max_depth = max_depth;
+      TreeParams coarse = on;  // three levels of coarse grid, unpruned (core/tree.h)
+      coarse.grid_levels = 3;
       const ShortcutTree a = build_tree_cpu(enc, kSize, kSize, on);
       const ShortcutTree b = build_tree_cpu(enc, kSize, kSize, off);
+      const ShortcutTree g = build_tree_cpu(enc, kSize, kSize, coarse);
       if (max_depth == -1) {
         pruned += a.leaf_entries.size();
         unpruned += b.leaf_entries.size();
       }
       const Probe p = probe(gs.scene, enc, seed, 40);
       for (const auto& [px, py] : p.points) {
-        const Rgba4 x = sample_tree_cpu(a, px, py), y = sample_tree_cpu(b, px, py);
+        const Rgba4 x = sample_tree_cpu(a, px, py), y = sample_tree_cpu(b, px, py), z = sample_tree_cpu(g, px, py);
         INFO("seed " << seed << " depth " << max_depth << " point (" << px << ", " << py << "): " << x.r << " " << x.g
-                      << " " << x.b << " " << x.a << " against " << y.r << " " << y.g << " " << y.b << " " << y.a);
+                      << " " << x.b << " " << x.a << " against " << y.r << " " << y.g << " " << y.b << " " << y.a
+                      << "; with the coarse grid " << z.r << " " << z.g << " " << z.b << " " << z.a);
         REQUIRE(oracle::identical(x, y));
+        REQUIRE(oracle::identical(z, y));
         compared++;
       }
     }

@@ -168,6 +168,13 @@ TEST_CASE("pruned and unpruned trees give identical samples", "[prune]") {
       off.prune = false;
       const ShortcutTree a = build_tree_cpu(enc, kSize, kSize, on);
       const ShortcutTree b = build_tree_cpu(enc, kSize, kSize, off);
+      // Three levels of coarse grid (core/tree.h): not pruned, subdivided
+      // whole; the first level pruned then meets what they left.
+      TreeParams coarse = on;
+      coarse.grid_levels = 3;
+      const ShortcutTree g = build_tree_cpu(enc, kSize, kSize, coarse);
+      if (max_depth == -1)  // levels 0-2: 1 + 4 + 16 nodes, all subdivided
+        for (size_t k = 0; k < 21; k++) REQUIRE(g.nodes[k].child == static_cast<int32_t>(1 + 4 * k));
       if (max_depth == 0) {
         pruned_entries += a.leaf_entries.size();
         unpruned_entries += b.leaf_entries.size();
@@ -178,10 +185,12 @@ TEST_CASE("pruned and unpruned trees give identical samples", "[prune]") {
         const float px = coord(rng), py = coord(rng);
         // Away from curves, both trees must agree exactly.
         if (!brute.at(px, py, 1e-3)) continue;
-        const Rgba4 x = tree_sample(a, px, py), y = tree_sample(b, px, py);
+        const Rgba4 x = tree_sample(a, px, py), y = tree_sample(b, px, py), z = tree_sample(g, px, py);
         INFO("seed " << seed << " depth " << max_depth << " point (" << px << ", " << py << "): " << x.r << " " << x.g
                       << " " << x.b << " " << x.a << " against " << y.r << " " << y.g << " " << y.b << " " << y.a);
         REQUIRE(oracle::identical(x, y));
+        INFO("with the coarse grid: " << z.r << " " << z.g << " " << z.b << " " << z.a);
+        REQUIRE(oracle::identical(z, y));
         compared++;
       }
     }

@@ -54,13 +54,16 @@ ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, co
   virt.cells.push_back(Cell{0, static_cast<uint32_t>(virt.entries.size()), 0, 0, 0, 0});
   TreeLevel level = subdivide_cpu(virt.cells, virt.entries.data(), tree.segments, tree.root_size, true);
   t.subdivide_ms += ms_since(t0);
-  if (params.prune) {
+  const int max_level = tree_max_level(tree.root_size, params);
+  // Levels [0, grid) are subdivided whole and not pruned (the coarse grid:
+  // TreeParams::grid_levels); level `grid` is the first pruned.
+  const int grid = tree_grid_levels(level.entries.size(), max_level, params);
+  if (params.prune && grid == 0) {
     t0 = std::chrono::steady_clock::now();
     prune_cpu(level, tree.paths);
     t.prune_ms += ms_since(t0);
   }
 
-  const int max_level = tree_max_level(tree.root_size, params);
   size_t total_entries = level.entries.size();
   tree.nodes.push_back(Node{-1, 0});
   uint32_t node_base = 0;  // node index of the current level's first cell
@@ -72,7 +75,7 @@ ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, co
     size_t nsub = 0;
     if (lv < max_level) {
       for (size_t k = 0; k < level.cells.size(); k++) {
-        sub[k] = cell_weight(level, level.cells[k]) > params.min_segments;
+        sub[k] = lv < grid || cell_weight(level, level.cells[k]) > params.min_segments;
         nsub += sub[k] ? 1 : 0;
       }
     }
@@ -117,7 +120,7 @@ ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, co
       tree.leaves.push_back(c);
     }
     if (nsub == 0) break;
-    if (params.prune) {
+    if (params.prune && lv + 1 >= grid) {
       t0 = std::chrono::steady_clock::now();
       prune_cpu(child, tree.paths);
       t.prune_ms += ms_since(t0);
