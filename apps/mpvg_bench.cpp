@@ -4,7 +4,10 @@
 // wall time of `svg2png --backend cuda` on the same input.
 //
 //   mpvg_bench [--runs N] [--json FILE] [--svg2png PATH] [--shapes T,I,U;...] [--ramp-lut N]
-//              [--throughput K,K,...] FILE.svg...
+//              [--grid-levels N] [--throughput K,K,...] FILE.svg...
+//
+// --grid-levels N builds the trees with N levels of coarse grid
+// (TreeParams::grid_levels; default: from each scene's density).
 //
 // --throughput measures the render side of pdf2png's pipeline alone: for
 // each K, K threads with a FrameRenderer each (their own device buffers and
@@ -135,6 +138,7 @@ int main(int argc, char** argv) {
   int runs = 21;
   std::string json_path, svg2png = "svg2png", shapes_arg, throughput_arg;
   EncodeOptions encode_options;
+  int grid_levels = -1;
   std::vector<std::string> files;
   for (int i = 1; i < argc; i++) {
     const std::string a = argv[i];
@@ -144,12 +148,13 @@ int main(int argc, char** argv) {
     else if (a == "--shapes" && i + 1 < argc) shapes_arg = argv[++i];
     else if (a == "--ramp-lut" && i + 1 < argc) encode_options.ramp_lut = std::atoi(argv[++i]);
     else if (a == "--throughput" && i + 1 < argc) throughput_arg = argv[++i];
+    else if (a == "--grid-levels" && i + 1 < argc) grid_levels = std::atoi(argv[++i]);
     else files.push_back(a);
   }
   if (files.empty()) {
     std::fprintf(stderr,
                  "usage: mpvg_bench [--runs N] [--json FILE] [--svg2png PATH] [--shapes T,I,U;...] [--ramp-lut N] "
-                 "[--throughput K,K,...] FILE.svg...\n");
+                 "[--grid-levels N] [--throughput K,K,...] FILE.svg...\n");
     return 2;
   }
   if (!throughput_arg.empty()) {
@@ -198,7 +203,8 @@ int main(int argc, char** argv) {
       const RenderPlan pc = plan_for(Filter::Cardinal, PatternKind::BlueNoise, 32);
       const EncodedScene enc = encode(doc.scene, p32.view, Gamma::Srgb, encode_options);
       const EncodedScene enc_c = encode(doc.scene, pc.view, Gamma::Linear, encode_options);
-      const TreeParams params;
+      TreeParams params;
+      params.grid_levels = grid_levels;
       const PaintRecord bg = background_paint(RGBA{0, 0, 0, 0}, Gamma::Srgb);
       auto r8 = [&](gpu::GpuTimes* t) { return ctx.render_on_device(p8.integ, p8.frame, bg, t); };
       auto r32 = [&](gpu::GpuTimes* t) { return ctx.render_on_device(p32.integ, p32.frame, bg, t); };

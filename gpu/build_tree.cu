@@ -13,47 +13,55 @@ namespace {
 
 constexpr unsigned kBlock = 256;
 
-__global__ void k_weights(const Entry* e, const uint32_t* entry_cell, size_t n, uint32_t* weight) {
-  const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
-  if (i < n && entry_weight(e[i])) atomicAdd(&weight[entry_cell[i]], 1u);
-}
-
-// Which cells are subdivided, and the counts that place their entries.
-__global__ void k_decide(const Cell* cells, size_t ncells, const uint32_t* weight, bool may_subdivide,
-                         uint32_t min_segments, LevelCounts* counts) {
-  const size_t k = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+// Which cells are subdivided, and the counts that place their entries: a
+// warp per cell counts its geometry entries (entry_weight), 32 at a time,
+// until they pass min_segments (only that is asked), so the cells' ranges
+// are all it reads: a level's entry count is not needed before the counts
+// come back (pruning leaves it on the device).
+constexpr unsigned kDecideWarps = kBlock / 32;
+__global__ void k_decide(const Entry* e, const Cell* cells, size_t ncells, bool may_subdivide, uint32_t min_segments,
+                         LevelCounts* counts) {
+  const size_t k = blockIdx.x * size_t(kDecideWarps) + threadIdx.x / 32;
+  const uint32_t lane = threadIdx.x % 32;
   if (k > ncells) return;
   if (k == ncells) {
-    counts[k] = LevelCounts{0, 0, 0, 0};
+    if (lane == 0) counts[k] = LevelCounts{0, 0, 0, 0};
     return;
   }
   const Cell c = cells[k];
   const uint32_t size = c.end - c.begin;
-  const bool sub = may_subdivide && weight[k] > min_segments;
-  counts[k] = sub ? LevelCounts{1, size, 0, 0} : LevelCounts{0, 0, size, 1};
-}
-
-// Every entry goes to its cell's slot in the next parent level or in the
-// leaf stream (after the leaves of earlier levels).
-__global__ void k_distribute(const Entry* e, const uint32_t* entry_cell, size_t n, const Cell* cells,
-                             const LevelCounts* pos, const LevelCounts* counts, Entry* parent, uint32_t* parent_cell,
-                             Entry* leaf_entries, size_t leaf_base) {
-  const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
-  if (i >= n) return;
-  const uint32_t k = entry_cell[i];
-  const uint32_t within = static_cast<uint32_t>(i) - cells[k].begin;
-  if (counts[k].sub) {
-    parent[pos[k].parent_entries + within] = e[i];
-    parent_cell[pos[k].parent_entries + within] = pos[k].sub;
-  } else {
-    leaf_entries[leaf_base + pos[k].leaf_entries + within] = e[i];
+  bool sub = false;
+  if (may_subdivide) {
+    uint32_t weight = 0;
+    for (uint32_t i = c.begin; i < c.end && weight <= min_segments; i += 32) {
+      const bool geometry = i + lane < c.end && entry_weight(e[i + lane]);
+      weight += __popc(__ballot_sync(__activemask(), geometry));
+    }
+    sub = weight > min_segments;
   }
+  if (lane == 0) counts[k] = sub ? LevelCounts{1, size, 0, 0} : LevelCounts{0, 0, size, 1};
 }
 
-__global__ void k_cells_out(const Cell* cells, size_t ncells, const LevelCounts* pos, const LevelCounts* counts,
-                            Cell* parent_cells, Cell* leaves, size_t leaf_base, size_t leaf_entry_base, Node* nodes,
-                            size_t node_base, size_t child_base) {
-  const size_t k = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+// Placement, one launch: every entry (threads below n) goes to its cell's
+// slot in the next parent level or in the leaf stream (after the leaves of
+// earlier levels), and every cell (threads below ncells) to the parent
+// level or the leaves, with its node.
+__global__ void k_place(const Entry* e, const uint32_t* entry_cell, size_t n, const Cell* cells, size_t ncells,
+                        const LevelCounts* pos, const LevelCounts* counts, Entry* parent, uint32_t* parent_cell,
+                        Entry* leaf_entries, Cell* parent_cells, Cell* leaves, size_t leaf_base,
+                        size_t leaf_entry_base, Node* nodes, size_t node_base, size_t child_base) {
+  const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (i < n) {
+    const uint32_t k = entry_cell[i];
+    const uint32_t within = static_cast<uint32_t>(i) - cells[k].begin;
+    if (counts[k].sub) {
+      parent[pos[k].parent_entries + within] = e[i];
+      parent_cell[pos[k].parent_entries + within] = pos[k].sub;
+    } else {
+      leaf_entries[leaf_entry_base + pos[k].leaf_entries + within] = e[i];
+    }
+  }
+  const size_t k = i;
   if (k >= ncells) return;
   Cell c = cells[k];
   const uint32_t size = c.end - c.begin;
@@ -80,7 +88,8 @@ __global__ void k_grid_nodes(Node* nodes, size_t node_base, size_t ncells, size_
 TreeLevel download_level(const DeviceLevel& lv) {
   TreeLevel t;
   t.cells = lv.cells.download(lv.ncells);
-  t.entries = lv.entries.download(lv.nentries);
+  // A pruned level's entries end where its last cell's do.
+  t.entries = lv.entries.download(lv.bound ? (t.cells.empty() ? 0 : t.cells.back().end) : lv.nentries);
   return t;
 }
 
@@ -191,7 +200,7 @@ void Context::Impl::build_tree(const EncodedScene& scene, int w, int h, const Tr
   size_t node_base = 0;
   for (int lv = 0;; lv++) {
     depth = lv;
-    peak_level_entries = std::max(peak_level_entries, level.nentries);
+    if (!level.bound) peak_level_entries = std::max(peak_level_entries, level.nentries);
     if (params.keep_levels) kept_levels.push_back(download_level(level));
     const size_t ncells = level.ncells;
     if (lv < grid) {
@@ -218,27 +227,28 @@ void Context::Impl::build_tree(const EncodedScene& scene, int w, int h, const Tr
       }
       // Memory cap: this level's cells become leaves, as below.
     }
-    uint32_t* weight = (u32[5].resize(ncells), u32[5].data());
     counts.resize(2 * (ncells + 1));
     LevelCounts* cnt = counts.data();
     LevelCounts* pos = counts.data() + ncells + 1;
 
     timer.start(&t.subdivide_ms);
-    MPVG_CUDA(cudaMemset(weight, 0, ncells * sizeof(uint32_t)));
-    if (level.nentries) {
-      k_weights<<<grid_for(level.nentries, kBlock), kBlock>>>(level.entries.data(), level.entry_cell.data(),
-                                                              level.nentries, weight);
-      launched();
-    }
     bool may_subdivide = lv < max_level && lv >= grid;
     LevelCounts tot{};
     size_t child_entries = 0;
     for (int attempt = 0; attempt < 2; attempt++) {
-      k_decide<<<grid_for(ncells + 1, kBlock), kBlock>>>(level.cells.data(), ncells, weight, may_subdivide,
-                                                         params.min_segments, cnt);
+      k_decide<<<grid_for(ncells + 1, kDecideWarps), kBlock>>>(level.entries.data(), level.cells.data(), ncells,
+                                                               may_subdivide, params.min_segments, cnt);
       launched();
       prim.exclusive_scan(cnt, pos, LevelCountsAdd{}, LevelCounts{0, 0, 0, 0}, ncells + 1);
       MPVG_CUDA(cudaMemcpy(&tot, pos + ncells, sizeof tot, cudaMemcpyDeviceToHost));
+      syncs++;
+      if (level.bound) {  // the count pruning left on the device
+        const size_t exact = size_t(tot.parent_entries) + tot.leaf_entries;
+        total_entries -= level.nentries - exact;
+        level.nentries = exact;
+        level.bound = false;
+        peak_level_entries = std::max(peak_level_entries, exact);
+      }
       // Place entries: subdivided cells into the parent level, the others
       // into the leaf stream.
       parent.entries.resize(tot.parent_entries);
@@ -250,15 +260,10 @@ void Context::Impl::build_tree(const EncodedScene& scene, int w, int h, const Tr
       leaves.grow_keep(nleaves + tot.leaves);
       const size_t child_base = node_base + ncells;
       nodes.grow_keep(child_base + 4 * size_t(tot.sub));
-      if (level.nentries) {
-        k_distribute<<<grid_for(level.nentries, kBlock), kBlock>>>(
-            level.entries.data(), level.entry_cell.data(), level.nentries, level.cells.data(), pos, cnt,
-            parent.entries.data(), parent.entry_cell.data(), leaf_entries.data(), nleaf_entries);
-        launched();
-      }
-      k_cells_out<<<grid_for(ncells, kBlock), kBlock>>>(level.cells.data(), ncells, pos, cnt, parent.cells.data(),
-                                                        leaves.data(), nleaves, nleaf_entries, nodes.data(), node_base,
-                                                        child_base);
+      k_place<<<grid_for(std::max(level.nentries, ncells), kBlock), kBlock>>>(
+          level.entries.data(), level.entry_cell.data(), level.nentries, level.cells.data(), ncells, pos, cnt,
+          parent.entries.data(), parent.entry_cell.data(), leaf_entries.data(), parent.cells.data(), leaves.data(),
+          nleaves, nleaf_entries, nodes.data(), node_base, child_base);
       launched();
       if (tot.sub == 0) break;
       subdivide(parent, child, false);

@@ -178,6 +178,9 @@ struct DeviceLevel {
   DeviceBuffer<Entry> entries;
   DeviceBuffer<uint32_t> entry_cell;
   size_t ncells = 0, nentries = 0;
+  // nentries is only a bound: pruning leaves the count of its survivors on
+  // the device, and the level's counts (build_tree.cu) bring it back.
+  bool bound = false;
 };
 
 // Four counters scanned together when a level is split into subdivided
@@ -310,7 +313,7 @@ struct Context::Impl {
   void stroke(const EncodedScene& scene);  // before abstract(), for scenes with strokes
   void abstract(const EncodedScene& scene);
   void subdivide(const DeviceLevel& from, DeviceLevel& to, bool root);
-  bool prune(DeviceLevel& lv);
+  void prune(DeviceLevel& lv);
   // The whole frame's trees: paint tables uploaded, tiles built and put
   // aside, then the scene's tree.
   void build(const EncodedScene& scene, int width, int height, const TreeParams& params, GpuTimes* times);

@@ -150,12 +150,12 @@ __global__ void k_compact(const Entry* e, const uint32_t* entry_cell, size_t n, 
 
 }  // namespace
 
-bool Context::Impl::prune(DeviceLevel& lv) {
+void Context::Impl::prune(DeviceLevel& lv) {
   // One round (core/pruning.h). Without clip groups or transparency groups
   // only rules 12 and 14 (at the top level) apply, and there is no depth to
   // scan.
   const size_t n = lv.nentries;
-  if (n == 0) return false;
+  if (n == 0) return;
   const unsigned grid = grid_for(n, kBlock);
   const Entry* e = lv.entries.data();
   int32_t* depth = (i32[0].resize(n), i32[0].data());
@@ -231,19 +231,18 @@ bool Context::Impl::prune(DeviceLevel& lv) {
   uint32_t* kpos = term;
   const auto keep = thrust::make_transform_iterator(thrust::counting_iterator<uint32_t>(0), Kept{elim, elim_b});
   prim.exclusive_sum(keep, kpos, n + 1);
-  const size_t kept = read_u32(kpos + n);
-  if (kept == n) return false;
+  // No round trip: the survivors' count stays on the device, n bounds it,
+  // and the level's counts bring it back (build_tree.cu).
   DeviceLevel& out = parent;  // scratch level
-  out.entries.resize(kept);
-  out.entry_cell.resize(kept);
+  out.entries.resize(n);
+  out.entry_cell.resize(n);
   k_compact<<<grid_for(std::max(n, lv.ncells), kBlock), kBlock>>>(e, lv.entry_cell.data(), n, kpos,
                                                                    out.entries.data(), out.entry_cell.data(),
                                                                    lv.cells.data(), lv.ncells);
   launched();
   lv.entries.swap(out.entries);
   lv.entry_cell.swap(out.entry_cell);
-  lv.nentries = kept;
-  return true;
+  lv.bound = true;
 }
 
 }  // namespace mpvg::gpu

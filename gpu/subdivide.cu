@@ -62,11 +62,18 @@ __global__ void k_count(const Entry* entries, const uint32_t* entry_cell, size_t
 
 // Kernel 4: scatter into the child level, whose buffers hold `capacity`
 // entries: a pair that would write past them raises the overflow flag.
+// Threads below the parent level's cell count also write those cells'
+// children (k_child_cells' work: a launch saved).
+__device__ void child_cells(const Cell* cells, size_t k, uint32_t fanout, bool root, const uint32_t* offset,
+                            Cell* out);
+
 __global__ void k_scatter(const Entry* entries, const uint32_t* entry_cell, size_t n, const Cell* cells,
-                          const AbstractSegment* segments, uint32_t fanout, const uint32_t* flags,
-                          const Segmented<int32_t>* wind, const uint32_t* offset, const uint32_t* count,
-                          size_t capacity, Entry* out, uint32_t* out_cell, uint32_t* overflow) {
+                          size_t ncells, bool root, const AbstractSegment* segments, uint32_t fanout,
+                          const uint32_t* flags, const Segmented<int32_t>* wind, const uint32_t* offset,
+                          const uint32_t* count, size_t capacity, Entry* out, uint32_t* out_cell, uint32_t* overflow,
+                          Cell* out_cells) {
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (i < ncells) child_cells(cells, i, fanout, root, offset, out_cells);
   if (i >= n) return;
   const uint32_t k = entry_cell[i];
   const Cell pc = cells[k];
@@ -85,10 +92,8 @@ __global__ void k_scatter(const Entry* entries, const uint32_t* entry_cell, size
   }
 }
 
-__global__ void k_child_cells(const Cell* cells, size_t ncells, uint32_t fanout, bool root, const uint32_t* offset,
-                              Cell* out) {
-  const size_t k = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
-  if (k >= ncells) return;
+__device__ void child_cells(const Cell* cells, size_t k, uint32_t fanout, bool root, const uint32_t* offset,
+                            Cell* out) {
   const Cell pc = cells[k];
   const size_t size = pc.end - pc.begin;
   for (uint32_t c = 0; c < fanout; c++) {
@@ -139,11 +144,11 @@ void Context::Impl::subdivide(const DeviceLevel& from, DeviceLevel& to, bool roo
   uint32_t total = 0, failed = 0;
   for (int attempt = 0;; attempt++) {
     if (attempt > 0) MPVG_CUDA(cudaMemsetAsync(overflow.data(), 0, sizeof(uint32_t)));
-    if (n) {
-      k_scatter<<<grid_for(n, kBlock), kBlock>>>(from.entries.data(), from.entry_cell.data(), n, from.cells.data(),
-                                                 segments.data(), fanout, flags, wind.data(), offset, count,
-                                                 to.entries.size(), to.entries.data(), to.entry_cell.data(),
-                                                 overflow.data());
+    if (n || from.ncells) {
+      k_scatter<<<grid_for(std::max(n, from.ncells), kBlock), kBlock>>>(
+          from.entries.data(), from.entry_cell.data(), n, from.cells.data(), from.ncells, root, segments.data(),
+          fanout, flags, wind.data(), offset, count, to.entries.size(), to.entries.data(), to.entry_cell.data(),
+          overflow.data(), to.cells.data());
       launched();
     }
     read_words({{offset + pairs, &total}, {overflow.data(), &failed}});
@@ -155,11 +160,7 @@ void Context::Impl::subdivide(const DeviceLevel& from, DeviceLevel& to, bool roo
   to.entries.resize(total);
   to.entry_cell.resize(total);
   to.nentries = total;
-  if (from.ncells) {
-    k_child_cells<<<grid_for(from.ncells, kBlock), kBlock>>>(from.cells.data(), from.ncells, fanout, root, offset,
-                                                            to.cells.data());
-    launched();
-  }
+  to.bound = false;
 }
 
 }  // namespace mpvg::gpu
