@@ -26,7 +26,9 @@
 //                           {{} B} -> {{}}, as the outer mask's value is
 //                           then its backdrop's, not 1
 //   (21) {{F1} B} -> {B}     where F1 makes the mask 1 at every sample
-//                           (white, or opaque for an alpha mask)
+//                           (white, or opaque for an alpha mask); also
+//                           {{(C1 | F1)} B} -> {B}, a mask's region that
+//                           covers the cell (prune_mask_full)
 //   (22) (A | B {C F1 D} E) -> (A | B {C F1 D}) for a solid group (opacity
 //        1, normal, not knockout, unmasked): opaque where its list holds an
 //        F1, it hides what lies behind it like an F1 (before it in a list
@@ -197,11 +199,23 @@ MPVG_HD_INLINE bool prune_single_item(const Entry* entries, const PruneLinks& l,
 // The marks of element i. add(index, delta) accumulates into the
 // elimination array (atomically on the GPU). [cell_begin, cell_end) is i's
 // cell.
+// Does the mask whose '{' is at m and '}' at close make its group's mask 1
+// at every sample of the cell, so that rule 21 removes it this round: one
+// fill that makes it 1, {F1}, or the same in a clip group that passes
+// every sample, {( C1 | F1 )} (a mask's region in the cell's inside: rule
+// 17 dissolves that clip group in the same round).
+MPVG_HD_INLINE bool prune_mask_full(const Entry* entries, const uint32_t* term, uint32_t m, uint32_t close) {
+  if (close == m + 2) return (term[m + 1] & TERM_FILLS_MASK) != 0;
+  return close == m + 6 && entry_kind(entries[m + 1]) == ENTRY_PUSH && term[m + 2] == TERM_C1 &&
+         entry_kind(entries[m + 3]) == ENTRY_ACTIVATE && (term[m + 4] & TERM_FILLS_MASK) != 0 &&
+         entry_kind(entries[m + 5]) == ENTRY_POP;
+}
+
 // Is the group whose '{' is at o unmasked in this cell: no mask, or one
-// that rule 21 removes in this very round (a single fill that makes it 1)?
+// that rule 21 removes in this very round?
 MPVG_HD_INLINE bool prune_unmasked(const Entry* entries, const uint32_t* term, const PruneLinks& l, uint32_t o) {
   if (!prune_is_mask_begin(entries, o + 1)) return true;
-  return l.close[o + 1] == o + 3 && (term[o + 2] & TERM_FILLS_MASK) != 0;
+  return prune_mask_full(entries, term, o + 1, l.close[o + 1]);
 }
 
 // Rule 22: an unmasked solid group with an opaque element F1 in its list
@@ -285,7 +299,7 @@ MPVG_HD_INLINE void prune_mark(const Entry* entries, const uint32_t* term, const
   }
   if (entry_is_group_end(entries[i])) {
     const uint32_t o = l.open[i];
-    if ((entries[i].head & GROUP_ENTRY_MASK) && i == o + 2 && (term[o + 1] & TERM_FILLS_MASK)) {  // rule 21
+    if ((entries[i].head & GROUP_ENTRY_MASK) && prune_mask_full(entries, term, o, i)) {  // rule 21
       add(o, 1);
       add(i + 1, -1);
       return;

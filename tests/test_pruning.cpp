@@ -264,10 +264,12 @@ TEST_CASE("pruning: one round empties and dissolves nested groups", "[prune]") {
   // Paths: 0 a fill outside the cell (F0), 1 and 3 translucent fills that
   // cover it (kept as they are), 2 a clip path covering the cell (C1), 4 a
   // clip path crossing it (a segment: undecided).
-  const std::vector<PathRecord> paths{{0, 0}, {0, 0}, {PATH_CLIP, 0}, {0, 0}, {PATH_CLIP, 0}};
+  // 5 an opaque fill of a mask that makes it 1, covering the cell.
+  const std::vector<PathRecord> paths{{0, 0}, {0, 0}, {PATH_CLIP, 0}, {0, 0}, {PATH_CLIP, 0},
+                                      {PATH_OPAQUE | PATH_MASK_FULL, 0}};
   const Entry f0 = make_entry(ENTRY_WINDING, 0, 0), p1 = make_entry(ENTRY_WINDING, 1, 1),
               c1 = make_entry(ENTRY_WINDING, 2, 1), p3 = make_entry(ENTRY_WINDING, 3, 1),
-              c4 = make_entry(ENTRY_SEGMENT, 4, 0);
+              c4 = make_entry(ENTRY_SEGMENT, 4, 0), m5 = make_entry(ENTRY_WINDING, 5, 1);
   const uint32_t dissolves = GROUP_ENTRY_SOLID | GROUP_ENTRY_DISSOLVES | GROUP_ENTRY_NORMAL;
   const uint32_t keeps = GROUP_ENTRY_NORMAL;  // translucent: never dissolves
   uint32_t id = 0;
@@ -322,6 +324,9 @@ TEST_CASE("pruning: one round empties and dissolves nested groups", "[prune]") {
   const std::vector<Entry> two = round(group(dissolves, clip({c1}, {p1, p3})));
   REQUIRE(two.size() == 4);
   CHECK(same({two[1], two[2]}, {p1, p3}));
+  // A mask that is 1 in the cell, inside its region's clip, goes with the
+  // clip (rules 17, 21), and its group dissolves (23): {{(C1 | M)} P1} -> P1.
+  CHECK(same(round(group(dissolves, cat({group(GROUP_ENTRY_MASK, clip({c1}, {m5})), {p1}}))), {p1}));
   // {A {F0}} with A one path: the empty group goes and the outer dissolves.
   CHECK(same(round(cat({{p3}, group(dissolves, cat({{p1}, group(keeps, {f0})}))})), {p3, p1}));
 }
