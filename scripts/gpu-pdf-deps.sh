@@ -20,7 +20,8 @@ rm -rf "$out"
 mkdir -p "$out/bin" "$out/lib" "$out/corpus"
 cp "$build/apps/pdf2png" "$(command -v mutool)" "$out/bin/"
 bash "$root/scripts/carry-libs.sh" "$out/bin" "$out/lib"
-cp "$corpus"/pgfmanual.pdf "$corpus"/asymptote.pdf "$corpus"/utfsym.pdf "$out/corpus/"
+cp "$corpus"/pgfmanual.pdf "$corpus"/asymptote.pdf "$corpus"/utfsym.pdf "$corpus"/beameruserguide.pdf \
+  "$corpus"/R-intro.pdf "$out/corpus/"
 strip "$out"/bin/*
 tar -C "$out/.." -cf - "$(basename "$out")" | xz -9 > "$root/.deps/pdf.tar.xz"
 du -sh "$root/.deps/pdf.tar.xz"
