@@ -112,6 +112,13 @@ class HostStaging {
   bool staged_ = false;
 };
 
+// The bits a radix sort needs for keys up to max_key (at least one).
+inline int key_bits(uint64_t max_key) {
+  int bits = 1;
+  while (bits < 32 && (uint64_t{1} << bits) <= max_key) bits++;
+  return bits;
+}
+
 // Scans, reductions and compactions through CUB, with one temporary buffer
 // ("ask for the temp storage size first").
 class Primitives {
@@ -146,7 +153,8 @@ class Primitives {
     MPVG_CUDA(cub::DeviceScan::ExclusiveScan(nullptr, bytes, in, out, op, init, static_cast<int>(n)));
     MPVG_CUDA(cub::DeviceScan::ExclusiveScan(temp(bytes), bytes, in, out, op, init, static_cast<int>(n)));
   }
-  // Stable: equal keys keep their order. Only keys' bits [0, bits) count.
+  // Stable: equal keys keep their order. Only keys' bits [0, bits) count
+  // (key_bits).
   template <class K, class V>
   void sort_pairs(const K* keys_in, K* keys_out, const V* values_in, V* values_out, size_t n, int bits) {
     calls++;

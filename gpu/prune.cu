@@ -176,8 +176,7 @@ void Context::Impl::prune(DeviceLevel& lv) {
                                                      groups, depth, packed, term, elim, elim_b, open, bar, close,
                                                      first_c1, parent_of, index);
   launched();
-  int bits = 1;
-  while (bits < 31 && (int64_t{1} << bits) <= scene_depth) bits++;
+  const int bits = key_bits(static_cast<uint64_t>(scene_depth));
   uint32_t* sorted = nullptr;
   if (groups) {
     // Depths and section counts in one scan; then cross-links over all

@@ -388,7 +388,7 @@ size_t StrokeStage::run(const StrokeBatch& b, DeviceBuffer<InputSegment>& out, s
 
 void group_by_path(DeviceBuffer<InputSegment>& segs, size_t n, size_t npaths, DeviceBuffer<uint32_t>& path_input,
                    Primitives& prim) {
-  DeviceBuffer<uint32_t> keys_in, keys_out, idx_in, idx_out;
+  DeviceBuffer<uint32_t> keys_in, keys_out, idx_in, idx_out;  // from the retaining pool
   DeviceBuffer<InputSegment> grouped;
   keys_in.resize(n + 1);
   keys_out.resize(n + 1);
@@ -399,16 +399,8 @@ void group_by_path(DeviceBuffer<InputSegment>& segs, size_t n, size_t npaths, De
     k_path_keys<<<grid_for(n, kBlock), kBlock>>>(segs.data(), static_cast<uint32_t>(n), keys_in.data(), idx_in.data());
     MPVG_LAUNCHED();
     // Paths are below npaths: only their bits are sorted on.
-    int bits = 1;
-    while (bits < 32 && (size_t{1} << bits) < npaths) bits++;
-    size_t bytes = 0;
-    MPVG_CUDA(cub::DeviceRadixSort::SortPairs(nullptr, bytes, keys_in.data(), keys_out.data(), idx_in.data(),
-                                              idx_out.data(), static_cast<int>(n), 0, bits));
-    DeviceBuffer<uint8_t> temp;
-    temp.resize(bytes);
-    MPVG_CUDA(cub::DeviceRadixSort::SortPairs(temp.data(), bytes, keys_in.data(), keys_out.data(), idx_in.data(),
-                                              idx_out.data(), static_cast<int>(n), 0, bits));
-    prim.calls++;
+    prim.sort_pairs(keys_in.data(), keys_out.data(), idx_in.data(), idx_out.data(), n,
+                    key_bits(npaths > 0 ? npaths - 1 : 0));
     k_gather<<<grid_for(n, kBlock), kBlock>>>(segs.data(), idx_out.data(), static_cast<uint32_t>(n), grouped.data());
     MPVG_LAUNCHED();
     segs.swap(grouped);
