@@ -110,17 +110,57 @@ MPVG_HD_INLINE uint32_t split_entry(Entry e, const AbstractSegment* segments, co
   }
 }
 
-// Winding increments are consolidated per path per child cell by a
-// segmented sum (second kernel of §4.2) whose heads are the first entries of
-// path runs: Segmented<int32_t> with SegmentedSum (core/scan.h).
-using WindSeg = Segmented<int32_t>;
-
 // Number of entries one (parent entry, child) pair writes: its split plus,
 // when it ends its path's run, one winding entry if the consolidated winding
 // is non-zero (the "extra 1" of the third kernel of §4.2).
 MPVG_HD_INLINE uint32_t split_output_count(uint32_t flags, bool last_of_run, int32_t run_wind) {
   return split_count(flags) + ((last_of_run && run_wind != 0) ? 1u : 0u);
 }
+
+// The second and third kernels of §4.2 as one scan: winding increments
+// consolidated per path run (a segmented sum whose heads are the runs'
+// first pairs) and the pairs' output counts summed, in one pass. A run's
+// last pair counts its winding entry only once its run's sum is known, so
+// a stretch of pairs carries the sum before its first head (`prefix`), and
+// whether a run ends there (its winding entry still to count); the stretch
+// that precedes settles it. Pairs of one child cell follow each other and
+// its first is a head, so every inclusive prefix from the first pair is
+// settled: at pair j, `count` is the outputs of pairs 0 .. j (the offset of
+// pair j + 1) and `last` the consolidated winding of j's run so far.
+// Slots between cells (the CPU's batches) are SplitScan{}: the identity.
+struct SplitScan {
+  int32_t prefix;  // winding before the first head (all of it without one)
+  int32_t last;    // winding since the last head
+  uint32_t count;  // outputs, less a run end's winding entry still unsettled in the prefix
+  uint32_t flags;  // SPLIT_SCAN_HEAD, SPLIT_SCAN_OPEN_END
+};
+enum : uint32_t { SPLIT_SCAN_HEAD = 1u, SPLIT_SCAN_OPEN_END = 2u };
+
+// The scan's item for one pair: its split flags and winding increment, and
+// whether it starts or ends its path's run.
+MPVG_HD_INLINE SplitScan split_scan_item(uint32_t flags, int32_t wind, bool head, bool last) {
+  const uint32_t n = split_count(flags);
+  if (head) return SplitScan{0, wind, n + ((last && wind != 0) ? 1u : 0u), SPLIT_SCAN_HEAD};
+  return SplitScan{wind, wind, n, last ? SPLIT_SCAN_OPEN_END : 0u};
+}
+
+struct SplitScanOp {
+  MPVG_HD_INLINE SplitScan operator()(SplitScan a, SplitScan b) const {
+    const int32_t run = a.last + b.prefix;  // b's first run, continued from a
+    SplitScan r;
+    r.last = (b.flags & SPLIT_SCAN_HEAD) ? b.last : run;
+    if (a.flags & SPLIT_SCAN_HEAD) {
+      r.prefix = a.prefix;
+      r.count = a.count + b.count + (((b.flags & SPLIT_SCAN_OPEN_END) && run != 0) ? 1u : 0u);
+      r.flags = a.flags;
+    } else {
+      r.prefix = a.prefix + b.prefix;
+      r.count = a.count + b.count;
+      r.flags = (b.flags & SPLIT_SCAN_HEAD) | ((a.flags | b.flags) & SPLIT_SCAN_OPEN_END);
+    }
+    return r;
+  }
+};
 
 // Writes the outputs of one (parent entry, child) pair at out (fourth kernel
 // of §4.2). Order: the entry itself, its shortcuts, then the path's winding.

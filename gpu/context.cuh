@@ -17,6 +17,7 @@
 #include "core/rgba8.h"
 #include "core/scan.h"
 #include "core/shortcut_tree.h"
+#include "core/subdivision.h"
 #include "core/integration.h"
 #include "core/tree.h"
 #include "gpu/cuda_util.h"
@@ -263,7 +264,7 @@ struct Context::Impl {
   // Scratch.
   DeviceBuffer<uint32_t> u32[6];
   DeviceBuffer<int32_t> i32[2];
-  DeviceBuffer<Segmented<int32_t>> wind;
+  DeviceBuffer<SplitScan> split_items, splits;  // subdivide: the split's scan, in and out
   DeviceBuffer<Segmented<uint32_t>> link;
   DeviceBuffer<uint32_t> by_depth[3];  // prune: indices sorted by depth, their depths, the sort's input
   // prune, rules 16, 19, 23 (core/pruning.h): depth and section deltas

@@ -3,11 +3,13 @@
 // count of ray-curve crossings over the whole input, in double precision.
 #include <cmath>
 #include <map>
+#include <numeric>
 #include <random>
 
 #include "core/cpu/cpu_stages.h"
 #include "core/encoding.h"
 #include "core/sampling.h"
+#include "core/subdivision.h"
 #include "tests/catch.h"
 #include "tests/oracle.h"
 
@@ -175,4 +177,74 @@ TEST_CASE("tree windings are exact for extrema just beside cell edges", "[tree]"
   }
   INFO("points " << c.points << " comparisons " << c.comparisons);
   CHECK(c.points > 30000);
+}
+
+// The subdivision's one scan (SplitScan, core/subdivision.h) against its
+// two passes (a segmented sum of windings, then the sum of the pairs'
+// output counts), on random runs of pairs with identity slots between
+// cells, scanned in order and as a parallel scan would: chunks scanned on
+// their own, then each chunk's prefix combined in front.
+TEST_CASE("subdivision: one scan consolidates windings and counts outputs as two passes do", "[tree]") {
+  std::mt19937 rng(77);
+  size_t checked = 0;
+  for (int trial = 0; trial < 300; trial++) {
+    std::vector<SplitScan> items;
+    std::vector<int32_t> want_wind;
+    std::vector<uint32_t> want_count;  // inclusive
+    std::vector<char> slot;
+    uint32_t total = 0;
+    const int cells = 1 + static_cast<int>(rng() % 6);
+    for (int c = 0; c < cells; c++) {
+      for (int gap = c > 0 ? static_cast<int>(rng() % 3) : 0; gap > 0; gap--) {  // slots between cells
+        items.push_back(SplitScan{0, 0, 0, 0});
+        want_wind.push_back(0);
+        want_count.push_back(total);
+        slot.push_back(1);
+      }
+      for (int runs = 1 + static_cast<int>(rng() % 5); runs > 0; runs--) {
+        const int len = 1 + static_cast<int>(rng() % 5);
+        int32_t sum = 0;
+        for (int k = 0; k < len; k++) {
+          const uint32_t flags = rng() % 8;
+          const int32_t w = static_cast<int32_t>(rng() % 5) - 2;
+          const bool head = k == 0, last = k == len - 1;
+          sum = (head ? 0 : sum) + w;
+          total += split_output_count(flags, last, sum);
+          items.push_back(split_scan_item(flags, w, head, last));
+          want_wind.push_back(sum);
+          want_count.push_back(total);
+          slot.push_back(0);
+        }
+      }
+    }
+    std::vector<SplitScan> seq(items.size());
+    std::inclusive_scan(items.begin(), items.end(), seq.begin(), SplitScanOp{});
+    // Chunks of random sizes scanned alone, then the prefix before each
+    // chunk combined in front of its elements.
+    std::vector<SplitScan> par(items.size());
+    SplitScan carry{0, 0, 0, 0};
+    bool have_carry = false;
+    for (size_t a = 0; a < items.size();) {
+      const size_t b = std::min(items.size(), a + 1 + rng() % 7);
+      SplitScan local = items[a];
+      for (size_t j = a; j < b; j++) {
+        if (j > a) local = SplitScanOp{}(local, items[j]);
+        par[j] = have_carry ? SplitScanOp{}(carry, local) : local;
+      }
+      carry = par[b - 1];
+      have_carry = true;
+      a = b;
+    }
+    for (size_t j = 0; j < items.size(); j++) {
+      INFO("trial " << trial << " pair " << j);
+      REQUIRE(seq[j].count == want_count[j]);
+      REQUIRE(par[j].count == want_count[j]);
+      if (!slot[j]) {
+        REQUIRE(seq[j].last == want_wind[j]);
+        REQUIRE(par[j].last == want_wind[j]);
+      }
+      checked++;
+    }
+  }
+  CHECK(checked > 3000);
 }

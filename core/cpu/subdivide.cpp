@@ -1,6 +1,7 @@
-// Stage "subdivide" on the CPU: the four passes of §4.2 (split, segmented
-// scan of windings, offset scan, scatter) over every cell of a level, in
-// batches of cells, a large level's batches on every core.
+// Stage "subdivide" on the CPU: the passes of §4.2 (split; the segmented
+// scan of windings and the offset scan as one scan, SplitScan; scatter)
+// over every cell of a level, in batches of cells, a large level's batches
+// on every core.
 #include <algorithm>
 #include <cstdint>
 #include <numeric>
@@ -44,10 +45,12 @@ namespace {
 // of four, and a shortcut entry for its run in each.
 constexpr size_t kMaxGrowth = 8;
 
-// One batch's passes 1 to 3.
+// One batch's passes 1 and 2.
 struct Scratch {
-  std::vector<uint32_t> flags, count, offset;
-  std::vector<WindSeg> wind;
+  std::vector<uint32_t> flags;
+  std::vector<SplitScan> scan;
+  // Where pair j's outputs start: the outputs of the pairs before it.
+  uint32_t offset(size_t j) const { return j ? scan[j - 1].count : 0u; }
 };
 
 struct Subdivision {
@@ -57,18 +60,17 @@ struct Subdivision {
   uint32_t fanout;
   std::vector<CellBox> boxes;
 
-  // Passes 1 to 3 over cells k0 .. k1 - 1: the entries their children get
-  // (offset[pairs]). Pair (entry i of cell k, child c) lives at
+  // Passes 1 and 2 over cells k0 .. k1 - 1: the entries their children
+  // get. Pair (entry i of cell k, child c) lives at
   // fanout*(begin-first) + c*size + (i-begin), first the batch's first
   // entry: each child's block lists the parent's entries in order (slots
   // between cells that are not subdivided count nothing).
   size_t count_batch(size_t k0, size_t k1, Scratch& sc) const {
-    auto& [flags, count, offset, wind] = sc;
+    auto& [flags, scan] = sc;
     const uint32_t first = cells[k0].begin;
     const size_t pairs = fanout * size_t(cells[k1 - 1].end - first);
     flags.resize(pairs);
-    wind.resize(pairs);
-    count.assign(pairs, 0);
+    scan.assign(pairs, SplitScan{0, 0, 0, 0});
     // Pass 1: split.
     for (size_t k = k0; k < k1; k++) {
       const Cell& pc = cells[k];
@@ -78,30 +80,20 @@ struct Subdivision {
           int32_t w;
           const size_t j = pair(pc, first, c, i);
           flags[j] = split_entry(in[i], segments.data(), box, &w);
-          wind[j] = WindSeg{w, run_starts(in, i, pc.begin) ? 1u : 0u};
+          scan[j] = split_scan_item(flags[j], w, run_starts(in, i, pc.begin), run_ends(in, i, pc.end));
         }
       }
     }
-    // Pass 2: consolidate windings per path run (segmented inclusive scan).
-    std::inclusive_scan(wind.begin(), wind.end(), wind.begin(), SegmentedSum<int32_t>{});
-    // Pass 3: output offsets (exclusive scan, one extra slot per non-zero run).
-    for (size_t k = k0; k < k1; k++) {
-      const Cell& pc = cells[k];
-      for (uint32_t c = 0; c < fanout; c++)
-        for (uint32_t i = pc.begin; i < pc.end; i++) {
-          const size_t j = pair(pc, first, c, i);
-          count[j] = split_output_count(flags[j], run_ends(in, i, pc.end), wind[j].value);
-        }
-    }
-    offset.assign(pairs + 1, 0);
-    std::inclusive_scan(count.begin(), count.end(), offset.begin() + 1);
-    return offset[pairs];
+    // Pass 2: windings consolidated per path run and outputs counted, one
+    // inclusive scan (core/subdivision.h).
+    std::inclusive_scan(scan.begin(), scan.end(), scan.begin(), SplitScanOp{});
+    return pairs ? scan[pairs - 1].count : 0;
   }
 
-  // Pass 4 after count_batch: scatter into out from `base`; child cell
+  // Pass 3 after count_batch: scatter into out from `base`; child cell
   // ranges fall out of the offsets.
   void scatter_batch(size_t k0, size_t k1, size_t base, TreeLevel& out, const Scratch& sc) const {
-    const auto& [flags, count, offset, wind] = sc;
+    const auto& flags = sc.flags;
     const uint32_t first = cells[k0].begin;
     for (size_t k = k0; k < k1; k++) {
       const Cell& pc = cells[k];
@@ -109,12 +101,12 @@ struct Subdivision {
       for (uint32_t c = 0; c < fanout; c++) {
         const size_t j0 = pair(pc, first, c, pc.begin);
         Cell& cc = out.cells[fanout * k + c];
-        cc.begin = static_cast<uint32_t>(base + offset[j0]);
-        cc.end = static_cast<uint32_t>(base + offset[j0 + size]);
+        cc.begin = static_cast<uint32_t>(base + sc.offset(j0));
+        cc.end = static_cast<uint32_t>(base + sc.offset(j0 + size));
         for (uint32_t i = pc.begin; i < pc.end; i++) {
           const size_t j = j0 + (i - pc.begin);
-          split_scatter(in[i], flags[j], run_ends(in, i, pc.end), wind[j].value, segments.data(),
-                        out.entries.data() + base + offset[j]);
+          split_scatter(in[i], flags[j], run_ends(in, i, pc.end), sc.scan[j].last, segments.data(),
+                        out.entries.data() + base + sc.offset(j));
         }
       }
     }
