@@ -50,7 +50,7 @@ __global__ void k_split(const Entry* entries, const uint32_t* entry_cell, size_t
 // Scatter (kernel 4) into the child level, whose buffers hold `capacity`
 // entries: a pair that would write past them raises the overflow flag.
 // Threads below the parent level's cell count also write those cells'
-// children (k_child_cells' work: a launch saved).
+// children (a launch saved).
 __device__ void child_cells(const Cell* cells, size_t k, uint32_t fanout, bool root, const SplitScan* splits,
                             Cell* out);
 
@@ -117,7 +117,7 @@ void Context::Impl::subdivide(const DeviceLevel& from, DeviceLevel& to, bool roo
   }
   // Scatter into the capacity the child buffers already have (they only
   // grow, so after the first frame this rarely fails), then read the total
-  // and the overflow flag (zeroed by k_count) in one round trip; on
+  // and the overflow flag (zeroed by k_split) in one round trip; on
   // overflow, grow and redo.
   const size_t estimate = std::max(to.entries.capacity(), 2 * pairs + 1024);
   to.entries.resize(estimate);
