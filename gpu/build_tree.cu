@@ -42,16 +42,17 @@ __global__ void k_decide(const Entry* e, const Cell* cells, size_t ncells, bool 
   if (lane == 0) counts[k] = sub ? LevelCounts{1, size, 0, 0} : LevelCounts{0, 0, size, 1};
 }
 
-// Placement, one launch: every entry (threads below n) goes to its cell's
-// slot in the next parent level or in the leaf stream (after the leaves of
-// earlier levels), and every cell (threads below ncells) to the parent
-// level or the leaves, with its node.
+// Placement, one launch: every entry goes to its cell's slot in the next
+// parent level or in the leaf stream (after the leaves of earlier levels),
+// and every cell (threads below ncells) to the parent level or the leaves,
+// with its node. n bounds the level's entries (pruning leaves their count
+// on the device): the counts' totals, pos[ncells], give it.
 __global__ void k_place(const Entry* e, const uint32_t* entry_cell, size_t n, const Cell* cells, size_t ncells,
                         const LevelCounts* pos, const LevelCounts* counts, Entry* parent, uint32_t* parent_cell,
                         Entry* leaf_entries, Cell* parent_cells, Cell* leaves, size_t leaf_base,
                         size_t leaf_entry_base, Node* nodes, size_t node_base, size_t child_base) {
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
-  if (i < n) {
+  if (i < n && i < size_t(pos[ncells].parent_entries) + pos[ncells].leaf_entries) {
     const uint32_t k = entry_cell[i];
     const uint32_t within = static_cast<uint32_t>(i) - cells[k].begin;
     if (counts[k].sub) {
@@ -240,8 +241,34 @@ void Context::Impl::build_tree(const EncodedScene& scene, int w, int h, const Tr
                                                                may_subdivide, params.min_segments, cnt);
       launched();
       prim.exclusive_scan(cnt, pos, LevelCountsAdd{}, LevelCounts{0, 0, 0, 0}, ncells + 1);
-      MPVG_CUDA(cudaMemcpy(&tot, pos + ncells, sizeof tot, cudaMemcpyDeviceToHost));
-      syncs++;
+      // Place entries (subdivided cells into the parent level, the others
+      // into the leaf stream) and subdivide before the counts come back:
+      // buffers sized by the level's entries and cells, which bound them;
+      // the counts return with the subdivision's total, one round trip.
+      parent.entries.resize(level.nentries);
+      parent.entry_cell.resize(level.nentries);
+      parent.cells.resize(ncells);
+      parent.nentries = level.nentries;
+      parent.ncells = ncells;
+      leaf_entries.grow_keep(nleaf_entries + level.nentries);
+      leaves.grow_keep(nleaves + ncells);
+      const size_t child_base = node_base + ncells;
+      nodes.grow_keep(child_base + 4 * ncells);
+      k_place<<<grid_for(std::max(level.nentries, ncells), kBlock), kBlock>>>(
+          level.entries.data(), level.entry_cell.data(), level.nentries, level.cells.data(), ncells, pos, cnt,
+          parent.entries.data(), parent.entry_cell.data(), leaf_entries.data(), parent.cells.data(), leaves.data(),
+          nleaves, nleaf_entries, nodes.data(), node_base, child_base);
+      launched();
+      if (may_subdivide) {
+        subdivide(parent, child, false, pos + ncells, &tot);
+      } else {
+        read_words({{&pos[ncells].sub, &tot.sub},
+                    {&pos[ncells].parent_entries, &tot.parent_entries},
+                    {&pos[ncells].leaf_entries, &tot.leaf_entries},
+                    {&pos[ncells].leaves, &tot.leaves}});
+      }
+      parent.nentries = tot.parent_entries;
+      parent.ncells = tot.sub;
       if (level.bound) {  // the count pruning left on the device
         const size_t exact = size_t(tot.parent_entries) + tot.leaf_entries;
         total_entries -= level.nentries - exact;
@@ -249,24 +276,7 @@ void Context::Impl::build_tree(const EncodedScene& scene, int w, int h, const Tr
         level.bound = false;
         peak_level_entries = std::max(peak_level_entries, exact);
       }
-      // Place entries: subdivided cells into the parent level, the others
-      // into the leaf stream.
-      parent.entries.resize(tot.parent_entries);
-      parent.entry_cell.resize(tot.parent_entries);
-      parent.cells.resize(tot.sub);
-      parent.nentries = tot.parent_entries;
-      parent.ncells = tot.sub;
-      leaf_entries.grow_keep(nleaf_entries + tot.leaf_entries);
-      leaves.grow_keep(nleaves + tot.leaves);
-      const size_t child_base = node_base + ncells;
-      nodes.grow_keep(child_base + 4 * size_t(tot.sub));
-      k_place<<<grid_for(std::max(level.nentries, ncells), kBlock), kBlock>>>(
-          level.entries.data(), level.entry_cell.data(), level.nentries, level.cells.data(), ncells, pos, cnt,
-          parent.entries.data(), parent.entry_cell.data(), leaf_entries.data(), parent.cells.data(), leaves.data(),
-          nleaves, nleaf_entries, nodes.data(), node_base, child_base);
-      launched();
       if (tot.sub == 0) break;
-      subdivide(parent, child, false);
       child_entries = child.nentries;
       if (total_entries + child_entries <= params.max_entries) break;
       // Memory cap (criterion 1 of §4.1): this level is the last; redo the

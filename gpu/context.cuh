@@ -321,7 +321,11 @@ struct Context::Impl {
   // Stages (abstract.cu, subdivide.cu, prune.cu, build_tree.cu, render.cu).
   void stroke(const EncodedScene& scene);  // before abstract(), for scenes with strokes
   void abstract(const EncodedScene& scene);
-  void subdivide(const DeviceLevel& from, DeviceLevel& to, bool root);
+  // `counted`: the device's counts of the level `from` was placed from,
+  // from's entry and cell counts only bounds; they come back into *tot
+  // with the subdivision's total, in one round trip.
+  void subdivide(const DeviceLevel& from, DeviceLevel& to, bool root, const LevelCounts* counted = nullptr,
+                 LevelCounts* tot = nullptr);
   void prune(DeviceLevel& lv);
   // The whole frame's trees: paint tables uploaded, tiles built and put
   // aside, then the scene's tree.

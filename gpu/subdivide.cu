@@ -24,16 +24,23 @@ __device__ __forceinline__ CellBox child_box(const Cell& pc, uint32_t c, bool ro
 // of §4.2 in one: SplitScan, core/subdivision.h). Thread 0 also writes the
 // scan's leading identity (splits[0]: the scan goes to splits + 1, so that
 // splits[j].count is pair j's offset) and zeroes the scatter's overflow
-// flag.
-__global__ void k_split(const Entry* entries, const uint32_t* entry_cell, size_t n, const Cell* cells,
-                        const AbstractSegment* segments, uint32_t fanout, bool root, uint32_t root_size,
-                        uint32_t* flags, SplitScan* items, SplitScan* splits, uint32_t* overflow) {
+// flag. With counts on the device (dev_n: the parent level's entries, n
+// only bounding them), threads past them write identity items: the pairs
+// of the level's entries are the first fanout * *dev_n.
+__global__ void k_split(const Entry* entries, const uint32_t* entry_cell, size_t n, const uint32_t* dev_n,
+                        const Cell* cells, const AbstractSegment* segments, uint32_t fanout, bool root,
+                        uint32_t root_size, uint32_t* flags, SplitScan* items, SplitScan* splits,
+                        uint32_t* overflow) {
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
   if (i == 0) {
     splits[0] = SplitScan{0, 0, 0, 0};
     *overflow = 0;
   }
   if (i >= n) return;
+  if (dev_n && i >= *dev_n) {
+    for (uint32_t c = 0; c < fanout; c++) items[fanout * i + c] = SplitScan{0, 0, 0, 0};
+    return;
+  }
   const Cell pc = cells[entry_cell[i]];
   const size_t size = pc.end - pc.begin;
   const Entry e = entries[i];
@@ -55,10 +62,14 @@ __device__ void child_cells(const Cell* cells, size_t k, uint32_t fanout, bool r
                             Cell* out);
 
 __global__ void k_scatter(const Entry* entries, const uint32_t* entry_cell, size_t n, const Cell* cells,
-                          size_t ncells, bool root, const AbstractSegment* segments, uint32_t fanout,
-                          const uint32_t* flags, const SplitScan* splits, size_t capacity, Entry* out,
-                          uint32_t* out_cell, uint32_t* overflow, Cell* out_cells) {
+                          size_t ncells, const LevelCounts* dev_counts, bool root, const AbstractSegment* segments,
+                          uint32_t fanout, const uint32_t* flags, const SplitScan* splits, size_t capacity,
+                          Entry* out, uint32_t* out_cell, uint32_t* overflow, Cell* out_cells) {
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (dev_counts) {  // n and ncells only bound them
+    n = n < dev_counts->parent_entries ? n : dev_counts->parent_entries;
+    ncells = ncells < dev_counts->sub ? ncells : dev_counts->sub;
+  }
   if (i < ncells) child_cells(cells, i, fanout, root, splits, out_cells);
   if (i >= n) return;
   const uint32_t k = entry_cell[i];
@@ -96,9 +107,10 @@ __device__ void child_cells(const Cell* cells, size_t k, uint32_t fanout, bool r
 
 }  // namespace
 
-void Context::Impl::subdivide(const DeviceLevel& from, DeviceLevel& to, bool root) {
+void Context::Impl::subdivide(const DeviceLevel& from, DeviceLevel& to, bool root, const LevelCounts* counted,
+                              LevelCounts* tot) {
   const uint32_t fanout = root ? 1u : 4u;
-  const size_t n = from.nentries;
+  const size_t n = from.nentries;  // with `counted`, bounds of from's entries and cells
   const size_t pairs = fanout * n;
   uint32_t* flags = (u32[0].resize(pairs + 1), u32[0].data());
   split_items.resize(pairs + 1);
@@ -108,7 +120,8 @@ void Context::Impl::subdivide(const DeviceLevel& from, DeviceLevel& to, bool roo
     MPVG_CUDA(cudaMemsetAsync(splits.data(), 0, sizeof(SplitScan)));
     MPVG_CUDA(cudaMemsetAsync(overflow.data(), 0, sizeof(uint32_t)));
   } else {
-    k_split<<<grid_for(n, kBlock), kBlock>>>(from.entries.data(), from.entry_cell.data(), n, from.cells.data(),
+    k_split<<<grid_for(n, kBlock), kBlock>>>(from.entries.data(), from.entry_cell.data(), n,
+                                             counted ? &counted->parent_entries : nullptr, from.cells.data(),
                                              segments.data(), fanout, root, root_size, flags, split_items.data(),
                                              splits.data(), overflow.data());
     launched();
@@ -129,12 +142,22 @@ void Context::Impl::subdivide(const DeviceLevel& from, DeviceLevel& to, bool roo
     if (attempt > 0) MPVG_CUDA(cudaMemsetAsync(overflow.data(), 0, sizeof(uint32_t)));
     if (n || from.ncells) {
       k_scatter<<<grid_for(std::max(n, from.ncells), kBlock), kBlock>>>(
-          from.entries.data(), from.entry_cell.data(), n, from.cells.data(), from.ncells, root, segments.data(),
-          fanout, flags, splits.data(), to.entries.size(), to.entries.data(), to.entry_cell.data(),
+          from.entries.data(), from.entry_cell.data(), n, from.cells.data(), from.ncells, counted, root,
+          segments.data(), fanout, flags, splits.data(), to.entries.size(), to.entries.data(), to.entry_cell.data(),
           overflow.data(), to.cells.data());
       launched();
     }
-    read_words({{&splits.data()[pairs].count, &total}, {overflow.data(), &failed}});
+    if (counted) {  // the level's counts come back with the total
+      read_words({{&splits.data()[pairs].count, &total},
+                  {overflow.data(), &failed},
+                  {&counted->sub, &tot->sub},
+                  {&counted->parent_entries, &tot->parent_entries},
+                  {&counted->leaf_entries, &tot->leaf_entries},
+                  {&counted->leaves, &tot->leaves}});
+      to.ncells = fanout * size_t(tot->sub);
+    } else {
+      read_words({{&splits.data()[pairs].count, &total}, {overflow.data(), &failed}});
+    }
     if (!failed) break;
     if (attempt > 0) throw Error("subdivision overflowed its grown buffers");
     to.entries.resize(total);
