@@ -132,11 +132,16 @@ size_t first_difference(const std::vector<T>& a, const std::vector<T>& b) {
 
 TEST_CASE("CPU and GPU build identical trees, stage by stage", "[gpu]") {
   gpu::Context ctx;
-  for (const Case& c : cases()) for (int grid : {-1, 0, 3}) {
-    INFO(c.name << ", coarse grid levels " << grid);
+  // Coarse grid levels (-1: the scene's), and a cap on the tree's entries
+  // that makes a level the last (the memory cap's path on both).
+  const std::pair<int, size_t> variants[] = {{-1, 0}, {0, 0}, {3, 0}, {0, 2000}, {3, 2000}};
+  size_t capped = 0;  // trees the cap made shallower
+  for (const Case& c : cases()) for (const auto& [grid, cap] : variants) {
+    INFO(c.name << ", coarse grid levels " << grid << ", entry cap " << cap);
     TreeParams params;
     params.keep_levels = true;
     params.grid_levels = grid;
+    if (cap) params.max_entries = cap;
     const ShortcutTree cpu = build_tree_cpu(c.enc, c.width, c.height, params);
     ctx.build(c.enc, c.width, c.height, params);
     const ShortcutTree gpu = ctx.download_tree();
@@ -156,6 +161,7 @@ TEST_CASE("CPU and GPU build identical trees, stage by stage", "[gpu]") {
     REQUIRE(same_bytes(cpu.leaves, gpu.leaves));
     REQUIRE(same_bytes(cpu.leaf_entries, gpu.leaf_entries));
     CHECK(cpu.depth == gpu.depth);
+    if (cap) capped += cpu.depth < build_tree_cpu(c.enc, c.width, c.height, TreeParams{}).depth;
     REQUIRE(cpu.tiles.size() == gpu.tiles.size());
     for (size_t k = 0; k < cpu.tiles.size(); k++) {
       INFO("pattern tile " << k);
@@ -166,6 +172,7 @@ TEST_CASE("CPU and GPU build identical trees, stage by stage", "[gpu]") {
       REQUIRE(same_bytes(cpu.tiles[k].leaf_entries, gpu.tiles[k].leaf_entries));
     }
   }
+  CHECK(capped > 0);
 }
 
 TEST_CASE("CPU and GPU images agree within 1/255; GPU images are deterministic", "[gpu]") {
