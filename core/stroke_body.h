@@ -135,6 +135,20 @@ MPVG_HD_INLINE double dist_quad(Vec2 x, Vec2 p0, Vec2 p1, Vec2 p2, double guess,
 // pieces depend only on the interval, not on the order of the walk.
 constexpr int kFitDepth = 16;
 
+// Bisection of [lo, hi] where pred holds at lo and not at hi: `steps`
+// halvings keep it so, and the middle of what is left is returned.
+template <class Pred>
+MPVG_HD_INLINE double bisect(double lo, double hi, int steps, Pred&& pred) {
+  for (int it = 0; it < steps; it++) {
+    const double m = (lo + hi) / 2;
+    if (pred(m))
+      lo = m;
+    else
+      hi = m;
+  }
+  return (lo + hi) / 2;
+}
+
 // Where to split a piece that does not fit: where the tangent has turned
 // half way when it turns noticeably or unevenly in t (near-cusps turn
 // within a tiny range of t), else in the middle.
@@ -147,15 +161,7 @@ MPVG_HD_INLINE double fit_split(const Boundary& g, double u, double v, bool unev
   // it is past their bisector.
   const Vec2 half = normalized(tu + tv);
   const double dir = phi > 0 ? 1 : -1;
-  double lo = u, hi = v;
-  for (int it = 0; it < 40; it++) {
-    const double m = (lo + hi) / 2;
-    if (dir * cross(half, g.f.tangent(m)) < 0)
-      lo = m;
-    else
-      hi = m;
-  }
-  const double m = (lo + hi) / 2;
+  const double m = bisect(u, v, 40, [&](double x) { return dir * cross(half, g.f.tangent(x)) < 0; });
   return (m > u && m < v) ? m : (u + v) / 2;
 }
 
@@ -397,15 +403,7 @@ class Analysis {
         const int i = lowest_bit(changes);
         const int prev = highest_bit(counted & ((uint64_t{1} << i) - 1));
         const bool prev_pos = smp[prev].cr > 0;
-        double lo = t_of(prev), hi = t_of(i);
-        for (int it = 0; it < 60; it++) {
-          const double m = (lo + hi) / 2;
-          if ((cross_at(m) > 0) == prev_pos)
-            lo = m;
-          else
-            hi = m;
-        }
-        add(br, (lo + hi) / 2, false);
+        add(br, bisect(t_of(prev), t_of(i), 60, [&](double m) { return (cross_at(m) > 0) == prev_pos; }), false);
       }
     }
     push(br, 0, false);
@@ -442,15 +440,7 @@ class Analysis {
     }
     for (int k = 0; k < ncross; k++) {
       const bool h0 = (cross_from_high >> k) & 1;
-      double lo = cross_lo[k], hi = cross_hi[k];
-      for (int it = 0; it < 60; it++) {
-        const double m = (lo + hi) / 2;
-        if ((excess(m) > 0) == h0)
-          lo = m;
-        else
-          hi = m;
-      }
-      cross_lo[k] = (lo + hi) / 2;
+      cross_lo[k] = bisect(cross_lo[k], cross_hi[k], 60, [&](double m) { return (excess(m) > 0) == h0; });
     }
     for (int k = 0; k < ncross; k++) add(br, cross_lo[k], false);
     sort_breaks(br);
@@ -509,15 +499,7 @@ class Analysis {
         int i = 0;
         while (i < n - 1 && fabs(acc[i + 1]) < fabs(target)) i++;
         const double local = target - acc[i];
-        double lo = t[i], hi = t[i + 1];
-        for (int it = 0; it < 60; it++) {
-          const double x = (lo + hi) / 2;
-          if (fabs(turn(T[i], f.tangent(x))) < fabs(local))
-            lo = x;
-          else
-            hi = x;
-        }
-        k[nk++] = (lo + hi) / 2;
+        k[nk++] = bisect(t[i], t[i + 1], 60, [&](double x) { return fabs(turn(T[i], f.tangent(x))) < fabs(local); });
       }
     }
     // Sorted (insertion sort: few knots), duplicates removed, ends exact.

@@ -139,9 +139,8 @@ enum : uint32_t { SPLIT_SCAN_HEAD = 1u, SPLIT_SCAN_OPEN_END = 2u };
 // The scan's item for one pair: its split flags and winding increment, and
 // whether it starts or ends its path's run.
 MPVG_HD_INLINE SplitScan split_scan_item(uint32_t flags, int32_t wind, bool head, bool last) {
-  const uint32_t n = split_count(flags);
-  if (head) return SplitScan{0, wind, n + ((last && wind != 0) ? 1u : 0u), SPLIT_SCAN_HEAD};
-  return SplitScan{wind, wind, n, last ? SPLIT_SCAN_OPEN_END : 0u};
+  if (head) return SplitScan{0, wind, split_output_count(flags, last, wind), SPLIT_SCAN_HEAD};
+  return SplitScan{wind, wind, split_count(flags), last ? SPLIT_SCAN_OPEN_END : 0u};
 }
 
 struct SplitScanOp {
