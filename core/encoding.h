@@ -23,6 +23,13 @@ enum class Gamma { Srgb, Linear };
 
 struct EncodedTile;
 
+// One scene of a forest frame (core/forest.h): its elements in the
+// stream, and the grid of unit areas it is rendered over.
+struct SceneRoot {
+  uint32_t stream_begin = 0, stream_end = 0;
+  int width = 0, height = 0;
+};
+
 struct EncodedScene {
   std::vector<InputSegment> segments;   // all filled paths, stream order, contours closed
   // Stroked paths' centrelines, styles and transforms to pixels: the stroke
@@ -41,6 +48,9 @@ struct EncodedScene {
   // (PatternRecord::tree indexes them). Set on the top-level scene only.
   std::shared_ptr<const PaintData> paint;
   std::vector<EncodedTile> tiles;
+  // A forest frame's scenes, in order (core/forest.h); empty: one scene,
+  // the whole stream, over the grid the tree is built for.
+  std::vector<SceneRoot> roots;
 };
 
 // A pattern tile: its content in grid coordinates, where the tile is

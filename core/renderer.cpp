@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "core/error.h"
+#include "core/forest.h"
 #include "core/integration.h"
 #include "core/rgba8.h"
 
@@ -106,6 +107,62 @@ ImageF render_cpu(const EncodedScene& enc, const RenderPlan& plan, const RenderO
   st.tree_bytes = tree.memory_bytes();
   st.depth = tree.depth;
   return img;
+}
+
+bool same_frame_options(const RenderOptions& a, const RenderOptions& b) {
+  const TreeParams &ta = a.tree, &tb = b.tree;
+  return a.background.r == b.background.r && a.background.g == b.background.g && a.background.b == b.background.b &&
+         a.background.a == b.background.a && a.samples == b.samples && a.seed == b.seed && a.filter == b.filter &&
+         a.pattern == b.pattern && a.gamma == b.gamma && a.backend == b.backend && a.threads == b.threads &&
+         a.aliased_paths == b.aliased_paths && ta.min_segments == tb.min_segments && ta.max_depth == tb.max_depth &&
+         ta.max_entries == tb.max_entries && ta.prune == tb.prune && ta.grid_levels == tb.grid_levels &&
+         ta.keep_levels == tb.keep_levels;
+}
+
+EncodedScene forest_of(const std::vector<FrameScene>& scenes) {
+  std::vector<ForestScene> fs;
+  fs.reserve(scenes.size());
+  for (const FrameScene& s : scenes)
+    fs.push_back(ForestScene{*s.scene, s.plan->frame.ua_w, s.plan->frame.ua_h});
+  return make_forest(std::move(fs));
+}
+
+std::vector<ImageF> render_forest_cpu(const std::vector<FrameScene>& scenes, const RenderOptions& o) {
+  const auto t_all = std::chrono::steady_clock::now();
+  std::vector<size_t> inputs;
+  for (const FrameScene& s : scenes) inputs.push_back(s.scene->input_segment_count);
+  const EncodedScene forest = forest_of(scenes);
+  int w = 0, h = 0;
+  forest_grid(forest, w, h);
+  BuildTimes bt;
+  const ShortcutTree tree = build_tree_cpu(forest, w, h, o.tree, &bt);
+  const double share = 1.0 / std::max<size_t>(1, scenes.size());
+  const double build_ms = ms_since(t_all);
+  const PaintRecord bg = background_paint(o.background, o.gamma);
+  std::vector<ImageF> out;
+  for (size_t k = 0; k < scenes.size(); k++) {
+    const auto t0 = std::chrono::steady_clock::now();
+    RenderTimes rt;
+    out.push_back(render_tree_cpu(tree, scenes[k].plan->integ, scenes[k].plan->frame, bg, o.threads, &rt,
+                                  static_cast<uint32_t>(k)));
+    if (!scenes[k].stats) continue;
+    RenderStats& st = *scenes[k].stats;
+    st.backend = "cpu";
+    st.stroke_ms += bt.stroke_ms * share;
+    st.abstract_ms += bt.abstract_ms * share;
+    st.subdivide_ms += bt.subdivide_ms * share;
+    st.prune_ms += bt.prune_ms * share;
+    st.schedule_ms += rt.schedule_ms;
+    st.sample_ms += rt.sample_ms;
+    st.total_ms += build_ms * share + ms_since(t0);
+    st.input_segments = inputs[k];
+    st.abstract_segments = static_cast<size_t>(tree.segments.size() * share);
+    st.leaves = static_cast<size_t>(tree.leaves.size() * share);
+    st.leaf_entries = static_cast<size_t>(tree.leaf_entries.size() * share);
+    st.tree_bytes = tree.memory_bytes();
+    st.depth = tree.depth;
+  }
+  return out;
 }
 
 const SrgbCodeTable& srgb_code_table() {

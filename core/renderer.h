@@ -73,6 +73,30 @@ EncodedScene encode_for(const Scene& scene, const RenderPlan& plan, Gamma gamma,
 ImageF render_cpu(const EncodedScene& scene, const RenderPlan& plan, const RenderOptions& options,
                   RenderStats* stats = nullptr);
 
+// Forest frames (core/forest.h): several scenes built into one tree, each
+// then rendered over its own grid, to the image it has alone.
+//
+// May scenes rendered with options a and b share a frame? Everything but
+// the output's size and view must agree.
+bool same_frame_options(const RenderOptions& a, const RenderOptions& b);
+
+// One scene of a forest frame: encoded for its options (encode_for) and
+// planned (its size and view are in the plan). stats, if given, receive the
+// scene's stage times (the shared build's divided evenly between the
+// scenes).
+struct FrameScene {
+  const EncodedScene* scene = nullptr;
+  const RenderPlan* plan = nullptr;
+  RenderStats* stats = nullptr;
+};
+
+// The forest of the scenes (copies of their encodings), in order.
+EncodedScene forest_of(const std::vector<FrameScene>& scenes);
+
+// The CPU executor: one build, then each scene's image as render_cpu gives
+// it alone. options: the scenes' shared options (same_frame_options).
+std::vector<ImageF> render_forest_cpu(const std::vector<FrameScene>& scenes, const RenderOptions& options);
+
 // The background as a premultiplied paint in the integration colour space.
 PaintRecord background_paint(const RGBA& c, Gamma gamma);
 

@@ -421,8 +421,9 @@ MPVG_HD_INLINE Rgba4 sample_cell(const SampleInputs& in, uint32_t begin, uint32_
 
 // Leaf containing pixel (ix, iy): descend from the root by the bits of the
 // pixel coordinates (cells are aligned to the pixel grid, §5.3).
-MPVG_HD_INLINE uint32_t tree_find_leaf(const Node* nodes, uint32_t root_size, uint32_t ix, uint32_t iy) {
-  uint32_t node = 0;
+MPVG_HD_INLINE uint32_t tree_find_leaf(const Node* nodes, uint32_t root_size, uint32_t ix, uint32_t iy,
+                                        uint32_t root = 0) {
+  uint32_t node = root;
   uint32_t half = root_size >> 1;
   while (nodes[node].child >= 0) {
     const uint32_t q = ((iy & half) ? 2u : 0u) | ((ix & half) ? 1u : 0u);

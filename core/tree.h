@@ -37,6 +37,7 @@ struct TreeLevel {
 
 struct ShortcutTree {
   uint32_t root_size = 1;  // power of two, >= image width and height
+  uint32_t roots = 1;      // a forest's scenes (core/forest.h): nodes 0 .. roots - 1
   int depth = 0;           // deepest level that has cells
   std::vector<AbstractSegment> segments;
   std::vector<PathRecord> paths;

@@ -50,9 +50,12 @@ __global__ void k_stream_lengths(const Entry* placeholders, size_t m, const uint
   len[s] = seg_offset[path_input[p + 1]] - seg_offset[path_input[p]];
 }
 
-// Output entry j belongs to the stream element whose range holds it.
+// Output entry j belongs to the stream element whose range holds it, and
+// to the virtual cell of the root whose range holds that element (roots
+// cover the stream in order: root_stream[2r] is root r's first element).
 __global__ void k_stream_expand(const Entry* placeholders, size_t m, const uint32_t* pos, const uint32_t* path_input,
-                                const uint32_t* seg_offset, size_t total, Entry* out, uint32_t* out_cell) {
+                                const uint32_t* seg_offset, const uint32_t* root_stream, uint32_t nroots, size_t total,
+                                Entry* out, uint32_t* out_cell) {
   const size_t j = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
   if (j >= total) return;
   size_t lo = 0, hi = m;  // last s with pos[s] <= j
@@ -60,14 +63,26 @@ __global__ void k_stream_expand(const Entry* placeholders, size_t m, const uint3
     const size_t mid = (lo + hi) / 2;
     if (pos[mid] <= j) lo = mid; else hi = mid;
   }
+  uint32_t rlo = 0, rhi = nroots;  // last root starting at or before element lo
+  while (rhi - rlo > 1) {
+    const uint32_t mid = (rlo + rhi) / 2;
+    if (root_stream[2 * mid] <= lo) rlo = mid; else rhi = mid;
+  }
   const Entry e = placeholders[lo];
-  out_cell[j] = 0;
+  out_cell[j] = rlo;
   if (entry_is_delimiter(e)) {
     out[j] = e;
     return;
   }
   const uint32_t p = entry_path(e);
   out[j] = make_entry(ENTRY_SEGMENT, p, seg_offset[path_input[p]] + static_cast<uint32_t>(j - pos[lo]));
+}
+
+// The virtual cells: root r's expanded entries.
+__global__ void k_root_cells(const uint32_t* pos, const uint32_t* root_stream, uint32_t nroots, Cell* cells) {
+  const uint32_t r = blockIdx.x * blockDim.x + threadIdx.x;
+  if (r >= nroots) return;
+  cells[r] = Cell{pos[root_stream[2 * r]], pos[root_stream[2 * r + 1]], 0, 0, 0, static_cast<uint16_t>(r)};
 }
 
 }  // namespace
@@ -146,19 +161,21 @@ void Context::Impl::abstract(const EncodedScene& scene) {
   nsegments = pieces;
   segments.resize(pieces);
 
-  // The initial stream, as one virtual cell.
+  // The initial stream, as one virtual cell per root.
+  const uint32_t nroots = static_cast<uint32_t>(roots.size());
   level.entries.resize(total);
   level.entry_cell.resize(total);
   level.nentries = total;
   if (total) {
     k_stream_expand<<<grid_for(total, kBlock), kBlock>>>(placeholders.data(), m, pos, path_input.data(), offset,
-                                                         total, level.entries.data(), level.entry_cell.data());
+                                                         root_stream.data(), nroots, total, level.entries.data(),
+                                                         level.entry_cell.data());
     launched();
   }
-  const Cell virt{0, static_cast<uint32_t>(total), 0, 0, 0, 0};
-  level.cells.resize(1);
-  level.ncells = 1;
-  MPVG_CUDA(cudaMemcpy(level.cells.data(), &virt, sizeof virt, cudaMemcpyHostToDevice));
+  level.cells.resize(nroots);
+  level.ncells = nroots;
+  k_root_cells<<<grid_for(nroots, kBlock), kBlock>>>(pos, root_stream.data(), nroots, level.cells.data());
+  launched();
 }
 
 }  // namespace mpvg::gpu

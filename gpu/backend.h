@@ -57,6 +57,16 @@ class FrameRenderer {
   png::ImageData render_png(const EncodedScene& scene, const RenderPlan& plan, const RenderOptions& options,
                             RenderStats* stats = nullptr);
 
+  // Several scenes as one frame (a forest, core/forest.h): one tree build
+  // for all of them, then each rendered over its own grid, to the same
+  // bytes render_rgba8 (or, with `png`, render_png) gives it alone.
+  // options: the scenes' shared options (same_frame_options); each scene's
+  // size and view are in its plan.
+  struct Output {
+    std::vector<uint8_t> rgba8;
+    png::ImageData png;
+  };
+  std::vector<Output> render_forest(const std::vector<FrameScene>& scenes, const RenderOptions& options, bool png);
   // Readies the first real frame: reserves device memory in the pool the
   // buffers come from (`pool_bytes`), and renders a small built-in scene
   // with `like`'s filter and samples so that the kernels a frame needs are

@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "core/error.h"
+#include "core/forest.h"
 #include "gpu/backend.h"
 #include "gpu/gpu_backend.h"
 
@@ -62,6 +63,24 @@ ImageF render_cuda(gpu::Context& ctx, const EncodedScene& enc, const RenderPlan&
   return render_cuda(ctx, enc, plan, o, st, [&](const PaintRecord& bg, gpu::GpuTimes* gt) {
     return ctx.render(plan.integ, plan.frame, bg, gt);
   });
+}
+
+// The CPU executor's forest frame, for either backend's FrameRenderer.
+std::vector<FrameRenderer::Output> forest_on_cpu(const std::vector<FrameScene>& scenes, const RenderOptions& options,
+                                                 bool png, const std::string& note) {
+  std::vector<ImageF> images = render_forest_cpu(scenes, options);
+  std::vector<FrameRenderer::Output> out(images.size());
+  for (size_t k = 0; k < images.size(); k++) {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<uint8_t> rgba8 = to_rgba8(images[k], options.gamma);
+    if (png) out[k].png = png::compress_rgba8(rgba8.data(), images[k].width, images[k].height);
+    else out[k].rgba8 = std::move(rgba8);
+    if (RenderStats* st = scenes[k].stats) {
+      st->note = note;
+      if (png) st->png_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    }
+  }
+  return out;
 }
 
 ImageF render_cuda(const Scene& scene, const RenderOptions& options, RenderStats& st) {
@@ -190,6 +209,57 @@ png::ImageData FrameRenderer::render_png(const EncodedScene& scene, const Render
     st.png_ms += gt->png_ms;
     return data;
   });
+}
+
+std::vector<FrameRenderer::Output> FrameRenderer::render_forest(const std::vector<FrameScene>& scenes,
+                                                               const RenderOptions& options, bool png) {
+  if (impl_->backend == Backend::Cpu) return forest_on_cpu(scenes, options, png, impl_->note);
+  cudaSetDevice(impl_->device);
+  gpu::Context& ctx = *impl_->ctx;
+  const auto t_all = std::chrono::steady_clock::now();
+  std::vector<size_t> inputs;
+  for (const FrameScene& s : scenes) inputs.push_back(s.scene->input_segment_count);
+  int w = 0, h = 0;
+  gpu::GpuTimes gt;
+  {
+    const EncodedScene forest = forest_of(scenes);
+    forest_grid(forest, w, h);
+    ctx.build(forest, w, h, options.tree, &gt);
+  }
+  const double share = 1.0 / std::max<size_t>(1, scenes.size());
+  const double build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_all).count();
+  const gpu::Context::BuildCounts counts = ctx.build_counts();
+  const PaintRecord bg = background_paint(options.background, options.gamma);
+  const bool linear = options.gamma == Gamma::Linear;
+  std::vector<Output> out(scenes.size());
+  for (size_t k = 0; k < scenes.size(); k++) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const RenderPlan& plan = *scenes[k].plan;
+    const uint32_t root = static_cast<uint32_t>(k);
+    gpu::GpuTimes rt;
+    if (png) out[k].png = ctx.render_png(plan.integ, plan.frame, bg, linear, &rt, root);
+    else out[k].rgba8 = ctx.render_rgba8(plan.integ, plan.frame, bg, linear, &rt, {}, root);
+    if (!scenes[k].stats) continue;
+    RenderStats& st = *scenes[k].stats;
+    st.backend = "cuda";
+    st.note = impl_->note;
+    st.stroke_ms += gt.stroke_ms * share;
+    st.abstract_ms += gt.abstract_ms * share;
+    st.subdivide_ms += gt.subdivide_ms * share;
+    st.prune_ms += gt.prune_ms * share;
+    st.schedule_ms += rt.schedule_ms;
+    st.sample_ms += rt.sample_ms + rt.integrate_ms;
+    st.png_ms += rt.png_ms;
+    st.total_ms +=
+        build_ms * share + std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    st.input_segments = inputs[k];
+    st.tree_bytes = ctx.tree_bytes();
+    st.abstract_segments = static_cast<size_t>(counts.abstract_segments * share);
+    st.depth = counts.depth;
+    st.leaves = static_cast<size_t>(counts.leaves * share);
+    st.leaf_entries = static_cast<size_t>(counts.leaf_entries * share);
+  }
+  return out;
 }
 
 void FrameRenderer::warm_up(const RenderOptions& like, size_t pool_bytes) {

@@ -4,6 +4,7 @@
 // The host reads back a handful of counts per level to size the next one.
 #include <algorithm>
 
+#include "core/forest.h"
 #include "core/subdivision.h"
 #include "gpu/context.cuh"
 
@@ -166,6 +167,12 @@ void Context::Impl::build_tree(const EncodedScene& scene, int w, int h, const Tr
   width = w;
   height = h;
   root_size = tree_root_size(w, h);
+  roots = scene_roots(scene, w, h);
+  {
+    std::vector<uint32_t> rs;
+    for (const SceneRoot& r : roots) rs.insert(rs.end(), {r.stream_begin, r.stream_end});
+    root_stream.upload(rs);
+  }
   kept_levels.clear();
   host_paths = scene.paths;
   peak_level_entries = 0;
@@ -194,8 +201,8 @@ void Context::Impl::build_tree(const EncodedScene& scene, int w, int h, const Tr
   }
 
   size_t total_entries = level.nentries;
-  nnodes = 1;
-  nodes.grow_keep(1);
+  nnodes = roots.size();  // nodes 0 .. roots - 1: the roots
+  nodes.grow_keep(nnodes);
   nleaves = 0;
   nleaf_entries = 0;
   size_t node_base = 0;

@@ -50,6 +50,7 @@ ShortcutTree Context::download_tree() const {
   const Impl& m = *impl_;
   ShortcutTree t;
   t.root_size = m.root_size;
+  t.roots = static_cast<uint32_t>(m.roots.size());
   t.depth = m.depth;
   t.segments = m.segments.download(m.nsegments);
   t.width = static_cast<uint32_t>(m.width);
@@ -84,8 +85,8 @@ ImageF Context::render(const std::vector<SampleOffset>& pattern, const PaintReco
 }
 
 ImageF Context::render(const Integration& integ, const IntegrationFrame& frame, const PaintRecord& background,
-                       GpuTimes* times) {
-  impl_->render(integ, frame, background, times);
+                       GpuTimes* times, uint32_t root) {
+  impl_->render(integ, frame, background, times, root);
   ImageF img;
   img.width = impl_->out_width;
   img.height = impl_->out_height;
@@ -96,14 +97,14 @@ ImageF Context::render(const Integration& integ, const IntegrationFrame& frame, 
 
 std::vector<uint8_t> Context::render_rgba8(const Integration& integ, const IntegrationFrame& frame,
                                           const PaintRecord& background, bool linear, GpuTimes* times,
-                                          std::vector<uint8_t> storage) {
-  impl_->render(integ, frame, background, times);
+                                          std::vector<uint8_t> storage, uint32_t root) {
+  impl_->render(integ, frame, background, times, root);
   return impl_->download_rgba8(linear, std::move(storage));
 }
 
 png::ImageData Context::render_png(const Integration& integ, const IntegrationFrame& frame,
-                                  const PaintRecord& background, bool linear, GpuTimes* times) {
-  impl_->render(integ, frame, background, times);
+                                  const PaintRecord& background, bool linear, GpuTimes* times, uint32_t root) {
+  impl_->render(integ, frame, background, times, root);
   StageTimer timer(times != nullptr);
   timer.start(times ? &times->png_ms : nullptr);
   png::ImageData data = impl_->download_png(linear);

@@ -291,6 +291,10 @@ struct Context::Impl {
   int out_width = 0, out_height = 0;
   SamplerShape shape;
   int width = 0, height = 0;
+  // The built tree's roots (core/forest.h): one per scene of a forest,
+  // each over its own grid; root_stream holds their stream ranges.
+  std::vector<SceneRoot> roots;
+  DeviceBuffer<uint32_t> root_stream;
 
   // Host round trips and launches, per build (reported by the benchmark).
   size_t launches = 0, syncs = 0;
@@ -334,8 +338,9 @@ struct Context::Impl {
   void build_tree(const EncodedScene& scene, int width, int height, const TreeParams& params, GpuTimes* times);
   void upload_paints(const PaintData& p);
   void stash_tile(TileTree& t);
+  // Renders root `root` of the built tree (0: a frame of one scene).
   void render(const Integration& integ, const IntegrationFrame& frame, const PaintRecord& background,
-              GpuTimes* times);
+              GpuTimes* times, uint32_t root = 0);
   // The rendered image as straight 8-bit codes (core/rgba8.h) in rgba8.
   void convert_rgba8(bool linear);
   // ... copied back.

@@ -58,9 +58,10 @@ class Context {
   // Renders the built tree (built over frame's unit-area grid): samples
   // every unit area with its class's pattern (integ.offsets), integrates as
   // integ says, composites over the background; returns the image in the
-  // integration colour space.
+  // integration colour space. A forest's tree (core/forest.h) renders one
+  // root at a time, each over its own grid; every render below takes it.
   ImageF render(const Integration& integ, const IntegrationFrame& frame, const PaintRecord& background,
-                GpuTimes* times = nullptr);
+                GpuTimes* times = nullptr, uint32_t root = 0);
   // The box filter over the pixels the tree was built for.
   ImageF render(const std::vector<SampleOffset>& pattern, const PaintRecord& background, GpuTimes* times = nullptr);
 
@@ -72,14 +73,14 @@ class Context {
   // page fault each while the copy fills them).
   std::vector<uint8_t> render_rgba8(const Integration& integ, const IntegrationFrame& frame,
                                     const PaintRecord& background, bool linear, GpuTimes* times = nullptr,
-                                    std::vector<uint8_t> storage = {});
+                                    std::vector<uint8_t> storage = {}, uint32_t root = 0);
 
   // As render_rgba8(), the image filtered and deflated on the device
   // (core/png_encode.h's stages, gpu/png_encode.cu): only the PNG's
   // compressed data is copied back; the same bytes as the CPU executor's
   // filter_image and deflate_zlib give.
   png::ImageData render_png(const Integration& integ, const IntegrationFrame& frame, const PaintRecord& background,
-                            bool linear, GpuTimes* times = nullptr);
+                            bool linear, GpuTimes* times = nullptr, uint32_t root = 0);
 
   // As render(), leaving the image on the device (benchmarks); returns the
   // GPU time of the whole render, gaps between kernels included, in ms.

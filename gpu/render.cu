@@ -52,12 +52,13 @@ __device__ __forceinline__ float4 composite(float r, float g, float b, float a, 
   return make_float4(r + under * bg.r, g + under * bg.g, b + under * bg.b, a + under * bg.a);
 }
 
-// Schedule: batches per leaf; uniform leaves (entry_varies) get their colour
-// instead. Kinds: kUniformKinds of the scene's (groups or not).
+// Schedule: batches per leaf of the root rendered (the others get none);
+// uniform leaves (entry_varies) get their colour instead. Kinds:
+// kUniformKinds of the scene's (groups or not).
 template <uint32_t Kinds>
 __global__ void k_leaf_info(const Cell* leaves, size_t nleaves, const Entry* entries, SampleInputs in,
                             uint32_t root_size, int width, int height, uint32_t tile_w, uint32_t tile_h,
-                            uint32_t* batches, float4* color) {
+                            uint32_t root, uint32_t* batches, float4* color) {
   const size_t l = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
   if (l > nleaves) return;
   if (l == nleaves) {
@@ -65,6 +66,10 @@ __global__ void k_leaf_info(const Cell* leaves, size_t nleaves, const Entry* ent
     return;
   }
   const Cell c = leaves[l];
+  if (c.root != root) {
+    batches[l] = 0;
+    return;
+  }
   const PixelRect r = leaf_rect(c, root_size, width, height);
   bool uniform = true;
   for (uint32_t i = c.begin; i < c.end && uniform; i++) uniform = !entry_varies(entries[i], in.paths);
@@ -191,23 +196,23 @@ __global__ void k_sample(const Cell* leaves, uint32_t nleaves, const uint32_t* b
   }
 }
 
-__global__ void k_fill_uniform(const Node* nodes, uint32_t root_size, int width, int height, const float4* color,
-                               PaintRecord bg, float4* image) {
+__global__ void k_fill_uniform(const Node* nodes, uint32_t root_size, uint32_t root, int width, int height,
+                               const float4* color, PaintRecord bg, float4* image) {
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
   if (i >= size_t(width) * height) return;
   const uint32_t x = static_cast<uint32_t>(i % width), y = static_cast<uint32_t>(i / width);
-  const float4 c = color[tree_find_leaf(nodes, root_size, x, y)];
+  const float4 c = color[tree_find_leaf(nodes, root_size, x, y, root)];
   if (c.w >= 0.0f) image[i] = composite(c.x, c.y, c.z, c.w, bg);
 }
 
 // Unit areas of uniform leaves send flat colour times the weights' sums.
 // The flat colour of every unit area in a uniform leaf (a < 0 elsewhere).
-__global__ void k_unit_area_color(const Node* nodes, uint32_t root_size, int ua_w, int ua_h, const float4* color,
-                                  float4* ua_color) {
+__global__ void k_unit_area_color(const Node* nodes, uint32_t root_size, uint32_t root, int ua_w, int ua_h,
+                                  const float4* color, float4* ua_color) {
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
   if (i >= size_t(ua_w) * ua_h) return;
   const uint32_t ux = static_cast<uint32_t>(i % ua_w), uy = static_cast<uint32_t>(i / ua_w);
-  ua_color[i] = color[tree_find_leaf(nodes, root_size, ux, uy)];
+  ua_color[i] = color[tree_find_leaf(nodes, root_size, ux, uy, root)];
 }
 
 // Per accumulation pixel: the atomics' sums plus the uniform unit areas of
@@ -362,7 +367,7 @@ __global__ void k_output(const float* buf, int acc_w, int pad, int width, int he
 }  // namespace
 
 void Context::Impl::render(const Integration& integ, const IntegrationFrame& frame, const PaintRecord& bg,
-                           GpuTimes* times) {
+                           GpuTimes* times, uint32_t root) {
   const std::vector<SampleOffset>& pat = integ.offsets;
   StageTimer timer(times != nullptr);
   GpuTimes local;
@@ -371,6 +376,9 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
   // A block holds whole unit areas: as many as fit in the shape's threads.
   const int threads = n <= shape.threads ? n * (shape.threads / n) : n;
   if (n < 1 || threads > 1024) throw Error("the CUDA sampler takes 1 to 1024 samples per unit area");
+  if (root >= roots.size()) throw Error("render of a root the built tree does not have");
+  // The root's own grid (a forest's tree is built over the largest).
+  const int width = roots[root].width, height = roots[root].height;
   if (frame.ua_w != width || frame.ua_h != height) throw Error("render frame does not match the built tree");
   const bool direct = integ.support == 1 && integ.pad == 0;
   pattern.upload(pat);
@@ -403,7 +411,7 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
   auto leaf_info = (kinds & SAMPLE_GROUPS) ? k_leaf_info<SAMPLE_GROUPS> : k_leaf_info<PAINTS_SOLID>;
   leaf_info<<<grid_for(nleaves + 1, kBlock), kBlock>>>(leaves.data(), nleaves, leaf_entries.data(), in, root_size, width,
                                                        height, static_cast<uint32_t>(tile_w),
-                                                       static_cast<uint32_t>(tile_h), nb, leaf_color.data());
+                                                       static_cast<uint32_t>(tile_h), root, nb, leaf_color.data());
   launched();
   prim.exclusive_sum(nb, leaf_batches.data(), nleaves + 1);
   const uint32_t total_batches = read_u32(leaf_batches.data() + nleaves);
@@ -426,13 +434,13 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
   }
   const size_t nua = size_t(width) * height;
   if (direct) {
-    k_fill_uniform<<<grid_for(nua, kBlock), kBlock>>>(nodes.data(), root_size, width, height, leaf_color.data(), bg,
-                                                      image.data());
+    k_fill_uniform<<<grid_for(nua, kBlock), kBlock>>>(nodes.data(), root_size, root, width, height,
+                                                      leaf_color.data(), bg, image.data());
     launched();
   } else {
     ua_color.resize(nua);
-    k_unit_area_color<<<grid_for(nua, kBlock), kBlock>>>(nodes.data(), root_size, width, height, leaf_color.data(),
-                                                         ua_color.data());
+    k_unit_area_color<<<grid_for(nua, kBlock), kBlock>>>(nodes.data(), root_size, root, width, height,
+                                                         leaf_color.data(), ua_color.data());
     launched();
   }
   timer.stop();

@@ -100,7 +100,7 @@ __device__ void child_cells(const Cell* cells, size_t k, uint32_t fanout, bool r
     cc.ix = root ? 0 : static_cast<uint16_t>(2 * pc.ix + (c & 1));
     cc.iy = root ? 0 : static_cast<uint16_t>(2 * pc.iy + (c >> 1));
     cc.level = root ? 0 : static_cast<uint16_t>(pc.level + 1);
-    cc.pad = 0;
+    cc.root = pc.root;
     out[fanout * k + c] = cc;
   }
 }

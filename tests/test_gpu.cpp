@@ -20,6 +20,7 @@
 #include "gpu/stroke.h"
 #include "parsers/svg/svg_parser.h"
 #include "tests/catch.h"
+#include "tests/random_forest.h"
 #include "tests/random_groups.h"
 #include "tests/random_meshes.h"
 #include "tests/random_paths.h"
@@ -462,4 +463,56 @@ TEST_CASE("png stage: GPU and CPU executors give the same bytes", "[gpu][png]") 
     CHECK(g.channels == cpu.channels);
     CHECK(g.zlib == cpu.zlib);
   }
+}
+
+// A forest frame (core/forest.h) on the device: each scene's 8-bit image
+// and PNG are byte for byte what a frame of its own gives, with the box
+// filter and a wide one; the CPU's forest agrees within 1/255.
+TEST_CASE("forest: each scene renders on the GPU as it does alone", "[gpu][forest]") {
+  FrameRenderer r(Backend::Cuda);
+  size_t scenes = 0;
+  for (int variant = 0; variant < 3; variant++) {
+    RenderOptions like;
+    like.backend = Backend::Cuda;
+    if (variant == 1) {
+      like.samples = 8;
+      like.filter = Filter::Cardinal;
+      like.aliased_paths = true;
+    }
+    if (variant == 2) like.tree.grid_levels = 0;
+    for (uint32_t seed = 1; seed <= 4; seed++) {
+      INFO("variant " << variant << ", seed " << seed);
+      const std::vector<random_forest::Page> ps = random_forest::pages(seed, like);
+      std::vector<RenderPlan> plans;
+      std::vector<EncodedScene> encs;
+      std::vector<std::vector<uint8_t>> alone;
+      std::vector<png::ImageData> alone_png;
+      for (const random_forest::Page& p : ps) {
+        plans.push_back(plan_render(p.options));
+        encs.push_back(encode_for(p.scene, plans.back(), p.options.gamma));
+        alone.push_back(r.render_rgba8(encs.back(), plans.back(), p.options));
+        alone_png.push_back(r.render_png(encs.back(), plans.back(), p.options));
+      }
+      std::vector<FrameScene> frame;
+      for (size_t k = 0; k < ps.size(); k++) frame.push_back(FrameScene{&encs[k], &plans[k], nullptr});
+      const std::vector<FrameRenderer::Output> together = r.render_forest(frame, like, false);
+      const std::vector<FrameRenderer::Output> together_png = r.render_forest(frame, like, true);
+      RenderOptions cpu_like = like;
+      cpu_like.backend = Backend::Cpu;
+      const std::vector<ImageF> cpu = render_forest_cpu(frame, cpu_like);
+      REQUIRE(together.size() == ps.size());
+      for (size_t k = 0; k < ps.size(); k++) {
+        INFO("scene " << k);
+        CHECK(together[k].rgba8 == alone[k]);
+        CHECK(together_png[k].png.zlib == alone_png[k].zlib);
+        const std::vector<uint8_t> c = to_rgba8(cpu[k], like.gamma);
+        REQUIRE(c.size() == alone[k].size());
+        int worst = 0;
+        for (size_t i = 0; i < c.size(); i++) worst = std::max(worst, std::abs(int(c[i]) - int(alone[k][i])));
+        CHECK(worst <= 1);
+        scenes++;
+      }
+    }
+  }
+  CHECK(scenes == 60);
 }

@@ -16,14 +16,17 @@ std::vector<AbstractSegment> abstract_cpu(const std::vector<InputSegment>& input
   return out;
 }
 
-std::vector<Entry> initial_stream(const EncodedScene& scene, const std::vector<AbstractSegment>& segments) {
+std::vector<Entry> initial_stream(const EncodedScene& scene, const std::vector<AbstractSegment>& segments,
+                                  std::vector<uint32_t>* at) {
   // Abstract segments come out grouped by path, in stream order.
   std::vector<uint32_t> first(scene.paths.size() + 1, 0);
   for (const AbstractSegment& s : segments) first[s.path + 1]++;
   std::inclusive_scan(first.begin(), first.end(), first.begin());
   std::vector<Entry> out;
   out.reserve(segments.size() + scene.stream.size());
+  if (at) at->clear();
   for (const Entry& e : scene.stream) {
+    if (at) at->push_back(static_cast<uint32_t>(out.size()));
     if (entry_is_delimiter(e)) {
       out.push_back(e);
       continue;
@@ -31,6 +34,7 @@ std::vector<Entry> initial_stream(const EncodedScene& scene, const std::vector<A
     const uint32_t p = entry_path(e);
     for (uint32_t k = first[p]; k < first[p + 1]; k++) out.push_back(make_entry(ENTRY_SEGMENT, p, k));
   }
+  if (at) at->push_back(static_cast<uint32_t>(out.size()));
   return out;
 }
 

@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "core/cpu/cpu_stages.h"
+#include "core/forest.h"
 #include "core/subdivision.h"
 
 namespace mpvg {
@@ -49,9 +50,14 @@ ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, co
   t.abstract_ms += ms_since(t0);
 
   t0 = std::chrono::steady_clock::now();
+  // One virtual cell per root (a forest's scenes, or the whole stream).
   TreeLevel virt;
-  virt.entries = initial_stream(scene, tree.segments);
-  virt.cells.push_back(Cell{0, static_cast<uint32_t>(virt.entries.size()), 0, 0, 0, 0});
+  std::vector<uint32_t> at;
+  virt.entries = initial_stream(scene, tree.segments, &at);
+  const std::vector<SceneRoot> roots = scene_roots(scene, width, height);
+  for (size_t r = 0; r < roots.size(); r++)
+    virt.cells.push_back(Cell{at[roots[r].stream_begin], at[roots[r].stream_end], 0, 0, 0, static_cast<uint16_t>(r)});
+  tree.roots = static_cast<uint32_t>(roots.size());
   TreeLevel level = subdivide_cpu(virt.cells, virt.entries.data(), tree.segments, tree.root_size, true);
   t.subdivide_ms += ms_since(t0);
   const int max_level = tree_max_level(tree.root_size, params);
@@ -65,7 +71,7 @@ ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, co
   }
 
   size_t total_entries = level.entries.size();
-  tree.nodes.push_back(Node{-1, 0});
+  tree.nodes.assign(tree.roots, Node{-1, 0});
   uint32_t node_base = 0;  // node index of the current level's first cell
   for (int lv = 0;; lv++) {
     tree.depth = lv;

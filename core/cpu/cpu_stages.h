@@ -16,7 +16,8 @@ std::vector<AbstractSegment> abstract_cpu(const std::vector<InputSegment>& input
 
 // The stream before the root exists: delimiters, and each path's abstract
 // segments as SEGMENT entries (expanding the encoding's placeholders).
-std::vector<Entry> initial_stream(const EncodedScene& scene, const std::vector<AbstractSegment>& segments);
+std::vector<Entry> initial_stream(const EncodedScene& scene, const std::vector<AbstractSegment>& segments,
+                                  std::vector<uint32_t>* at = nullptr);
 
 // Entries a batch of cells spans at most in subdivide_cpu and prune_cpu,
 // whose per-pair and per-entry arrays grow with it (1 << 20: ~80 MB); a
@@ -62,7 +63,9 @@ struct BuildTimes {
 std::vector<InputSegment> stroke_input_segments(const EncodedScene& scene, int threads = 0);
 
 // The whole tree: abstraction, root, then level by level subdivision and
-// pruning until the stopping criteria hold everywhere.
+// pruning until the stopping criteria hold everywhere. A forest's (scene.
+// roots, core/forest.h) has one root per scene; width x height is then
+// forest_grid's.
 ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, const TreeParams& params,
                             BuildTimes* times = nullptr);
 
@@ -79,13 +82,15 @@ struct RenderTimes {
 // its class's pattern (integ.offsets) in the leaf that holds it, integrated
 // as integ says (integration.h) and composited over background
 // (premultiplied). The tree must have been built over the frame's unit-area
-// grid. threads = 0: all cores.
+// grid. threads = 0: all cores. In a forest, the scene of root `root`,
+// over its own grid.
 ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const IntegrationFrame& frame,
-                       const PaintRecord& background, int threads, RenderTimes* times = nullptr);
+                       const PaintRecord& background, int threads, RenderTimes* times = nullptr,
+                       uint32_t root = 0);
 
 // The colour of one sample at (px, py), straight from the tree (tests and
 // tools): premultiplied, in the integration colour space, no background.
-Rgba4 sample_tree_cpu(const ShortcutTree& tree, float px, float py);
+Rgba4 sample_tree_cpu(const ShortcutTree& tree, float px, float py, uint32_t root = 0);
 
 // The box filter over width x height pixels (the tree built over them).
 ImageF render_tree_cpu(const ShortcutTree& tree, int width, int height, const std::vector<SampleOffset>& pattern,

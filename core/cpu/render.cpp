@@ -32,11 +32,13 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Schedule: every leaf's unit areas inside the w x h grid, in strips.
-std::vector<Task> schedule(const ShortcutTree& tree, int w, int h) {
+// Schedule: every leaf's unit areas inside the w x h grid, in strips (the
+// leaves of one root of a forest).
+std::vector<Task> schedule(const ShortcutTree& tree, int w, int h, uint32_t root) {
   std::vector<Task> tasks;
   for (uint32_t l = 0; l < tree.leaves.size(); l++) {
     const Cell& c = tree.leaves[l];
+    if (c.root != root) continue;
     const uint32_t s = tree.root_size >> c.level;
     const uint32_t x0 = c.ix * s, y0 = c.iy * s;
     const uint32_t x1 = std::min<uint32_t>(x0 + s, static_cast<uint32_t>(w));
@@ -50,11 +52,12 @@ std::vector<Task> schedule(const ShortcutTree& tree, int w, int h) {
 
 // Leaves without geometry or position-dependent paints have one colour
 // everywhere.
-std::vector<char> uniform_leaves(const ShortcutTree& tree) {
+std::vector<char> uniform_leaves(const ShortcutTree& tree, uint32_t root) {
   std::vector<char> uniform(tree.leaves.size(), 1);
   for (size_t l = 0; l < tree.leaves.size(); l++)
-    for (uint32_t i = tree.leaves[l].begin; i < tree.leaves[l].end && uniform[l]; i++)
-      uniform[l] = !entry_varies(tree.leaf_entries[i], tree.paths.data());
+    if (tree.leaves[l].root == root)
+      for (uint32_t i = tree.leaves[l].begin; i < tree.leaves[l].end && uniform[l]; i++)
+        uniform[l] = !entry_varies(tree.leaf_entries[i], tree.paths.data());
   return uniform;
 }
 
@@ -88,10 +91,10 @@ struct TreePaint {
 
 }  // namespace
 
-Rgba4 sample_tree_cpu(const ShortcutTree& tree, float px, float py) {
+Rgba4 sample_tree_cpu(const ShortcutTree& tree, float px, float py, uint32_t root) {
   const TreePaint paint(tree);
   const SampleInputs in{tree.leaf_entries.data(), tree.segments.data(), tree.paths.data(), &paint.tables};
-  const Cell& c = tree.leaves[tree_find_leaf(tree.nodes.data(), tree.root_size, uint32_t(px), uint32_t(py))];
+  const Cell& c = tree.leaves[tree_find_leaf(tree.nodes.data(), tree.root_size, uint32_t(px), uint32_t(py), root)];
   return sample_cell(in, c.begin, c.end, px, py);
 }
 
@@ -102,15 +105,15 @@ ImageF render_tree_cpu(const ShortcutTree& tree, int width, int height, const st
 }
 
 ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const IntegrationFrame& frame,
-                       const PaintRecord& background, int threads, RenderTimes* times) {
+                       const PaintRecord& background, int threads, RenderTimes* times, uint32_t root) {
   const std::vector<SampleOffset>& pattern = integ.offsets;  // class 0 first
   auto t0 = std::chrono::steady_clock::now();
   ImageF img;
   img.width = frame.width;
   img.height = frame.height;
   img.rgba.assign(size_t(frame.width) * size_t(frame.height) * 4, 0.0f);
-  const std::vector<Task> tasks = schedule(tree, frame.ua_w, frame.ua_h);
-  const std::vector<char> uniform = uniform_leaves(tree);
+  const std::vector<Task> tasks = schedule(tree, frame.ua_w, frame.ua_h, root);
+  const std::vector<char> uniform = uniform_leaves(tree, root);
   if (times) times->schedule_ms += ms_since(t0);
 
   t0 = std::chrono::steady_clock::now();

@@ -137,7 +137,7 @@ TreeLevel subdivide_cpu(const std::vector<Cell>& cells, const Entry* entries,
       cc.ix = root ? 0 : static_cast<uint16_t>(2 * pc.ix + (c & 1));
       cc.iy = root ? 0 : static_cast<uint16_t>(2 * pc.iy + (c >> 1));
       cc.level = root ? 0 : static_cast<uint16_t>(pc.level + 1);
-      cc.pad = 0;
+      cc.root = pc.root;
       sd.boxes[sd.fanout * k + c] = cell_box(cc.ix, cc.iy, cc.level, root_size);
     }
   }

@@ -1,0 +1,42 @@
+// Forest frames (issue 27): several scenes rendered by one pass of the
+// pipeline. Each scene keeps its own coordinates and its own grid of unit
+// areas. Their encodings are concatenated (paths, segments, strokes, paint
+// tables and pattern tiles, every index shifted), and the shortcut tree gets
+// one root per scene: nodes 0 .. n-1, with Cell::root naming the scene of
+// every cell. Stroking, abstraction, subdivision and pruning then run once
+// over all of them, the per-frame cost of launches and host round trips
+// paid once, while no cell ever mixes two scenes. A sample of scene r
+// descends from node r and meets exactly the elements it meets in a frame
+// of its own, so each scene renders to the same image.
+#pragma once
+#include <cstddef>
+#include <vector>
+
+#include "core/encoding.h"
+
+namespace mpvg {
+
+// Cell::root is 16 bits.
+constexpr size_t kMaxForestRoots = 65535;
+
+// One scene of a forest, before the merge: the scene as encode() made it
+// (one scene, not a forest) and its grid of unit areas.
+struct ForestScene {
+  EncodedScene scene;
+  int width = 0, height = 0;
+};
+
+// The scenes as one forest, in order (scene k is root k). Throws mpvg::Error
+// for more than kMaxForestRoots scenes, for one that is already a forest, or
+// when the paths together are more than entries can name.
+EncodedScene make_forest(std::vector<ForestScene> scenes);
+
+// The roots of a scene: a forest's, or the whole stream as one root over
+// width x height unit areas.
+std::vector<SceneRoot> scene_roots(const EncodedScene& scene, int width, int height);
+
+// The grid a forest's tree is built over: every root square has the side
+// the largest of its scenes needs (core/tree.h, tree_root_size).
+void forest_grid(const EncodedScene& forest, int& width, int& height);
+
+}  // namespace mpvg
