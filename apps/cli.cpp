@@ -61,6 +61,8 @@ void usage(const char* program, const char* kind) {
       "      --devices LIST        CUDA devices to use, e.g. 0,1 (default: all)\n"
       "      --threads N           worker threads: parsing, PNG (default: one per core)\n"
       "      --render-threads N    render threads per device (default 2 with CUDA)\n"
+      "      --frame-scenes N      small files rendered together as one frame, at most N\n"
+      "                            (default 8 with CUDA, 1 on the CPU)\n"
       "      --timeout S           give up on a file after S seconds (it fails; the\n"
       "                            others go on)\n"
       "Text:\n"
@@ -228,6 +230,8 @@ bool parse(int argc, char** argv, const char* program, const char* kind, Options
       o.threads = static_cast<int>(integer(a, value(), 1, 4096));
     } else if (a == "--render-threads") {
       o.render_threads = static_cast<int>(integer(a, value(), 1, 64));
+    } else if (a == "--frame-scenes") {
+      o.frame_scenes = static_cast<int>(integer(a, value(), 1, 4096));
     } else if (a == "--timeout") {
       o.timeout_s = number(a, value());
       if (!(o.timeout_s > 0)) throw UsageError{"--timeout takes a positive number of seconds"};

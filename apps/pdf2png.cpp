@@ -94,6 +94,8 @@ void usage() {
       "      --threads N           worker threads: interpretation, lowering, PNG (default:\n"
       "                            one per core, less the render threads with CUDA)\n"
       "      --render-threads N    rendering threads (default 3 with CUDA, 1 on the CPU)\n"
+      "      --frame-scenes N      small pages rendered together as one frame, at most N\n"
+      "                            (default 8 with CUDA, 1 on the CPU)\n"
       "      --stats               per-page stage times and the job's throughput\n"
       "      --repeat N            the pages N times over (benchmarks)\n"
       "      --timeout S           give up on a page after S seconds (it fails; the\n"
@@ -266,6 +268,10 @@ int main(int argc, char** argv) {
     c.quiet = opt.quiet;
     c.bits = opt.bits;
     c.compression = opt.compression;
+    // Small pages waiting together share a frame (core/forest.h): one tree
+    // build instead of one per page, with CUDA, whose frames are bound by
+    // launches and round trips (BENCHMARKS.md "Forest frames").
+    c.forest_scenes = opt.frame_scenes > 0 ? opt.frame_scenes : cuda ? pipeline::kDefaultFrameScenes : 1;
     c.gamma = opt.gamma;
     // Worker 0 uses the document opened here; the others a clone each
     // (made on first use), with MuPDF contexts of their own unless

@@ -25,6 +25,36 @@ using Clock = std::chrono::steady_clock;
 
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
+// Forest frames (core/forest.h): small items waiting together are rendered
+// as one frame, one tree build for all of them, up to Config::forest_scenes.
+// An item is small with at most kForestItemSegments input segments and
+// kForestItemPixels pixels; a frame takes items while their sums stay
+// within kForestSegments and kForestPixels, all with the same options but
+// size and view (same_frame_options).
+constexpr size_t kForestItemSegments = 150000, kForestSegments = 600000;
+constexpr double kForestItemPixels = 6e6, kForestPixels = 24e6;
+
+struct FrameBudget {
+  size_t segments = 0, scenes = 0;
+  double pixels = 0;
+  static bool small(const Job& j) {
+    return j.scene.input_segment_count <= kForestItemSegments && double(j.width) * j.height <= kForestItemPixels;
+  }
+  // Counts `last`, the frame's latest item; false when the frame is full.
+  bool add(const Config& c, const Job& first, const Job& last) {
+    segments += last.scene.input_segment_count;
+    pixels += double(last.width) * last.height;
+    scenes++;
+    return small(first) && int(scenes) < c.forest_scenes;
+  }
+  // May `next` join the frame?
+  bool fits(const Job& first, const Job& next) const {
+    return small(next) && same_frame_options(first.options, next.options) &&
+           segments + next.scene.input_segment_count <= kForestSegments &&
+           pixels + double(next.width) * next.height <= kForestPixels;
+  }
+};
+
 // The shared state; everything under `m`. Threads hold it by shared_ptr,
 // with a copy of the Config: a thread still busy with an item that timed
 // out is left behind by run().
@@ -213,6 +243,34 @@ struct State {
     }
   }
 
+  // Renders one item in a frame of its own; the error message, or empty.
+  std::string render_one(FrameRenderer& renderer, Job& job, std::vector<uint8_t> storage) {
+    try {
+      if (c.bits == 16)
+        job.image = renderer.render(job.scene, job.options, &job.stats);
+      else if (renderer.backend() == Backend::Cuda && c.compression == 1) {
+        // Level 1 only, asked for: the default (level 2 on the workers)
+        // gives the same bytes whichever backend renders, and on the H100
+        // host (16 cores, BENCHMARKS.md "PNG stage") it is also faster:
+        // the render threads bound a batch, and the device's PNG stage
+        // holds each up ~1.4 ms more per file (111-117 files/s against
+        // 128-135). Level 1 pays off where workers are few for the render
+        // threads: ~22 ms of a worker's time per 1024 px file become ~1.
+        try {
+          job.png = renderer.render_png(job.scene, job.plan, job.options, &job.stats);
+        } catch (const Error&) {
+          // the PNG stage's buffers did not fit the device: the frame
+          // again, compressed by a worker
+          job.rgba8 = renderer.render_rgba8(job.scene, job.plan, job.options, &job.stats, std::move(storage));
+        }
+      } else
+        job.rgba8 = renderer.render_rgba8(job.scene, job.plan, job.options, &job.stats, std::move(storage));
+    } catch (const std::exception& e) {
+      return job.label + ": " + error_message(e);
+    }
+    return {};
+  }
+
   // A render thread: one renderer for every item it takes, until every
   // item is prepared and rendered.
   void render(int r) {
@@ -237,54 +295,65 @@ struct State {
       cv.wait(lock, [&] { return !to_render.empty() || (next >= c.tickets && (preparing == 0 || all_finished())); });
       result.render_idle += ms_since(t_wait);
       if (to_render.empty()) break;
-      std::unique_ptr<Job> job = std::move(const_cast<std::unique_ptr<Job>&>(to_render.top()));
-      to_render.pop();
-      if (auto it = spent.find(job->index); it != spent.end()) {
-        started[job->index] = Clock::now() - it->second;
-        spent.erase(it);
-      }
+      // The item, and with it as many small items waiting now as a forest
+      // frame takes (none is waited for: an item is never held back beyond
+      // the frame it joins).
+      std::vector<std::unique_ptr<Job>> jobs;
+      FrameBudget budget;
+      do {
+        jobs.push_back(std::move(const_cast<std::unique_ptr<Job>&>(to_render.top())));
+        to_render.pop();
+        const Job& j = *jobs.back();
+        if (auto it = spent.find(j.index); it != spent.end()) {
+          started[j.index] = Clock::now() - it->second;
+          spent.erase(it);
+        }
+      } while (c.bits == 8 && !to_render.empty() && budget.add(c, *jobs.front(), *jobs.back()) &&
+               budget.fits(*jobs.front(), *to_render.top()));
       std::vector<uint8_t> storage;
-      if (!spare_rgba8.empty()) {
+      if (jobs.size() == 1 && !spare_rgba8.empty()) {
         storage = std::move(spare_rgba8.back());
         spare_rgba8.pop_back();
       }
       lock.unlock();
-      std::string error;
+      std::vector<std::string> errors(jobs.size());
       const auto t0 = Clock::now();
-      try {
-        if (c.bits == 16)
-          job->image = renderer->render(job->scene, job->options, &job->stats);
-        else if (renderer->backend() == Backend::Cuda && c.compression == 1) {
-          // Level 1 only, asked for: the default (level 2 on the workers)
-          // gives the same bytes whichever backend renders, and on the H100
-          // host (16 cores, BENCHMARKS.md "PNG stage") it is also faster:
-          // the render threads bound a batch, and the device's PNG stage
-          // holds each up ~1.4 ms more per file (111-117 files/s against
-          // 128-135). Level 1 pays off where workers are few for the render
-          // threads: ~22 ms of a worker's time per 1024 px file become ~1.
-          try {
-            job->png = renderer->render_png(job->scene, job->plan, job->options, &job->stats);
-          } catch (const Error&) {
-            // the PNG stage's buffers did not fit the device: the frame
-            // again, compressed by a worker
-            job->rgba8 = renderer->render_rgba8(job->scene, job->plan, job->options, &job->stats, std::move(storage));
+      bool done = false;
+      if (jobs.size() > 1) {
+        try {
+          std::vector<FrameScene> frame;
+          for (const auto& j : jobs) frame.push_back(FrameScene{&j->scene, &j->plan, &j->stats});
+          const bool png = renderer->backend() == Backend::Cuda && c.compression == 1;
+          std::vector<FrameRenderer::Output> out = renderer->render_forest(frame, jobs.front()->options, png);
+          for (size_t k = 0; k < jobs.size(); k++) {
+            if (png) jobs[k]->png = std::move(out[k].png);
+            else jobs[k]->rgba8 = std::move(out[k].rgba8);
           }
-        } else
-          job->rgba8 = renderer->render_rgba8(job->scene, job->plan, job->options, &job->stats, std::move(storage));
-      } catch (const std::exception& e) {
-        error = job->label + ": " + error_message(e);
+          done = true;
+        } catch (const std::exception&) {
+          // Rendered one by one below: the frame's failure may be one
+          // item's, or the items' together (device memory), not each one's.
+          for (const auto& j : jobs) j->stats = RenderStats{};
+        }
       }
-      job->scene = EncodedScene{};
-      job->render_ms = ms_since(t0);
+      if (!done)
+        for (size_t k = 0; k < jobs.size(); k++) errors[k] = render_one(*renderer, *jobs[k], std::move(storage));
+      const double share = ms_since(t0) / double(jobs.size());
       lock.lock();
-      if (dropped(job->index)) continue;
-      started.erase(job->index);
-      if (error.empty()) {
-        to_write.push_back(std::move(job));
-        cv.notify_all();
-      } else {
-        finish(job.get(), error);
+      result.frames += done ? 1 : static_cast<int>(jobs.size());
+      for (size_t k = 0; k < jobs.size(); k++) {
+        std::unique_ptr<Job>& job = jobs[k];
+        job->scene = EncodedScene{};
+        job->render_ms = share;
+        if (dropped(job->index)) continue;
+        started.erase(job->index);
+        if (errors[k].empty()) {
+          to_write.push_back(std::move(job));
+        } else {
+          finish(job.get(), errors[k]);
+        }
       }
+      cv.notify_all();
     }
     retire();
   }
@@ -368,11 +437,11 @@ std::string summary(const Config& c, const Result& r, const char* backend) {
   const int renderers = std::max(1, std::min(c.render_threads, c.tickets));
   char buf[1024];
   std::snprintf(buf, sizeof buf,
-                "%s: %d %ss in %.3f s (%.1f %ss/s), %d workers, %d render threads, %s backend\n"
+                "%s: %d %ss in %.3f s (%.1f %ss/s), %d workers, %d render threads, %d frames, %s backend\n"
                 "%s: per %s (mean ms): %s %.2f, %s %.2f, encoding %.2f, preprocessing %.2f, rendering %.2f, "
                 "render thread %.2f, PNG %.2f (of which writing the file %.2f); idle: render threads %.0f%%, "
                 "workers %.0f%%\n",
-                c.program, r.finished, c.unit, s, r.finished / s, c.unit, workers, renderers, backend, c.program,
+                c.program, r.finished, c.unit, s, r.finished / s, c.unit, workers, renderers, r.frames, backend, c.program,
                 c.unit, c.prepare_names[0], r.prepare[0] / ok, c.prepare_names[1], r.prepare[1] / ok, r.encode / ok,
                 r.preprocess / ok, r.render / ok, r.render_wall / ok, r.png / ok, r.write / ok,
                 100 * r.render_idle / (renderers * s * 1000), 100 * r.worker_idle / (workers * s * 1000));

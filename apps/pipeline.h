@@ -37,6 +37,9 @@ struct Job {
   std::vector<std::string> warnings;
 };
 
+// Config::forest_scenes with CUDA unless asked otherwise.
+constexpr int kDefaultFrameScenes = 8;
+
 struct Config {
   const char* program = "";  // message prefix: "pdf2png"
   const char* unit = "";     // "page", "file": progress line and summary
@@ -49,6 +52,10 @@ struct Config {
   bool quiet = false;        // no warnings
   int bits = 8;
   int compression = -1;  // cli::Options::compression (1: compressed by CUDA render threads)
+  // Most items a render thread renders as one forest frame (core/forest.h:
+  // one tree build for several small items waiting together); 1: each
+  // item its own frame.
+  int forest_scenes = 1;
   Gamma gamma = Gamma::Linear;
   // --timeout: seconds an item may spend from the start of its preparation
   // to the end of its rendering (0: no limit). An item past it fails with
@@ -73,6 +80,7 @@ struct Result {
   int finished = 0, failed = 0;
   int unrendered = 0;  // of the failed: no renderer could take them
   int timed_out = 0;   // of the failed: past Config::timeout_s
+  int frames = 0;      // frames rendered (a forest frame renders several items)
   // Threads still busy with an item that timed out when run() returned:
   // the process should end with std::_Exit (they use the caller's data).
   int abandoned = 0;

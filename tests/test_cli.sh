@@ -155,6 +155,18 @@ check "batch with a broken file: the others written" test -s "$tmp/bout/arcs.png
 "$bin" -q --aa 1x32 "$tmp/batch/gradient_repeat.svg" "$tmp/single.png"
 "$bin" -q --aa 1x32 -o "$tmp/bout32" "$tmp/batch/gradient_repeat.svg" "$tmp/batch/arcs.svg"
 check "batch output is the single run's, byte for byte" cmp -s "$tmp/single.png" "$tmp/bout32/gradient_repeat.png"
+# Forest frames (core/forest.h): one render thread, files rendered together
+# as they queue up; the same bytes as one frame each.
+mkdir -p "$tmp/forest"
+for f in arcs gradient_repeat nested_clips opacity pattern_nested stroke_dashes image_svg; do
+  [ -f "$src/testdata/golden/$f.svg" ] && cp "$src/testdata/golden/$f.svg" "$tmp/forest/"
+done
+"$bin" -q --aa 1x32 --render-threads 1 --threads 4 --frame-scenes 8 -o "$tmp/fout8" "$tmp"/forest/*.svg; rc8=$?
+"$bin" -q --aa 1x32 --render-threads 1 --frame-scenes 1 -o "$tmp/fout1" "$tmp"/forest/*.svg; rc1=$?
+same_forest() { for f in "$tmp"/fout1/*.png; do cmp -s "$f" "$tmp/fout8/$(basename "$f")" || return 1; done; }
+check "--frame-scenes 8: the same bytes as a frame per file" test "$rc8" = 0 -a "$rc1" = 0 -a -n "$(ls "$tmp/fout1")" -a \
+  "$(ls "$tmp/fout1" | wc -l)" = "$(ls "$tmp/forest" | wc -l)"
+check "--frame-scenes 8: each file as alone" same_forest
 for i in 0 1 2; do "$bin" -q -o "$tmp/shard$i" --shard $i/3 "$tmp"/batch/*.svg 2>/dev/null; done
 all=$(ls "$tmp/shard0" "$tmp/shard1" "$tmp/shard2" 2>/dev/null | grep png | sort | tr '\n' ' ')
 check "--shard: the parts cover the batch, each file once" test "$all" = "arcs.png gradient_repeat.png zz.png "

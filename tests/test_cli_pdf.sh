@@ -91,5 +91,14 @@ check "-l before -f: exit 1, one line ($err)" test "$rc" = 1 -a "$(echo "$err" |
 "$bin" -q --backend cpu -r 72 - "$tmp/in" < "$pdf"
 check "- reads the document from stdin, the same image" cmp -s "$tmp/r-1.png" "$tmp/in-1.png"
 
+# Forest frames (core/forest.h): pages rendered together as they queue up,
+# the same bytes as a frame per page.
+"$bin" -q --backend cpu -r 72 --render-threads 1 --threads 3 --frame-scenes 3 "$src/testdata/pdf/three-pages.pdf" "$tmp/fr3"
+"$bin" -q --backend cpu -r 72 --render-threads 1 --frame-scenes 1 "$src/testdata/pdf/three-pages.pdf" "$tmp/fr1"
+same_frames() { for k in 1 2 3; do cmp -s "$tmp/fr1-$k.png" "$tmp/fr3-$k.png" || return 1; done; }
+check "--frame-scenes 3: the same pages as a frame each" same_frames
+err=$("$bin" -q --backend cpu -r 72 --frame-scenes 0 "$pdf" "$tmp/fr0" 2>&1); rc=$?
+check "--frame-scenes 0: exit 2" test "$rc" = 2
+
 echo "$fails failure(s)"
 test "$fails" = 0
