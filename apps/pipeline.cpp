@@ -49,7 +49,7 @@ struct FrameBudget {
   }
   // May `next` join the frame?
   bool fits(const Job& first, const Job& next) const {
-    return small(next) && same_frame_options(first.options, next.options) &&
+    return small(next) && same_frame_options(first.options, next.options) && same_frame_grid(first.plan, next.plan) &&
            segments + next.scene.input_segment_count <= kForestSegments &&
            pixels + double(next.width) * next.height <= kForestPixels;
   }

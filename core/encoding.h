@@ -16,19 +16,13 @@
 #include "core/shortcut_tree.h"
 #include "core/srgb.h"
 #include "core/stroke_input.h"
+#include "core/tree.h"
 
 namespace mpvg {
 
 enum class Gamma { Srgb, Linear };
 
 struct EncodedTile;
-
-// One scene of a forest frame (core/forest.h): its elements in the
-// stream, and the grid of unit areas it is rendered over.
-struct SceneRoot {
-  uint32_t stream_begin = 0, stream_end = 0;
-  int width = 0, height = 0;
-};
 
 struct EncodedScene {
   std::vector<InputSegment> segments;   // all filled paths, stream order, contours closed

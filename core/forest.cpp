@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "core/error.h"
+#include "core/sampling.h"
 
 namespace mpvg {
 
@@ -157,6 +158,8 @@ EncodedScene make_forest(std::vector<ForestScene> scenes) {
     root.stream_end = u32(out.stream.size());
     root.width = fs.width;
     root.height = fs.height;
+    root.kinds[0] = sampler_kinds(sp, false);
+    root.kinds[1] = sampler_kinds(sp, true);
     out.roots.push_back(root);
     out.input_segment_count += s.input_segment_count;
     append_paint(*paint, sp, o);
@@ -181,7 +184,9 @@ EncodedScene make_forest(std::vector<ForestScene> scenes) {
 
 std::vector<SceneRoot> scene_roots(const EncodedScene& scene, int width, int height) {
   if (!scene.roots.empty()) return scene.roots;
-  return {SceneRoot{0, u32(scene.stream.size()), width, height}};
+  static const PaintData none;
+  const PaintData& p = scene.paint ? *scene.paint : none;
+  return {SceneRoot{0, u32(scene.stream.size()), width, height, {sampler_kinds(p, false), sampler_kinds(p, true)}}};
 }
 
 void forest_grid(const EncodedScene& forest, int& width, int& height) {

@@ -119,9 +119,16 @@ bool same_frame_options(const RenderOptions& a, const RenderOptions& b) {
          ta.keep_levels == tb.keep_levels;
 }
 
+bool same_frame_grid(const RenderPlan& a, const RenderPlan& b) {
+  return tree_root_size(a.frame.ua_w, a.frame.ua_h) == tree_root_size(b.frame.ua_w, b.frame.ua_h);
+}
+
 EncodedScene forest_of(const std::vector<FrameScene>& scenes) {
   std::vector<ForestScene> fs;
   fs.reserve(scenes.size());
+  for (const FrameScene& s : scenes)
+    if (!same_frame_grid(*s.plan, *scenes.front().plan))
+      throw Error("a forest frame's scenes need root squares of one size (same_frame_grid)");
   for (const FrameScene& s : scenes)
     fs.push_back(ForestScene{*s.scene, s.plan->frame.ua_w, s.plan->frame.ua_h});
   return make_forest(std::move(fs));
@@ -136,6 +143,7 @@ std::vector<ImageF> render_forest_cpu(const std::vector<FrameScene>& scenes, con
   forest_grid(forest, w, h);
   BuildTimes bt;
   const ShortcutTree tree = build_tree_cpu(forest, w, h, o.tree, &bt);
+  if (tree.capped) throw Error(kForestCapped);
   const double share = 1.0 / std::max<size_t>(1, scenes.size());
   const double build_ms = ms_since(t_all);
   const PaintRecord bg = background_paint(o.background, o.gamma);

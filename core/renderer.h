@@ -80,6 +80,17 @@ ImageF render_cpu(const EncodedScene& scene, const RenderPlan& plan, const Rende
 // the output's size and view must agree.
 bool same_frame_options(const RenderOptions& a, const RenderOptions& b);
 
+// ... and planned as a and b: do their trees have root squares of one size?
+// A forest's roots all have the side of its largest (core/forest.h); a
+// scene's tree, and so its image, is the one a frame of its own gives only
+// when that is its own side.
+bool same_frame_grid(const RenderPlan& a, const RenderPlan& b);
+
+// What a forest frame throws when its tree would pass TreeParams::
+// max_entries (whose cap coarsens every scene's tree): its scenes are
+// rendered one frame each instead.
+constexpr const char* kForestCapped = "forest frame over the tree's entry cap";
+
 // One scene of a forest frame: encoded for its options (encode_for) and
 // planned (its size and view are in the plan). stats, if given, receive the
 // scene's stage times (the shared build's divided evenly between the
@@ -90,7 +101,8 @@ struct FrameScene {
   RenderStats* stats = nullptr;
 };
 
-// The forest of the scenes (copies of their encodings), in order.
+// The forest of the scenes (copies of their encodings), in order. Throws
+// mpvg::Error unless same_frame_grid holds for them all.
 EncodedScene forest_of(const std::vector<FrameScene>& scenes);
 
 // The CPU executor: one build, then each scene's image as render_cpu gives

@@ -35,9 +35,21 @@ struct TreeLevel {
   std::vector<Entry> entries;
 };
 
+// One scene of a forest frame (core/forest.h): its elements in the stream,
+// the grid of unit areas it is rendered over, and the sampler
+// specialisations its own paints need (sampler_kinds without and with
+// aliasing): a scene renders with its own, as in a frame of its own, not
+// with the forest's (a page of text next to one with patterns would take
+// the slowest).
+struct SceneRoot {
+  uint32_t stream_begin = 0, stream_end = 0;
+  int width = 0, height = 0;
+  uint32_t kinds[2] = {0, 0};
+};
+
 struct ShortcutTree {
   uint32_t root_size = 1;  // power of two, >= image width and height
-  uint32_t roots = 1;      // a forest's scenes (core/forest.h): nodes 0 .. roots - 1
+  std::vector<SceneRoot> roots;  // the tree's scenes (core/forest.h): nodes 0 .. roots.size() - 1
   int depth = 0;           // deepest level that has cells
   std::vector<AbstractSegment> segments;
   std::vector<PathRecord> paths;
@@ -49,6 +61,7 @@ struct ShortcutTree {
   std::vector<Entry> leaf_entries;
   std::vector<TreeLevel> levels;    // TreeParams::keep_levels only
   size_t peak_level_entries = 0;    // largest level, for memory reports
+  bool capped = false;              // a level was not made: TreeParams::max_entries
 
   // Bytes of what sampling needs: segments, nodes, leaves and their
   // entries, paths, the tiles' trees, and the paint tables.
@@ -92,14 +105,26 @@ inline int tree_max_level(uint32_t root_size, const TreeParams& p) {
 // root square). Cells the grid subdivides that the rule would not have
 // are cheap: their children hold as few entries.
 constexpr size_t kGridCellFactor = 64;
-inline int tree_grid_levels(size_t entries, int max_level, const TreeParams& p) {
-  int k = p.grid_levels;
+MPVG_HD_INLINE int grid_levels_for(size_t entries, int max_level, uint32_t min_segments, int grid_levels) {
+  int k = grid_levels;
   if (k < 0) {
-    const size_t per_cell = kGridCellFactor * (p.min_segments > 0 ? p.min_segments : 1);
+    const size_t per_cell = kGridCellFactor * (min_segments > 0 ? min_segments : 1);
     k = 0;
     while (k < 16 && (entries >> (2 * k)) >= per_cell) k++;
   }
   return k < max_level ? k : max_level;
+}
+inline int tree_grid_levels(size_t entries, int max_level, const TreeParams& p) {
+  return grid_levels_for(entries, max_level, p.min_segments, p.grid_levels);
+}
+
+// A forest (core/forest.h) cannot subdivide whole levels: each root has the
+// coarse grid of its own scene, root_grid[r] levels (tree_grid_levels of
+// its own top level), so that its tree is the one a frame of its own
+// builds. Its cells inside that grid are subdivided whatever they hold and
+// not pruned (root_grid null: a single scene, whose grid is whole levels).
+MPVG_HD_INLINE bool in_root_grid(const Cell& c, const uint8_t* root_grid) {
+  return root_grid != nullptr && c.level < root_grid[c.root];
 }
 
 }  // namespace mpvg

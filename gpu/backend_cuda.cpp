@@ -229,6 +229,7 @@ std::vector<FrameRenderer::Output> FrameRenderer::render_forest(const std::vecto
   const double share = 1.0 / std::max<size_t>(1, scenes.size());
   const double build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_all).count();
   const gpu::Context::BuildCounts counts = ctx.build_counts();
+  if (counts.capped) throw Error(kForestCapped);
   const PaintRecord bg = background_paint(options.background, options.gamma);
   const bool linear = options.gamma == Gamma::Linear;
   std::vector<Output> out(scenes.size());

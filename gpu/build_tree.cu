@@ -21,7 +21,7 @@ constexpr unsigned kBlock = 256;
 // come back (pruning leaves it on the device).
 constexpr unsigned kDecideWarps = kBlock / 32;
 __global__ void k_decide(const Entry* e, const Cell* cells, size_t ncells, bool may_subdivide, uint32_t min_segments,
-                         LevelCounts* counts) {
+                         const uint8_t* root_grid, LevelCounts* counts) {
   const size_t k = blockIdx.x * size_t(kDecideWarps) + threadIdx.x / 32;
   const uint32_t lane = threadIdx.x % 32;
   if (k > ncells) return;
@@ -31,8 +31,8 @@ __global__ void k_decide(const Entry* e, const Cell* cells, size_t ncells, bool 
   }
   const Cell c = cells[k];
   const uint32_t size = c.end - c.begin;
-  bool sub = false;
-  if (may_subdivide) {
+  bool sub = may_subdivide && in_root_grid(c, root_grid);
+  if (may_subdivide && !sub) {
     uint32_t weight = 0;
     for (uint32_t i = c.begin; i < c.end && weight <= min_segments; i += 32) {
       const bool geometry = i + lane < c.end && entry_weight(e[i + lane]);
@@ -93,6 +93,14 @@ TreeLevel download_level(const DeviceLevel& lv) {
   // A pruned level's entries end where its last cell's do.
   t.entries = lv.entries.download(lv.bound ? (t.cells.empty() ? 0 : t.cells.back().end) : lv.nentries);
   return t;
+}
+
+// A forest's grid levels per root (in_root_grid), from its top-level cell.
+__global__ void k_root_grid(const Cell* cells, size_t nroots, int max_level, uint32_t min_segments, int grid_levels,
+                            uint8_t* root_grid) {
+  const size_t r = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  if (r >= nroots) return;
+  root_grid[r] = static_cast<uint8_t>(grid_levels_for(cells[r].end - cells[r].begin, max_level, min_segments, grid_levels));
 }
 
 }  // namespace
@@ -192,8 +200,18 @@ void Context::Impl::build_tree(const EncodedScene& scene, int w, int h, const Tr
   std::swap(level, child);
   const int max_level = tree_max_level(root_size, params);
   // Levels [0, grid) are subdivided whole and not pruned (the coarse grid:
-  // core/tree.h); level `grid` is the first pruned.
-  const int grid = tree_grid_levels(level.nentries, max_level, params);
+  // core/tree.h); level `grid` is the first pruned. A forest's roots have a
+  // grid each, from their own top-level cells (in_root_grid).
+  grid_of_root = nullptr;
+  if (roots.size() > 1) {
+    root_grid.resize(roots.size());
+    k_root_grid<<<grid_for(roots.size(), kBlock), kBlock>>>(level.cells.data(), roots.size(), max_level,
+                                                            params.min_segments, params.grid_levels, root_grid.data());
+    launched();
+    grid_of_root = root_grid.data();
+  }
+  const int grid = grid_of_root ? 0 : tree_grid_levels(level.nentries, max_level, params);
+  capped = false;
   if (params.prune && grid == 0) {
     timer.start(&t.prune_ms);
     prune(level);
@@ -234,6 +252,7 @@ void Context::Impl::build_tree(const EncodedScene& scene, int w, int h, const Tr
         continue;
       }
       // Memory cap: this level's cells become leaves, as below.
+      capped = true;
     }
     counts.resize(2 * (ncells + 1));
     LevelCounts* cnt = counts.data();
@@ -245,7 +264,8 @@ void Context::Impl::build_tree(const EncodedScene& scene, int w, int h, const Tr
     size_t child_entries = 0;
     for (int attempt = 0; attempt < 2; attempt++) {
       k_decide<<<grid_for(ncells + 1, kDecideWarps), kBlock>>>(level.entries.data(), level.cells.data(), ncells,
-                                                               may_subdivide, params.min_segments, cnt);
+                                                               may_subdivide, params.min_segments, grid_of_root,
+                                                               cnt);
       launched();
       prim.exclusive_scan(cnt, pos, LevelCountsAdd{}, LevelCounts{0, 0, 0, 0}, ncells + 1);
       // Place entries (subdivided cells into the parent level, the others
@@ -289,6 +309,7 @@ void Context::Impl::build_tree(const EncodedScene& scene, int w, int h, const Tr
       // Memory cap (criterion 1 of §4.1): this level is the last; redo the
       // placement with every cell a leaf.
       may_subdivide = false;
+      capped = true;
     }
     timer.stop();
     nleaves += tot.leaves;

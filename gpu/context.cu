@@ -50,7 +50,7 @@ ShortcutTree Context::download_tree() const {
   const Impl& m = *impl_;
   ShortcutTree t;
   t.root_size = m.root_size;
-  t.roots = static_cast<uint32_t>(m.roots.size());
+  t.roots = m.roots;
   t.depth = m.depth;
   t.segments = m.segments.download(m.nsegments);
   t.width = static_cast<uint32_t>(m.width);
@@ -76,6 +76,7 @@ ShortcutTree Context::download_tree() const {
   t.leaf_entries = m.leaf_entries.download(m.nleaf_entries);
   t.levels = m.kept_levels;
   t.peak_level_entries = m.peak_level_entries;
+  t.capped = m.capped;
   return t;
 }
 
@@ -115,8 +116,8 @@ png::ImageData Context::render_png(const Integration& integ, const IntegrationFr
 
 Context::BuildCounts Context::build_counts() const {
   const Impl& m = *impl_;
-  return BuildCounts{m.depth, m.build_launches, m.build_cub_calls, m.build_syncs, m.nsegments, m.nleaves,
-                     m.nleaf_entries};
+  return BuildCounts{m.depth,     m.build_launches, m.build_cub_calls, m.build_syncs, m.nsegments,
+                     m.nleaves,   m.nleaf_entries,  m.capped};
 }
 
 void Context::set_sampler_shape(const SamplerShape& shape) {

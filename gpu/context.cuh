@@ -295,6 +295,9 @@ struct Context::Impl {
   // each over its own grid; root_stream holds their stream ranges.
   std::vector<SceneRoot> roots;
   DeviceBuffer<uint32_t> root_stream;
+  DeviceBuffer<uint8_t> root_grid;
+  const uint8_t* grid_of_root = nullptr;  // a forest's root_grid (core/tree.h, in_root_grid); null for one scene
+  bool capped = false;                    // the last tree hit TreeParams::max_entries
 
   // Host round trips and launches, per build (reported by the benchmark).
   size_t launches = 0, syncs = 0;

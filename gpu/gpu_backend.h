@@ -94,6 +94,7 @@ class Context {
     int depth = 0;
     size_t launches = 0, cub_calls = 0, syncs = 0;
     size_t abstract_segments = 0, leaves = 0, leaf_entries = 0;
+    bool capped = false;  // a level was not made (TreeParams::max_entries)
   };
   BuildCounts build_counts() const;
 

@@ -128,9 +128,14 @@ __global__ void k_unwrap(const Entry* e, size_t n, const uint32_t* term, PruneLi
 struct Kept {
   const int32_t* elim;
   const int32_t* elim2;
+  const uint32_t* entry_cell;
+  const Cell* cells;
+  const uint8_t* root_grid;  // a forest's cells inside their root's grid keep everything
   __host__ __device__ uint32_t operator()(uint32_t i) const {
+    if (root_grid && i < n && in_root_grid(cells[entry_cell[i]], root_grid)) return 1u;
     return elim[i] <= 0 && (!elim2 || elim2[i] <= 0) ? 1u : 0u;
   }
+  size_t n;
 };
 
 // The sweep, one launch: survivors to their slots (threads below n) and
@@ -228,7 +233,7 @@ void Context::Impl::prune(DeviceLevel& lv) {
   // Sweep: the exclusive scan of the keep flags gives every survivor its
   // slot and every cell its new range (item n only completes the scan).
   uint32_t* kpos = term;
-  const auto keep = thrust::make_transform_iterator(thrust::counting_iterator<uint32_t>(0), Kept{elim, elim_b});
+  const auto keep = thrust::make_transform_iterator(thrust::counting_iterator<uint32_t>(0), Kept{elim, elim_b, lv.entry_cell.data(), lv.cells.data(), grid_of_root, n});
   prim.exclusive_sum(keep, kpos, n + 1);
   // No round trip: the survivors' count stays on the device, n bounds it,
   // and the level's counts bring it back (build_tree.cu).

@@ -407,7 +407,7 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
   leaf_batches.resize(nleaves + 1);
   leaf_color.resize(nleaves + 1);
   uint32_t* nb = (u32[0].resize(nleaves + 1), u32[0].data());
-  const uint32_t kinds = sampler_kinds(*host_paint, integ.support % 2 == 1);
+  const uint32_t kinds = roots[root].kinds[integ.support % 2 == 1];  // the root's own (core/tree.h, SceneRoot)
   auto leaf_info = (kinds & SAMPLE_GROUPS) ? k_leaf_info<SAMPLE_GROUPS> : k_leaf_info<PAINTS_SOLID>;
   leaf_info<<<grid_for(nleaves + 1, kBlock), kBlock>>>(leaves.data(), nleaves, leaf_entries.data(), in, root_size, width,
                                                        height, static_cast<uint32_t>(tile_w),

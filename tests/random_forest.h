@@ -1,7 +1,9 @@
 // Random forests for tests (test_forest, test_gpu): five scenes of several
-// kinds (clip groups with paints of every kind and pattern tiles, nested
-// transparency groups and masks, dashed strokes and mesh paints) and sizes
-// (root squares of 64, 128 and 256 pixels), at their size or scaled.
+// kinds (clip groups with paints of every kind and pattern tiles, or solid
+// colours only; nested transparency groups and masks; dashed strokes and
+// mesh paints; many small shapes) and sizes, at their size or scaled, all with root squares of
+// one side (same_frame_grid, room left for wide filters' margins): 128
+// pixels for odd seeds, 256 for even ones.
 #pragma once
 #include <random>
 #include <vector>
@@ -37,27 +39,53 @@ inline Scene stroke_mesh_scene(uint32_t seed, int size) {
   return b.finish();
 }
 
+// Many small shapes (like a page of text): enough entries for a coarse
+// grid of its own (tree_grid_levels), which the other scenes have not.
+inline Scene dense_scene(uint32_t seed, int size) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  SceneBuilder b(size, size);
+  for (int k = 0; k < 700; k++) {
+    const double x = u(rng) * size, y = u(rng) * size, r = 0.5 + 2.5 * u(rng);
+    Path p;
+    p.move_to({x, y - r});
+    p.quad_to({x + r, y - r}, {x + r, y + r});
+    p.line_to({x - r, y + r * u(rng)});
+    p.close();
+    Paint paint;
+    paint.color = RGBA{float(u(rng)), float(u(rng)), 0.3f, k % 3 ? 1.0f : 0.5f};
+    b.fill(b.add_geometry(p), Affine{}, FillRule::NonZero, paint);
+  }
+  return b.finish();
+}
+
 struct Page {
   Scene scene;
   RenderOptions options;
 };
 
 inline std::vector<Page> pages(uint32_t seed, const RenderOptions& like) {
-  const int sizes[] = {37, 64, 90, 130, 48};
+  const int odd[] = {70, 90, 84, 66, 100}, even[] = {130, 200, 160, 140, 224};
+  const int* sizes = seed % 2 ? odd : even;
   std::vector<Page> out;
   for (int k = 0; k < 5; k++) {
-    const int size = sizes[(seed + k) % 5];
+    // Scene 3 is drawn scaled up, into the same output sizes.
+    const int out_size = sizes[(seed + k) % 5], size = k == 3 ? out_size * 4 / 5 : out_size;
     Page p;
-    const int kinds[] = {0, 1, 2, 0, 2};
+    // Kind 3 has solid paints only: its sampler specialisation is not the
+    // forest's.
+    const int kinds[] = {0, 1, 2, 3, 4};
     switch (kinds[k]) {
       case 0: p.scene = random_scenes::clip_scene(seed * 10 + k, 3, size, true, like.aliased_paths); break;
       case 1: p.scene = random_groups::group_scene(seed * 10 + k, 3, size).scene; break;
+      case 3: p.scene = random_scenes::clip_scene(seed * 10 + k, 3, size, false, like.aliased_paths); break;
+      case 4: p.scene = dense_scene(seed * 10 + k, size); break;
       default: p.scene = stroke_mesh_scene(seed * 10 + k, size); break;
     }
     p.options = like;
-    const double scale = k == 3 ? 1.5 : 1.0;
-    p.options.width = static_cast<int>(size * scale);
-    p.options.height = static_cast<int>(size * scale) - k;
+    const double scale = double(out_size) / size;
+    p.options.width = out_size;
+    p.options.height = out_size - k;
     p.options.view = Affine::scale(scale, scale);
     out.push_back(std::move(p));
   }

@@ -84,7 +84,7 @@ TEST_CASE("forest: every cell holds its own scene's elements only, every root re
   TreeParams params;
   params.keep_levels = true;
   const ShortcutTree tree = build_tree_cpu(forest, w, h, params);
-  CHECK(tree.roots == ps.size());
+  CHECK(tree.roots.size() == ps.size());
   auto owner = [&](uint32_t path) {
     size_t r = 0;
     while (path >= path_end[r]) r++;
@@ -101,11 +101,76 @@ TEST_CASE("forest: every cell holds its own scene's elements only, every root re
       }
   CHECK(checked > 1000);
   // Root r's leaves are the ones found from node r.
-  for (uint32_t r = 0; r < tree.roots; r++) {
+  for (uint32_t r = 0; r < tree.roots.size(); r++) {
     const SceneRoot& sr = forest.roots[r];
     for (int y = 0; y < sr.height; y += 3)
       for (int x = 0; x < sr.width; x += 3)
         REQUIRE(tree.leaves[tree_find_leaf(tree.nodes.data(), tree.root_size, x, y, r)].root == r);
   }
   CHECK_THROWS(make_forest(std::vector<ForestScene>(kMaxForestRoots + 1)));
+}
+
+TEST_CASE("forest: each root's leaves are those of the scene's own tree", "[forest]") {
+  // The shape of a scene's tree (its coarse grid, pruning, decisions) is
+  // its own in a forest: root r's leaves, in order, have the cells and
+  // entry counts of the tree built for the scene alone.
+  size_t leaves = 0;
+  for (uint32_t seed = 1; seed <= 4; seed++)
+    for (int grid : {-1, 2}) {
+      RenderOptions like;
+      like.tree.grid_levels = grid;
+      const std::vector<random_forest::Page> ps = random_forest::pages(seed, like);
+      std::vector<ForestScene> fs;
+      std::vector<ShortcutTree> alone;
+      for (const random_forest::Page& p : ps) {
+        const RenderPlan plan = plan_render(p.options);
+        EncodedScene enc = encode_for(p.scene, plan, p.options.gamma);
+        alone.push_back(build_tree_cpu(enc, plan.frame.ua_w, plan.frame.ua_h, like.tree));
+        fs.push_back(ForestScene{std::move(enc), plan.frame.ua_w, plan.frame.ua_h});
+      }
+      const EncodedScene forest = make_forest(std::move(fs));
+      int w = 0, h = 0;
+      forest_grid(forest, w, h);
+      const ShortcutTree tree = build_tree_cpu(forest, w, h, like.tree);
+      for (uint32_t r = 0; r < ps.size(); r++) {
+        INFO("seed " << seed << ", grid " << grid << ", root " << r);
+        std::vector<Cell> mine;
+        for (const Cell& c : tree.leaves)
+          if (c.root == r) mine.push_back(c);
+        REQUIRE(mine.size() == alone[r].leaves.size());
+        for (size_t k = 0; k < mine.size(); k++) {
+          const Cell &a = mine[k], &b = alone[r].leaves[k];
+          REQUIRE((a.ix == b.ix && a.iy == b.iy && a.level == b.level && a.end - a.begin == b.end - b.begin));
+        }
+        leaves += mine.size();
+      }
+    }
+  CHECK(leaves > 5000);
+}
+
+TEST_CASE("forest: scenes whose root squares differ are refused, not rendered differently", "[forest]") {
+  RenderOptions a, b;
+  a.width = a.height = 100;  // root square 128
+  b.width = b.height = 200;  // 256
+  const RenderPlan pa = plan_render(a), pb = plan_render(b);
+  CHECK(!same_frame_grid(pa, pb));
+  CHECK(same_frame_grid(pa, plan_render(RenderOptions{a})));
+  const Scene s = random_scenes::clip_scene(5, 2, 100);
+  const EncodedScene ea = encode_for(s, pa, a.gamma), eb = encode_for(s, pb, b.gamma);
+  CHECK_THROWS(render_forest_cpu({FrameScene{&ea, &pa, nullptr}, FrameScene{&eb, &pb, nullptr}}, a));
+}
+
+TEST_CASE("forest: a forest over the entry cap is refused (its scenes' trees would be coarser)", "[forest]") {
+  RenderOptions like;
+  like.tree.max_entries = 3000;
+  const std::vector<random_forest::Page> ps = random_forest::pages(3, like);
+  std::vector<RenderPlan> plans;
+  std::vector<EncodedScene> encs;
+  for (const random_forest::Page& p : ps) {
+    plans.push_back(plan_render(p.options));
+    encs.push_back(encode_for(p.scene, plans.back(), p.options.gamma));
+  }
+  std::vector<FrameScene> frame;
+  for (size_t k = 0; k < ps.size(); k++) frame.push_back(FrameScene{&encs[k], &plans[k], nullptr});
+  CHECK_THROWS_WITH(render_forest_cpu(frame, like), kForestCapped);
 }

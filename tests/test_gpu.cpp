@@ -508,7 +508,15 @@ TEST_CASE("forest: each scene renders on the GPU as it does alone", "[gpu][fores
         const std::vector<uint8_t> c = to_rgba8(cpu[k], like.gamma);
         REQUIRE(c.size() == alone[k].size());
         int worst = 0;
-        for (size_t i = 0; i < c.size(); i++) worst = std::max(worst, std::abs(int(c[i]) - int(alone[k][i])));
+        size_t over = 0, first = 0;
+        for (size_t i = 0; i < c.size(); i++) {
+          const int d = std::abs(int(c[i]) - int(alone[k][i]));
+          if (d > 1 && over++ == 0) first = i;
+          worst = std::max(worst, d);
+        }
+        INFO(over << " bytes differ by more than 1, the first at pixel (" << first / 4 % ps[k].options.width << ", "
+                  << first / 4 / ps[k].options.width << ") channel " << first % 4 << ": CPU " << int(c[first])
+                  << ", GPU " << int(alone[k][first]));
         CHECK(worst <= 1);
         scenes++;
       }

@@ -54,24 +54,30 @@ ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, co
   TreeLevel virt;
   std::vector<uint32_t> at;
   virt.entries = initial_stream(scene, tree.segments, &at);
-  const std::vector<SceneRoot> roots = scene_roots(scene, width, height);
-  for (size_t r = 0; r < roots.size(); r++)
-    virt.cells.push_back(Cell{at[roots[r].stream_begin], at[roots[r].stream_end], 0, 0, 0, static_cast<uint16_t>(r)});
-  tree.roots = static_cast<uint32_t>(roots.size());
+  tree.roots = scene_roots(scene, width, height);
+  for (size_t r = 0; r < tree.roots.size(); r++)
+    virt.cells.push_back(
+        Cell{at[tree.roots[r].stream_begin], at[tree.roots[r].stream_end], 0, 0, 0, static_cast<uint16_t>(r)});
   TreeLevel level = subdivide_cpu(virt.cells, virt.entries.data(), tree.segments, tree.root_size, true);
   t.subdivide_ms += ms_since(t0);
   const int max_level = tree_max_level(tree.root_size, params);
   // Levels [0, grid) are subdivided whole and not pruned (the coarse grid:
-  // TreeParams::grid_levels); level `grid` is the first pruned.
-  const int grid = tree_grid_levels(level.entries.size(), max_level, params);
+  // TreeParams::grid_levels); level `grid` is the first pruned. A forest's
+  // roots have a grid each (in_root_grid).
+  std::vector<uint8_t> root_grid;
+  if (tree.roots.size() > 1)
+    for (const Cell& c : level.cells)
+      root_grid.push_back(static_cast<uint8_t>(tree_grid_levels(c.end - c.begin, max_level, params)));
+  const uint8_t* rg = root_grid.empty() ? nullptr : root_grid.data();
+  const int grid = rg ? 0 : tree_grid_levels(level.entries.size(), max_level, params);
   if (params.prune && grid == 0) {
     t0 = std::chrono::steady_clock::now();
-    prune_cpu(level, tree.paths);
+    prune_cpu(level, tree.paths, rg);
     t.prune_ms += ms_since(t0);
   }
 
   size_t total_entries = level.entries.size();
-  tree.nodes.assign(tree.roots, Node{-1, 0});
+  tree.nodes.assign(tree.roots.size(), Node{-1, 0});
   uint32_t node_base = 0;  // node index of the current level's first cell
   for (int lv = 0;; lv++) {
     tree.depth = lv;
@@ -81,7 +87,7 @@ ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, co
     size_t nsub = 0;
     if (lv < max_level) {
       for (size_t k = 0; k < level.cells.size(); k++) {
-        sub[k] = lv < grid || cell_weight(level, level.cells[k]) > params.min_segments;
+        sub[k] = lv < grid || in_root_grid(level.cells[k], rg) || cell_weight(level, level.cells[k]) > params.min_segments;
         nsub += sub[k] ? 1 : 0;
       }
     }
@@ -103,6 +109,7 @@ ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, co
         // entries are made: this level is the last, its cells coarser.
         nsub = 0;
         sub.assign(level.cells.size(), 0);
+        tree.capped = true;
       }
     }
     // Nodes of this level's cells, leaves for those not subdivided.
@@ -128,7 +135,7 @@ ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, co
     if (nsub == 0) break;
     if (params.prune && lv + 1 >= grid) {
       t0 = std::chrono::steady_clock::now();
-      prune_cpu(child, tree.paths);
+      prune_cpu(child, tree.paths, rg);
       t.prune_ms += ms_since(t0);
     }
     total_entries += child.entries.size();

@@ -52,7 +52,8 @@ TreeLevel subdivide_cpu(const std::vector<Cell>& cells, const Entry* entries,
 // what rounds until nothing changes would but for rare chains (a clip
 // section or mask emptied by the round; the next level's round takes
 // those). Returns whether anything was eliminated.
-bool prune_cpu(TreeLevel& level, const std::vector<PathRecord>& paths);
+// root_grid: a forest's cells in_root_grid are left as they are.
+bool prune_cpu(TreeLevel& level, const std::vector<PathRecord>& paths, const uint8_t* root_grid = nullptr);
 
 struct BuildTimes {
   double stroke_ms = 0, abstract_ms = 0, subdivide_ms = 0, prune_ms = 0;

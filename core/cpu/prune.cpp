@@ -19,7 +19,7 @@ namespace {
 // the cells' ranges set to where they landed there. Returns whether
 // anything was eliminated.
 bool prune_batch(TreeLevel& level, size_t k0, size_t k1, const std::vector<PathRecord>& paths,
-                 std::vector<Entry>& kept) {
+                 std::vector<Entry>& kept, const uint8_t* root_grid) {
   const uint32_t first = level.cells[k0].begin;
   const size_t n = level.cells[k1 - 1].end - first;
   const Entry* e = level.entries.data() + first;
@@ -98,12 +98,17 @@ bool prune_batch(TreeLevel& level, size_t k0, size_t k1, const std::vector<PathR
     std::inclusive_scan(elim2.begin(), elim2.end(), elim2.begin());
   }
 
-  // Sweep.
+  // Sweep (a forest's cells inside their root's grid keep everything).
+  std::vector<char> keep(n);
+  for (size_t i = 0; i < n; i++) keep[i] = elim[i] <= 0 && elim2[i] <= 0;
+  if (root_grid)
+    for (size_t k = k0; k < k1; k++)
+      if (in_root_grid(level.cells[k], root_grid)) std::fill(keep.begin() + begin_of(k), keep.begin() + end_of(k), 1);
   std::vector<uint32_t> kept_before(n + 1, 0);
-  for (size_t i = 0; i < n; i++) kept_before[i + 1] = kept_before[i] + (elim[i] <= 0 && elim2[i] <= 0 ? 1u : 0u);
+  for (size_t i = 0; i < n; i++) kept_before[i + 1] = kept_before[i] + (keep[i] ? 1u : 0u);
   const uint32_t base = static_cast<uint32_t>(kept.size());
   for (size_t i = 0; i < n; i++)
-    if (elim[i] <= 0 && elim2[i] <= 0) kept.push_back(e[i]);
+    if (keep[i]) kept.push_back(e[i]);
   for (size_t k = k0; k < k1; k++) {
     Cell& c = level.cells[k];
     const uint32_t b = begin_of(k), en = end_of(k);
@@ -118,7 +123,7 @@ bool prune_batch(TreeLevel& level, size_t k0, size_t k1, const std::vector<PathR
 // (batch_group), each into a list of its own with its cells' ranges counted
 // from the list's start; the lists are then joined in order and the ranges
 // moved by what precedes them.
-bool prune_round(TreeLevel& level, const std::vector<PathRecord>& paths) {
+bool prune_round(TreeLevel& level, const std::vector<PathRecord>& paths, const uint8_t* root_grid) {
   if (level.entries.empty()) return false;
   const size_t cores = static_cast<size_t>(hardware_threads());
   const std::vector<size_t> starts = cell_batches(level.cells, level.entries.size(), cores);
@@ -128,7 +133,7 @@ bool prune_round(TreeLevel& level, const std::vector<PathRecord>& paths) {
   for (size_t g = 0, m; g < starts.size(); g += m) {  // scratch bounded as with one batch
     m = batch_group(level.cells, starts, g, cores);
     parallel_for(m, static_cast<int>(m), [&](size_t b) {
-      pruned[g + b] = prune_batch(level, starts[g + b], end_of(g + b), paths, kept[g + b]);
+      pruned[g + b] = prune_batch(level, starts[g + b], end_of(g + b), paths, kept[g + b], root_grid);
     });
   }
   size_t total = 0;
@@ -156,6 +161,8 @@ bool prune_round(TreeLevel& level, const std::vector<PathRecord>& paths) {
 
 }  // namespace
 
-bool prune_cpu(TreeLevel& level, const std::vector<PathRecord>& paths) { return prune_round(level, paths); }
+bool prune_cpu(TreeLevel& level, const std::vector<PathRecord>& paths, const uint8_t* root_grid) {
+  return prune_round(level, paths, root_grid);
+}
 
 }  // namespace mpvg

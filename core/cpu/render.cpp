@@ -128,7 +128,12 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
   };
   // Uniform leaves hold solid paints only (entry_varies); the rest is
   // sampled by the specialisation the scene's paints need.
-  return with_sampler_kinds(sampler_kinds(paint.data, integ.support % 2 == 1), [&](auto kinds) {
+  // The root's own specialisation (a forest's scenes each render as they
+  // would alone); trees made without roots (tests) take the paints'.
+  const bool aliasing = integ.support % 2 == 1;
+  const uint32_t root_kinds =
+      root < tree.roots.size() ? tree.roots[root].kinds[aliasing] : sampler_kinds(paint.data, aliasing);
+  return with_sampler_kinds(root_kinds, [&](auto kinds) {
     constexpr uint32_t Kinds = decltype(kinds)::value;
     const int n = integ.samples;
     const bool direct = integ.support == 1 && integ.pad == 0;
