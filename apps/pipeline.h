@@ -3,10 +3,11 @@
 // prepare items (a PDF page interpreted and lowered, an SVG file parsed and
 // stroked) and encode their scenes; render threads (each with its own
 // FrameRenderer: with CUDA its own context state and stream, on the device
-// it was made for) render them, lowest index first; the workers turn
+// it was made for) render them, lowest index first, several small ones
+// waiting together as one forest frame (core/forest.h); the workers turn
 // rendered images into PNG files before they take new items, so that at
-// most `workers + 4 + render threads` items are in flight. An item that
-// fails is reported and every other one is still written.
+// most `workers + 4 + render threads x forest_scenes` items are in flight.
+// An item that fails is reported and every other one is still written.
 #pragma once
 #include <functional>
 #include <memory>
