@@ -8,7 +8,7 @@
 // pixels), -f N and -l N (first and last page), --singlefile (the first
 // page only, written to OUT-PREFIX.png), --password P, --transparent (no
 // white page background), --threads N (worker threads, default one per
-// core, less the render threads with CUDA), --render-threads N (default 3 with CUDA, 1 on the CPU), --repeat N
+// core, less the render threads with CUDA), --render-threads N (default 3 with CUDA, 5 with --compression 1, 1 on the CPU), --repeat N
 // (the pages N times over, for benchmarks: later rounds run warm); IN.pdf
 // "-" reads stdin. The rendering options
 // are svg2png's (--aa, --gamma, --backend, --bits, --stats, -q).
@@ -93,7 +93,8 @@ void usage() {
       "      --backend B           auto, cpu or cuda (default auto)\n"
       "      --threads N           worker threads: interpretation, lowering, PNG (default:\n"
       "                            one per core, less the render threads with CUDA)\n"
-      "      --render-threads N    rendering threads (default 3 with CUDA, 1 on the CPU)\n"
+      "      --render-threads N    rendering threads (default with CUDA 3, or 5 with\n"
+      "                            --compression 1; 1 on the CPU)\n"
       "      --frame-scenes N      small pages rendered together as one frame, at most N\n"
       "                            (default 8 with CUDA, 1 on the CPU)\n"
       "      --stats               per-page stage times and the job's throughput\n"
@@ -257,7 +258,11 @@ int main(int argc, char** argv) {
     // With CUDA, a few render threads (own gpu::Context and stream each)
     // overlap one page's host work and copies with another's kernels; the
     // CPU backend uses every core for one page already.
-    c.render_threads = std::min(pages, pdf.render_threads > 0 ? pdf.render_threads : cuda ? 3 : 1);
+    // With the PNG stage on the device (--compression 1) the workers idle
+    // and more render threads pay: 5 made pgfmanual 222 pages/s against
+    // 193-200 with 3 (H100, 16 cores; BENCHMARKS.md "Forest frames").
+    const int cuda_threads = opt.compression == 1 ? 5 : 3;
+    c.render_threads = std::min(pages, pdf.render_threads > 0 ? pdf.render_threads : cuda ? cuda_threads : 1);
     // The render threads wait on the device dozens of times a page: with
     // CUDA they keep cores of their own (workers on every core starved them:
     // asymptote 109 pages/s with 16 workers, 120 with 14; BENCHMARKS.md).

@@ -310,9 +310,13 @@ struct State {
         }
       } while (c.bits == 8 && !to_render.empty() && budget.add(c, *jobs.front(), *jobs.back()) &&
                budget.fits(*jobs.front(), *to_render.top()));
-      std::vector<uint8_t> storage;
-      if (jobs.size() == 1 && !spare_rgba8.empty()) {
-        storage = std::move(spare_rgba8.back());
+      // Buffers of written items for the 8-bit images (fresh memory costs a
+      // page fault per 4 KiB while the copy fills it: a forest frame without
+      // them took 16-17 ms of its render thread a pgfmanual page, 12-13
+      // alone).
+      std::vector<std::vector<uint8_t>> storage;
+      while (storage.size() < jobs.size() && !spare_rgba8.empty()) {
+        storage.push_back(std::move(spare_rgba8.back()));
         spare_rgba8.pop_back();
       }
       lock.unlock();
@@ -324,7 +328,8 @@ struct State {
           std::vector<FrameScene> frame;
           for (const auto& j : jobs) frame.push_back(FrameScene{&j->scene, &j->plan, &j->stats});
           const bool png = renderer->backend() == Backend::Cuda && c.compression == 1;
-          std::vector<FrameRenderer::Output> out = renderer->render_forest(frame, jobs.front()->options, png);
+          std::vector<FrameRenderer::Output> out =
+              renderer->render_forest(frame, jobs.front()->options, png, std::move(storage));
           for (size_t k = 0; k < jobs.size(); k++) {
             if (png) jobs[k]->png = std::move(out[k].png);
             else jobs[k]->rgba8 = std::move(out[k].rgba8);
@@ -337,7 +342,8 @@ struct State {
         }
       }
       if (!done)
-        for (size_t k = 0; k < jobs.size(); k++) errors[k] = render_one(*renderer, *jobs[k], std::move(storage));
+        for (size_t k = 0; k < jobs.size(); k++)
+          errors[k] = render_one(*renderer, *jobs[k], k < storage.size() ? std::move(storage[k]) : std::vector<uint8_t>{});
       const double share = ms_since(t0) / double(jobs.size());
       lock.lock();
       result.frames += done ? 1 : static_cast<int>(jobs.size());

@@ -61,12 +61,14 @@ class FrameRenderer {
   // for all of them, then each rendered over its own grid, to the same
   // bytes render_rgba8 (or, with `png`, render_png) gives it alone.
   // options: the scenes' shared options (same_frame_options); each scene's
-  // size and view are in its plan.
+  // size and view are in its plan. As render_rgba8, the 8-bit images reuse
+  // the memory of `storage`'s buffers, one per scene, where given.
   struct Output {
     std::vector<uint8_t> rgba8;
     png::ImageData png;
   };
-  std::vector<Output> render_forest(const std::vector<FrameScene>& scenes, const RenderOptions& options, bool png);
+  std::vector<Output> render_forest(const std::vector<FrameScene>& scenes, const RenderOptions& options, bool png,
+                                    std::vector<std::vector<uint8_t>> storage = {});
   // Readies the first real frame: reserves device memory in the pool the
   // buffers come from (`pool_bytes`), and renders a small built-in scene
   // with `like`'s filter and samples so that the kernels a frame needs are

@@ -81,7 +81,9 @@ png::ImageData FrameRenderer::render_png(const EncodedScene& scene, const Render
 }
 
 std::vector<FrameRenderer::Output> FrameRenderer::render_forest(const std::vector<FrameScene>& scenes,
-                                                               const RenderOptions& options, bool png) {
+                                                               const RenderOptions& options, bool png,
+                                                               std::vector<std::vector<uint8_t>> storage) {
+  (void)storage;
   return forest_on_cpu(scenes, options, png, impl_->note);
 }
 

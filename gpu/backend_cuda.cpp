@@ -212,7 +212,8 @@ png::ImageData FrameRenderer::render_png(const EncodedScene& scene, const Render
 }
 
 std::vector<FrameRenderer::Output> FrameRenderer::render_forest(const std::vector<FrameScene>& scenes,
-                                                               const RenderOptions& options, bool png) {
+                                                               const RenderOptions& options, bool png,
+                                                               std::vector<std::vector<uint8_t>> storage) {
   if (impl_->backend == Backend::Cpu) return forest_on_cpu(scenes, options, png, impl_->note);
   cudaSetDevice(impl_->device);
   gpu::Context& ctx = *impl_->ctx;
@@ -239,7 +240,9 @@ std::vector<FrameRenderer::Output> FrameRenderer::render_forest(const std::vecto
     const uint32_t root = static_cast<uint32_t>(k);
     gpu::GpuTimes rt;
     if (png) out[k].png = ctx.render_png(plan.integ, plan.frame, bg, linear, &rt, root);
-    else out[k].rgba8 = ctx.render_rgba8(plan.integ, plan.frame, bg, linear, &rt, {}, root);
+    else
+      out[k].rgba8 = ctx.render_rgba8(plan.integ, plan.frame, bg, linear, &rt,
+                                      k < storage.size() ? std::move(storage[k]) : std::vector<uint8_t>{}, root);
     if (!scenes[k].stats) continue;
     RenderStats& st = *scenes[k].stats;
     st.backend = "cuda";
