@@ -62,7 +62,7 @@ void usage(const char* program, const char* kind) {
       "      --threads N           worker threads: parsing, PNG (default: one per core)\n"
       "      --render-threads N    render threads per device (default 2 with CUDA)\n"
       "      --frame-scenes N      small files rendered together as one frame, at most N\n"
-      "                            (default 8 with CUDA, 1 on the CPU)\n"
+      "                            (default 8 with CUDA and --compression 1, else 1)\n"
       "      --timeout S           give up on a file after S seconds (it fails; the\n"
       "                            others go on)\n"
       "Text:\n"

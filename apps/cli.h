@@ -47,7 +47,8 @@ struct Options {
   int threads = 0;                       // --threads: worker threads (0: per core)
   int render_threads = 0;                // --render-threads per device (0: default)
   // --frame-scenes: most small items a render thread renders as one frame
-  // (a forest, core/forest.h); 0: the default, 8 with CUDA, 1 on the CPU.
+  // (a forest, core/forest.h); 0: the default, 8 with CUDA and the PNG
+  // stage on the device (--compression 1), else 1.
   int frame_scenes = 0;
   bool server = false;                   // --server: the persistent renderer (apps/server.h)
   double timeout_s = 0;                  // --timeout S: per item of a batch (0: none)

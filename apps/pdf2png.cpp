@@ -96,7 +96,7 @@ void usage() {
       "      --render-threads N    rendering threads (default with CUDA 3, or 5 with\n"
       "                            --compression 1; 1 on the CPU)\n"
       "      --frame-scenes N      small pages rendered together as one frame, at most N\n"
-      "                            (default 8 with CUDA, 1 on the CPU)\n"
+      "                            (default 8 with CUDA and --compression 1, else 1)\n"
       "      --stats               per-page stage times and the job's throughput\n"
       "      --repeat N            the pages N times over (benchmarks)\n"
       "      --timeout S           give up on a page after S seconds (it fails; the\n"
@@ -274,9 +274,14 @@ int main(int argc, char** argv) {
     c.bits = opt.bits;
     c.compression = opt.compression;
     // Small pages waiting together share a frame (core/forest.h): one tree
-    // build instead of one per page, with CUDA, whose frames are bound by
-    // launches and round trips (BENCHMARKS.md "Forest frames").
-    c.forest_scenes = opt.frame_scenes > 0 ? opt.frame_scenes : cuda ? pipeline::kDefaultFrameScenes : 1;
+    // build for several pages. By default only where the render threads
+    // bound the job, with the PNG stage on the device (--compression 1:
+    // pgfmanual 196-199 pages/s against 172-178 with 3 render threads);
+    // at the default level the workers' PNG does, and the frames' bursts
+    // did not pay (BENCHMARKS.md "Forest frames").
+    c.forest_scenes = opt.frame_scenes > 0                  ? opt.frame_scenes
+                      : cuda && opt.compression == 1        ? pipeline::kDefaultFrameScenes
+                                                            : 1;
     c.gamma = opt.gamma;
     // Worker 0 uses the document opened here; the others a clone each
     // (made on first use), with MuPDF contexts of their own unless

@@ -38,7 +38,7 @@ struct Job {
   std::vector<std::string> warnings;
 };
 
-// Config::forest_scenes with CUDA unless asked otherwise.
+// Config::forest_scenes with CUDA and --compression 1 unless asked otherwise.
 constexpr int kDefaultFrameScenes = 8;
 
 struct Config {
