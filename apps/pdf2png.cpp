@@ -49,6 +49,36 @@
 
 namespace {
 
+// The CUDA devices pdf2png renders on: --devices, or every one visible,
+// counted before CUDA's start-up has finished (without waiting for the
+// driver): CUDA_VISIBLE_DEVICES's entries where it is set, else the
+// /dev/nvidiaN device files.
+std::vector<int> pdf_devices(const mpvg::cli::Options& opt, bool cuda) {
+  if (!opt.devices.empty()) return opt.devices;
+  int n = 0;
+  if (cuda) {
+    if (const char* v = std::getenv("CUDA_VISIBLE_DEVICES")) {
+      const std::string s = v;
+      for (size_t at = 0; at < s.size();) {
+        const size_t end = std::min(s.find(',', at), s.size());
+        n += end > at;
+        at = end + 1;
+      }
+    } else {
+      std::error_code ec;
+      for (const auto& e : std::filesystem::directory_iterator("/dev", ec)) {
+        const std::string name = e.path().filename().string();
+        n += name.size() > 6 && name.rfind("nvidia", 0) == 0 &&
+             name.find_first_not_of("0123456789", 6) == std::string::npos;
+      }
+    }
+  }
+  std::vector<int> devices;
+  for (int d = 0; d < n; d++) devices.push_back(d);
+  if (devices.empty()) devices.push_back(0);
+  return devices;
+}
+
 struct PdfOptions {
   double dpi = 150;
   int first = 1, last = -1;
@@ -59,7 +89,9 @@ struct PdfOptions {
   int crop_x = 0, crop_y = 0, crop_w = 0, crop_h = 0;  // -x -y -W -H, pixels at the resolution
   int threads = 0;          // worker threads; 0: one per core
   int repeat = 1;           // --repeat N: the pages N times over (benchmarks: later rounds run warm)
-  int render_threads = 0;   // threads rendering, each with its own backend state; 0: 3 with CUDA, 1 on the CPU
+  // Threads rendering, each with its own backend state: per device with
+  // CUDA (0: 3, or 5 with --compression 1), 1 on the CPU.
+  int render_threads = 0;
 };
 
 void usage() {
@@ -93,8 +125,9 @@ void usage() {
       "      --backend B           auto, cpu or cuda (default auto)\n"
       "      --threads N           worker threads: interpretation, lowering, PNG (default:\n"
       "                            one per core, less the render threads with CUDA)\n"
-      "      --render-threads N    rendering threads (default with CUDA 3, or 5 with\n"
-      "                            --compression 1; 1 on the CPU)\n"
+      "      --devices LIST        CUDA devices to use, e.g. 0,1 (default: all)\n"
+      "      --render-threads N    rendering threads per device (default with CUDA 3, or\n"
+      "                            5 with --compression 1; 1 on the CPU)\n"
       "      --frame-scenes N      small pages rendered together as one frame, at most N\n"
       "                            (default 8 with CUDA and --compression 1, else 1)\n"
       "      --stats               per-page stage times and the job's throughput\n"
@@ -261,8 +294,12 @@ int main(int argc, char** argv) {
     // With the PNG stage on the device (--compression 1) the workers idle
     // and more render threads pay: 5 made pgfmanual 222 pages/s against
     // 193-200 with 3 (H100, 16 cores; BENCHMARKS.md "Forest frames").
-    const int cuda_threads = opt.compression == 1 ? 5 : 3;
-    c.render_threads = std::min(pages, pdf.render_threads > 0 ? pdf.render_threads : cuda ? cuda_threads : 1);
+    // Every device asked for (--devices), or every one visible, with as
+    // many render threads each.
+    const std::vector<int> devices = pdf_devices(opt, cuda);
+    const int per_device = pdf.render_threads > 0 ? pdf.render_threads : opt.compression == 1 ? 5 : 3;
+    c.render_threads =
+        std::min(pages, cuda ? per_device * static_cast<int>(devices.size()) : std::max(1, pdf.render_threads));
     // The render threads wait on the device dozens of times a page: with
     // CUDA they keep cores of their own (workers on every core starved them:
     // asymptote 109 pages/s with 16 workers, 120 with 14; BENCHMARKS.md).
@@ -306,7 +343,12 @@ int main(int argc, char** argv) {
     c.make_renderer = [&](int r) -> std::unique_ptr<FrameRenderer> {
       if (opt.backend == Backend::Cpu) return std::make_unique<FrameRenderer>(Backend::Cpu);
       await_cuda();
-      if (cuda_ok) return r == 0 ? std::move(warm) : std::make_unique<FrameRenderer>(Backend::Cuda);
+      if (cuda_ok) {
+        // The start-up's renderer (device 0) for the first thread on it.
+        const int device = devices[static_cast<size_t>(r) % devices.size()];
+        if (warm && device == warm->device()) return std::move(warm);
+        return std::make_unique<FrameRenderer>(Backend::Cuda, device);
+      }
       if (opt.backend == Backend::Cuda) {
         if (r == 0) throw Error("CUDA backend unavailable: " + why);
         return nullptr;
