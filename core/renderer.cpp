@@ -173,6 +173,24 @@ std::vector<ImageF> render_forest_cpu(const std::vector<FrameScene>& scenes, con
   return out;
 }
 
+std::vector<FrameOutput> render_forest_cpu_8bit(const std::vector<FrameScene>& scenes, const RenderOptions& options,
+                                                bool png) {
+  std::vector<ImageF> images = render_forest_cpu(scenes, options);
+  std::vector<FrameOutput> out(images.size());
+  for (size_t k = 0; k < images.size(); k++) {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<uint8_t> rgba8 = to_rgba8(images[k], options.gamma);
+    if (png) {
+      out[k].png = png::compress_rgba8(rgba8.data(), images[k].width, images[k].height);
+      if (scenes[k].stats) scenes[k].stats->png_ms += ms_since(t0);
+    } else {
+      out[k].rgba8 = std::move(rgba8);
+    }
+    images[k] = ImageF{};
+  }
+  return out;
+}
+
 const SrgbCodeTable& srgb_code_table() {
   static const SrgbCodeTable table = [] {
     SrgbCodeTable t{};

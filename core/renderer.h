@@ -9,6 +9,7 @@
 #include "core/cpu/cpu_stages.h"
 #include "core/encoding.h"
 #include "core/integration.h"
+#include "core/png_encode.h"
 #include "core/scene.h"
 #include "core/tree.h"
 
@@ -108,6 +109,19 @@ EncodedScene forest_of(const std::vector<FrameScene>& scenes);
 // The CPU executor: one build, then each scene's image as render_cpu gives
 // it alone. options: the scenes' shared options (same_frame_options).
 std::vector<ImageF> render_forest_cpu(const std::vector<FrameScene>& scenes, const RenderOptions& options);
+
+// A forest frame's image as 8-bit codes (to_rgba8), or with `png` filtered
+// and deflated at level 1 (png::compress_rgba8, FrameRenderer::render_png's
+// bytes).
+struct FrameOutput {
+  std::vector<uint8_t> rgba8;
+  png::ImageData png;
+};
+
+// render_forest_cpu, converted: what either backend's FrameRenderer gives
+// for a forest frame on the CPU.
+std::vector<FrameOutput> render_forest_cpu_8bit(const std::vector<FrameScene>& scenes, const RenderOptions& options,
+                                                bool png);
 
 // The background as a premultiplied paint in the integration colour space.
 PaintRecord background_paint(const RGBA& c, Gamma gamma);

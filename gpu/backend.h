@@ -63,10 +63,7 @@ class FrameRenderer {
   // options: the scenes' shared options (same_frame_options); each scene's
   // size and view are in its plan. As render_rgba8, the 8-bit images reuse
   // the memory of `storage`'s buffers, one per scene, where given.
-  struct Output {
-    std::vector<uint8_t> rgba8;
-    png::ImageData png;
-  };
+  using Output = FrameOutput;
   std::vector<Output> render_forest(const std::vector<FrameScene>& scenes, const RenderOptions& options, bool png,
                                     std::vector<std::vector<uint8_t>> storage = {});
   // Readies the first real frame: reserves device memory in the pool the

@@ -20,28 +20,6 @@ ImageF render(const Scene& scene, const RenderOptions& options, RenderStats* sta
 
 int cuda_device_count() { return 0; }
 
-namespace {
-
-// The CPU executor's forest frame, for either backend's FrameRenderer.
-std::vector<FrameRenderer::Output> forest_on_cpu(const std::vector<FrameScene>& scenes, const RenderOptions& options,
-                                                 bool png, const std::string& note) {
-  std::vector<ImageF> images = render_forest_cpu(scenes, options);
-  std::vector<FrameRenderer::Output> out(images.size());
-  for (size_t k = 0; k < images.size(); k++) {
-    const auto t0 = std::chrono::steady_clock::now();
-    std::vector<uint8_t> rgba8 = to_rgba8(images[k], options.gamma);
-    if (png) out[k].png = png::compress_rgba8(rgba8.data(), images[k].width, images[k].height);
-    else out[k].rgba8 = std::move(rgba8);
-    if (RenderStats* st = scenes[k].stats) {
-      st->note = note;
-      if (png) st->png_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    }
-  }
-  return out;
-}
-
-}  // namespace
-
 struct FrameRenderer::Impl {
   std::string note;
 };
@@ -84,7 +62,10 @@ std::vector<FrameRenderer::Output> FrameRenderer::render_forest(const std::vecto
                                                                const RenderOptions& options, bool png,
                                                                std::vector<std::vector<uint8_t>> storage) {
   (void)storage;
-  return forest_on_cpu(scenes, options, png, impl_->note);
+  std::vector<Output> out = render_forest_cpu_8bit(scenes, options, png);
+  for (const FrameScene& s : scenes)
+    if (s.stats) s.stats->note = impl_->note;
+  return out;
 }
 
 void FrameRenderer::warm_up(const RenderOptions&, size_t) {}
