@@ -99,6 +99,10 @@ same_frames() { for k in 1 2 3; do cmp -s "$tmp/fr1-$k.png" "$tmp/fr3-$k.png" ||
 check "--frame-scenes 3: the same pages as a frame each" same_frames
 err=$("$bin" -q --backend cpu -r 72 --frame-scenes 0 "$pdf" "$tmp/fr0" 2>&1); rc=$?
 check "--frame-scenes 0: exit 2" test "$rc" = 2
+"$bin" -q --backend cpu -r 72 --devices 0,1 "$pdf" "$tmp/dv"; rc=$?
+check "--devices: accepted (the CPU backend renders anyway)" test "$rc" = 0 -a -f "$tmp/dv-1.png"
+err=$("$bin" -q --backend cpu -r 72 --devices x "$pdf" "$tmp/dvx" 2>&1); rc=$?
+check "--devices x: exit 2" test "$rc" = 2
 
 echo "$fails failure(s)"
 test "$fails" = 0

@@ -148,6 +148,24 @@ TEST_CASE("forest: each root's leaves are those of the scene's own tree", "[fore
   CHECK(leaves > 5000);
 }
 
+TEST_CASE("forest: empty scenes and a forest of one", "[forest]") {
+  RenderOptions o;
+  o.width = o.height = 60;
+  o.background = RGBA{0.2f, 0.4f, 0.6f, 1};
+  const RenderPlan plan = plan_render(o);
+  const Scene empty = SceneBuilder(60, 60).finish();
+  const Scene full = random_scenes::clip_scene(11, 2, 60, true);
+  const EncodedScene e0 = encode_for(empty, plan, o.gamma), e1 = encode_for(full, plan, o.gamma);
+  for (const std::vector<const EncodedScene*>& order :
+       {std::vector<const EncodedScene*>{&e0, &e1, &e0}, {&e1}, {&e0}}) {
+    std::vector<FrameScene> frame;
+    for (const EncodedScene* e : order) frame.push_back(FrameScene{e, &plan, nullptr});
+    const std::vector<ImageF> together = render_forest_cpu(frame, o);
+    REQUIRE(together.size() == order.size());
+    for (size_t k = 0; k < order.size(); k++) CHECK(together[k].rgba == render_cpu(*order[k], plan, o).rgba);
+  }
+}
+
 TEST_CASE("forest: scenes whose root squares differ are refused, not rendered differently", "[forest]") {
   RenderOptions a, b;
   a.width = a.height = 100;  // root square 128

@@ -527,4 +527,20 @@ TEST_CASE("forest: each scene renders on the GPU as it does alone", "[gpu][fores
     }
   }
   CHECK(scenes == 60);
+  // Empty scenes among others, and a forest of one.
+  RenderOptions o;
+  o.width = o.height = 60;
+  o.backend = Backend::Cuda;
+  o.background = RGBA{0.2f, 0.4f, 0.6f, 1};
+  const RenderPlan plan = plan_render(o);
+  const EncodedScene e0 = encode_for(SceneBuilder(60, 60).finish(), plan, o.gamma);
+  const EncodedScene e1 = encode_for(random_scenes::clip_scene(11, 2, 60, true), plan, o.gamma);
+  for (const std::vector<const EncodedScene*>& order :
+       {std::vector<const EncodedScene*>{&e0, &e1, &e0}, {&e1}, {&e0}}) {
+    std::vector<FrameScene> frame;
+    for (const EncodedScene* e : order) frame.push_back(FrameScene{e, &plan, nullptr});
+    const std::vector<FrameRenderer::Output> together = r.render_forest(frame, o, false);
+    REQUIRE(together.size() == order.size());
+    for (size_t k = 0; k < order.size(); k++) CHECK(together[k].rgba8 == r.render_rgba8(*order[k], plan, o));
+  }
 }
