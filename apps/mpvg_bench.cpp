@@ -4,10 +4,13 @@
 // wall time of `svg2png --backend cuda` on the same input.
 //
 //   mpvg_bench [--runs N] [--json FILE] [--svg2png PATH] [--shapes T,I,U;...] [--ramp-lut N]
-//              [--grid-levels N] [--throughput K,K,...] FILE.svg...
+//              [--grid-levels N] [--min-segments N] [--throughput K,K,...] FILE.svg...
 //
 // --grid-levels N builds the trees with N levels of coarse grid
 // (TreeParams::grid_levels; default: from each scene's density).
+// --min-segments N stops subdividing cells of N geometry entries or fewer
+// (TreeParams::min_segments, the paper's stopping rule; default 4): the
+// sweep an auto-tuned stopping rule (issue 27) is measured against.
 //
 // --throughput measures the render side of pdf2png's pipeline alone: for
 // each K, K threads with a FrameRenderer each (their own device buffers and
@@ -139,6 +142,7 @@ int main(int argc, char** argv) {
   std::string json_path, svg2png = "svg2png", shapes_arg, throughput_arg;
   EncodeOptions encode_options;
   int grid_levels = -1;
+  int min_segments = -1;
   std::vector<std::string> files;
   for (int i = 1; i < argc; i++) {
     const std::string a = argv[i];
@@ -149,12 +153,13 @@ int main(int argc, char** argv) {
     else if (a == "--ramp-lut" && i + 1 < argc) encode_options.ramp_lut = std::atoi(argv[++i]);
     else if (a == "--throughput" && i + 1 < argc) throughput_arg = argv[++i];
     else if (a == "--grid-levels" && i + 1 < argc) grid_levels = std::atoi(argv[++i]);
+    else if (a == "--min-segments" && i + 1 < argc) min_segments = std::max(1, std::atoi(argv[++i]));
     else files.push_back(a);
   }
   if (files.empty()) {
     std::fprintf(stderr,
                  "usage: mpvg_bench [--runs N] [--json FILE] [--svg2png PATH] [--shapes T,I,U;...] [--ramp-lut N] "
-                 "[--grid-levels N] [--throughput K,K,...] FILE.svg...\n");
+                 "[--grid-levels N] [--min-segments N] [--throughput K,K,...] FILE.svg...\n");
     return 2;
   }
   if (!throughput_arg.empty()) {
@@ -205,6 +210,7 @@ int main(int argc, char** argv) {
       const EncodedScene enc_c = encode(doc.scene, pc.view, Gamma::Linear, encode_options);
       TreeParams params;
       params.grid_levels = grid_levels;
+      if (min_segments > 0) params.min_segments = static_cast<uint32_t>(min_segments);
       const PaintRecord bg = background_paint(RGBA{0, 0, 0, 0}, Gamma::Srgb);
       auto r8 = [&](gpu::GpuTimes* t) { return ctx.render_on_device(p8.integ, p8.frame, bg, t); };
       auto r32 = [&](gpu::GpuTimes* t) { return ctx.render_on_device(p32.integ, p32.frame, bg, t); };
