@@ -134,13 +134,22 @@ void append_strokes(StrokeBatch& dst, const StrokeBatch& src, uint32_t paths) {
 
 }  // namespace
 
-EncodedScene make_forest(std::vector<ForestScene> scenes) {
+EncodedScene make_forest(const std::vector<ForestScene>& scenes) {
   if (scenes.size() > kMaxForestRoots)
     throw Error("a forest frame takes at most " + std::to_string(kMaxForestRoots) + " scenes");
   EncodedScene out;
   auto paint = std::make_shared<PaintData>();
-  for (ForestScene& fs : scenes) {
-    EncodedScene& s = fs.scene;
+  size_t segments = 0, paths = 0, stream = 0;
+  for (const ForestScene& fs : scenes) {
+    segments += fs.scene->segments.size();
+    paths += fs.scene->paths.size();
+    stream += fs.scene->stream.size();
+  }
+  out.segments.reserve(segments);
+  out.paths.reserve(paths);
+  out.stream.reserve(stream);
+  for (const ForestScene& fs : scenes) {
+    const EncodedScene& s = *fs.scene;
     if (!s.roots.empty()) throw Error("a forest frame's scenes are single scenes");
     static const PaintData none;
     const PaintData& sp = s.paint ? *s.paint : none;
@@ -163,20 +172,17 @@ EncodedScene make_forest(std::vector<ForestScene> scenes) {
     out.roots.push_back(root);
     out.input_segment_count += s.input_segment_count;
     append_paint(*paint, sp, o);
-    for (EncodedTile& t : s.tiles) {
+    for (const EncodedTile& t : s.tiles) {
       EncodedTile tile;
       tile.width = t.width;
       tile.height = t.height;
-      tile.scene = std::move(t.scene);
-      std::vector<PathRecord> paths;
-      shift_paths(paths, tile.scene.paths, o.paints);
-      tile.scene.paths = std::move(paths);
-      std::vector<Entry> stream;
-      shift_stream(stream, tile.scene.stream, 0, o.groups);
-      tile.scene.stream = std::move(stream);
+      tile.scene.segments = t.scene.segments;
+      tile.scene.strokes = t.scene.strokes;
+      tile.scene.input_segment_count = t.scene.input_segment_count;
+      shift_paths(tile.scene.paths, t.scene.paths, o.paints);
+      shift_stream(tile.scene.stream, t.scene.stream, 0, o.groups);
       out.tiles.push_back(std::move(tile));
     }
-    s = EncodedScene{};  // the scene's memory goes as soon as it is merged
   }
   out.paint = std::move(paint);
   return out;

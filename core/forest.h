@@ -22,14 +22,15 @@ constexpr size_t kMaxForestRoots = 65535;
 // One scene of a forest, before the merge: the scene as encode() made it
 // (one scene, not a forest) and its grid of unit areas.
 struct ForestScene {
-  EncodedScene scene;
+  const EncodedScene* scene = nullptr;
   int width = 0, height = 0;
 };
 
-// The scenes as one forest, in order (scene k is root k). Throws mpvg::Error
-// for more than kMaxForestRoots scenes, for one that is already a forest, or
-// when the paths together are more than entries can name.
-EncodedScene make_forest(std::vector<ForestScene> scenes);
+// The scenes as one forest, in order (scene k is root k), each copied once
+// into arrays sized for all of them. Throws mpvg::Error for more than
+// kMaxForestRoots scenes, for one that is already a forest, or when the
+// paths together are more than entries can name.
+EncodedScene make_forest(const std::vector<ForestScene>& scenes);
 
 // The roots of a scene: a forest's, or the whole stream as one root over
 // width x height unit areas.

@@ -130,8 +130,8 @@ EncodedScene forest_of(const std::vector<FrameScene>& scenes) {
     if (!same_frame_grid(*s.plan, *scenes.front().plan))
       throw Error("a forest frame's scenes need root squares of one size (same_frame_grid)");
   for (const FrameScene& s : scenes)
-    fs.push_back(ForestScene{*s.scene, s.plan->frame.ua_w, s.plan->frame.ua_h});
-  return make_forest(std::move(fs));
+    fs.push_back(ForestScene{s.scene, s.plan->frame.ua_w, s.plan->frame.ua_h});
+  return make_forest(fs);
 }
 
 std::vector<ImageF> render_forest_cpu(const std::vector<FrameScene>& scenes, const RenderOptions& o) {

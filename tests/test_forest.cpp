@@ -66,17 +66,19 @@ TEST_CASE("forest: the same with a wide filter, aliased paths and no coarse grid
 TEST_CASE("forest: every cell holds its own scene's elements only, every root reaches its leaves", "[forest]") {
   RenderOptions like;
   const std::vector<random_forest::Page> ps = random_forest::pages(7, like);
+  std::vector<EncodedScene> encs;
   std::vector<ForestScene> fs;
   std::vector<size_t> path_end;
   size_t paths = 0;
+  encs.reserve(ps.size());
   for (const random_forest::Page& p : ps) {
     const RenderPlan plan = plan_render(p.options);
-    EncodedScene enc = encode_for(p.scene, plan, p.options.gamma);
-    paths += enc.paths.size();
+    encs.push_back(encode_for(p.scene, plan, p.options.gamma));
+    paths += encs.back().paths.size();
     path_end.push_back(paths);
-    fs.push_back(ForestScene{std::move(enc), plan.frame.ua_w, plan.frame.ua_h});
+    fs.push_back(ForestScene{&encs.back(), plan.frame.ua_w, plan.frame.ua_h});
   }
-  const EncodedScene forest = make_forest(std::move(fs));
+  const EncodedScene forest = make_forest(fs);
   REQUIRE(forest.roots.size() == ps.size());
   REQUIRE(forest.paths.size() == paths);
   int w = 0, h = 0;
@@ -120,15 +122,17 @@ TEST_CASE("forest: each root's leaves are those of the scene's own tree", "[fore
       RenderOptions like;
       like.tree.grid_levels = grid;
       const std::vector<random_forest::Page> ps = random_forest::pages(seed, like);
+      std::vector<EncodedScene> encs;
       std::vector<ForestScene> fs;
       std::vector<ShortcutTree> alone;
+      encs.reserve(ps.size());
       for (const random_forest::Page& p : ps) {
         const RenderPlan plan = plan_render(p.options);
-        EncodedScene enc = encode_for(p.scene, plan, p.options.gamma);
-        alone.push_back(build_tree_cpu(enc, plan.frame.ua_w, plan.frame.ua_h, like.tree));
-        fs.push_back(ForestScene{std::move(enc), plan.frame.ua_w, plan.frame.ua_h});
+        encs.push_back(encode_for(p.scene, plan, p.options.gamma));
+        alone.push_back(build_tree_cpu(encs.back(), plan.frame.ua_w, plan.frame.ua_h, like.tree));
+        fs.push_back(ForestScene{&encs.back(), plan.frame.ua_w, plan.frame.ua_h});
       }
-      const EncodedScene forest = make_forest(std::move(fs));
+      const EncodedScene forest = make_forest(fs);
       int w = 0, h = 0;
       forest_grid(forest, w, h);
       const ShortcutTree tree = build_tree_cpu(forest, w, h, like.tree);
