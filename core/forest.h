@@ -5,9 +5,16 @@
 // one root per scene: nodes 0 .. n-1, with Cell::root naming the scene of
 // every cell. Stroking, abstraction, subdivision and pruning then run once
 // over all of them, the per-frame cost of launches and host round trips
-// paid once, while no cell ever mixes two scenes. A sample of scene r
-// descends from node r and meets exactly the elements it meets in a frame
-// of its own, so each scene renders to the same image.
+// paid once, while no cell ever mixes two scenes.
+//
+// Each root's tree is the tree its scene gets in a frame of its own, so that
+// each scene renders to the same image, byte for byte (the tree's shape
+// decides which unit areas are sampled as uniform leaves, which rounds
+// differently): the roots share one root square (same_frame_grid), each has
+// the coarse grid of its own density (in_root_grid, core/tree.h) and its
+// own sampler specialisation (SceneRoot::kinds), and a forest whose tree
+// would pass TreeParams::max_entries is refused (kForestCapped) rather
+// than built coarser.
 #pragma once
 #include <cstddef>
 #include <vector>
