@@ -311,14 +311,9 @@ int main(int argc, char** argv) {
     c.bits = opt.bits;
     c.compression = opt.compression;
     // Small pages waiting together share a frame (core/forest.h): one tree
-    // build for several pages. By default only where the render threads
-    // bound the job, with the PNG stage on the device (--compression 1:
-    // pgfmanual 196-199 pages/s against 172-178 with 3 render threads);
-    // at the default level the workers' PNG does, and the frames' bursts
-    // did not pay (BENCHMARKS.md "Forest frames").
-    c.forest_scenes = opt.frame_scenes > 0                  ? opt.frame_scenes
-                      : cuda && opt.compression == 1        ? pipeline::kDefaultFrameScenes
-                                                            : 1;
+    // build for several pages (--compression 1: pgfmanual 196-199 pages/s
+    // against 172-178 with 3 render threads).
+    c.forest_scenes = pipeline::forest_scenes_for(opt.frame_scenes, cuda, opt.compression);
     c.gamma = opt.gamma;
     // Worker 0 uses the document opened here; the others a clone each
     // (made on first use), with MuPDF contexts of their own unless

@@ -243,12 +243,17 @@ struct State {
     }
   }
 
+  // Is the PNG stage run where the frame renders (level 1 on the device)?
+  bool png_on_device(const FrameRenderer& renderer) const {
+    return renderer.backend() == Backend::Cuda && c.compression == 1;
+  }
+
   // Renders one item in a frame of its own; the error message, or empty.
   std::string render_one(FrameRenderer& renderer, Job& job, std::vector<uint8_t> storage) {
     try {
       if (c.bits == 16)
         job.image = renderer.render(job.scene, job.options, &job.stats);
-      else if (renderer.backend() == Backend::Cuda && c.compression == 1) {
+      else if (png_on_device(renderer)) {
         // Level 1 only, asked for: the default (level 2 on the workers)
         // gives the same bytes whichever backend renders, and on the H100
         // host (16 cores, BENCHMARKS.md "PNG stage") it is also faster:
@@ -327,7 +332,7 @@ struct State {
         try {
           std::vector<FrameScene> frame;
           for (const auto& j : jobs) frame.push_back(FrameScene{&j->scene, &j->plan, &j->stats});
-          const bool png = renderer->backend() == Backend::Cuda && c.compression == 1;
+          const bool png = png_on_device(*renderer);
           std::vector<FrameRenderer::Output> out =
               renderer->render_forest(frame, jobs.front()->options, png, std::move(storage));
           for (size_t k = 0; k < jobs.size(); k++) {

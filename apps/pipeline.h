@@ -38,8 +38,14 @@ struct Job {
   std::vector<std::string> warnings;
 };
 
-// Config::forest_scenes with CUDA and --compression 1 unless asked otherwise.
-constexpr int kDefaultFrameScenes = 8;
+// Config::forest_scenes for --frame-scenes `asked` (0: the default): 8
+// with CUDA and the PNG stage on the device (--compression 1), where the
+// render threads bound a job; else 1, each item its own frame (at the
+// default PNG level the workers' deflate bounds it, and forest frames did
+// not pay; BENCHMARKS.md "Forest frames").
+inline int forest_scenes_for(int asked, bool cuda, int compression) {
+  return asked > 0 ? asked : cuda && compression == 1 ? 8 : 1;
+}
 
 struct Config {
   const char* program = "";  // message prefix: "pdf2png"

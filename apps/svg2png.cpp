@@ -406,12 +406,8 @@ int run_batch(const cli::Options& opt, Renderers& renderers) {
   c.quiet = opt.quiet;
   c.bits = opt.bits;
   c.compression = opt.compression;
-  // Small files waiting together share a frame (core/forest.h), with CUDA
-  // and the PNG stage on the device, where the render threads bound a
-  // batch (pdf2png's rule; BENCHMARKS.md "Forest frames").
-  c.forest_scenes = opt.frame_scenes > 0                  ? opt.frame_scenes
-                    : cuda && opt.compression == 1        ? pipeline::kDefaultFrameScenes
-                                                          : 1;
+  // Small files waiting together share a frame (core/forest.h).
+  c.forest_scenes = pipeline::forest_scenes_for(opt.frame_scenes, cuda, opt.compression);
   c.gamma = opt.gamma;
   c.label = [&](int t) { return items[t].first; };
   c.prepare = [&](int t, int) {

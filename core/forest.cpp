@@ -161,14 +161,10 @@ EncodedScene make_forest(const std::vector<ForestScene>& scenes) {
     }
     append_strokes(out.strokes, s.strokes, o.paths);
     shift_paths(out.paths, s.paths, o.paints);
-    SceneRoot root;
+    SceneRoot root = scene_roots(s, fs.width, fs.height).front();  // its grid and sampler kinds
     root.stream_begin = u32(out.stream.size());
     shift_stream(out.stream, s.stream, o.paths, o.groups);
     root.stream_end = u32(out.stream.size());
-    root.width = fs.width;
-    root.height = fs.height;
-    root.kinds[0] = sampler_kinds(sp, false);
-    root.kinds[1] = sampler_kinds(sp, true);
     out.roots.push_back(root);
     out.input_segment_count += s.input_segment_count;
     append_paint(*paint, sp, o);

@@ -136,8 +136,6 @@ EncodedScene forest_of(const std::vector<FrameScene>& scenes) {
 
 std::vector<ImageF> render_forest_cpu(const std::vector<FrameScene>& scenes, const RenderOptions& o) {
   const auto t_all = std::chrono::steady_clock::now();
-  std::vector<size_t> inputs;
-  for (const FrameScene& s : scenes) inputs.push_back(s.scene->input_segment_count);
   const EncodedScene forest = forest_of(scenes);
   int w = 0, h = 0;
   forest_grid(forest, w, h);
@@ -163,7 +161,7 @@ std::vector<ImageF> render_forest_cpu(const std::vector<FrameScene>& scenes, con
     st.schedule_ms += rt.schedule_ms;
     st.sample_ms += rt.sample_ms;
     st.total_ms += build_ms * share + ms_since(t0);
-    st.input_segments = inputs[k];
+    st.input_segments = scenes[k].scene->input_segment_count;
     st.abstract_segments = static_cast<size_t>(tree.segments.size() * share);
     st.leaves = static_cast<size_t>(tree.leaves.size() * share);
     st.leaf_entries = static_cast<size_t>(tree.leaf_entries.size() * share);

@@ -1,6 +1,4 @@
 // The backend dispatcher of a build without CUDA.
-#include <chrono>
-
 #include "core/error.h"
 #include "gpu/backend.h"
 

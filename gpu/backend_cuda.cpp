@@ -65,7 +65,6 @@ ImageF render_cuda(gpu::Context& ctx, const EncodedScene& enc, const RenderPlan&
   });
 }
 
-
 ImageF render_cuda(const Scene& scene, const RenderOptions& options, RenderStats& st) {
   const auto t_all = std::chrono::steady_clock::now();
   RenderOptions o = options;
@@ -206,8 +205,6 @@ std::vector<FrameRenderer::Output> FrameRenderer::render_forest(const std::vecto
   cudaSetDevice(impl_->device);
   gpu::Context& ctx = *impl_->ctx;
   const auto t_all = std::chrono::steady_clock::now();
-  std::vector<size_t> inputs;
-  for (const FrameScene& s : scenes) inputs.push_back(s.scene->input_segment_count);
   int w = 0, h = 0;
   gpu::GpuTimes gt;
   {
@@ -244,7 +241,7 @@ std::vector<FrameRenderer::Output> FrameRenderer::render_forest(const std::vecto
     st.png_ms += rt.png_ms;
     st.total_ms +=
         build_ms * share + std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    st.input_segments = inputs[k];
+    st.input_segments = scenes[k].scene->input_segment_count;
     st.tree_bytes = ctx.tree_bytes();
     st.abstract_segments = static_cast<size_t>(counts.abstract_segments * share);
     st.depth = counts.depth;
