@@ -9,8 +9,10 @@
 // --grid-levels N builds the trees with N levels of coarse grid
 // (TreeParams::grid_levels; default: from each scene's density).
 // --min-segments N stops subdividing cells of N geometry entries or fewer
-// (TreeParams::min_segments, the paper's stopping rule; default 4): the
-// sweep an auto-tuned stopping rule (issue 27) is measured against.
+// (TreeParams::min_segments, the paper's stopping rule) for every column;
+// default: the rule from each column's samples (stop_rule, core/tree.h:
+// 1x8 4, 1x32 and 4x4x32 1), which the sweep over N was measured for. The
+// preprocessing columns are the 1x32 tree's.
 //
 // --throughput measures the render side of pdf2png's pipeline alone: for
 // each K, K threads with a FrameRenderer each (their own device buffers and
@@ -208,26 +210,40 @@ int main(int argc, char** argv) {
       const RenderPlan pc = plan_for(Filter::Cardinal, PatternKind::BlueNoise, 32);
       const EncodedScene enc = encode(doc.scene, p32.view, Gamma::Srgb, encode_options);
       const EncodedScene enc_c = encode(doc.scene, pc.view, Gamma::Linear, encode_options);
-      TreeParams params;
-      params.grid_levels = grid_levels;
-      if (min_segments > 0) params.min_segments = static_cast<uint32_t>(min_segments);
+      // Each plan's tree: the stopping rule from its samples, unless --min-segments.
+      auto tree_of = [&](const RenderPlan& p) {
+        TreeParams t = p.tree;
+        t.grid_levels = grid_levels;
+        if (min_segments > 0) t.min_segments = static_cast<uint32_t>(min_segments);
+        return t;
+      };
+      const TreeParams params = tree_of(p32), params8 = tree_of(p8), params_c = tree_of(pc);
+      const bool tree8 = params8.min_segments != params.min_segments;  // 1x8 needs a tree of its own
       const PaintRecord bg = background_paint(RGBA{0, 0, 0, 0}, Gamma::Srgb);
       auto r8 = [&](gpu::GpuTimes* t) { return ctx.render_on_device(p8.integ, p8.frame, bg, t); };
       auto r32 = [&](gpu::GpuTimes* t) { return ctx.render_on_device(p32.integ, p32.frame, bg, t); };
       auto r4432 = [&](gpu::GpuTimes* t) { return ctx.render_on_device(pc.integ, pc.frame, bg, t); };
       for (int warm = 0; warm < 3; warm++) {
-        ctx.build(enc_c, pc.frame.ua_w, pc.frame.ua_h, params);
+        ctx.build(enc_c, pc.frame.ua_w, pc.frame.ua_h, params_c);
         r4432(nullptr);
+        if (tree8) {
+          ctx.build(enc, w, h, params8);
+          r8(nullptr);
+        }
         ctx.build(enc, w, h, params);
-        r8(nullptr);
+        if (!tree8) r8(nullptr);
         r32(nullptr);
       }
       std::vector<double> sk, ab, sd, pr, pre, prew, sch32, sam32, t8, t32, t4432, integ4432;
       for (int r = 0; r < runs; r++) {
         gpu::GpuTimes tc;
-        ctx.build(enc_c, pc.frame.ua_w, pc.frame.ua_h, params);
+        ctx.build(enc_c, pc.frame.ua_w, pc.frame.ua_h, params_c);
         t4432.push_back(r4432(&tc));
         integ4432.push_back(tc.integrate_ms);
+        if (tree8) {
+          ctx.build(enc, w, h, params8);
+          t8.push_back(r8(nullptr));
+        }
         gpu::GpuTimes tb;
         prew.push_back(ctx.build_timed(enc, w, h, params, &tb));
         sk.push_back(tb.stroke_ms);
@@ -235,7 +251,7 @@ int main(int argc, char** argv) {
         sd.push_back(tb.subdivide_ms);
         pr.push_back(tb.prune_ms);
         pre.push_back(tb.preprocess_ms());
-        t8.push_back(r8(nullptr));
+        if (!tree8) t8.push_back(r8(nullptr));
         gpu::GpuTimes t;
         t32.push_back(r32(&t));
         sch32.push_back(t.schedule_ms);

@@ -52,6 +52,7 @@ RenderPlan plan_render(const RenderOptions& o) {
   p.pattern = std::vector<SampleOffset>(p.integ.offsets.begin(), p.integ.offsets.begin() + o.samples);
   p.frame = integration_frame(p.integ, o.width, o.height);
   p.view = Affine::translate(p.frame.to_unit_areas, p.frame.to_unit_areas) * o.view;
+  p.tree = resolve_stop_rule(o.tree, o.samples);
   return p;
 }
 
@@ -90,7 +91,7 @@ ImageF render_cpu(const EncodedScene& enc, const RenderPlan& plan, const RenderO
   st.backend = "cpu";
   const auto t_all = std::chrono::steady_clock::now();
   BuildTimes bt;
-  const ShortcutTree tree = build_tree_cpu(enc, plan.frame.ua_w, plan.frame.ua_h, o.tree, &bt);
+  const ShortcutTree tree = build_tree_cpu(enc, plan.frame.ua_w, plan.frame.ua_h, plan.tree, &bt);
   st.stroke_ms += bt.stroke_ms;
   st.abstract_ms += bt.abstract_ms;
   st.subdivide_ms += bt.subdivide_ms;
@@ -140,7 +141,7 @@ std::vector<ImageF> render_forest_cpu(const std::vector<FrameScene>& scenes, con
   int w = 0, h = 0;
   forest_grid(forest, w, h);
   BuildTimes bt;
-  const ShortcutTree tree = build_tree_cpu(forest, w, h, o.tree, &bt);
+  const ShortcutTree tree = build_tree_cpu(forest, w, h, resolve_stop_rule(o.tree, o.samples), &bt);
   if (tree.capped) throw Error(kForestCapped);
   const double share = 1.0 / std::max<size_t>(1, scenes.size());
   const double build_ms = ms_since(t_all);

@@ -65,6 +65,7 @@ struct RenderPlan {
   Integration integ;
   IntegrationFrame frame;
   Affine view;  // scene units to unit-area coordinates
+  TreeParams tree;  // options.tree with the stopping rule resolved (resolve_stop_rule)
 };
 RenderPlan plan_render(const RenderOptions& options);
 

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <stdexcept>
 #include <vector>
 
 #include "core/abstract_segment.h"
@@ -12,9 +13,14 @@
 
 namespace mpvg {
 
+// TreeParams::min_segments left to the renderer: plan_render resolves it
+// from the samples per unit area (stop_rule); the builders take it resolved.
+constexpr uint32_t kStopFromSamples = 0xffffffffu;
+
 // Stopping criteria (paper §4.1).
 struct TreeParams {
-  uint32_t min_segments = 4;    // subdivide cells with more geometry entries than this
+  // Subdivide cells with more geometry entries than this.
+  uint32_t min_segments = kStopFromSamples;
   int max_depth = -1;           // deepest level; -1: down to 1-pixel cells
   // Cap on all levels' entries together (memory): a level that would pass
   // it is not made (the CPU counts it before making it), and its parent's
@@ -28,6 +34,28 @@ struct TreeParams {
   int grid_levels = -1;
   bool keep_levels = false;     // keep every level after pruning (tests, backend comparison)
 };
+
+// The stopping rule, auto-tuned from the sample cost (the paper's future
+// work, §7): a leaf of n entries costs its samples times n tests, a
+// subdivision a fixed cost per cell on either executor, so the threshold
+// falls as the samples per unit area rise. Measured on both executors over
+// the bench inputs (BENCHMARKS.md, "The stopping rule"): at 32 samples one
+// entry is best (render 6-46 % faster than the paper's 4, the build no
+// slower), at 8 samples 4-8. The rule depends on the options only, never on
+// the executor, so that both build the same tree and give the same bytes.
+inline uint32_t stop_rule(int samples) {
+  const int m = 32 / (samples > 0 ? samples : 1);
+  return static_cast<uint32_t>(m > 1 ? m : 1);
+}
+inline TreeParams resolve_stop_rule(TreeParams p, int samples) {
+  if (p.min_segments == kStopFromSamples) p.min_segments = stop_rule(samples);
+  return p;
+}
+// The builders' check (a TreeParams straight from RenderOptions has no rule yet).
+inline void check_stop_rule(const TreeParams& p) {
+  if (p.min_segments == kStopFromSamples)
+    throw std::invalid_argument("TreeParams::min_segments unresolved: build with RenderPlan::tree (resolve_stop_rule)");
+}
 
 // One level of the tree during construction: its cells and their streams.
 struct TreeLevel {

@@ -39,7 +39,7 @@ auto render_cuda(gpu::Context& ctx, const EncodedScene& enc, const RenderPlan& p
   st.backend = "cuda";
   const auto t_all = std::chrono::steady_clock::now();
   gpu::GpuTimes gt;
-  ctx.build(enc, plan.frame.ua_w, plan.frame.ua_h, o.tree, &gt);
+  ctx.build(enc, plan.frame.ua_w, plan.frame.ua_h, plan.tree, &gt);
   auto img = finish(background_paint(o.background, o.gamma), &gt);
   st.stroke_ms += gt.stroke_ms;
   st.abstract_ms += gt.abstract_ms;
@@ -210,7 +210,7 @@ std::vector<FrameRenderer::Output> FrameRenderer::render_forest(const std::vecto
   {
     const EncodedScene forest = forest_of(scenes);
     forest_grid(forest, w, h);
-    ctx.build(forest, w, h, options.tree, &gt);
+    ctx.build(forest, w, h, resolve_stop_rule(options.tree, options.samples), &gt);
   }
   const double share = 1.0 / std::max<size_t>(1, scenes.size());
   const double build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_all).count();

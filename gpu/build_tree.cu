@@ -142,6 +142,7 @@ void Context::Impl::stash_tile(TileTree& t) {
 }
 
 void Context::Impl::build(const EncodedScene& scene, int w, int h, const TreeParams& params, GpuTimes* times) {
+  check_stop_rule(params);
   const size_t launches0 = launches, syncs0 = syncs, calls0 = prim.calls;
   if (builds++ > 0) host_words.pin();  // a reused context
   host_paint = scene.paint ? scene.paint : std::make_shared<const PaintData>();

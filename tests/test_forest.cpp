@@ -84,6 +84,7 @@ TEST_CASE("forest: every cell holds its own scene's elements only, every root re
   int w = 0, h = 0;
   forest_grid(forest, w, h);
   TreeParams params;
+  params.min_segments = stop_rule(32);
   params.keep_levels = true;
   const ShortcutTree tree = build_tree_cpu(forest, w, h, params);
   CHECK(tree.roots.size() == ps.size());
@@ -129,13 +130,13 @@ TEST_CASE("forest: each root's leaves are those of the scene's own tree", "[fore
       for (const random_forest::Page& p : ps) {
         const RenderPlan plan = plan_render(p.options);
         encs.push_back(encode_for(p.scene, plan, p.options.gamma));
-        alone.push_back(build_tree_cpu(encs.back(), plan.frame.ua_w, plan.frame.ua_h, like.tree));
+        alone.push_back(build_tree_cpu(encs.back(), plan.frame.ua_w, plan.frame.ua_h, plan.tree));
         fs.push_back(ForestScene{&encs.back(), plan.frame.ua_w, plan.frame.ua_h});
       }
       const EncodedScene forest = make_forest(fs);
       int w = 0, h = 0;
       forest_grid(forest, w, h);
-      const ShortcutTree tree = build_tree_cpu(forest, w, h, like.tree);
+      const ShortcutTree tree = build_tree_cpu(forest, w, h, resolve_stop_rule(like.tree, like.samples));
       for (uint32_t r = 0; r < ps.size(); r++) {
         INFO("seed " << seed << ", grid " << grid << ", root " << r);
         std::vector<Cell> mine;

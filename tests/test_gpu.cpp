@@ -133,13 +133,20 @@ size_t first_difference(const std::vector<T>& a, const std::vector<T>& b) {
 
 TEST_CASE("CPU and GPU build identical trees, stage by stage", "[gpu]") {
   gpu::Context ctx;
-  // Coarse grid levels (-1: the scene's), and a cap on the tree's entries
-  // that makes a level the last (the memory cap's path on both).
-  const std::pair<int, size_t> variants[] = {{-1, 0}, {0, 0}, {3, 0}, {0, 2000}, {3, 2000}};
+  // Coarse grid levels (-1: the scene's), a cap on the tree's entries that
+  // makes a level the last (the memory cap's path on both), and the
+  // stopping rule (1: stop_rule at 32 samples, 4: at 8).
+  struct Variant {
+    int grid;
+    size_t cap;
+    uint32_t min_segments;
+  };
+  const Variant variants[] = {{-1, 0, 1}, {-1, 0, 4}, {0, 0, 1}, {3, 0, 1}, {0, 2000, 1}, {3, 2000, 4}};
   size_t capped = 0;  // trees the cap made shallower
-  for (const Case& c : cases()) for (const auto& [grid, cap] : variants) {
-    INFO(c.name << ", coarse grid levels " << grid << ", entry cap " << cap);
+  for (const Case& c : cases()) for (const auto& [grid, cap, min_segments] : variants) {
+    INFO(c.name << ", coarse grid levels " << grid << ", entry cap " << cap << ", min_segments " << min_segments);
     TreeParams params;
+    params.min_segments = min_segments;
     params.keep_levels = true;
     params.grid_levels = grid;
     if (cap) params.max_entries = cap;
@@ -162,7 +169,12 @@ TEST_CASE("CPU and GPU build identical trees, stage by stage", "[gpu]") {
     REQUIRE(same_bytes(cpu.leaves, gpu.leaves));
     REQUIRE(same_bytes(cpu.leaf_entries, gpu.leaf_entries));
     CHECK(cpu.depth == gpu.depth);
-    if (cap) capped += cpu.depth < build_tree_cpu(c.enc, c.width, c.height, TreeParams{}).depth;
+    if (cap) {
+      TreeParams uncapped = params;
+      uncapped.max_entries = TreeParams{}.max_entries;
+      uncapped.keep_levels = false;
+      capped += cpu.depth < build_tree_cpu(c.enc, c.width, c.height, uncapped).depth;
+    }
     REQUIRE(cpu.tiles.size() == gpu.tiles.size());
     for (size_t k = 0; k < cpu.tiles.size(); k++) {
       INFO("pattern tile " << k);
@@ -184,7 +196,7 @@ TEST_CASE("CPU and GPU images agree within 1/255; GPU images are deterministic",
       INFO("samples " << samples);
       const std::vector<SampleOffset> pattern = stratified_pattern(samples, 3);
       const PaintRecord bg = background_paint(RGBA{1, 1, 1, 0.5f}, Gamma::Srgb);
-      const TreeParams params;
+      const TreeParams params = resolve_stop_rule(TreeParams{}, samples);
       const ImageF cpu = render_tree_cpu(build_tree_cpu(c.enc, c.width, c.height, params), c.width, c.height,
                                          pattern, bg, 0);
       ctx.build(c.enc, c.width, c.height, params);

@@ -398,7 +398,7 @@ TEST_CASE("a full-width 16-bit gradient has no step larger than one 8-bit level"
       const RenderPlan plan = plan_render(o);
       EncodeOptions eo;
       eo.ramp_lut = lut;
-      const ShortcutTree tree = build_tree_cpu(encode(s, plan.view, gamma, eo), W, 4, TreeParams{});
+      const ShortcutTree tree = build_tree_cpu(encode(s, plan.view, gamma, eo), W, 4, plan.tree);
       const ImageF img = render_tree_cpu(tree, plan.integ, plan.frame, background_paint(RGBA{0, 0, 0, 0}, gamma), 0);
       const std::vector<uint16_t> px = to_rgba16(img, gamma);
       int worst = 0;
@@ -571,14 +571,13 @@ TEST_CASE("a minified checkerboard comes out grey, without moire", "[paint][text
       INFO("largest deviation from grey " << worst << " / 255");
       CHECK(worst <= 4);
       // Without mip levels the same render aliases: the test can fail.
-      TreeParams tp;
       const RenderPlan plan = plan_render(o);
       EncodedScene enc = encode(one_rect(48, p, {}, {t}), plan.view, gamma);
       auto pd = std::make_shared<PaintData>(*enc.paint);
       pd->textures[0].lod_level = 0;
       pd->textures[0].lod_frac = 0;
       enc.paint = pd;
-      const ImageF aliased = render_tree_cpu(build_tree_cpu(enc, 48, 48, tp), plan.integ, plan.frame,
+      const ImageF aliased = render_tree_cpu(build_tree_cpu(enc, 48, 48, plan.tree), plan.integ, plan.frame,
                                              background_paint(RGBA{0, 0, 0, 0}, gamma), 0);
       const std::vector<uint8_t> ap = to_rgba8(aliased, gamma);
       int aliased_worst = 0;

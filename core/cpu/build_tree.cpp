@@ -25,6 +25,7 @@ uint32_t cell_weight(const TreeLevel& level, const Cell& c) {
 
 ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, const TreeParams& params,
                             BuildTimes* times) {
+  check_stop_rule(params);
   BuildTimes local;
   BuildTimes& t = times ? *times : local;
   ShortcutTree tree;
