@@ -318,7 +318,9 @@ class Encoder {
         } else {
           rec = PaintRecord{0, 0, 0, 0, PAINT_SOLID, 0, 0, 0};
         }
-        break;
+        break;      case PaintType::Filter:
+        // The renderer replaces filters by textures first (core/filter_layers.h).
+        throw Error("encoding: a filter effect was not resolved into its layer");
     }
     out = rec;
     return flags;

@@ -1,5 +1,7 @@
 #include "core/renderer.h"
 
+#include "core/filter_layers.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -7,6 +9,7 @@
 #include <cstring>
 
 #include "core/error.h"
+#include "core/filter_layers.h"
 #include "core/forest.h"
 #include "core/integration.h"
 #include "core/rgba8.h"
@@ -53,11 +56,28 @@ RenderPlan plan_render(const RenderOptions& o) {
   p.frame = integration_frame(p.integ, o.width, o.height);
   p.view = Affine::translate(p.frame.to_unit_areas, p.frame.to_unit_areas) * o.view;
   p.tree = resolve_stop_rule(o.tree, o.samples);
+  p.options = o;
   return p;
 }
 
 EncodedScene encode_for(const Scene& scene, const RenderPlan& plan, Gamma gamma, RenderStats* stats) {
   const auto t0 = std::chrono::steady_clock::now();
+  if (has_filters(scene)) {
+    // Filter effects become layers first (core/filter_layers.h), on the CPU
+    // executor: their sources rendered, their graphs run.
+    std::vector<std::string> warnings;
+    RenderOptions o = plan.options;
+    o.gamma = gamma;
+    const Scene resolved = resolve_filters(
+        scene, o, [](const Scene& s, const RenderOptions& so) { return render_cpu(s, so); },
+        [&](const FilterLayer& l) { return run_filter_cpu(l, o.threads); }, &warnings);
+    EncodedScene enc = encode(resolved, plan.view, gamma);
+    if (stats) {
+      for (const std::string& w : warnings) stats->note += (stats->note.empty() ? "" : "; ") + w;
+      stats->encode_ms += ms_since(t0);
+    }
+    return enc;
+  }
   EncodedScene enc = encode(scene, plan.view, gamma);
   if (stats) stats->encode_ms += ms_since(t0);
   return enc;

@@ -66,6 +66,7 @@ struct RenderPlan {
   IntegrationFrame frame;
   Affine view;  // scene units to unit-area coordinates
   TreeParams tree;  // options.tree with the stopping rule resolved (resolve_stop_rule)
+  RenderOptions options;  // what was planned (filter layers are rendered with them)
 };
 RenderPlan plan_render(const RenderOptions& options);
 

@@ -263,6 +263,48 @@ uint32_t SceneBuilder::add_mesh(Mesh m) {
   return static_cast<uint32_t>(scene_.meshes.size() - 1);
 }
 
+namespace {
+
+bool finite_rect(const FilterRect& r) { return finite(r.x) && finite(r.y) && finite(r.w) && finite(r.h); }
+
+void check_primitive(const FilterPrimitive& p, int32_t index) {
+  auto input_ok = [&](int32_t in) { return in >= FILTER_STROKE_PAINT && in < index; };
+  if (!input_ok(p.in) || !input_ok(p.in2)) throw Error("scene: filter primitive with an unknown input");
+  for (int32_t in : p.inputs)
+    if (!input_ok(in)) throw Error("scene: filter merge node with an unknown input");
+  const double values[] = {p.dx, p.dy, p.std_dev_x, p.std_dev_y, p.k[0], p.k[1], p.k[2], p.k[3], p.radius_x,
+                           p.radius_y, p.divisor, p.bias, p.scale, p.surface_scale, p.diffuse_constant,
+                           p.specular_constant, p.specular_exponent, p.base_frequency_x, p.base_frequency_y, p.seed,
+                           p.light.azimuth, p.light.elevation, p.light.x, p.light.y, p.light.z, p.light.points_at_x,
+                           p.light.points_at_y, p.light.points_at_z, p.light.specular_exponent,
+                           p.light.limiting_cone_angle};
+  for (double v : values)
+    if (!finite(v)) throw Error("scene: filter primitive with a non-finite parameter");
+  for (float v : p.color)
+    if (!std::isfinite(v)) throw Error("scene: filter primitive with a non-finite colour");
+  for (float v : p.matrix)
+    if (!std::isfinite(v)) throw Error("scene: filter colour matrix with a non-finite value");
+  for (const TransferFunction& f : p.funcs)
+    for (float v : f.table)
+      if (!std::isfinite(v)) throw Error("scene: filter transfer table with a non-finite value");
+  if (!finite_rect(p.subregion) || !finite(p.image_xf)) throw Error("scene: filter subregion not finite");
+  if (p.kind == FilterKind::ConvolveMatrix &&
+      (p.order_x < 1 || p.order_y < 1 || p.kernel.size() != static_cast<size_t>(p.order_x) * p.order_y ||
+       p.target_x < 0 || p.target_x >= p.order_x || p.target_y < 0 || p.target_y >= p.order_y))
+    throw Error("scene: filter convolution kernel of the wrong size");
+  if (p.kind == FilterKind::Turbulence && p.num_octaves < 0) throw Error("scene: turbulence with negative octaves");
+}
+
+}  // namespace
+
+uint32_t SceneBuilder::add_filter(FilterEffect f) {
+  if (!f.source) throw Error("scene: filter without a source");
+  if (!finite(f.xf) || !finite_rect(f.region)) throw Error("scene: filter with a non-finite parameter");
+  for (size_t i = 0; i < f.primitives.size(); i++) check_primitive(f.primitives[i], static_cast<int32_t>(i));
+  scene_.filters.push_back(std::move(f));
+  return static_cast<uint32_t>(scene_.filters.size() - 1);
+}
+
 void SceneBuilder::fill(uint32_t geometry, const Affine& xf, FillRule rule, const Paint& paint, bool aliased) {
   Frame& f = frame();
   if (f.clip_context || !f.activated) throw Error("scene grammar: fill inside a clip-path");
@@ -271,6 +313,7 @@ void SceneBuilder::fill(uint32_t geometry, const Affine& xf, FillRule rule, cons
                          : paint.type == PaintType::Texture        ? scene_.textures.size()
                          : paint.type == PaintType::Pattern        ? scene_.patterns.size()
                          : paint.type == PaintType::Mesh           ? scene_.meshes.size()
+                         : paint.type == PaintType::Filter         ? scene_.filters.size()
                                                                    : scene_.gradients.size();
   if (paint.index >= servers) throw Error("scene: paint refers to an unknown paint server");
   Node* n = new Node{Node::Fill, {}, {}, {}};
@@ -558,7 +601,7 @@ struct Replay {
   const Scene& s;
   SceneBuilder& b;
   const Affine& xf;
-  std::vector<int64_t> geometry, gradient, texture, pattern, mesh;
+  std::vector<int64_t> geometry, gradient, texture, pattern, mesh, filter;
   size_t i = 0;
 
   uint32_t geom(uint32_t g) {
@@ -591,6 +634,17 @@ struct Replay {
         break;
       case PaintType::Mesh:
         out.index = server(mesh, s.meshes, p.index, [&](Mesh m) { return b.add_mesh(std::move(m)); });
+        break;
+      case PaintType::Filter:
+        // The source is in s's scene units: it is mapped by xf as well.
+        out.index = server(filter, s.filters, p.index, [&](FilterEffect f) {
+          if (!xf.is_identity()) {
+            SceneBuilder sb(f.source->width, f.source->height);
+            sb.append(*f.source, xf);
+            f.source = std::make_shared<const Scene>(sb.finish());
+          }
+          return b.add_filter(std::move(f));
+        });
         break;
     }
     return out;
@@ -702,7 +756,8 @@ void SceneBuilder::append(const Scene& other, const Affine& xf) {
            std::vector<int64_t>(other.gradients.size(), -1),
            std::vector<int64_t>(other.textures.size(), -1),
            std::vector<int64_t>(other.patterns.size(), -1),
-           std::vector<int64_t>(other.meshes.size(), -1)};
+           std::vector<int64_t>(other.meshes.size(), -1),
+           std::vector<int64_t>(other.filters.size(), -1)};
   r.fill_list();
 }
 
@@ -718,6 +773,7 @@ Scene SceneBuilder::finish() {
   out.textures = std::move(scene_.textures);
   out.patterns = std::move(scene_.patterns);
   out.meshes = std::move(scene_.meshes);
+  out.filters = std::move(scene_.filters);
   out.groups = std::move(scene_.groups);
   GroupAnalysis<Node> analysis{out.groups};
   analysis.list(root_->content, false);
@@ -771,6 +827,7 @@ const char* paint_type_name(PaintType t) {
     case PaintType::Texture: return "texture";
     case PaintType::Pattern: return "pattern";
     case PaintType::Mesh: return "mesh";
+    case PaintType::Filter: return "filter";
   }
   return "?";
 }
@@ -821,6 +878,135 @@ void dump_servers(std::string& s, const Scene& scene, const std::string& indent)
     if (!m.ramp.empty()) appendf(s, " ramp %zu stops", m.ramp.size());
     append_matrix(s, m.xf);
     s += "\n";
+  }
+}
+
+const char* filter_kind_name(FilterKind k) {
+  static const char* const names[] = {"blend", "colormatrix", "componenttransfer", "composite", "convolvematrix",
+                                      "diffuselighting", "displacementmap", "dropshadow", "flood", "gaussianblur",
+                                      "image", "merge", "morphology", "offset", "specularlighting", "tile",
+                                      "turbulence"};
+  return names[static_cast<int>(k)];
+}
+
+void append_input(std::string& s, int32_t in) {
+  static const char* const named[] = {"SourceGraphic", "SourceAlpha", "BackgroundImage", "BackgroundAlpha",
+                                      "FillPaint", "StrokePaint"};
+  if (in >= 0) appendf(s, " %d", in);
+  else appendf(s, " %s", named[-in - 1]);
+}
+
+// A primitive's inputs and the parameters its kind reads.
+void dump_primitive(std::string& s, const FilterPrimitive& p, size_t i, const std::string& indent) {
+  appendf(s, "%s%zu %s", indent.c_str(), i, filter_kind_name(p.kind));
+  const FilterKind k = p.kind;
+  const bool two = k == FilterKind::Blend || k == FilterKind::Composite || k == FilterKind::DisplacementMap;
+  const bool none = k == FilterKind::Flood || k == FilterKind::Image || k == FilterKind::Turbulence ||
+                    k == FilterKind::Merge;
+  if (!none) {
+    s += " in";
+    append_input(s, p.in);
+  }
+  if (two) {
+    s += " in2";
+    append_input(s, p.in2);
+  }
+  if (k == FilterKind::Merge) {
+    s += " nodes";
+    for (int32_t in : p.inputs) append_input(s, in);
+  }
+  appendf(s, " subregion %g %g %g %g%s", p.subregion.x, p.subregion.y, p.subregion.w, p.subregion.h,
+          p.linear_rgb ? "" : " srgb");
+  static const char* const edges[] = {"none", "duplicate", "wrap", "mirror"};
+  static const char* const ops[] = {"over", "in", "out", "atop", "xor", "arithmetic", "lighter"};
+  switch (k) {
+    case FilterKind::Flood:
+    case FilterKind::DropShadow:
+      appendf(s, " color rgba(%g,%g,%g,%g)", p.color[0], p.color[1], p.color[2], p.color[3]);
+      if (k == FilterKind::Flood) break;
+      [[fallthrough]];
+    case FilterKind::Offset:
+      appendf(s, " d %g %g", p.dx, p.dy);
+      if (k == FilterKind::Offset) break;
+      appendf(s, " std %g %g", p.std_dev_x, p.std_dev_y);
+      break;
+    case FilterKind::GaussianBlur: appendf(s, " std %g %g edge %s", p.std_dev_x, p.std_dev_y, edges[int(p.edge_mode)]); break;
+    case FilterKind::Blend: appendf(s, " mode %s", blend_mode_name(static_cast<BlendMode>(p.blend_mode))); break;
+    case FilterKind::Composite:
+      appendf(s, " op %s", ops[int(p.op)]);
+      if (p.op == CompositeOp::Arithmetic) appendf(s, " k %g %g %g %g", p.k[0], p.k[1], p.k[2], p.k[3]);
+      break;
+    case FilterKind::ColorMatrix:
+      s += " matrix";
+      for (float v : p.matrix) appendf(s, " %g", v);
+      break;
+    case FilterKind::ComponentTransfer: {
+      static const char* const types[] = {"identity", "table", "discrete", "linear", "gamma"};
+      for (int c = 0; c < 4; c++) {
+        const TransferFunction& f = p.funcs[c];
+        appendf(s, " %c:%s", "rgba"[c], types[int(f.type)]);
+        if (f.type == TransferType::Table || f.type == TransferType::Discrete)
+          for (float v : f.table) appendf(s, ",%g", v);
+        if (f.type == TransferType::Linear) appendf(s, ",%g,%g", f.slope, f.intercept);
+        if (f.type == TransferType::Gamma) appendf(s, ",%g,%g,%g", f.amplitude, f.exponent, f.offset);
+      }
+      break;
+    }
+    case FilterKind::Morphology: appendf(s, " %s %g %g", p.dilate ? "dilate" : "erode", p.radius_x, p.radius_y); break;
+    case FilterKind::ConvolveMatrix:
+      appendf(s, " order %d %d target %d %d divisor %g bias %g edge %s%s kernel", p.order_x, p.order_y, p.target_x,
+              p.target_y, p.divisor, p.bias, edges[int(p.edge_mode)], p.preserve_alpha ? " preserve-alpha" : "");
+      for (float v : p.kernel) appendf(s, " %g", v);
+      break;
+    case FilterKind::DisplacementMap:
+      appendf(s, " scale %g channels %c %c", p.scale, "RGBA"[p.x_channel & 3], "RGBA"[p.y_channel & 3]);
+      break;
+    case FilterKind::DiffuseLighting:
+    case FilterKind::SpecularLighting: {
+      appendf(s, " surface %g color rgba(%g,%g,%g,%g)", p.surface_scale, p.color[0], p.color[1], p.color[2],
+              p.color[3]);
+      if (k == FilterKind::DiffuseLighting) appendf(s, " kd %g", p.diffuse_constant);
+      else appendf(s, " ks %g exponent %g", p.specular_constant, p.specular_exponent);
+      const LightSource& l = p.light;
+      if (l.type == LightType::Distant) appendf(s, " distant %g %g", l.azimuth, l.elevation);
+      if (l.type == LightType::Point) appendf(s, " point %g %g %g", l.x, l.y, l.z);
+      if (l.type == LightType::Spot) {
+        appendf(s, " spot %g %g %g at %g %g %g exponent %g", l.x, l.y, l.z, l.points_at_x, l.points_at_y,
+                l.points_at_z, l.specular_exponent);
+        if (l.has_cone) appendf(s, " cone %g", l.limiting_cone_angle);
+      }
+      break;
+    }
+    case FilterKind::Turbulence:
+      appendf(s, " %s freq %g %g octaves %d seed %g%s", p.fractal_noise ? "fractalnoise" : "turbulence",
+              p.base_frequency_x, p.base_frequency_y, p.num_octaves, p.seed, p.stitch_tiles ? " stitch" : "");
+      break;
+    case FilterKind::Image:
+      if (p.image) appendf(s, " image %dx%d", p.image->width, p.image->height);
+      append_matrix(s, p.image_xf);
+      if (p.scene) s += " scene";
+      break;
+    case FilterKind::Merge:
+    case FilterKind::Tile: break;
+  }
+  s += "\n";
+  if (k == FilterKind::Image && p.scene) dump_into(s, *p.scene, indent + "    ");
+}
+
+void dump_filters(std::string& s, const Scene& scene, const std::string& indent) {
+  for (size_t i = 0; i < scene.filters.size(); i++) {
+    const FilterEffect& f = scene.filters[i];
+    appendf(s, "%sfilter %zu region %g %g %g %g", indent.c_str(), i, f.region.x, f.region.y, f.region.w, f.region.h);
+    append_matrix(s, f.xf);
+    if (f.fill_paint[3] > 0)
+      appendf(s, " fill rgba(%g,%g,%g,%g)", f.fill_paint[0], f.fill_paint[1], f.fill_paint[2], f.fill_paint[3]);
+    if (f.stroke_paint[3] > 0)
+      appendf(s, " stroke rgba(%g,%g,%g,%g)", f.stroke_paint[0], f.stroke_paint[1], f.stroke_paint[2],
+              f.stroke_paint[3]);
+    s += "\n";
+    for (size_t k = 0; k < f.primitives.size(); k++) dump_primitive(s, f.primitives[k], k, indent + "  ");
+    appendf(s, "%s  source\n", indent.c_str());
+    dump_into(s, *f.source, indent + "    ");
   }
 }
 
@@ -896,6 +1082,7 @@ void dump_into(std::string& s, const Scene& scene, const std::string& indent) {
     }
   }
   dump_servers(s, scene, indent);
+  dump_filters(s, scene, indent);
   dump_groups(s, scene, indent);
   s += indent + "stream";
   for (const Element& e : scene.stream) {
@@ -941,6 +1128,8 @@ bool aliased_in(const Scene& scene, std::unordered_set<const Scene*>& seen) {
     if (p.aliased) return true;
   for (const Pattern& p : scene.patterns)
     if (p.tile && aliased_in(*p.tile, seen)) return true;
+  for (const FilterEffect& f : scene.filters)
+    if (f.source && aliased_in(*f.source, seen)) return true;
   return false;
 }
 

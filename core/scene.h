@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "core/filter.h"
 #include "core/geometry.h"
 
 namespace mpvg {
@@ -121,7 +122,9 @@ struct RGBA {
 // space: a paint can be placed independently of the path it fills, as PDF's
 // shadings and patterns are).
 
-enum class PaintType : uint8_t { Solid, LinearGradient, RadialGradient, Texture, Pattern, Mesh };
+// Filter: the result of a filter effect (core/filter.h) over its region,
+// which the renderer resolves into a Texture before encoding.
+enum class PaintType : uint8_t { Solid, LinearGradient, RadialGradient, Texture, Pattern, Mesh, Filter };
 
 // What a colour ramp does with t outside [0, 1].
 enum class Spread : uint8_t { Pad, Reflect, Repeat };
@@ -234,7 +237,7 @@ struct Paint {
   PaintType type = PaintType::Solid;
   RGBA color;         // Solid only
   float opacity = 1;  // multiplies the paint, whatever its type (fill-opacity × opacity)
-  uint32_t index = 0; // gradients (LinearGradient, RadialGradient), textures, patterns or meshes of the scene
+  uint32_t index = 0; // gradients (LinearGradient, RadialGradient), textures, patterns, meshes or filters of the scene
 };
 
 // One path instance of the stream: geometry, its transform to scene units,
@@ -334,6 +337,7 @@ struct Scene {
   std::vector<Texture> textures;
   std::vector<Pattern> patterns;
   std::vector<Mesh> meshes;
+  std::vector<FilterEffect> filters;  // PaintType::Filter
   std::vector<Group> groups;
   std::vector<Element> stream;   // top-most first (see the grammar above)
 
@@ -361,6 +365,9 @@ class SceneBuilder {
   uint32_t add_texture(Texture t);
   uint32_t add_pattern(Pattern p);
   uint32_t add_mesh(Mesh m);
+  // A filter effect (core/filter.h): its source, region and primitives are
+  // checked (inputs refer to earlier primitives, finite parameters).
+  uint32_t add_filter(FilterEffect f);
 
   // A filled path, drawn over what came before it. `aliased`: see
   // ScenePath::aliased (clip tests take it too).
@@ -437,8 +444,8 @@ std::string flattened_groups_warning(size_t n);
 // element a line. Parser tests compare dumps with expected text.
 std::string dump(const Scene& scene);
 
-// Does the scene, or a pattern tile in it, have an aliased path
-// (ScenePath::aliased)?
+// Does the scene, or a pattern tile or filter source in it, have an
+// aliased path (ScenePath::aliased)?
 bool has_aliased_paths(const Scene& scene);
 
 }  // namespace mpvg

@@ -1,0 +1,233 @@
+// The CPU executor of filter graphs (core/filter_layers.h): every op in a
+// loop over its box's rows, on all cores, with the per-pixel code of
+// core/filter_primitives.h.
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "core/filter.h"
+#include "core/filter_layers.h"
+#include "core/parallel.h"
+
+namespace mpvg {
+
+namespace {
+
+// A result or input over the whole layer: premultiplied, in one colour
+// space, transparent outside its box.
+struct Buffer {
+  std::vector<float> px;
+  bool linear = true;
+  FilterBox box;
+};
+using BufferPtr = std::shared_ptr<const Buffer>;
+
+class Graph {
+ public:
+  Graph(const FilterLayer& l, int threads) : l_(l), threads_(threads), whole_{0, 0, l.width, l.height} {}
+
+  FilterResult run() {
+    for (const FilterOp& op : l_.ops) results_.push_back(std::make_shared<const Buffer>(apply(op)));
+    FilterResult r;
+    if (results_.empty()) {
+      r.rgba.assign(size(), 0.0f);
+      return r;
+    }
+    r.rgba = results_.back()->px;
+    r.linear = results_.back()->linear;
+    return r;
+  }
+
+ private:
+  size_t size() const { return static_cast<size_t>(l_.width) * l_.height * 4; }
+
+  // f(x, y) -> Rgba4 for every pixel of box, rows in parallel.
+  template <class F>
+  Buffer make(const FilterBox& box, bool linear, F&& f) const {
+    Buffer b;
+    b.px.assign(size(), 0.0f);
+    b.linear = linear;
+    b.box = box;
+    const int w = l_.width;
+    parallel_for(static_cast<size_t>(std::max(0, box.y1 - box.y0)), threads_, [&](size_t row) {
+      const int y = box.y0 + static_cast<int>(row);
+      for (int x = box.x0; x < box.x1; x++) {
+        const Rgba4 p = f(x, y);
+        float* o = b.px.data() + 4 * (static_cast<size_t>(y) * w + x);
+        o[0] = p.r, o[1] = p.g, o[2] = p.b, o[3] = p.a;
+      }
+    });
+    return b;
+  }
+
+  // Input `in` in colour space `linear`.
+  BufferPtr input(int32_t in, bool linear) const {
+    if (in >= 0 && static_cast<size_t>(in) < results_.size()) {
+      const BufferPtr& r = results_[in];
+      if (r->linear == linear) return r;
+      return convert(*r, linear);
+    }
+    const int w = l_.width;
+    switch (in) {
+      case FILTER_SOURCE_GRAPHIC:
+      case FILTER_SOURCE_ALPHA: {
+        const bool alpha = in == FILTER_SOURCE_ALPHA;
+        return std::make_shared<const Buffer>(make(whole_, linear, [&](int x, int y) {
+          const Rgba4 p = filter_read(l_.source.rgba.data(), w, x, y);
+          return alpha ? Rgba4{0, 0, 0, p.a} : filter_convert(p, l_.source_linear, linear);
+        }));
+      }
+      case FILTER_FILL_PAINT:
+      case FILTER_STROKE_PAINT: {
+        const Rgba4 c = in == FILTER_FILL_PAINT ? l_.fill_paint : l_.stroke_paint;
+        const Rgba4 p = filter_convert(Rgba4{c.r * c.a, c.g * c.a, c.b * c.a, c.a}, false, linear);
+        return std::make_shared<const Buffer>(make(whole_, linear, [&](int, int) { return p; }));
+      }
+      default: {  // BackgroundImage, BackgroundAlpha: transparent black
+        auto b = std::make_shared<Buffer>();
+        b->px.assign(size(), 0.0f);
+        b->linear = linear;
+        b->box = whole_;
+        return b;
+      }
+    }
+  }
+
+  BufferPtr convert(const Buffer& from, bool linear) const {
+    const int w = l_.width;
+    return std::make_shared<const Buffer>(
+        make(from.box, linear, [&](int x, int y) { return filter_convert(filter_read(from.px.data(), w, x, y), from.linear, linear); }));
+  }
+
+  Rgba4 at(const Buffer& b, int x, int y) const {
+    if (x < b.box.x0 || x >= b.box.x1 || y < b.box.y0 || y >= b.box.y1) return Rgba4{0, 0, 0, 0};
+    return filter_read(b.px.data(), l_.width, x, y);
+  }
+
+  // A separable blur of `in` by standard deviations sx, sy (pixels), over
+  // the whole layer (it spreads past the input's box), edge mode on the
+  // first pass of each axis.
+  Buffer blur(const Buffer& in, float sx, float sy, uint32_t edge) const {
+    Buffer cur = in;
+    const int w = l_.width;
+    for (int axis = 0; axis < 2; axis++) {
+      const bool horizontal = axis == 0;
+      const float s = horizontal ? sx : sy;
+      if (!(s > 0.0f)) continue;
+      int size[3], lead[3];
+      const bool boxes = s >= 2.0f && filter_box_sizes(s, size, lead) > 0;
+      const int passes = boxes ? 3 : 1;
+      for (int pass = 0; pass < passes; pass++) {
+        const FilterBox read = pass == 0 ? cur.box : whole_;
+        const uint32_t e = pass == 0 ? edge : FEDGE_NONE;
+        const Buffer src = std::move(cur);
+        cur = make(whole_, src.linear, [&](int x, int y) {
+          return boxes ? filter_box_pass(src.px.data(), w, read, x, y, horizontal, size[pass], lead[pass], e)
+                       : filter_gauss_pass(src.px.data(), w, read, x, y, horizontal, s, e);
+        });
+      }
+    }
+    return cur;
+  }
+
+  Buffer apply(const FilterOp& op) const {
+    const bool lin = op.linear != 0;
+    const int w = l_.width;
+    switch (op.kind) {
+      case FOP_FLOOD: {
+        const Rgba4 c{op.color[0], op.color[1], op.color[2], op.color[3]};
+        return make(op.box, lin, [&](int, int) { return c; });
+      }
+      case FOP_OFFSET: {
+        const BufferPtr a = input(op.in, lin);
+        const int ox = static_cast<int>(std::lround(op.dx)), oy = static_cast<int>(std::lround(op.dy));
+        return make(op.box, lin, [&](int x, int y) { return at(*a, x - ox, y - oy); });
+      }
+      case FOP_MERGE: {
+        std::vector<BufferPtr> ins;
+        for (uint32_t i = 0; i < op.inputs_count; i++) ins.push_back(input(l_.inputs[op.inputs_begin + i], lin));
+        return make(op.box, lin, [&](int x, int y) {
+          Rgba4 acc{0, 0, 0, 0};
+          for (const BufferPtr& b : ins) {
+            const Rgba4 p = at(*b, x, y);
+            const float k = 1.0f - p.a;
+            acc = Rgba4{p.r + acc.r * k, p.g + acc.g * k, p.b + acc.b * k, p.a + acc.a * k};
+          }
+          return acc;
+        });
+      }
+      case FOP_COMPOSITE:
+      case FOP_BLEND: {
+        const BufferPtr a = input(op.in, lin), b = input(op.in2, lin);
+        return make(op.box, lin, [&](int x, int y) {
+          return op.kind == FOP_BLEND ? filter_blend(op, at(*a, x, y), at(*b, x, y))
+                                      : filter_composite(op, at(*a, x, y), at(*b, x, y));
+        });
+      }
+      case FOP_COLOR_MATRIX: {
+        const BufferPtr a = input(op.in, lin);
+        return make(op.box, lin, [&](int x, int y) { return filter_color_matrix(op, at(*a, x, y)); });
+      }
+      case FOP_COMPONENT_TRANSFER: {
+        const BufferPtr a = input(op.in, lin);
+        const float* tables = l_.tables.data();
+        return make(op.box, lin, [&](int x, int y) { return filter_component_transfer(op, at(*a, x, y), tables); });
+      }
+      case FOP_GAUSSIAN_BLUR: {
+        const BufferPtr a = input(op.in, lin);
+        const Buffer b = blur(*a, op.std_x, op.std_y, op.edge);
+        return make(op.box, lin, [&](int x, int y) { return at(b, x, y); });
+      }
+      case FOP_DROP_SHADOW: {
+        const BufferPtr a = input(op.in, lin);
+        const Rgba4 c{op.color[0], op.color[1], op.color[2], op.color[3]};
+        const Buffer shadow = make(a->box, lin, [&](int x, int y) {
+          const float k = at(*a, x, y).a;
+          return Rgba4{c.r * k, c.g * k, c.b * k, c.a * k};
+        });
+        const Buffer blurred = blur(shadow, op.std_x, op.std_y, FEDGE_NONE);
+        const int ox = static_cast<int>(std::lround(op.dx)), oy = static_cast<int>(std::lround(op.dy));
+        return make(op.box, lin, [&](int x, int y) {
+          const Rgba4 s = at(blurred, x - ox, y - oy), p = at(*a, x, y);
+          const float k = 1.0f - p.a;
+          return Rgba4{p.r + s.r * k, p.g + s.g * k, p.b + s.b * k, p.a + s.a * k};
+        });
+      }
+      case FOP_MORPHOLOGY: {
+        const BufferPtr a = input(op.in, lin);
+        if (op.rx <= 0 && op.ry <= 0) return make(op.box, lin, [&](int x, int y) { return at(*a, x, y); });
+        // Separable: the rectangle's extreme is the extreme of its rows'.
+        FilterOp h = op, v = op;
+        h.ry = 0;
+        v.rx = 0;
+        const Buffer rows = make(whole_, lin, [&](int x, int y) { return filter_morphology(h, a->px.data(), w, a->box, x, y); });
+        return make(op.box, lin, [&](int x, int y) { return filter_morphology(v, rows.px.data(), w, whole_, x, y); });
+      }
+      case FOP_TILE: {
+        const BufferPtr a = input(op.in, lin);
+        const FilterBox t = op.tile;
+        const int tw = t.x1 - t.x0, th = t.y1 - t.y0;
+        if (tw <= 0 || th <= 0) return make(op.box, lin, [](int, int) { return Rgba4{0, 0, 0, 0}; });
+        return make(op.box, lin, [&](int x, int y) {
+          int mx = (x - t.x0) % tw, my = (y - t.y0) % th;
+          if (mx < 0) mx += tw;
+          if (my < 0) my += th;
+          return at(*a, t.x0 + mx, t.y0 + my);
+        });
+      }
+      default:  // not yet executed (filter_layer warns): transparent black
+        return make(op.box, lin, [](int, int) { return Rgba4{0, 0, 0, 0}; });
+    }
+  }
+
+  const FilterLayer& l_;
+  int threads_;
+  FilterBox whole_;
+  std::vector<BufferPtr> results_;
+};
+
+}  // namespace
+
+FilterResult run_filter_cpu(const FilterLayer& layer, int threads) { return Graph(layer, threads).run(); }
+
+}  // namespace mpvg

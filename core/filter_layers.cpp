@@ -1,0 +1,258 @@
+// Filter effects as layers: regions to pixel boxes, primitives to ops, the
+// source rendered, the result as a texture (core/filter_layers.h).
+#include "core/filter_layers.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "core/error.h"
+#include "core/renderer.h"
+
+namespace mpvg {
+
+namespace {
+
+// The pixel bounds of a user-space rectangle mapped by m, rounded out.
+FilterBox pixel_box(const FilterRect& r, const Affine& m) {
+  if (!(r.w > 0) || !(r.h > 0)) return FilterBox{};
+  const Vec2 c[4] = {m.apply({r.x, r.y}), m.apply({r.x + r.w, r.y}), m.apply({r.x, r.y + r.h}),
+                     m.apply({r.x + r.w, r.y + r.h})};
+  double x0 = c[0].x, x1 = c[0].x, y0 = c[0].y, y1 = c[0].y;
+  for (const Vec2& p : c) {
+    x0 = std::min(x0, p.x), x1 = std::max(x1, p.x);
+    y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
+  }
+  auto clampi = [](double v) { return static_cast<int>(std::clamp(v, -1e9, 1e9)); };
+  // A hair inside, so that a region on pixel edges is not grown by rounding.
+  return FilterBox{clampi(std::floor(x0 + 1e-6)), clampi(std::floor(y0 + 1e-6)), clampi(std::ceil(x1 - 1e-6)),
+                   clampi(std::ceil(y1 - 1e-6))};
+}
+
+FilterBox intersect(const FilterBox& a, const FilterBox& b) {
+  FilterBox r{std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1), std::min(a.y1, b.y1)};
+  if (r.x1 <= r.x0 || r.y1 <= r.y0) return FilterBox{};
+  return r;
+}
+
+bool empty(const FilterBox& b) { return b.x1 <= b.x0 || b.y1 <= b.y0; }
+
+// What a primitive can pull into a pixel from outside the output, in
+// pixels: blur extents, offsets, radii (tiles and lighting read more, and
+// are bounded by the layer cap instead).
+double reach(const FilterPrimitive& p, double sx, double sy) {
+  const double blur = 3.0 * std::max(std::abs(p.std_dev_x) * sx, std::abs(p.std_dev_y) * sy);
+  switch (p.kind) {
+    case FilterKind::GaussianBlur: return blur + 2;
+    case FilterKind::DropShadow: return blur + 2 + std::hypot(p.dx * sx, p.dy * sy);
+    case FilterKind::Offset: return std::hypot(p.dx * sx, p.dy * sy) + 1;
+    case FilterKind::Morphology: return std::max(std::abs(p.radius_x) * sx, std::abs(p.radius_y) * sy) + 1;
+    case FilterKind::DisplacementMap: return std::abs(p.scale) * std::max(sx, sy) + 1;
+    case FilterKind::ConvolveMatrix: return std::max(p.order_x, p.order_y) + 1;
+    case FilterKind::Tile: return 1e9;
+    default: return 0;
+  }
+}
+
+const char* primitive_element(FilterKind k) {
+  static const char* const names[] = {"feBlend", "feColorMatrix", "feComponentTransfer", "feComposite",
+                                      "feConvolveMatrix", "feDiffuseLighting", "feDisplacementMap", "feDropShadow",
+                                      "feFlood", "feGaussianBlur", "feImage", "feMerge", "feMorphology", "feOffset",
+                                      "feSpecularLighting", "feTile", "feTurbulence"};
+  return names[static_cast<int>(k)];
+}
+
+// A straight sRGB-encoded colour premultiplied in the op's space.
+void premultiplied(const float c[4], bool linear, float out[4]) {
+  const float a = filter_clamp01(c[3]);
+  for (int i = 0; i < 3; i++) {
+    const float v = filter_clamp01(c[i]);
+    out[i] = (linear ? srgb_to_linear(v) : v) * a;
+  }
+  out[3] = a;
+}
+
+}  // namespace
+
+FilterLayer filter_layer(const FilterEffect& f, const RenderOptions& o, const LayerRenderer& render, FilterBox& box,
+                         std::string* warning) {
+  FilterLayer l;
+  box = FilterBox{};
+  const Affine m = o.view * f.xf;  // user space to output pixels
+  const double sx = std::hypot(m.a, m.b), sy = std::hypot(m.c, m.d);
+  double margin = 0;
+  for (const FilterPrimitive& p : f.primitives) margin += reach(p, sx, sy);
+  margin = std::min(margin, 1e8);
+  const int g = static_cast<int>(std::ceil(margin));
+  const FilterBox grown{-g, -g, o.width + g, o.height + g};
+  FilterBox b = intersect(pixel_box(f.region, m), grown);
+  if (empty(b)) return l;
+  // The memory cap: cut the box around the output's centre.
+  while (static_cast<uint64_t>(b.x1 - b.x0) * static_cast<uint64_t>(b.y1 - b.y0) > kMaxFilterLayerPixels) {
+    if (warning) *warning = "filter region too large for a layer: cut to the pixels nearest the output";
+    const int cx = o.width / 2, cy = o.height / 2;
+    if (b.x1 - b.x0 >= b.y1 - b.y0) {
+      const int half = (b.x1 - b.x0) / 4;
+      b.x0 = std::max(b.x0, cx - half), b.x1 = std::min(b.x1, cx + half);
+    } else {
+      const int half = (b.y1 - b.y0) / 4;
+      b.y0 = std::max(b.y0, cy - half), b.y1 = std::min(b.y1, cy + half);
+    }
+    if (empty(b)) return l;
+  }
+  box = b;
+  l.width = b.x1 - b.x0;
+  l.height = b.y1 - b.y0;
+  const Affine to_layer = Affine::translate(-b.x0, -b.y0);
+  const Affine lm = to_layer * m;  // user space to layer pixels
+  const FilterBox whole{0, 0, l.width, l.height};
+  const FilterBox region = intersect(pixel_box(f.region, lm), whole);
+
+  for (const FilterPrimitive& p : f.primitives) {
+    FilterOp op;
+    op.kind = static_cast<uint32_t>(p.kind);
+    op.in = p.in;
+    op.in2 = p.in2;
+    op.box = intersect(pixel_box(p.subregion, lm), region);
+    op.linear = p.linear_rgb ? 1 : 0;
+    premultiplied(p.color, p.linear_rgb, op.color);
+    const Vec2 d = lm.apply_linear({p.dx, p.dy});
+    op.dx = static_cast<float>(d.x);
+    op.dy = static_cast<float>(d.y);
+    op.std_x = static_cast<float>(std::max(0.0, p.std_dev_x) * sx);
+    op.std_y = static_cast<float>(std::max(0.0, p.std_dev_y) * sy);
+    op.edge = static_cast<uint32_t>(p.edge_mode);
+    op.mode = p.kind == FilterKind::Blend ? p.blend_mode : static_cast<uint32_t>(p.op);
+    for (int i = 0; i < 4; i++) op.k[i] = static_cast<float>(p.k[i]);
+    std::copy(p.matrix, p.matrix + 20, op.matrix);
+    for (int c = 0; c < 4; c++) {
+      const TransferFunction& tf = p.funcs[c];
+      op.func[c] = static_cast<uint32_t>(tf.type);
+      op.table_begin[c] = static_cast<uint32_t>(l.tables.size());
+      op.table_size[c] = static_cast<uint32_t>(tf.table.size());
+      l.tables.insert(l.tables.end(), tf.table.begin(), tf.table.end());
+      if (tf.type == TransferType::Linear) op.fparam[c][0] = tf.slope, op.fparam[c][1] = tf.intercept;
+      if (tf.type == TransferType::Gamma)
+        op.fparam[c][0] = tf.amplitude, op.fparam[c][1] = tf.exponent, op.fparam[c][2] = tf.offset;
+    }
+    op.dilate = p.dilate ? 1 : 0;
+    op.rx = static_cast<int>(std::lround(std::min(1e6, std::max(0.0, p.radius_x) * sx)));
+    op.ry = static_cast<int>(std::lround(std::min(1e6, std::max(0.0, p.radius_y) * sy)));
+    op.inputs_begin = static_cast<uint32_t>(l.inputs.size());
+    op.inputs_count = static_cast<uint32_t>(p.inputs.size());
+    l.inputs.insert(l.inputs.end(), p.inputs.begin(), p.inputs.end());
+    if (p.kind == FilterKind::Tile)  // the input's subregion: its op's box, or the region
+      op.tile = p.in >= 0 && static_cast<size_t>(p.in) < l.ops.size() ? l.ops[p.in].box : region;
+    switch (p.kind) {
+      case FilterKind::ConvolveMatrix:
+      case FilterKind::DiffuseLighting:
+      case FilterKind::DisplacementMap:
+      case FilterKind::Image:
+      case FilterKind::SpecularLighting:
+      case FilterKind::Turbulence:
+        if (warning) *warning = std::string(primitive_element(p.kind)) + " is not supported yet: transparent result";
+        break;
+      default: break;
+    }
+    l.ops.push_back(op);
+  }
+  // The source over the layer, at the output's resolution and sampling.
+  RenderOptions so = o;
+  so.width = l.width;
+  so.height = l.height;
+  so.view = to_layer * o.view;
+  so.background = RGBA{0, 0, 0, 0};
+  l.source = render(*f.source, so);
+  l.source_linear = o.gamma == Gamma::Linear;
+  l.fill_paint = Rgba4{f.fill_paint[0], f.fill_paint[1], f.fill_paint[2], f.fill_paint[3]};
+  l.stroke_paint = Rgba4{f.stroke_paint[0], f.stroke_paint[1], f.stroke_paint[2], f.stroke_paint[3]};
+  return l;
+}
+
+namespace {
+
+// Pattern tiles are resolution independent, layers are not: a filter in a
+// tile draws nothing (warned), the rest of the tile as before.
+std::shared_ptr<const Scene> without_filters(const std::shared_ptr<const Scene>& tile, bool& dropped) {
+  if (!has_filters(*tile)) return tile;
+  auto out = std::make_shared<Scene>(*tile);
+  for (Paint& p : out->paints)
+    if (p.type == PaintType::Filter) {
+      p = Paint{};
+      p.color = RGBA{0, 0, 0, 0};
+      dropped = true;
+    }
+  out->filters.clear();
+  for (Pattern& pt : out->patterns) pt.tile = without_filters(pt.tile, dropped);
+  return out;
+}
+
+}  // namespace
+
+bool has_filters(const Scene& scene) {
+  if (!scene.filters.empty()) return true;
+  for (const Pattern& p : scene.patterns)
+    if (p.tile && has_filters(*p.tile)) return true;
+  return false;
+}
+
+Scene resolve_filters(const Scene& scene, const RenderOptions& o, const LayerRenderer& render,
+                      const FilterRunner& run, std::vector<std::string>* warnings) {
+  Scene out = scene;
+  bool dropped = false;
+  for (Pattern& pt : out.patterns) pt.tile = without_filters(pt.tile, dropped);
+  if (dropped && warnings) warnings->push_back("filters inside patterns are not supported: not drawn");
+  if (scene.filters.empty()) return out;
+  if (!o.view.invertible()) throw Error("filter layers need an invertible view");
+  std::vector<int64_t> texture(scene.filters.size(), -2);  // -2: not made yet, -1: draws nothing
+  for (Paint& p : out.paints) {
+    if (p.type != PaintType::Filter) continue;
+    const uint32_t i = p.index;
+    if (texture[i] == -2) {
+      FilterBox box;
+      std::string warning;
+      const FilterLayer layer = filter_layer(scene.filters[i], o, render, box, &warning);
+      if (warnings && !warning.empty()) warnings->push_back(warning);
+      texture[i] = -1;
+      if (layer.width > 0 && layer.height > 0) {
+        const FilterResult r = run(layer);
+        auto img = std::make_shared<Image>();
+        img->width = layer.width;
+        img->height = layer.height;
+        img->bits = 16;
+        img->rgba16.resize(r.rgba.size());
+        for (size_t k = 0; k < r.rgba.size(); k += 4) {
+          const Rgba4 px = filter_valid(Rgba4{r.rgba[k], r.rgba[k + 1], r.rgba[k + 2], r.rgba[k + 3]});
+          const float rgb[3] = {px.r, px.g, px.b};
+          for (int c = 0; c < 3; c++) {
+            float v = px.a > 0 ? rgb[c] / px.a : 0.0f;
+            v = filter_clamp01(r.linear ? linear_to_srgb(filter_clamp01(v)) : v);
+            img->rgba16[k + c] = static_cast<uint16_t>(std::lround(v * 65535.0f));
+          }
+          img->rgba16[k + 3] = static_cast<uint16_t>(std::lround(px.a * 65535.0f));
+        }
+        Texture t;
+        t.image = img;
+        // Layer pixels onto output pixels, texel for pixel.
+        t.xf = o.view.inverted() * Affine::translate(box.x0, box.y0);
+        t.filter = TextureFilter::Nearest;
+        t.wrap_x = t.wrap_y = TextureWrap::Decal;
+        out.textures.push_back(std::move(t));
+        texture[i] = static_cast<int64_t>(out.textures.size() - 1);
+      }
+    }
+    const float opacity = p.opacity;
+    if (texture[i] < 0) {
+      p = Paint{};
+      p.color = RGBA{0, 0, 0, 0};
+    } else {
+      p.type = PaintType::Texture;
+      p.index = static_cast<uint32_t>(texture[i]);
+    }
+    p.opacity = opacity;
+  }
+  out.filters.clear();
+  return out;
+}
+
+}  // namespace mpvg

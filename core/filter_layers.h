@@ -1,0 +1,75 @@
+// Filter effects as layers (core/filter.h): how a FilterEffect of a scene
+// becomes a texture paint before encoding.
+//
+//   1. The filter region, mapped to output pixels, gives the layer's box:
+//      its pixel bounds, cut to the output grown by what the primitives
+//      can pull in from outside it (blur extents, offsets, morphology
+//      radii); a layer over kMaxFilterLayerPixels is cut further and
+//      warned of, never allocated.
+//   2. The source (SourceGraphic) is rendered by the same pipeline over that
+//      box, at the output's resolution and antialiasing, transparent
+//      background: the layer.
+//   3. The primitives are resolved to the layer's pixels (FilterOp,
+//      core/filter_primitives.h) and run on an executor.
+//   4. The result, straight 16-bit sRGB, becomes a texture mapped pixel for
+//      pixel onto the output, painted by the region fill that referred to
+//      the filter.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/cpu/cpu_stages.h"
+#include "core/filter_primitives.h"
+#include "core/scene.h"
+
+namespace mpvg {
+
+struct RenderOptions;
+
+// Layers larger than this are cut to it (about 4x a 4K frame).
+constexpr uint64_t kMaxFilterLayerPixels = uint64_t(1) << 25;
+
+// One filter effect resolved to pixels: what an executor runs.
+struct FilterLayer {
+  int width = 0, height = 0;
+  std::vector<FilterOp> ops;
+  std::vector<float> tables;  // component transfer tables
+  std::vector<int32_t> inputs;  // merge nodes
+  ImageF source;              // SourceGraphic over the layer, premultiplied
+  bool source_linear = false; // ... in linear light (else sRGB-encoded)
+  Rgba4 fill_paint{0, 0, 0, 0}, stroke_paint{0, 0, 0, 0};  // straight, sRGB-encoded
+};
+
+// The graph's result (the last op's): premultiplied RGBA over the layer, in
+// linear light when `linear`.
+struct FilterResult {
+  std::vector<float> rgba;
+  bool linear = false;
+};
+
+// Renders a scene over options' size and view (the source of a layer):
+// the executor's pipeline.
+using LayerRenderer = std::function<ImageF(const Scene&, const RenderOptions&)>;
+// Runs a layer's graph: the executor's primitives.
+using FilterRunner = std::function<FilterResult(const FilterLayer&)>;
+
+// The layer of filter `f` of a scene rendered with `options`; box receives
+// its position in output pixels ([x0, x1) x [y0, y1)); an empty box: the
+// filter draws nothing there.
+FilterLayer filter_layer(const FilterEffect& f, const RenderOptions& options, const LayerRenderer& render,
+                         FilterBox& box, std::string* warning = nullptr);
+
+// Does the scene, or a pattern tile in it, have filter effects?
+bool has_filters(const Scene& scene);
+
+// The scene with every Filter paint replaced by the texture of its layer
+// (the scene itself when it has none). Warnings (layers cut) are appended.
+Scene resolve_filters(const Scene& scene, const RenderOptions& options, const LayerRenderer& render,
+                      const FilterRunner& run, std::vector<std::string>* warnings = nullptr);
+
+// The CPU executor's graph (core/cpu/filter.cpp).
+FilterResult run_filter_cpu(const FilterLayer& layer, int threads = 0);
+
+}  // namespace mpvg

@@ -1,0 +1,281 @@
+// Filter primitives per pixel (Filter Effects Module Level 1, §9-§15),
+// written once for both executors: core/cpu/filter.cpp runs them in loops,
+// the CUDA executor in kernels. A primitive works on layers: premultiplied
+// RGBA floats over the filter layer's pixels (core/filter_layers.h), in
+// the primitive's colour space (linearRGB or sRGB, premultiplied there).
+//
+// FilterOp is a primitive of core/filter.h resolved to the layer's pixels:
+// lengths scaled by the filter's transform to pixels, its subregion as a
+// pixel box, colours premultiplied in its space, transfer tables and
+// kernels as ranges of one float array. Pixels outside an op's box are
+// transparent black in its result.
+#pragma once
+#include <cmath>
+#include <cstdint>
+
+#include "core/blend.h"
+#include "core/hd.h"
+#include "core/paint.h"
+#include "core/srgb.h"
+
+namespace mpvg {
+
+enum FilterOpKind : uint32_t {  // core/filter.h's FilterKind, same order
+  FOP_BLEND = 0,
+  FOP_COLOR_MATRIX,
+  FOP_COMPONENT_TRANSFER,
+  FOP_COMPOSITE,
+  FOP_CONVOLVE_MATRIX,
+  FOP_DIFFUSE_LIGHTING,
+  FOP_DISPLACEMENT_MAP,
+  FOP_DROP_SHADOW,
+  FOP_FLOOD,
+  FOP_GAUSSIAN_BLUR,
+  FOP_IMAGE,
+  FOP_MERGE,
+  FOP_MORPHOLOGY,
+  FOP_OFFSET,
+  FOP_SPECULAR_LIGHTING,
+  FOP_TILE,
+  FOP_TURBULENCE,
+};
+
+enum FilterEdge : uint32_t { FEDGE_NONE = 0, FEDGE_DUPLICATE, FEDGE_WRAP, FEDGE_MIRROR };
+enum FilterCompositeOp : uint32_t { FCOMP_OVER = 0, FCOMP_IN, FCOMP_OUT, FCOMP_ATOP, FCOMP_XOR, FCOMP_ARITHMETIC,
+                                    FCOMP_LIGHTER };
+enum FilterTransfer : uint32_t { FTRANSFER_IDENTITY = 0, FTRANSFER_TABLE, FTRANSFER_DISCRETE, FTRANSFER_LINEAR,
+                                 FTRANSFER_GAMMA };
+
+struct FilterBox {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // [x0, x1) x [y0, y1) in layer pixels
+};
+
+struct FilterOp {
+  uint32_t kind = FOP_FLOOD;
+  int32_t in = -1, in2 = -1;  // results, or core/filter.h's FilterInput
+  FilterBox box;
+  uint32_t linear = 1;  // colour space: linearRGB (1) or sRGB (0)
+  float color[4] = {0, 0, 0, 0};  // Flood, DropShadow: premultiplied in the op's space
+  float dx = 0, dy = 0;           // Offset, DropShadow: pixels
+  float std_x = 0, std_y = 0;     // GaussianBlur, DropShadow: pixels
+  uint32_t edge = FEDGE_NONE;
+  uint32_t mode = 0;              // Blend: BlendModeCode; Composite: FilterCompositeOp
+  float k[4] = {0, 0, 0, 0};      // Composite arithmetic
+  float matrix[20] = {1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 1, 0};
+  // ComponentTransfer: per channel its type, table range in the op array,
+  // and slope / intercept or amplitude / exponent / offset.
+  uint32_t func[4] = {0, 0, 0, 0};
+  uint32_t table_begin[4] = {0, 0, 0, 0}, table_size[4] = {0, 0, 0, 0};
+  float fparam[4][3] = {{1, 0, 0}, {1, 0, 0}, {1, 0, 0}, {1, 0, 0}};
+  int rx = 0, ry = 0;             // Morphology: window radius in pixels
+  uint32_t dilate = 0;
+  FilterBox tile;                 // Tile: the input's box
+  uint32_t inputs_begin = 0, inputs_count = 0;  // Merge: nodes in the layer's input array, bottom first
+};
+
+// ------------------------------------------------------------ colour
+
+// A premultiplied pixel from one colour space to the other.
+MPVG_HD_INLINE Rgba4 filter_convert(Rgba4 p, bool from_linear, bool to_linear) {
+  if (from_linear == to_linear || !(p.a > 0.0f)) return p;
+  float c[3] = {p.r / p.a, p.g / p.a, p.b / p.a};
+  for (int i = 0; i < 3; i++) {
+    float v = c[i] < 0.0f ? 0.0f : (c[i] > 1.0f ? 1.0f : c[i]);
+    c[i] = (to_linear ? srgb_to_linear(v) : linear_to_srgb(v)) * p.a;
+  }
+  return Rgba4{c[0], c[1], c[2], p.a};
+}
+
+MPVG_HD_INLINE float filter_clamp01(float v) { return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v); }
+
+// A premultiplied pixel made valid: alpha in [0, 1], colour in [0, alpha].
+MPVG_HD_INLINE Rgba4 filter_valid(Rgba4 p) {
+  const float a = filter_clamp01(p.a);
+  auto c = [a](float v) { return v < 0.0f ? 0.0f : (v > a ? a : v); };
+  return Rgba4{c(p.r), c(p.g), c(p.b), a};
+}
+
+// ------------------------------------------------------------ pointwise
+
+// feComposite (§15.12) of a (in) with b (in2), premultiplied.
+MPVG_HD_INLINE Rgba4 filter_composite(const FilterOp& op, Rgba4 a, Rgba4 b) {
+  float fa = 0, fb = 0;  // Porter-Duff: a * fa + b * fb
+  switch (op.mode) {
+    case FCOMP_OVER: fa = 1; fb = 1 - a.a; break;
+    case FCOMP_IN: fa = b.a; fb = 0; break;
+    case FCOMP_OUT: fa = 1 - b.a; fb = 0; break;
+    case FCOMP_ATOP: fa = b.a; fb = 1 - a.a; break;
+    case FCOMP_XOR: fa = 1 - b.a; fb = 1 - a.a; break;
+    case FCOMP_LIGHTER: fa = 1; fb = 1; break;
+    default: {  // arithmetic: k1 i1 i2 + k2 i1 + k3 i2 + k4, per premultiplied channel
+      auto f = [&op](float i1, float i2) { return op.k[0] * i1 * i2 + op.k[1] * i1 + op.k[2] * i2 + op.k[3]; };
+      return filter_valid(Rgba4{f(a.r, b.r), f(a.g, b.g), f(a.b, b.b), f(a.a, b.a)});
+    }
+  }
+  return filter_valid(Rgba4{a.r * fa + b.r * fb, a.g * fa + b.g * fb, a.b * fa + b.b * fb, a.a * fa + b.a * fb});
+}
+
+// feColorMatrix (§15.10) on the straight colour.
+MPVG_HD_INLINE Rgba4 filter_color_matrix(const FilterOp& op, Rgba4 p) {
+  const float in[4] = {p.a > 0 ? p.r / p.a : 0, p.a > 0 ? p.g / p.a : 0, p.a > 0 ? p.b / p.a : 0, p.a};
+  float out[4];
+  for (int r = 0; r < 4; r++) {
+    const float* m = op.matrix + 5 * r;
+    out[r] = filter_clamp01(m[0] * in[0] + m[1] * in[1] + m[2] * in[2] + m[3] * in[3] + m[4]);
+  }
+  return Rgba4{out[0] * out[3], out[1] * out[3], out[2] * out[3], out[3]};
+}
+
+// One channel of feComponentTransfer (§15.11).
+MPVG_HD_INLINE float filter_transfer(const FilterOp& op, int ch, float c, const float* tables) {
+  const float* v = tables + op.table_begin[ch];
+  const uint32_t n = op.table_size[ch];
+  switch (op.func[ch]) {
+    case FTRANSFER_TABLE: {
+      if (n == 0) return c;
+      if (n == 1) return v[0];
+      const float s = c * static_cast<float>(n - 1);
+      uint32_t k = s <= 0.0f ? 0 : static_cast<uint32_t>(s);
+      if (k >= n - 1) k = n - 2;
+      return v[k] + (s - static_cast<float>(k)) * (v[k + 1] - v[k]);
+    }
+    case FTRANSFER_DISCRETE: {
+      if (n == 0) return c;
+      const float s = c * static_cast<float>(n);
+      uint32_t k = s <= 0.0f ? 0 : static_cast<uint32_t>(s);
+      if (k >= n) k = n - 1;
+      return v[k];
+    }
+    case FTRANSFER_LINEAR: return op.fparam[ch][0] * c + op.fparam[ch][1];
+    case FTRANSFER_GAMMA: return op.fparam[ch][0] * powf(c, op.fparam[ch][1]) + op.fparam[ch][2];
+    default: return c;
+  }
+}
+
+MPVG_HD_INLINE Rgba4 filter_component_transfer(const FilterOp& op, Rgba4 p, const float* tables) {
+  const float in[4] = {p.a > 0 ? p.r / p.a : 0, p.a > 0 ? p.g / p.a : 0, p.a > 0 ? p.b / p.a : 0, p.a};
+  float out[4];
+  for (int c = 0; c < 4; c++) out[c] = filter_clamp01(filter_transfer(op, c, filter_clamp01(in[c]), tables));
+  return Rgba4{out[0] * out[3], out[1] * out[3], out[2] * out[3], out[3]};
+}
+
+// feBlend (§15.9): in over in2 with the mode (core/blend.h).
+MPVG_HD_INLINE Rgba4 filter_blend(const FilterOp& op, Rgba4 in, Rgba4 in2) {
+  return filter_valid(blend_over(op.mode, in2, in));
+}
+
+// ------------------------------------------------------------ neighbourhoods
+
+// A layer pixel under an edge mode; transparent outside with `none`.
+MPVG_HD_INLINE int filter_edge_index(int i, int lo, int hi, uint32_t edge) {
+  const int n = hi - lo;
+  if (n <= 0) return -1;
+  if (i >= lo && i < hi) return i;
+  switch (edge) {
+    case FEDGE_DUPLICATE: return i < lo ? lo : hi - 1;
+    case FEDGE_WRAP: {
+      int m = (i - lo) % n;
+      return lo + (m < 0 ? m + n : m);
+    }
+    case FEDGE_MIRROR: {
+      int m = (i - lo) % (2 * n);
+      if (m < 0) m += 2 * n;
+      return lo + (m < n ? m : 2 * n - 1 - m);
+    }
+    default: return -1;
+  }
+}
+
+MPVG_HD_INLINE Rgba4 filter_read(const float* layer, int width, int x, int y) {
+  const float* p = layer + 4 * (static_cast<size_t>(y) * width + x);
+  return Rgba4{p[0], p[1], p[2], p[3]};
+}
+
+// One pass of a box blur of `size` pixels along x (horizontal) or y, whose
+// window starts `lead` pixels before the output pixel: the spec's three
+// box blurs approximating a Gaussian (§15.17) for d >= 2. Reads within box
+// (the input's extent; outside it, transparent or by the edge mode).
+MPVG_HD_INLINE Rgba4 filter_box_pass(const float* in, int width, const FilterBox& box, int x, int y, bool horizontal,
+                                     int size, int lead, uint32_t edge) {
+  Rgba4 acc{0, 0, 0, 0};
+  for (int k = 0; k < size; k++) {
+    int sx = x, sy = y;
+    if (horizontal) sx = filter_edge_index(x - lead + k, box.x0, box.x1, edge);
+    else sy = filter_edge_index(y - lead + k, box.y0, box.y1, edge);
+    if (sx < 0 || sy < 0) continue;
+    const Rgba4 p = filter_read(in, width, sx, sy);
+    acc.r += p.r;
+    acc.g += p.g;
+    acc.b += p.b;
+    acc.a += p.a;
+  }
+  const float s = 1.0f / static_cast<float>(size);
+  return Rgba4{acc.r * s, acc.g * s, acc.b * s, acc.a * s};
+}
+
+// One pass of an exact Gaussian (std dev < 2 pixels), radius ceil(3 std),
+// weights normalised over the window.
+MPVG_HD_INLINE Rgba4 filter_gauss_pass(const float* in, int width, const FilterBox& box, int x, int y,
+                                       bool horizontal, float std_dev, uint32_t edge) {
+  const int r = static_cast<int>(ceilf(3.0f * std_dev));
+  Rgba4 acc{0, 0, 0, 0};
+  float wsum = 0;
+  for (int k = -r; k <= r; k++) {
+    const float w = expf(-0.5f * static_cast<float>(k * k) / (std_dev * std_dev));
+    wsum += w;
+    int sx = x, sy = y;
+    if (horizontal) sx = filter_edge_index(x + k, box.x0, box.x1, edge);
+    else sy = filter_edge_index(y + k, box.y0, box.y1, edge);
+    if (sx < 0 || sy < 0) continue;
+    const Rgba4 p = filter_read(in, width, sx, sy);
+    acc.r += w * p.r;
+    acc.g += w * p.g;
+    acc.b += w * p.b;
+    acc.a += w * p.a;
+  }
+  const float s = 1.0f / wsum;
+  return Rgba4{acc.r * s, acc.g * s, acc.b * s, acc.a * s};
+}
+
+// The box sizes of the three passes for standard deviation s (§15.17):
+// d = floor(s * 3 sqrt(2 pi) / 4 + 0.5); d odd: three boxes of d centred;
+// d even: two of d, the first's window one pixel to the left, the second
+// to the right, then one of d + 1 centred. lead[i]: pixels before the
+// output pixel in pass i's window.
+MPVG_HD_INLINE int filter_box_sizes(float s, int size[3], int lead[3]) {
+  const int d = static_cast<int>(floorf(s * 3.0f * sqrtf(2.0f * 3.14159265358979f) / 4.0f + 0.5f));
+  if (d % 2 == 1) {
+    for (int i = 0; i < 3; i++) {
+      size[i] = d;
+      lead[i] = d / 2;
+    }
+  } else {
+    size[0] = size[1] = d;
+    lead[0] = d / 2;
+    lead[1] = d / 2 - 1;
+    size[2] = d + 1;
+    lead[2] = d / 2;
+  }
+  return d;
+}
+
+// feMorphology (§15.20): the per-channel minimum (erode) or maximum
+// (dilate) of the premultiplied pixels over the (2 rx + 1) x (2 ry + 1)
+// window, transparent black outside the input's box.
+MPVG_HD_INLINE Rgba4 filter_morphology(const FilterOp& op, const float* in, int width, const FilterBox& box, int x,
+                                       int y) {
+  const float init = op.dilate ? 0.0f : 1.0f;
+  float m[4] = {init, init, init, init};
+  for (int j = y - op.ry; j <= y + op.ry; j++)
+    for (int i = x - op.rx; i <= x + op.rx; i++) {
+      float p[4] = {0, 0, 0, 0};
+      if (i >= box.x0 && i < box.x1 && j >= box.y0 && j < box.y1) {
+        const Rgba4 q = filter_read(in, width, i, j);
+        p[0] = q.r, p[1] = q.g, p[2] = q.b, p[3] = q.a;
+      }
+      for (int c = 0; c < 4; c++) m[c] = op.dilate ? (p[c] > m[c] ? p[c] : m[c]) : (p[c] < m[c] ? p[c] : m[c]);
+    }
+  return Rgba4{m[0], m[1], m[2], m[3]};
+}
+
+}  // namespace mpvg
