@@ -143,13 +143,28 @@ FilterLayer filter_layer(const FilterEffect& f, const RenderOptions& o, const La
     l.inputs.insert(l.inputs.end(), p.inputs.begin(), p.inputs.end());
     if (p.kind == FilterKind::Tile)  // the input's subregion: its op's box, or the region
       op.tile = p.in >= 0 && static_cast<size_t>(p.in) < l.ops.size() ? l.ops[p.in].box : region;
+    if (p.kind == FilterKind::Turbulence) {
+      const Affine u = lm.inverted();  // layer pixels to user space
+      const double to_user[6] = {u.a, u.b, u.c, u.d, u.e, u.f};
+      std::copy(to_user, to_user + 6, op.to_user);
+      op.freq_x = std::max(0.0, p.base_frequency_x);
+      op.freq_y = std::max(0.0, p.base_frequency_y);
+      op.octaves = std::min(p.num_octaves, 24);  // later octaves add nothing a float holds
+      op.fractal = p.fractal_noise ? 1 : 0;
+      op.stitch = p.stitch_tiles ? 1 : 0;
+      const double tile[4] = {p.subregion.x, p.subregion.y, p.subregion.w, p.subregion.h};
+      std::copy(tile, tile + 4, op.tile_user);
+      op.noise_begin = static_cast<uint32_t>(l.noise.size());
+      l.noise.resize(l.noise.size() + kNoiseDoubles);
+      // The spec rounds the seed to the nearest integer (halves up).
+      turbulence_init(static_cast<long>(std::floor(std::clamp(p.seed, -2e9, 2e9) + 0.5)), l.noise.data() + op.noise_begin);
+    }
     switch (p.kind) {
       case FilterKind::ConvolveMatrix:
       case FilterKind::DiffuseLighting:
       case FilterKind::DisplacementMap:
       case FilterKind::Image:
       case FilterKind::SpecularLighting:
-      case FilterKind::Turbulence:
         if (warning) *warning = std::string(primitive_element(p.kind)) + " is not supported yet: transparent result";
         break;
       default: break;

@@ -37,6 +37,7 @@ struct FilterLayer {
   std::vector<FilterOp> ops;
   std::vector<float> tables;  // component transfer tables
   std::vector<int32_t> inputs;  // merge nodes
+  std::vector<double> noise;    // turbulence lattices (turbulence_init)
   ImageF source;              // SourceGraphic over the layer, premultiplied
   bool source_linear = false; // ... in linear light (else sRGB-encoded)
   Rgba4 fill_paint{0, 0, 0, 0}, stroke_paint{0, 0, 0, 0};  // straight, sRGB-encoded

@@ -71,6 +71,15 @@ struct FilterOp {
   uint32_t dilate = 0;
   FilterBox tile;                 // Tile: the input's box
   uint32_t inputs_begin = 0, inputs_count = 0;  // Merge: nodes in the layer's input array, bottom first
+  // Turbulence: layer pixels to the filter's user space (a b c d e f), the
+  // base frequencies, octaves, the stitching tile (user space) and the
+  // lattice in the layer's noise array (turbulence_init).
+  double to_user[6] = {1, 0, 0, 1, 0, 0};
+  double freq_x = 0, freq_y = 0;
+  int octaves = 1;
+  uint32_t fractal = 0, stitch = 0;
+  double tile_user[4] = {0, 0, 0, 0};
+  uint32_t noise_begin = 0;
 };
 
 // ------------------------------------------------------------ colour
@@ -276,6 +285,146 @@ MPVG_HD_INLINE Rgba4 filter_morphology(const FilterOp& op, const float* in, int 
       for (int c = 0; c < 4; c++) m[c] = op.dilate ? (p[c] > m[c] ? p[c] : m[c]) : (p[c] < m[c] ? p[c] : m[c]);
     }
   return Rgba4{m[0], m[1], m[2], m[3]};
+}
+
+// ------------------------------------------------------------ feTurbulence
+
+// The spec's reference implementation (§15.23), in double as written
+// there, so that both executors give its values: a lattice of
+// kNoiseSize + kNoiseSize + 2 selectors then 4 x (2 kNoiseSize + 2) x 2
+// gradients, set up from the seed on the host (turbulence_init).
+constexpr int kNoiseSize = 0x100;
+constexpr int kNoiseLattice = kNoiseSize + kNoiseSize + 2;
+constexpr int kNoiseDoubles = kNoiseLattice + 4 * kNoiseLattice * 2;
+
+inline long turbulence_random(long seed) {
+  const long m = 2147483647, a = 16807, q = 127773, r = 2836;
+  long result = a * (seed % q) - r * (seed / q);
+  if (result <= 0) result += m;
+  return result;
+}
+
+// out: kNoiseDoubles values.
+inline void turbulence_init(long seed, double* out) {
+  const long m = 2147483647;
+  if (seed <= 0) seed = -(seed % (m - 1)) + 1;
+  if (seed > m - 1) seed = m - 1;
+  int lattice[kNoiseLattice];
+  double* grad = out + kNoiseLattice;  // grad[(k * kNoiseLattice + i) * 2 + j]
+  int i = 0;
+  for (int k = 0; k < 4; k++) {
+    for (i = 0; i < kNoiseSize; i++) {
+      lattice[i] = i;
+      for (int j = 0; j < 2; j++)
+        grad[(k * kNoiseLattice + i) * 2 + j] =
+            static_cast<double>(((seed = turbulence_random(seed)) % (kNoiseSize + kNoiseSize)) - kNoiseSize) / kNoiseSize;
+      double* g = grad + (k * kNoiseLattice + i) * 2;
+      const double s = std::sqrt(g[0] * g[0] + g[1] * g[1]);
+      g[0] /= s;
+      g[1] /= s;
+    }
+  }
+  while (--i) {
+    const int k = lattice[i];
+    const int j = static_cast<int>((seed = turbulence_random(seed)) % kNoiseSize);
+    lattice[i] = lattice[j];
+    lattice[j] = k;
+  }
+  for (i = 0; i < kNoiseSize + 2; i++) {
+    lattice[kNoiseSize + i] = lattice[i];
+    for (int k = 0; k < 4; k++)
+      for (int j = 0; j < 2; j++)
+        grad[(k * kNoiseLattice + kNoiseSize + i) * 2 + j] = grad[(k * kNoiseLattice + i) * 2 + j];
+  }
+  for (i = 0; i < kNoiseLattice; i++) out[i] = lattice[i];
+}
+
+struct TurbulenceStitch {
+  int width, height, wrap_x, wrap_y;
+};
+
+MPVG_HD_INLINE double turbulence_noise2(const double* noise, int channel, double vx, double vy,
+                                        const TurbulenceStitch* st) {
+  const int BM = 0xff, N = 0x1000;
+  const double* lat = noise;
+  const double* grad = noise + kNoiseLattice + channel * kNoiseLattice * 2;
+  double t = vx + N;
+  int bx0 = static_cast<int>(t) & BM, bx1 = (bx0 + 1) & BM;
+  const double rx0 = t - static_cast<int>(t), rx1 = rx0 - 1.0;
+  t = vy + N;
+  int by0 = static_cast<int>(t) & BM, by1 = (by0 + 1) & BM;
+  const double ry0 = t - static_cast<int>(t), ry1 = ry0 - 1.0;
+  if (st) {
+    if (bx0 >= st->wrap_x) bx0 -= st->width;
+    if (bx1 >= st->wrap_x) bx1 -= st->width;
+    if (by0 >= st->wrap_y) by0 -= st->height;
+    if (by1 >= st->wrap_y) by1 -= st->height;
+  }
+  bx0 &= BM, bx1 &= BM, by0 &= BM, by1 &= BM;
+  const int i = static_cast<int>(lat[bx0]), j = static_cast<int>(lat[bx1]);
+  const int b00 = static_cast<int>(lat[i + by0]), b10 = static_cast<int>(lat[j + by0]);
+  const int b01 = static_cast<int>(lat[i + by1]), b11 = static_cast<int>(lat[j + by1]);
+  const double sx = rx0 * rx0 * (3.0 - 2.0 * rx0), sy = ry0 * ry0 * (3.0 - 2.0 * ry0);
+  const double* q = grad + 2 * b00;
+  double u = rx0 * q[0] + ry0 * q[1];
+  q = grad + 2 * b10;
+  double v = rx1 * q[0] + ry0 * q[1];
+  const double a = u + sx * (v - u);
+  q = grad + 2 * b01;
+  u = rx0 * q[0] + ry1 * q[1];
+  q = grad + 2 * b11;
+  v = rx1 * q[0] + ry1 * q[1];
+  const double b = u + sx * (v - u);
+  return a + sy * (b - a);
+}
+
+// The turbulence sum of one channel at user-space point (px, py).
+MPVG_HD_INLINE double turbulence_sum(const FilterOp& op, const double* noise, int channel, double px, double py) {
+  double fx = op.freq_x, fy = op.freq_y;
+  TurbulenceStitch st{0, 0, 0, 0};
+  const bool stitch = op.stitch != 0;
+  const double tx = op.tile_user[0], ty = op.tile_user[1], tw = op.tile_user[2], th = op.tile_user[3];
+  if (stitch) {
+    if (fx != 0.0) {
+      const double lo = floor(tw * fx) / tw, hi = ceil(tw * fx) / tw;
+      fx = (fx / lo < hi / fx) ? lo : hi;
+    }
+    if (fy != 0.0) {
+      const double lo = floor(th * fy) / th, hi = ceil(th * fy) / th;
+      fy = (fy / lo < hi / fy) ? lo : hi;
+    }
+    st.width = static_cast<int>(tw * fx + 0.5);
+    st.wrap_x = static_cast<int>(tx * fx + 0x1000 + st.width);
+    st.height = static_cast<int>(th * fy + 0.5);
+    st.wrap_y = static_cast<int>(ty * fy + 0x1000 + st.height);
+  }
+  double sum = 0, vx = px * fx, vy = py * fy, ratio = 1;
+  for (int o = 0; o < op.octaves; o++) {
+    const double n = turbulence_noise2(noise, channel, vx, vy, stitch ? &st : nullptr);
+    sum += (op.fractal ? n : fabs(n)) / ratio;
+    vx *= 2, vy *= 2, ratio *= 2;
+    if (stitch) {
+      st.width *= 2;
+      st.wrap_x = 2 * st.wrap_x - 0x1000;
+      st.height *= 2;
+      st.wrap_y = 2 * st.wrap_y - 0x1000;
+    }
+  }
+  return sum;
+}
+
+// feTurbulence at layer pixel (x, y): the four channels (straight, in the
+// op's colour space), premultiplied.
+MPVG_HD_INLINE Rgba4 filter_turbulence(const FilterOp& op, const double* noise, int x, int y) {
+  const double* m = op.to_user;
+  const double px = m[0] * x + m[2] * y + m[4], py = m[1] * x + m[3] * y + m[5];
+  float c[4];
+  for (int ch = 0; ch < 4; ch++) {
+    double v = turbulence_sum(op, noise, ch, px, py);
+    if (op.fractal) v = (v + 1.0) / 2.0;
+    c[ch] = filter_clamp01(static_cast<float>(v));
+  }
+  return Rgba4{c[0] * c[3], c[1] * c[3], c[2] * c[3], c[3]};
 }
 
 }  // namespace mpvg

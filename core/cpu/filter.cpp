@@ -215,6 +215,10 @@ class Graph {
           return at(*a, t.x0 + mx, t.y0 + my);
         });
       }
+      case FOP_TURBULENCE: {
+        const double* noise = l_.noise.data() + op.noise_begin;
+        return make(op.box, lin, [&](int x, int y) { return filter_turbulence(op, noise, x, y); });
+      }
       default:  // not yet executed (filter_layer warns): transparent black
         return make(op.box, lin, [](int, int) { return Rgba4{0, 0, 0, 0}; });
     }
