@@ -159,17 +159,110 @@ FilterLayer filter_layer(const FilterEffect& f, const RenderOptions& o, const La
       // The spec rounds the seed to the nearest integer (halves up).
       turbulence_init(static_cast<long>(std::floor(std::clamp(p.seed, -2e9, 2e9) + 0.5)), l.noise.data() + op.noise_begin);
     }
-    switch (p.kind) {
-      case FilterKind::ConvolveMatrix:
-      case FilterKind::DiffuseLighting:
-      case FilterKind::DisplacementMap:
-      case FilterKind::Image:
-      case FilterKind::SpecularLighting:
-        if (warning) *warning = std::string(primitive_element(p.kind)) + " is not supported yet: transparent result";
-        break;
-      default: break;
+    if (p.kind == FilterKind::ConvolveMatrix) {
+      op.order_x = p.order_x;
+      op.order_y = p.order_y;
+      op.target_x = p.target_x;
+      op.target_y = p.target_y;
+      op.kernel_begin = static_cast<uint32_t>(l.tables.size());
+      l.tables.insert(l.tables.end(), p.kernel.begin(), p.kernel.end());
+      op.divisor = p.divisor != 0 ? static_cast<float>(p.divisor) : 1.0f;
+      op.bias = static_cast<float>(p.bias);
+      op.preserve_alpha = p.preserve_alpha ? 1 : 0;
     }
+    if (p.kind == FilterKind::DisplacementMap) {
+      op.scale_x = static_cast<float>(p.scale * sx);
+      op.scale_y = static_cast<float>(p.scale * sy);
+      op.x_channel = p.x_channel & 3;
+      op.y_channel = p.y_channel & 3;
+    }
+    if (p.kind == FilterKind::DiffuseLighting || p.kind == FilterKind::SpecularLighting) {
+      op.surface_scale = static_cast<float>(p.surface_scale);
+      op.kd = static_cast<float>(p.diffuse_constant);
+      op.ks = static_cast<float>(p.specular_constant);
+      op.specular_exponent = static_cast<float>(p.specular_exponent);
+      // The light colour, straight in the op's space.
+      for (int c = 0; c < 3; c++) {
+        const float v = filter_clamp01(p.color[c]);
+        op.color[c] = p.linear_rgb ? srgb_to_linear(v) : v;
+      }
+      const LightSource& ls = p.light;
+      const double zs = std::sqrt((sx * sx + sy * sy) / 2);  // z scales like lengths
+      switch (ls.type) {
+        case LightType::Distant: {
+          const double az = ls.azimuth * M_PI / 180, el = ls.elevation * M_PI / 180;
+          op.light = 1;
+          op.light_dir[0] = static_cast<float>(std::cos(az) * std::cos(el));
+          op.light_dir[1] = static_cast<float>(std::sin(az) * std::cos(el));
+          op.light_dir[2] = static_cast<float>(std::sin(el));
+          break;
+        }
+        case LightType::Point:
+        case LightType::Spot: {
+          op.light = ls.type == LightType::Point ? 2 : 3;
+          const Vec2 pos = lm.apply({ls.x, ls.y}), at = lm.apply({ls.points_at_x, ls.points_at_y});
+          const float lp[3] = {float(pos.x), float(pos.y), float(ls.z * zs)};
+          const float la[3] = {float(at.x), float(at.y), float(ls.points_at_z * zs)};
+          std::copy(lp, lp + 3, op.light_pos);
+          std::copy(la, la + 3, op.light_at);
+          op.spot_exponent = static_cast<float>(ls.specular_exponent);
+          op.cone_cos = ls.has_cone ? static_cast<float>(std::cos(std::abs(ls.limiting_cone_angle) * M_PI / 180)) : -2.0f;
+          break;
+        }
+        case LightType::None: op.light = 0; break;
+      }
+    }
+    if (p.kind == FilterKind::Image) op.image = static_cast<uint32_t>(l.images.size()), l.images.push_back(ImageF{}),
+                                     l.image_linear.push_back(0);
     l.ops.push_back(op);
+  }
+  // feImage's pictures: an element rendered over the layer like the
+  // source, a raster resampled (bilinear, premultiplied) into its box.
+  for (size_t k = 0; k < f.primitives.size(); k++) {
+    const FilterPrimitive& p = f.primitives[k];
+    if (p.kind != FilterKind::Image) continue;
+    const FilterOp& op = l.ops[k];
+    ImageF& pic = l.images[op.image];
+    if (p.scene) {
+      RenderOptions io = o;
+      io.width = l.width;
+      io.height = l.height;
+      io.view = to_layer * o.view * f.xf;
+      io.background = RGBA{0, 0, 0, 0};
+      pic = render(*p.scene, io);
+      l.image_linear[op.image] = o.gamma == Gamma::Linear ? 1 : 0;
+      continue;
+    }
+    pic.width = l.width;
+    pic.height = l.height;
+    pic.rgba.assign(size_t(l.width) * l.height * 4, 0.0f);
+    if (!p.image || p.image->width <= 0 || p.image->height <= 0) continue;
+    const Affine to_image = (lm * p.image_xf);
+    if (!to_image.invertible()) continue;
+    const Affine inv = to_image.inverted();  // layer pixels to image pixels
+    const Image& im = *p.image;
+    auto texel = [&](int i, int j) {
+      i = std::clamp(i, 0, im.width - 1), j = std::clamp(j, 0, im.height - 1);
+      const size_t o4 = 4 * (size_t(j) * im.width + i);
+      float c[4];
+      for (int ch = 0; ch < 4; ch++)
+        c[ch] = im.bits == 16 ? im.rgba16[o4 + ch] / 65535.0f : im.rgba8[o4 + ch] / 255.0f;
+      return Rgba4{c[0] * c[3], c[1] * c[3], c[2] * c[3], c[3]};
+    };
+    for (int y = op.box.y0; y < op.box.y1; y++)
+      for (int x = op.box.x0; x < op.box.x1; x++) {
+        const Vec2 q = inv.apply({x + 0.5, y + 0.5});
+        if (q.x < 0 || q.y < 0 || q.x >= im.width || q.y >= im.height) continue;
+        const double u = q.x - 0.5, v = q.y - 0.5;
+        const int i = static_cast<int>(std::floor(u)), j = static_cast<int>(std::floor(v));
+        const float s = static_cast<float>(u - i), t = static_cast<float>(v - j);
+        const Rgba4 a = texel(i, j), b = texel(i + 1, j), c = texel(i, j + 1), d = texel(i + 1, j + 1);
+        float* o4 = &pic.rgba[4 * (size_t(y) * l.width + x)];
+        o4[0] = (1 - t) * ((1 - s) * a.r + s * b.r) + t * ((1 - s) * c.r + s * d.r);
+        o4[1] = (1 - t) * ((1 - s) * a.g + s * b.g) + t * ((1 - s) * c.g + s * d.g);
+        o4[2] = (1 - t) * ((1 - s) * a.b + s * b.b) + t * ((1 - s) * c.b + s * d.b);
+        o4[3] = (1 - t) * ((1 - s) * a.a + s * b.a) + t * ((1 - s) * c.a + s * d.a);
+      }
   }
   // The source over the layer, at the output's resolution and sampling.
   RenderOptions so = o;

@@ -38,6 +38,10 @@ struct FilterLayer {
   std::vector<float> tables;  // component transfer tables
   std::vector<int32_t> inputs;  // merge nodes
   std::vector<double> noise;    // turbulence lattices (turbulence_init)
+  // feImage's pictures over the layer (FilterOp::image), premultiplied, in
+  // linear light where image_linear says so.
+  std::vector<ImageF> images;
+  std::vector<uint8_t> image_linear;
   ImageF source;              // SourceGraphic over the layer, premultiplied
   bool source_linear = false; // ... in linear light (else sRGB-encoded)
   Rgba4 fill_paint{0, 0, 0, 0}, stroke_paint{0, 0, 0, 0};  // straight, sRGB-encoded

@@ -80,6 +80,23 @@ struct FilterOp {
   uint32_t fractal = 0, stitch = 0;
   double tile_user[4] = {0, 0, 0, 0};
   uint32_t noise_begin = 0;
+  // ConvolveMatrix: order, kernel range in the layer's tables (as written,
+  // row-major), divisor, bias, target, preserve_alpha.
+  int order_x = 3, order_y = 3, target_x = 1, target_y = 1;
+  uint32_t kernel_begin = 0, preserve_alpha = 0;
+  float divisor = 1, bias = 0;
+  // DisplacementMap: scale along x and y in pixels, channels 0..3.
+  float scale_x = 0, scale_y = 0;
+  uint32_t x_channel = 3, y_channel = 3;
+  // Lighting: surface scale, constants, exponent; the light in layer
+  // pixels (z scaled like lengths), its colour (straight, op's space).
+  float surface_scale = 1, kd = 1, ks = 1, specular_exponent = 1;
+  uint32_t light = 0;  // 0 none, 1 distant, 2 point, 3 spot
+  float light_dir[3] = {0, 0, 1};        // Distant: unit vector to the light
+  float light_pos[3] = {0, 0, 0}, light_at[3] = {0, 0, 0};
+  float spot_exponent = 1, cone_cos = -2;  // cone_cos < -1: no cone
+  // Image: index of the prepared layer image.
+  uint32_t image = 0;
 };
 
 // ------------------------------------------------------------ colour
@@ -287,6 +304,130 @@ MPVG_HD_INLINE Rgba4 filter_morphology(const FilterOp& op, const float* in, int 
   return Rgba4{m[0], m[1], m[2], m[3]};
 }
 
+// ------------------------------------------------------------ feConvolveMatrix
+
+// §15.13: the kernel rotated by 180 degrees over the input (edge mode on
+// its box), divided, biased; with preserveAlpha on straight colours and
+// the input's alpha kept. Clamping as resvg and Chromium do.
+MPVG_HD_INLINE Rgba4 filter_convolve(const FilterOp& op, const float* in, int width, const FilterBox& box,
+                                     const float* kernel, int x, int y) {
+  float sum[4] = {0, 0, 0, 0};
+  const int n = op.order_x * op.order_y;
+  for (int i = 0; i < op.order_y; i++)
+    for (int j = 0; j < op.order_x; j++) {
+      const int sx = filter_edge_index(x - op.target_x + j, box.x0, box.x1, op.edge);
+      const int sy = filter_edge_index(y - op.target_y + i, box.y0, box.y1, op.edge);
+      if (sx < 0 || sy < 0) continue;
+      Rgba4 p = filter_read(in, width, sx, sy);
+      if (op.preserve_alpha && p.a > 0) p = Rgba4{p.r / p.a, p.g / p.a, p.b / p.a, p.a};
+      const float k = kernel[n - 1 - (i * op.order_x + j)];
+      sum[0] += k * p.r, sum[1] += k * p.g, sum[2] += k * p.b, sum[3] += k * p.a;
+    }
+  float a;
+  if (op.preserve_alpha) {
+    const bool inside = x >= box.x0 && x < box.x1 && y >= box.y0 && y < box.y1;
+    a = inside ? filter_read(in, width, x, y).a : 0.0f;
+  } else {
+    a = sum[3] / op.divisor + op.bias;
+  }
+  const float ba = filter_clamp01(a);
+  float c[3];
+  for (int i = 0; i < 3; i++) {
+    const float v = sum[i] / op.divisor + op.bias * a;
+    c[i] = op.preserve_alpha ? filter_clamp01(v) * ba : (v < 0 ? 0 : (v > ba ? ba : v));
+  }
+  return Rgba4{c[0], c[1], c[2], ba};
+}
+
+// ------------------------------------------------------------ feDisplacementMap
+
+// §15.15: in displaced by in2's channels (straight values), nearest pixel.
+MPVG_HD_INLINE Rgba4 filter_displace(const FilterOp& op, const float* in, const FilterBox& in_box,
+                                     const float* map, const FilterBox& map_box, int width, int x, int y) {
+  float m[4] = {0, 0, 0, 0};
+  if (x >= map_box.x0 && x < map_box.x1 && y >= map_box.y0 && y < map_box.y1) {
+    const Rgba4 p = filter_read(map, width, x, y);
+    m[3] = p.a;
+    if (p.a > 0) m[0] = p.r / p.a, m[1] = p.g / p.a, m[2] = p.b / p.a;
+  }
+  const float ox = op.scale_x * (m[op.x_channel & 3] - 0.5f), oy = op.scale_y * (m[op.y_channel & 3] - 0.5f);
+  const int sx = static_cast<int>(floorf(static_cast<float>(x) + ox + 0.5f));
+  const int sy = static_cast<int>(floorf(static_cast<float>(y) + oy + 0.5f));
+  if (sx < in_box.x0 || sx >= in_box.x1 || sy < in_box.y0 || sy >= in_box.y1) return Rgba4{0, 0, 0, 0};
+  return filter_read(in, width, sx, sy);
+}
+
+// ------------------------------------------------------------ lighting
+
+// The surface normal's x and y at (x, y) from the alpha of the input
+// (§15.14's Sobel kernels): the difference of the columns (rows) beside
+// the pixel, weighted 1 2 1 over the rows (columns) inside the box; at
+// the box's edges the pixel's own column stands in for the missing one.
+// Every kernel of the spec's table is 2 / (distance x weights) of that.
+MPVG_HD_INLINE void filter_normal(const float* in, int width, const FilterBox& box, float surface, int x, int y,
+                                  float& nx, float& ny) {
+  auto A = [&](int i, int j) { return filter_read(in, width, i, j).a; };
+  const int xl = x > box.x0 ? x - 1 : x, xr = x < box.x1 - 1 ? x + 1 : x;
+  const int yt = y > box.y0 ? y - 1 : y, yb = y < box.y1 - 1 ? y + 1 : y;
+  float sx = 0, wx = 0, sy = 0, wy = 0;
+  for (int d = -1; d <= 1; d++) {
+    const float k = d == 0 ? 2.0f : 1.0f;
+    if (y + d >= box.y0 && y + d < box.y1) sx += k * (A(xr, y + d) - A(xl, y + d)), wx += k;
+    if (x + d >= box.x0 && x + d < box.x1) sy += k * (A(x + d, yb) - A(x + d, yt)), wy += k;
+  }
+  nx = xr > xl ? -surface * 2.0f * sx / (static_cast<float>(xr - xl) * wx) : 0.0f;
+  ny = yb > yt ? -surface * 2.0f * sy / (static_cast<float>(yb - yt) * wy) : 0.0f;
+}
+
+// feDiffuseLighting / feSpecularLighting (§15.14, §15.22) at (x, y).
+MPVG_HD_INLINE Rgba4 filter_lighting(const FilterOp& op, const float* in, int width, const FilterBox& box, int x,
+                                     int y) {
+  const bool inside = x >= box.x0 && x < box.x1 && y >= box.y0 && y < box.y1;
+  float nx = 0, ny = 0;
+  if (inside) filter_normal(in, width, box, op.surface_scale, x, y, nx, ny);
+  float n[3] = {nx, ny, 1.0f};
+  const float nl = sqrtf(n[0] * n[0] + n[1] * n[1] + 1.0f);
+  n[0] /= nl, n[1] /= nl, n[2] /= nl;
+  const float z = inside ? op.surface_scale * filter_read(in, width, x, y).a : 0.0f;
+  float L[3] = {op.light_dir[0], op.light_dir[1], op.light_dir[2]};
+  float lc[3] = {op.color[0], op.color[1], op.color[2]};
+  if (op.light >= 2) {
+    L[0] = op.light_pos[0] - static_cast<float>(x), L[1] = op.light_pos[1] - static_cast<float>(y);
+    L[2] = op.light_pos[2] - z;
+    const float len = sqrtf(L[0] * L[0] + L[1] * L[1] + L[2] * L[2]);
+    if (len > 0) L[0] /= len, L[1] /= len, L[2] /= len;
+    if (op.light == 3) {
+      float S[3] = {op.light_at[0] - op.light_pos[0], op.light_at[1] - op.light_pos[1], op.light_at[2] - op.light_pos[2]};
+      const float sl = sqrtf(S[0] * S[0] + S[1] * S[1] + S[2] * S[2]);
+      if (sl > 0) S[0] /= sl, S[1] /= sl, S[2] /= sl;
+      const float minus_ls = -(L[0] * S[0] + L[1] * S[1] + L[2] * S[2]);
+      float f = 0;
+      if (minus_ls > 0 && minus_ls >= op.cone_cos) f = powf(minus_ls, op.spot_exponent);
+      lc[0] *= f, lc[1] *= f, lc[2] *= f;
+    }
+  } else if (op.light == 0) {
+    lc[0] = lc[1] = lc[2] = 0;
+  }
+  float k;
+  float a = 1.0f;
+  if (op.kind == FOP_DIFFUSE_LIGHTING) {
+    k = op.kd * (n[0] * L[0] + n[1] * L[1] + n[2] * L[2]);
+  } else {
+    float h[3] = {L[0], L[1], L[2] + 1.0f};
+    const float hl = sqrtf(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
+    const float nh = hl > 0 ? (n[0] * h[0] + n[1] * h[1] + n[2] * h[2]) / hl : 0.0f;
+    k = op.ks * powf(nh > 0 ? nh : 0.0f, op.specular_exponent);
+  }
+  float c[3];
+  for (int i = 0; i < 3; i++) c[i] = filter_clamp01(k * lc[i]);
+  if (op.kind == FOP_SPECULAR_LIGHTING) {
+    a = c[0] > c[1] ? c[0] : c[1];
+    a = a > c[2] ? a : c[2];
+    return Rgba4{c[0], c[1], c[2], a};  // colour <= alpha: already premultiplied
+  }
+  return Rgba4{c[0], c[1], c[2], a};
+}
+
 // ------------------------------------------------------------ feTurbulence
 
 // The spec's reference implementation (§15.23), in double as written
@@ -348,12 +489,14 @@ MPVG_HD_INLINE double turbulence_noise2(const double* noise, int channel, double
   const int BM = 0xff, N = 0x1000;
   const double* lat = noise;
   const double* grad = noise + kNoiseLattice + channel * kNoiseLattice * 2;
+  // Lattice points are masked after stitching (as Filter Effects 1 and
+  // resvg have it; SVG 1.1's code masked first, which never stitches).
   double t = vx + N;
-  int bx0 = static_cast<int>(t) & BM, bx1 = (bx0 + 1) & BM;
-  const double rx0 = t - static_cast<int>(t), rx1 = rx0 - 1.0;
+  long bx0 = static_cast<long>(t), bx1 = bx0 + 1;
+  const double rx0 = t - static_cast<long>(t), rx1 = rx0 - 1.0;
   t = vy + N;
-  int by0 = static_cast<int>(t) & BM, by1 = (by0 + 1) & BM;
-  const double ry0 = t - static_cast<int>(t), ry1 = ry0 - 1.0;
+  long by0 = static_cast<long>(t), by1 = by0 + 1;
+  const double ry0 = t - static_cast<long>(t), ry1 = ry0 - 1.0;
   if (st) {
     if (bx0 >= st->wrap_x) bx0 -= st->width;
     if (bx1 >= st->wrap_x) bx1 -= st->width;
@@ -361,7 +504,7 @@ MPVG_HD_INLINE double turbulence_noise2(const double* noise, int channel, double
     if (by1 >= st->wrap_y) by1 -= st->height;
   }
   bx0 &= BM, bx1 &= BM, by0 &= BM, by1 &= BM;
-  const int i = static_cast<int>(lat[bx0]), j = static_cast<int>(lat[bx1]);
+  const long i = static_cast<long>(lat[bx0]), j = static_cast<long>(lat[bx1]);
   const int b00 = static_cast<int>(lat[i + by0]), b10 = static_cast<int>(lat[j + by0]);
   const int b01 = static_cast<int>(lat[i + by1]), b11 = static_cast<int>(lat[j + by1]);
   const double sx = rx0 * rx0 * (3.0 - 2.0 * rx0), sy = ry0 * ry0 * (3.0 - 2.0 * ry0);

@@ -215,6 +215,27 @@ class Graph {
           return at(*a, t.x0 + mx, t.y0 + my);
         });
       }
+      case FOP_CONVOLVE_MATRIX: {
+        const BufferPtr a = input(op.in, lin);
+        const float* kernel = l_.tables.data() + op.kernel_begin;
+        return make(op.box, lin, [&](int x, int y) { return filter_convolve(op, a->px.data(), w, a->box, kernel, x, y); });
+      }
+      case FOP_DISPLACEMENT_MAP: {
+        const BufferPtr a = input(op.in, lin), m = input(op.in2, lin);
+        return make(op.box, lin, [&](int x, int y) {
+          return filter_displace(op, a->px.data(), a->box, m->px.data(), m->box, w, x, y);
+        });
+      }
+      case FOP_DIFFUSE_LIGHTING:
+      case FOP_SPECULAR_LIGHTING: {
+        const BufferPtr a = input(op.in, lin);
+        return make(op.box, lin, [&](int x, int y) { return filter_lighting(op, a->px.data(), w, a->box, x, y); });
+      }
+      case FOP_IMAGE: {
+        const ImageF& pic = l_.images[op.image];
+        const bool from = l_.image_linear[op.image] != 0;
+        return make(op.box, lin, [&](int x, int y) { return filter_convert(filter_read(pic.rgba.data(), w, x, y), from, lin); });
+      }
       case FOP_TURBULENCE: {
         const double* noise = l_.noise.data() + op.noise_begin;
         return make(op.box, lin, [&](int x, int y) { return filter_turbulence(op, noise, x, y); });
