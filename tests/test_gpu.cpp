@@ -13,7 +13,9 @@
 #include "core/cpu/cpu_stages.h"
 #include "core/mesh_build.h"
 #include "core/renderer.h"
+#include "core/filter_layers.h"
 #include "gpu/backend.h"
+#include "gpu/filter.h"
 #include "gpu/gpu_backend.h"
 #include "gpu/png_encode.h"
 #include "core/png_encode.h"
@@ -554,5 +556,134 @@ TEST_CASE("forest: each scene renders on the GPU as it does alone", "[gpu][fores
     const std::vector<FrameRenderer::Output> together = r.render_forest(frame, o, false);
     REQUIRE(together.size() == order.size());
     for (size_t k = 0; k < order.size(); k++) CHECK(together[k].rgba8 == r.render_rgba8(*order[k], plan, o));
+  }
+}
+
+TEST_CASE("filter executors: every primitive gives the same layer on the GPU as on the CPU", "[gpu][filter]") {
+  constexpr int W = 61, H = 47;
+  std::mt19937 rng(28);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  FilterLayer l;
+  l.width = W;
+  l.height = H;
+  l.source.width = W;
+  l.source.height = H;
+  l.source.rgba.assign(size_t(W) * H * 4, 0.0f);
+  for (int y = 10; y < 38; y++)
+    for (int x = 12; x < 50; x++) {
+      float* p = &l.source.rgba[4 * (size_t(y) * W + x)];
+      const float a = u(rng) < 0.2f ? 0.0f : u(rng);
+      for (int c = 0; c < 3; c++) p[c] = u(rng) * a;
+      p[3] = a;
+    }
+  l.fill_paint = Rgba4{0.2f, 0.5f, 0.9f, 0.7f};
+  l.tables = {0.1f, 0.9f, 0.3f, 1.0f, 0.0f, 0.5f, 1.0f, 1, -1, 0.5f, 2, 0, -0.5f, 0.25f, 1, 0.3f};
+  l.noise.resize(kNoiseDoubles);
+  turbulence_init(11, l.noise.data());
+  l.images.push_back(l.source);
+  l.image_linear.push_back(0);
+  const FilterBox whole{0, 0, W, H}, part{5, 4, 52, 40};
+  auto op = [&](uint32_t kind, int32_t in, int32_t in2, bool linear, FilterBox box) {
+    FilterOp o;
+    o.kind = kind;
+    o.in = in;
+    o.in2 = in2;
+    o.linear = linear ? 1 : 0;
+    o.box = box;
+    return o;
+  };
+  // Each graph ends in the primitive under test, with linearRGB and sRGB
+  // inputs mixed so that conversions run too.
+  std::vector<std::vector<FilterOp>> graphs;
+  for (bool linear : {false, true}) {
+    FilterOp flood = op(FOP_FLOOD, 0, 0, linear, part);
+    const float c[4] = {0.3f, 0.1f, 0.2f, 0.6f};
+    std::copy(c, c + 4, flood.color);
+    FilterOp blur = op(FOP_GAUSSIAN_BLUR, FILTER_SOURCE_GRAPHIC, 0, !linear, whole);
+    blur.std_x = 3.2f, blur.std_y = 1.3f;
+    graphs.push_back({flood, blur});
+    FilterOp off = op(FOP_OFFSET, FILTER_SOURCE_GRAPHIC, 0, linear, whole);
+    off.dx = 5, off.dy = -2;
+    graphs.push_back({off});
+    for (uint32_t m = FCOMP_OVER; m <= FCOMP_LIGHTER; m++) {
+      FilterOp comp = op(FOP_COMPOSITE, FILTER_SOURCE_GRAPHIC, 0, linear, whole);
+      comp.mode = m;
+      const float k[4] = {0.5f, 0.7f, -0.3f, 0.1f};
+      std::copy(k, k + 4, comp.k);
+      graphs.push_back({off, comp});
+    }
+    for (uint32_t m = 0; m < BLEND_MODE_COUNT; m++) {
+      FilterOp b = op(FOP_BLEND, FILTER_SOURCE_GRAPHIC, 0, linear, whole);
+      b.mode = m;
+      graphs.push_back({off, b});
+    }
+    FilterOp mat = op(FOP_COLOR_MATRIX, FILTER_SOURCE_GRAPHIC, 0, linear, part);
+    const float mv[20] = {0.3f, 0.5f, 0.2f, 0, 0.1f, -0.2f, 1.1f, 0.1f, 0, 0, 0.5f, 0.5f, 0, 0.2f, -0.1f, 0, 0, 0, 0.8f, 0.15f};
+    std::copy(mv, mv + 20, mat.matrix);
+    graphs.push_back({mat});
+    FilterOp tr = op(FOP_COMPONENT_TRANSFER, FILTER_SOURCE_GRAPHIC, 0, linear, whole);
+    tr.func[0] = FTRANSFER_TABLE, tr.table_begin[0] = 0, tr.table_size[0] = 4;
+    tr.func[1] = FTRANSFER_DISCRETE, tr.table_begin[1] = 4, tr.table_size[1] = 3;
+    tr.func[2] = FTRANSFER_GAMMA, tr.fparam[2][0] = 0.8f, tr.fparam[2][1] = 2.2f, tr.fparam[2][2] = 0.05f;
+    tr.func[3] = FTRANSFER_LINEAR, tr.fparam[3][0] = 0.7f, tr.fparam[3][1] = 0.2f;
+    graphs.push_back({tr});
+    FilterOp ds = op(FOP_DROP_SHADOW, FILTER_SOURCE_GRAPHIC, 0, linear, whole);
+    ds.std_x = ds.std_y = 2.5f, ds.dx = 4, ds.dy = 3;
+    std::copy(c, c + 4, ds.color);
+    graphs.push_back({ds});
+    for (uint32_t dilate : {0u, 1u}) {
+      FilterOp mo = op(FOP_MORPHOLOGY, FILTER_SOURCE_GRAPHIC, 0, linear, whole);
+      mo.dilate = dilate, mo.rx = 3, mo.ry = 1;
+      graphs.push_back({mo});
+    }
+    FilterOp crop = op(FOP_OFFSET, FILTER_SOURCE_GRAPHIC, 0, linear, FilterBox{16, 14, 27, 21});
+    FilterOp tile = op(FOP_TILE, 0, 0, linear, whole);
+    tile.tile = crop.box;
+    graphs.push_back({crop, tile});
+    FilterOp merge = op(FOP_MERGE, 0, 0, linear, whole);
+    l.inputs = {0, FILTER_SOURCE_GRAPHIC, FILTER_FILL_PAINT};
+    merge.inputs_begin = 0, merge.inputs_count = 2;
+    graphs.push_back({flood, merge});
+    FilterOp cv = op(FOP_CONVOLVE_MATRIX, FILTER_SOURCE_GRAPHIC, 0, linear, whole);
+    cv.order_x = 3, cv.order_y = 2, cv.target_x = 2, cv.target_y = 0, cv.kernel_begin = 7, cv.divisor = 2,
+    cv.bias = 0.1f, cv.edge = FEDGE_WRAP;
+    graphs.push_back({cv});
+    cv.preserve_alpha = 1, cv.edge = FEDGE_DUPLICATE;
+    graphs.push_back({cv});
+    FilterOp dm = op(FOP_DISPLACEMENT_MAP, FILTER_SOURCE_GRAPHIC, 0, linear, whole);
+    dm.scale_x = dm.scale_y = 9, dm.x_channel = 0, dm.y_channel = 3;
+    graphs.push_back({off, dm});
+    for (uint32_t kind : {FOP_DIFFUSE_LIGHTING, FOP_SPECULAR_LIGHTING})
+      for (uint32_t light : {1u, 2u, 3u}) {
+        FilterOp li = op(kind, FILTER_SOURCE_GRAPHIC, 0, linear, whole);
+        li.surface_scale = 3, li.kd = 0.9f, li.ks = 1.2f, li.specular_exponent = 5;
+        li.color[0] = 1, li.color[1] = 0.5f, li.color[2] = 0.25f;
+        li.light = light;
+        li.light_dir[0] = 0.6f, li.light_dir[1] = 0.3f, li.light_dir[2] = 0.74f;
+        li.light_pos[0] = 20, li.light_pos[1] = 15, li.light_pos[2] = 30;
+        li.light_at[0] = 40, li.light_at[1] = 30, li.light_at[2] = 0;
+        li.spot_exponent = 2, li.cone_cos = 0.8f;
+        graphs.push_back({li});
+      }
+    for (uint32_t fractal : {0u, 1u}) {
+      FilterOp tu = op(FOP_TURBULENCE, 0, 0, linear, part);
+      tu.freq_x = 0.05, tu.freq_y = 0.08, tu.octaves = 4, tu.fractal = fractal, tu.stitch = fractal;
+      tu.tile_user[2] = 40, tu.tile_user[3] = 30;
+      const double m[6] = {0.5, 0.1, -0.1, 0.5, 3, 2};
+      std::copy(m, m + 6, tu.to_user);
+      graphs.push_back({tu});
+    }
+    graphs.push_back({op(FOP_IMAGE, 0, 0, linear, part)});
+  }
+  for (size_t g = 0; g < graphs.size(); g++) {
+    l.ops = graphs[g];
+    INFO("graph " << g << ", last op kind " << l.ops.back().kind);
+    const FilterResult cpu = run_filter_cpu(l, 2), gpu = gpu::run_filter_cuda(l);
+    REQUIRE(cpu.rgba.size() == gpu.rgba.size());
+    CHECK(cpu.linear == gpu.linear);
+    float worst = 0;
+    for (size_t i = 0; i < cpu.rgba.size(); i++) worst = std::max(worst, std::fabs(cpu.rgba[i] - gpu.rgba[i]));
+    INFO("worst difference " << worst);
+    CHECK(worst <= 1.0f / 1024);
   }
 }
