@@ -60,17 +60,19 @@ RenderPlan plan_render(const RenderOptions& o) {
   return p;
 }
 
-EncodedScene encode_for(const Scene& scene, const RenderPlan& plan, Gamma gamma, RenderStats* stats) {
+EncodedScene encode_for(const Scene& scene, const RenderPlan& plan, Gamma gamma, RenderStats* stats,
+                        const FilterExecutor* filters) {
   const auto t0 = std::chrono::steady_clock::now();
   if (has_filters(scene)) {
-    // Filter effects become layers first (core/filter_layers.h), on the CPU
-    // executor: their sources rendered, their graphs run.
+    // Filter effects become layers first (core/filter_layers.h): their
+    // sources rendered, their graphs run.
     std::vector<std::string> warnings;
     RenderOptions o = plan.options;
     o.gamma = gamma;
-    const Scene resolved = resolve_filters(
-        scene, o, [](const Scene& s, const RenderOptions& so) { return render_cpu(s, so); },
-        [&](const FilterLayer& l) { return run_filter_cpu(l, o.threads); }, &warnings);
+    const FilterExecutor cpu{[](const Scene& s, const RenderOptions& so) { return render_cpu(s, so); },
+                             [&](const FilterLayer& l) { return run_filter_cpu(l, o.threads); }};
+    const FilterExecutor& ex = filters ? *filters : cpu;
+    const Scene resolved = resolve_filters(scene, o, ex.render, ex.run, &warnings);
     EncodedScene enc = encode(resolved, plan.view, gamma);
     if (stats) {
       for (const std::string& w : warnings) stats->note += (stats->note.empty() ? "" : "; ") + w;

@@ -8,6 +8,7 @@
 
 #include "core/cpu/cpu_stages.h"
 #include "core/encoding.h"
+#include "core/filter_layers.h"
 #include "core/integration.h"
 #include "core/png_encode.h"
 #include "core/scene.h"
@@ -70,9 +71,18 @@ struct RenderPlan {
 };
 RenderPlan plan_render(const RenderOptions& options);
 
+// Filter effects' executor (core/filter_layers.h): how a layer's source is
+// rendered and its graph run. encode_for without one uses the CPU's.
+struct FilterExecutor {
+  LayerRenderer render;
+  FilterRunner run;
+};
+
 // encode_for and render_cpu with the plan already made: a frame plans once
-// however many of its stages run on this thread.
-EncodedScene encode_for(const Scene& scene, const RenderPlan& plan, Gamma gamma, RenderStats* stats = nullptr);
+// however many of its stages run on this thread. Filter effects are
+// resolved into layers first (resolve_filters), by `filters` or the CPU.
+EncodedScene encode_for(const Scene& scene, const RenderPlan& plan, Gamma gamma, RenderStats* stats = nullptr,
+                        const FilterExecutor* filters = nullptr);
 ImageF render_cpu(const EncodedScene& scene, const RenderPlan& plan, const RenderOptions& options,
                   RenderStats* stats = nullptr);
 

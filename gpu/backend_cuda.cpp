@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "core/forest.h"
 #include "gpu/backend.h"
+#include "gpu/filter.h"
 #include "gpu/gpu_backend.h"
 
 namespace mpvg {
@@ -65,17 +66,34 @@ ImageF render_cuda(gpu::Context& ctx, const EncodedScene& enc, const RenderPlan&
   });
 }
 
-ImageF render_cuda(const Scene& scene, const RenderOptions& options, RenderStats& st) {
+ImageF render_cuda(gpu::Context& ctx, const Scene& scene, const RenderOptions& options, RenderStats& st);
+
+// Filter layers on the device: their sources rendered on ctx (before the
+// frame's own build), their graphs by the CUDA executor.
+FilterExecutor cuda_filters(gpu::Context& ctx) {
+  return FilterExecutor{[&ctx](const Scene& s, const RenderOptions& so) {
+                          RenderStats ignored;
+                          return render_cuda(ctx, s, so, ignored);
+                        },
+                        [](const FilterLayer& l) { return gpu::run_filter_cuda(l); }};
+}
+
+ImageF render_cuda(gpu::Context& ctx, const Scene& scene, const RenderOptions& options, RenderStats& st) {
   const auto t_all = std::chrono::steady_clock::now();
   RenderOptions o = options;
   o.aliased_paths = o.aliased_paths || has_aliased_paths(scene);
   const RenderPlan plan = plan_render(o);
-  const EncodedScene enc = encode_for(scene, plan, o.gamma, &st);
+  const FilterExecutor filters = cuda_filters(ctx);
+  const EncodedScene enc = encode_for(scene, plan, o.gamma, &st, &filters);
   const double encode_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_all).count();
-  gpu::Context ctx;
   ImageF img = render_cuda(ctx, enc, plan, o, st);
   st.total_ms += encode_ms;
   return img;
+}
+
+ImageF render_cuda(const Scene& scene, const RenderOptions& options, RenderStats& st) {
+  gpu::Context ctx;
+  return render_cuda(ctx, scene, options, st);
 }
 
 }  // namespace

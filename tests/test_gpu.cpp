@@ -687,3 +687,59 @@ TEST_CASE("filter executors: every primitive gives the same layer on the GPU as 
     CHECK(worst <= 1.0f / 1024);
   }
 }
+
+TEST_CASE("filter effects render alike through the CPU and the CUDA backends", "[gpu][filter]") {
+  // A random clip scene as the source of a blur, offset and flood merged,
+  // nested in a second filter's source, under the cardinal and box filters.
+  for (uint32_t seed : {3u, 9u}) {
+    const Scene inner = random_scenes::clip_scene(seed, 3, 128, true);
+    FilterEffect f;
+    f.source = std::make_shared<const Scene>(inner);
+    f.region = FilterRect{-10, -10, 140, 140};
+    FilterPrimitive blur;
+    blur.kind = FilterKind::GaussianBlur;
+    blur.std_dev_x = 2.5, blur.std_dev_y = 1.0;
+    blur.subregion = f.region;
+    FilterPrimitive off;
+    off.kind = FilterKind::Offset;
+    off.in = 0;
+    off.dx = 6, off.dy = -4;
+    off.subregion = f.region;
+    FilterPrimitive flood;
+    flood.kind = FilterKind::Flood;
+    flood.subregion = FilterRect{0, 0, 40, 120};
+    const float c[4] = {0.9f, 0.2f, 0.1f, 0.4f};
+    std::copy(c, c + 4, flood.color);
+    FilterPrimitive merge;
+    merge.kind = FilterKind::Merge;
+    merge.inputs = {2, 1, FILTER_SOURCE_GRAPHIC};
+    merge.subregion = f.region;
+    f.primitives = {blur, off, flood, merge};
+    SceneBuilder b(128, 128);
+    Paint fp;
+    fp.type = PaintType::Filter;
+    fp.index = b.add_filter(f);
+    b.fill(b.add_geometry(Path::rectangle(-10, -10, 130, 130)), Affine{}, FillRule::NonZero, fp);
+    const Scene scene = b.finish();
+    for (int preset = 0; preset < 2; preset++) {
+      RenderOptions o;
+      o.width = o.height = 128;
+      o.samples = 32;
+      o.filter = preset ? Filter::Cardinal : Filter::Box;
+      o.pattern = preset ? PatternKind::BlueNoise : PatternKind::Stratified;
+      o.gamma = preset ? Gamma::Linear : Gamma::Srgb;
+      o.backend = Backend::Cpu;
+      const ImageF cpu = render(scene, o);
+      o.backend = Backend::Cuda;
+      const ImageF gpu = render(scene, o);
+      REQUIRE(cpu.rgba.size() == gpu.rgba.size());
+      float worst = 0;
+      for (size_t i = 0; i < cpu.rgba.size(); i++) worst = std::max(worst, std::fabs(cpu.rgba[i] - gpu.rgba[i]));
+      INFO("seed " << seed << ", preset " << preset << ": worst difference " << worst);
+      CHECK(worst <= 1.0f / 255);
+      float sum = 0;
+      for (float v : gpu.rgba) sum += v;
+      CHECK(sum > 0);
+    }
+  }
+}
