@@ -116,9 +116,11 @@ FilterLayer filter_layer(const FilterEffect& f, const RenderOptions& o, const La
     op.box = intersect(pixel_box(p.subregion, lm), region);
     op.linear = p.linear_rgb ? 1 : 0;
     premultiplied(p.color, p.linear_rgb, op.color);
+    // Offsets move by whole pixels, truncated toward zero (as resvg does; a
+    // half-pixel shift would resample the layer).
     const Vec2 d = lm.apply_linear({p.dx, p.dy});
-    op.dx = static_cast<float>(d.x);
-    op.dy = static_cast<float>(d.y);
+    op.dx = static_cast<float>(std::trunc(std::clamp(d.x, -1e7, 1e7)));
+    op.dy = static_cast<float>(std::trunc(std::clamp(d.y, -1e7, 1e7)));
     op.std_x = static_cast<float>(std::max(0.0, p.std_dev_x) * sx);
     op.std_y = static_cast<float>(std::max(0.0, p.std_dev_y) * sy);
     op.edge = static_cast<uint32_t>(p.edge_mode);
@@ -136,8 +138,8 @@ FilterLayer filter_layer(const FilterEffect& f, const RenderOptions& o, const La
         op.fparam[c][0] = tf.amplitude, op.fparam[c][1] = tf.exponent, op.fparam[c][2] = tf.offset;
     }
     op.dilate = p.dilate ? 1 : 0;
-    op.rx = static_cast<int>(std::lround(std::min(1e6, std::max(0.0, p.radius_x) * sx)));
-    op.ry = static_cast<int>(std::lround(std::min(1e6, std::max(0.0, p.radius_y) * sy)));
+    op.rx = static_cast<int>(std::ceil(std::min(1e6, std::max(0.0, p.radius_x) * sx) - 1e-9));
+    op.ry = static_cast<int>(std::ceil(std::min(1e6, std::max(0.0, p.radius_y) * sy) - 1e-9));
     op.inputs_begin = static_cast<uint32_t>(l.inputs.size());
     op.inputs_count = static_cast<uint32_t>(p.inputs.size());
     l.inputs.insert(l.inputs.end(), p.inputs.begin(), p.inputs.end());

@@ -56,7 +56,7 @@ struct FilterOp {
   FilterBox box;
   uint32_t linear = 1;  // colour space: linearRGB (1) or sRGB (0)
   float color[4] = {0, 0, 0, 0};  // Flood, DropShadow: premultiplied in the op's space
-  float dx = 0, dy = 0;           // Offset, DropShadow: pixels
+  float dx = 0, dy = 0;           // Offset, DropShadow: whole pixels
   float std_x = 0, std_y = 0;     // GaussianBlur, DropShadow: pixels
   uint32_t edge = FEDGE_NONE;
   uint32_t mode = 0;              // Blend: BlendModeCode; Composite: FilterCompositeOp
@@ -67,7 +67,7 @@ struct FilterOp {
   uint32_t func[4] = {0, 0, 0, 0};
   uint32_t table_begin[4] = {0, 0, 0, 0}, table_size[4] = {0, 0, 0, 0};
   float fparam[4][3] = {{1, 0, 0}, {1, 0, 0}, {1, 0, 0}, {1, 0, 0}};
-  int rx = 0, ry = 0;             // Morphology: window radius in pixels
+  int rx = 0, ry = 0;             // Morphology: half the window's sides in pixels
   uint32_t dilate = 0;
   FilterBox tile;                 // Tile: the input's box
   uint32_t inputs_begin = 0, inputs_count = 0;  // Merge: nodes in the layer's input array, bottom first
@@ -286,14 +286,17 @@ MPVG_HD_INLINE int filter_box_sizes(float s, int size[3], int lead[3]) {
 }
 
 // feMorphology (§15.20): the per-channel minimum (erode) or maximum
-// (dilate) of the premultiplied pixels over the (2 rx + 1) x (2 ry + 1)
-// window, transparent black outside the input's box.
+// (dilate) of the premultiplied pixels over the spec's 2 rx x 2 ry window,
+// [x - rx, x + rx - 1] (its target the pixel at half the width, as
+// resvg has it), transparent black outside the input's box; a radius of 0
+// leaves that axis alone.
 MPVG_HD_INLINE Rgba4 filter_morphology(const FilterOp& op, const float* in, int width, const FilterBox& box, int x,
                                        int y) {
   const float init = op.dilate ? 0.0f : 1.0f;
   float m[4] = {init, init, init, init};
-  for (int j = y - op.ry; j <= y + op.ry; j++)
-    for (int i = x - op.rx; i <= x + op.rx; i++) {
+  const int y1 = op.ry > 0 ? y + op.ry - 1 : y, x1 = op.rx > 0 ? x + op.rx - 1 : x;
+  for (int j = y - op.ry; j <= y1; j++)
+    for (int i = x - op.rx; i <= x1; i++) {
       float p[4] = {0, 0, 0, 0};
       if (i >= box.x0 && i < box.x1 && j >= box.y0 && j < box.y1) {
         const Rgba4 q = filter_read(in, width, i, j);

@@ -10,6 +10,9 @@
 //                     transparency groups
 //   svg_image.cpp     <image>: rasters as texture paints, SVG documents
 //                     converted on their own and appended as vectors
+//   svg_filters.cpp   the filter property: filter elements and filter
+//                     functions resolved into the core's filter effects,
+//                     the element's content converted into their source
 //   svg_resources.cpp hrefs to bytes, gzip, image signatures (decoding in
 //                     svg_image_decode_oiio.cpp or svg_image_decode_png.cpp)
 //
@@ -67,6 +70,11 @@ constexpr int kMaxImageDepth = 8;
 // (SceneBuilder::append), so many images of a large document would
 // otherwise multiply it without bound.
 constexpr size_t kMaxEmbeddedSegments = 10'000'000;
+// Filter effects a document may hold, nested ones and those of embedded
+// documents included: each is an offscreen layer when rendered, and its
+// source a scene of its own (a use of a filtered element 10^5 times over
+// would otherwise take gigabytes before any rendering).
+constexpr size_t kMaxFilterEffects = 10'000;
 
 // Append: a whole scene (an SVG document of an <image>) replayed into the
 // stream (SceneBuilder::append). GroupBegin, GroupEnd: a transparency group
@@ -87,6 +95,11 @@ struct Op {
   bool stroke = false;
   uint32_t stroke_style = 0;
   bool aliased = false;  // Fill, Clip: drawn without antialiasing (ScenePath::aliased)
+  // Fill: a filter effect's result over its region (a paint of type
+  // Filter). It is not part of bounding boxes: an element's box is that of
+  // its content, whatever its filter (SVG 2 coords.html#BoundingBoxes);
+  // the content's geometry stays as bounds-only operations beside it.
+  bool filter = false;
 
   static Op of(OpKind k) {
     Op op;
@@ -192,6 +205,7 @@ struct Context {
   double parent_opacity = 1;
   std::string parent_clip_path;
   std::string parent_mask;
+  std::string parent_filter;
   bool parent_display_none = false;
   bool in_clip = false;  // converting the content of a clipPath
 };
@@ -201,6 +215,7 @@ struct Style {
   double opacity = 1;
   std::string clip_path;  // specified value; empty or "none" for no clipping
   std::string mask;       // specified value; empty or "none" for no mask
+  std::string filter;     // specified value; empty or "none" for no filter
   BlendMode blend = BlendMode::Normal;  // mix-blend-mode
   bool isolate = false;                 // isolation: isolate
   bool display_none = false;
@@ -248,6 +263,25 @@ Prop<T> property(const Element& e, std::string_view name, Parse parse) {
   return p;
 }
 
+// The computed value on e of an inherited property: `initial` at the root,
+// then each element's own value from the top down. parse(text, inherited)
+// sees the value inherited from the parent.
+template <class T, class Parse>
+T inherited_property(const Element& e, const char* name, T initial, Parse parse) {
+  std::vector<const Element*> chain;
+  for (const Element* a = &e; a; a = a->parent) chain.push_back(a);
+  T value = initial;
+  for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+    const auto p = property<T>(**it, name, [&](std::string_view v) { return parse(v, value); });
+    if (p.state == Prop<T>::Set) value = p.value;
+  }
+  return value;
+}
+
+// The computed value of `color` on e: currentColor in it means the
+// parent's (CSS Color 4 §4.4), initially black.
+RGBA computed_color(const Element& e);
+
 // A keyword value, lower-cased; nullopt unless the value is one word.
 std::optional<std::string> parse_keyword(std::string_view s);
 
@@ -256,6 +290,9 @@ bool same(const Affine& l, const Affine& r);
 enum class Kind { Container, Shape, Use, Image, Text, Unsupported, Ignored };
 
 Kind classify(const Element& e);
+
+// One url() or filter function of a filter value (svg_filters.cpp).
+struct FilterItem;
 
 // A clip-path or mask value resolved to its target.
 struct ClipRef {
@@ -330,6 +367,12 @@ struct Session {
   std::unordered_set<const Element*> cut_masks;
   bool masks_checked = false;
   std::vector<const Element*> active_patterns;  // patterns whose tiles are being converted
+  // Filter effects whose sources are being converted, nested (at most
+  // kMaxFilterDepth), and the filter elements whose primitives are (an
+  // feImage that reaches its own filter again).
+  int filter_depth = 0;
+  std::vector<const Element*> active_filters;
+  size_t filter_effects = 0;  // made so far (kMaxFilterEffects)
   std::map<TileKey, Tile> tiles;
   size_t stroked_paths = 0;
   // Where relative hrefs resolve (the document's folder) and the folders
@@ -366,7 +409,6 @@ class Converter {
 
   Style compute_style(const Element& e, const Context& ctx);
   void stroke_style(const Element& e, Inherited& inh, Style& st);
-  void unsupported_reference(const Element& e, const char* name, const char* message);
   PaintSpec resolve_paint(const PaintValue& p, const RGBA& current, const std::string& what);
   Context child_context(const Style& st, const Affine& space, bool in_clip) const;
   // The context `e` is converted in when reached from its document
@@ -403,8 +445,9 @@ class Converter {
   // space `space`, with opacity `opacity`, as an index into paints_;
   // nullopt when it paints nothing.
   std::optional<uint32_t> make_paint(const PaintSpec& spec, double opacity, ShapeBox& bbox, const Affine& space);
-  // A paint server and the elements its href chain leads to, in order.
-  std::vector<const Element*> href_chain(const Element& e);
+  // A paint server (or filter) and the elements its href chain leads to,
+  // in order; `what` names them in the warning about a cycle.
+  std::vector<const Element*> href_chain(const Element& e, const char* what = "paint servers");
   // The font size of an element where it is defined (em lengths).
   double font_size_of(const Element& e);
   ServerPaint gradient_paint(const Element& g, ShapeBox& bbox, const Affine& space);
@@ -487,6 +530,9 @@ class Converter {
   };
   bool place(const Element& e, Kind kind, const Context& ctx, Placed& out);
   void render(const Element& e, const Context& ctx, int depth);
+  // What render() draws of an element, its own clip-path, mask, opacity
+  // and filter aside: a container's children, a use's target, a shape.
+  void draw_content(const Element& e, Kind kind, const Placed& pl, const Context& inner, int depth);
   bool conditions_pass(const Element& e) const;
   // Context elements (SVG 2 painting.html#TermContextElement): the shape a
   // marker is drawn for, the use element a tree is drawn by. contexts_
@@ -548,6 +594,46 @@ class Converter {
   struct LazyBounds;
   bool mask_ops(const Element& mask, const Affine& space, LazyBounds& bbox, int depth);
 
+  // ------------------------------------------------------------ filters (svg_filters.cpp)
+
+  // Draws the content of element `e` (style `st`, user space `space`)
+  // through its filter property. `draw` converts the content into the
+  // converter it is given: this one when there is no filter; with one, a
+  // converter of its own whose scene becomes the filter's source, while
+  // this one gets the content's bounds and the filter's result over its
+  // region. Returns false when the element is not rendered (its filter
+  // references nothing usable).
+  bool filter_content(const Element& e, const Style& st, const Affine& space, int depth,
+                      const std::function<void(Converter&)>& draw);
+  // The filter value's url()s and functions; nullopt when the element is
+  // drawn unfiltered (none, an invalid value, a recursion, too deep).
+  std::optional<std::vector<FilterItem>> filter_items(const Element& e, const Style& st);
+  // The effects of the items for content with box `bbox` (*invalid: a
+  // url() led nowhere usable).
+  std::vector<FilterEffect> filter_effects(const std::vector<FilterItem>& items, const Bounds& bbox,
+                                           const Affine& space, int depth, bool* invalid);
+  // Here: the bounds of fc's content, and the last effect's result over
+  // its region; fc's scene is the first one's source.
+  void filter_fill(Converter& fc, std::vector<FilterEffect> effects, const Affine& space);
+  // What a filter element's primitives are resolved against (svg_filters.cpp).
+  struct FilterSpace;
+  // Filter element `f` (its href chain resolved) applied to an element with
+  // bounding box `bbox` in user space `space`; nullopt when it is invalid.
+  std::optional<FilterEffect> filter_effect(const Element& f, const Bounds& bbox, const Affine& space, int depth);
+  // One primitive element into prims (nothing for elements that are not
+  // primitives); `results` maps result names to the latest primitive.
+  void filter_primitive(const Element& fe, const FilterSpace& fs, std::vector<FilterPrimitive>& prims,
+                        std::unordered_map<std::string, int32_t>& results);
+  int32_t filter_input(const Element& fe, const char* name, const std::vector<FilterPrimitive>& prims,
+                       const std::unordered_map<std::string, int32_t>& results);
+  FilterRect primitive_subregion(const Element& fe, const FilterSpace& fs, FilterKind kind,
+                                 const std::vector<int32_t>& referenced,
+                                 const std::vector<FilterPrimitive>& prims);
+  void fe_image(const Element& fe, const FilterSpace& fs, FilterPrimitive& p);
+  // A CSS filter function (Filter Effects 1 §"Filter Functions") as its
+  // primitive; nullopt when its arguments are invalid.
+  std::optional<FilterPrimitive> filter_function(std::string_view name, std::string_view args, const Style& st);
+
   // ------------------------------------------------------------ strokes (svg_strokes.cpp)
 
   std::optional<Op> shape_stroke(uint32_t shape, const Style& st, const Affine& space, ShapeBox& bbox);
@@ -581,6 +667,7 @@ class Converter {
   Session& s_;
   Affine device_;  // scene units to output pixels
   int level_ = 0;
+  double scene_w_ = 0, scene_h_ = 0;  // the size of the scene being converted, in its units
   size_t tile_encodings_ = 0;  // tile encodings this scene's pattern paints imply
 
   std::vector<Op> ops_;
@@ -590,6 +677,7 @@ class Converter {
   std::vector<Texture> textures_;    // Paint::index of texture paints
   std::vector<Scene> embedded_;      // Op::scene of Append operations
   std::vector<Group> groups_;        // Op::scene of GroupBegin operations
+  std::vector<FilterEffect> filters_;  // Paint::index of filter paints
   std::map<std::pair<const Scene*, std::array<double, 6>>, uint32_t> pattern_of_;  // patterns_ by tile and xf
   std::vector<Path> shapes_;
   // The styles of stroke operations (Op::stroke_style): the stroke stage

@@ -305,12 +305,16 @@ std::optional<Converter::Embedded> Converter::embed_document(const LoadedImage& 
     session.documents = s_.documents;
     if (!li.path.empty()) session.documents.push_back(li.path);
     session.images = s_.images;
-    // One budget of element instances for the whole document tree.
+    // One budget of element instances and filter effects for the whole
+    // document tree; filters nest across documents too.
     session.instances = s_.instances;
     session.embedded_segments = s_.embedded_segments;
+    session.filter_effects = s_.filter_effects;
+    session.filter_depth = s_.filter_depth;
     Converter conv(session, Affine{}, level_);
     out.scene = conv.run();
     s_.instances = session.instances;
+    s_.filter_effects = session.filter_effects;
     s_.stroked_paths += session.stroked_paths;
     for (std::string& w : warnings) warn(std::move(w));
     if (!sized) return std::nullopt;

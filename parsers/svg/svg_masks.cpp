@@ -116,11 +116,11 @@ bool Converter::group_content(const Element& e, size_t start, const Style& st, c
 }
 
 // Content with opacity 0 paints nothing; its shapes still count for
-// bounding boxes, as bounds-only operations.
+// bounding boxes, as bounds-only operations (a filter's region is no shape).
 void Converter::hide_content(size_t start) {
   std::vector<Op> kept;
   for_each_content(start, ops_.size(), [&](const Op& op) {
-    if (op.kind != OpKind::Fill && op.kind != OpKind::Bounds) return;
+    if ((op.kind != OpKind::Fill && op.kind != OpKind::Bounds) || op.filter) return;
     kept.push_back(op);
     kept.back().kind = OpKind::Bounds;
   });

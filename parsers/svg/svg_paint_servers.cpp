@@ -79,31 +79,6 @@ Spread parse_spread(const std::string* v) {
   return Spread::Pad;
 }
 
-// The computed value on e of an inherited property: `initial` at the root,
-// then each element's own value from the top down. parse(text, inherited)
-// sees the value inherited from the parent.
-template <class T, class Parse>
-T inherited_property(const Element& e, const char* name, T initial, Parse parse) {
-  std::vector<const Element*> chain;
-  for (const Element* a = &e; a; a = a->parent) chain.push_back(a);
-  T value = initial;
-  for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
-    const auto p = property<T>(**it, name, [&](std::string_view v) { return parse(v, value); });
-    if (p.state == Prop<T>::Set) value = p.value;
-  }
-  return value;
-}
-
-// The computed value of `color` on e: currentColor in it means the
-// parent's (CSS Color 4 §4.4), initially black.
-RGBA computed_color(const Element& e) {
-  return inherited_property<RGBA>(e, "color", RGBA{0, 0, 0, 1},
-                                  [](std::string_view v, const RGBA& parent) -> std::optional<RGBA> {
-                                    if (iequals(trim(v), "currentColor")) return parent;
-                                    return parse_color(v);
-                                  });
-}
-
 // stop-color and stop-opacity are not inherited (SVG 1.1 §13.2.4, SVG 2
 // pservers.html#StopColorProperty): an element's value is its own, or the
 // initial one (black, 1); "inherit" takes the parent's.
@@ -166,12 +141,22 @@ std::array<double, 6> coefficients(const Affine& m) { return {m.a, m.b, m.c, m.d
 
 }  // namespace
 
+// The computed value of `color` on e: currentColor in it means the
+// parent's (CSS Color 4 §4.4), initially black.
+RGBA computed_color(const Element& e) {
+  return inherited_property<RGBA>(e, "color", RGBA{0, 0, 0, 1},
+                                  [](std::string_view v, const RGBA& parent) -> std::optional<RGBA> {
+                                    if (iequals(trim(v), "currentColor")) return parent;
+                                    return parse_color(v);
+                                  });
+}
+
 bool TileKey::operator<(const TileKey& o) const {
   return std::tie(pattern, content, device, width, height, stack) <
          std::tie(o.pattern, o.content, o.device, o.width, o.height, o.stack);
 }
 
-std::vector<const Element*> Converter::href_chain(const Element& e) {
+std::vector<const Element*> Converter::href_chain(const Element& e, const char* what) {
   std::vector<const Element*> chain{&e};
   for (;;) {
     const Element& last = *chain.back();
@@ -188,7 +173,7 @@ std::vector<const Element*> Converter::href_chain(const Element& e) {
     const Element* t = find(*id);
     if (!t) break;
     if (std::find(chain.begin(), chain.end(), t) != chain.end()) {
-      warn("recursive href between paint servers: the chain ends where it repeats");
+      warn(std::string("recursive href between ") + what + ": the chain ends where it repeats");
       break;
     }
     chain.push_back(t);
@@ -453,6 +438,8 @@ Scene Converter::convert_tile(const Element& content, const Affine& content_xf, 
   // §13.3).
   const Style st = compute_style(content, document_context(content, false));
   const Context ctx = child_context(st, content_xf, false);
+  scene_w_ = width;
+  scene_h_ = height;
   for (const auto& c : content.children) render(*c, ctx, 1);
   SceneBuilder b(width, height);
   emit(b);

@@ -66,6 +66,8 @@ Scene Converter::run() {
   const double width = side("width", vb ? vb->w : 0);
   const double height = side("height", vb ? vb->h : 0);
   SceneBuilder builder(width, height);
+  scene_w_ = width;
+  scene_h_ = height;
   device_ = s_.options.view ? s_.options.view(width, height)
                             : Affine::scale(s_.options.device_scale, s_.options.device_scale);
   // A zero-sized viewport or viewBox disables rendering (SVG 2 geometry properties
@@ -390,6 +392,16 @@ void Converter::render(const Element& e, const Context& ctx, int depth) {
 
   const size_t start = ops_.size();
   const Context inner = child_context(st, space, false);
+  // CSS Masking 1 §1 and Compositing 1 §3: filter, clip, mask, opacity,
+  // then blending.
+  if (!filter_content(e, st, space, depth, [&](Converter& c) { c.draw_content(e, kind, pl, inner, depth); })) return;
+  if (!group_content(e, start, st, space, depth)) return;
+  if (clip.state == ClipRef::Valid) clip_content(start, *clip.element, space, depth);
+}
+
+void Converter::draw_content(const Element& e, Kind kind, const Placed& pl, const Context& inner, int depth) {
+  const Style& st = pl.st;
+  const Affine& space = pl.space;
   s_.active.push_back(&e);
   switch (kind) {
     case Kind::Container:
@@ -411,9 +423,10 @@ void Converter::render(const Element& e, const Context& ctx, int depth) {
       // The use is its tree's context element. Its box, for context
       // paints from servers, is its tree's: drawn once to measure it, then
       // again with it.
-      auto draw = [&, target = target] {  // a copy: clang before 16 cannot capture a structured binding
-        if (target->name == "symbol" || target->name == "svg") render_viewport(*target, inner, depth + 1, &e);
-        else render(*target, inner, depth + 1);
+      auto draw = [&] {
+        const Element& target = *pl.target;
+        if (target.name == "symbol" || target.name == "svg") render_viewport(target, inner, depth + 1, &e);
+        else render(target, inner, depth + 1);
       };
       contexts_.push_back({st.inh.fill, st.inh.stroke, space, std::nullopt});
       const int saved_context = context_;
@@ -435,10 +448,6 @@ void Converter::render(const Element& e, const Context& ctx, int depth) {
     default: shape_paint(e, st, space, depth); break;
   }
   s_.active.pop_back();
-
-  // CSS Masking 1 §1 and Compositing 1 §3: clip, mask, opacity, then blending.
-  if (!group_content(e, start, st, space, depth)) return;
-  if (clip.state == ClipRef::Valid) clip_content(start, *clip.element, space, depth);
 }
 
 // A shape's fill and stroke, in the order of paint-order. The fill
@@ -484,8 +493,9 @@ Bounds Converter::content_bounds(size_t begin, size_t end, const Affine& space) 
   Bounds b;
   const Affine inv = space.inverted();
   for_each_content(begin, end, [&](const Op& op) {
-    // An embedded document's box is its <image>'s, a Bounds operation.
-    if (op.stroke || op.kind == OpKind::Append) return;
+    // An embedded document's box is its <image>'s, a Bounds operation; a
+    // filter's region is no box at all.
+    if (op.stroke || op.filter || op.kind == OpKind::Append) return;
     add_path_bounds(shapes_[op.shape], same(op.xf, space) ? Affine{} : inv * op.xf, b);
   });
   return b;
@@ -605,6 +615,17 @@ void Converter::emit(SceneBuilder& b) {
   for (Gradient& g : gradients_) b.add_gradient(std::move(g));
   for (Pattern& p : patterns_) b.add_pattern(std::move(p));
   for (Texture& t : textures_) b.add_texture(std::move(t));
+  // Filter effects on first use: an effect whose fill was dropped (a use
+  // drawn once to measure it) would carry its whole source for nothing.
+  std::vector<int64_t> filter(filters_.size(), -1);
+  auto paint_of = [&](uint32_t paint) {
+    Paint p = paints_[paint];
+    if (p.type == PaintType::Filter) {
+      if (filter[p.index] < 0) filter[p.index] = b.add_filter(std::move(filters_[p.index]));
+      p.index = static_cast<uint32_t>(filter[p.index]);
+    }
+    return p;
+  };
   std::vector<int64_t> geometry(shapes_.size(), -1);
   auto geometry_of = [&](uint32_t shape) {
     if (geometry[shape] < 0) geometry[shape] = b.add_geometry(std::move(shapes_[shape]));
@@ -617,9 +638,9 @@ void Converter::emit(SceneBuilder& b) {
       case OpKind::Pop: b.pop(); break;
       case OpKind::Fill:
         if (op.stroke)
-          b.stroke(geometry_of(op.shape), op.xf, stroke_styles_[op.stroke_style], paints_[op.paint], op.aliased);
+          b.stroke(geometry_of(op.shape), op.xf, stroke_styles_[op.stroke_style], paint_of(op.paint), op.aliased);
         else
-          b.fill(geometry_of(op.shape), op.xf, op.rule, paints_[op.paint], op.aliased);
+          b.fill(geometry_of(op.shape), op.xf, op.rule, paint_of(op.paint), op.aliased);
         break;
       case OpKind::Clip: b.clip(geometry_of(op.shape), op.xf, op.rule, op.aliased); break;
       case OpKind::Append: b.append(embedded_[op.scene], op.xf); break;

@@ -475,7 +475,14 @@ Style Converter::compute_style(const Element& e, const Context& ctx) {
     const auto fill = property<PaintValue>(e, "fill", parse_paint);
     if (fill.state == Prop<PaintValue>::Set) inh.fill = resolve_paint(fill.value, inh.color, "fill");
     stroke_style(e, inh, st);
-    unsupported_reference(e, "filter", "filters are not supported: filter ignored");
+    // filter (Filter Effects 1, not inherited): a clipPath's content
+    // ignores it (CSS Masking 1, the clipPath element), so it is read only
+    // here; svg_filters.cpp parses the value.
+    const auto filter = property<std::string>(
+        e, "filter", [](std::string_view v) { return std::optional<std::string>(std::string(trim(v))); });
+    st.filter = filter.state == Prop<std::string>::Set       ? filter.value
+                : filter.state == Prop<std::string>::Inherit ? ctx.parent_filter
+                                                             : std::string();
     // Markers (inherited): none or a url; the marker shorthand sets all
     // three, from style sheets and the style attribute only (it is not a
     // presentation attribute).
@@ -663,12 +670,6 @@ void Converter::stroke_style(const Element& e, Inherited& inh, Style& st) {
   st.non_scaling_stroke = ve.state == Prop<std::string>::Set && ve.value == "non-scaling-stroke";
 }
 
-void Converter::unsupported_reference(const Element& e, const char* name, const char* message) {
-  const auto v = property<std::string>(
-      e, name, [](std::string_view t) { return std::optional<std::string>(std::string(trim(t))); });
-  if (v.state == Prop<std::string>::Set && !iequals(v.value, "none")) warn(message);
-}
-
 // Resolves a fill or stroke paint (SVG 2 painting.html#SpecifyingPaint);
 // `current` is the element's color, for currentColor. `what` names the
 // property in warnings. A reference to a linearGradient, radialGradient or
@@ -733,6 +734,7 @@ Context Converter::child_context(const Style& st, const Affine& space, bool in_c
   c.parent_opacity = st.opacity;
   c.parent_clip_path = st.clip_path;
   c.parent_mask = st.mask;
+  c.parent_filter = st.filter;
   c.parent_display_none = st.display_none;
   c.in_clip = in_clip;
   return c;

@@ -62,25 +62,30 @@ void Converter::render_viewport(const Element& e, const Context& ctx, int depth,
   const bool clipped = clips_overflow(e);
 
   const size_t start = ops_.size();
-  if (clipped) {
-    ops_.push_back(Op::of(OpKind::Push));
-    Op c = Op::of(OpKind::Clip);
-    c.shape = rect_shape({x, y, w, h});
-    c.xf = space;
-    ops_.push_back(c);
-    ops_.push_back(Op::of(OpKind::Activate));
-  }
-  const double saved_w = s_.percent_w, saved_h = s_.percent_h;
-  s_.percent_w = vb ? vb->w : w;
-  s_.percent_h = vb ? vb->h : h;
-  const Context inner = child_context(st, content, false);
-  s_.active.push_back(&e);
-  for (const auto& c : e.children) render(*c, inner, depth + 1);
-  s_.active.pop_back();
-  s_.percent_w = saved_w;
-  s_.percent_h = saved_h;
-  if (clipped) ops_.push_back(Op::of(OpKind::Pop));
-
+  // The viewport clip is part of what the element draws: a filter on the
+  // element takes the clipped content as its source. (pl's members, not
+  // the bindings: clang before 16 cannot capture a structured binding.)
+  auto draw = [&](Converter& c) {
+    if (clipped) {
+      c.ops_.push_back(Op::of(OpKind::Push));
+      Op clip_op = Op::of(OpKind::Clip);
+      clip_op.shape = c.rect_shape({x, y, w, h});
+      clip_op.xf = pl.space;
+      c.ops_.push_back(clip_op);
+      c.ops_.push_back(Op::of(OpKind::Activate));
+    }
+    const double saved_w = s_.percent_w, saved_h = s_.percent_h;
+    s_.percent_w = vb ? vb->w : w;
+    s_.percent_h = vb ? vb->h : h;
+    const Context inner = child_context(pl.st, content, false);
+    s_.active.push_back(&e);
+    for (const auto& child : e.children) c.render(*child, inner, depth + 1);
+    s_.active.pop_back();
+    s_.percent_w = saved_w;
+    s_.percent_h = saved_h;
+    if (clipped) c.ops_.push_back(Op::of(OpKind::Pop));
+  };
+  if (!filter_content(e, st, space, depth, draw)) return;
   if (!group_content(e, start, st, space, depth)) return;
   if (clip.state == ClipRef::Valid) clip_content(start, *clip.element, space, depth);
 }
