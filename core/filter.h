@@ -58,10 +58,11 @@ enum class FilterKind : uint8_t {
 };
 
 // Inputs: >= 0 the result of an earlier primitive of the graph; otherwise
-// one of these. BackgroundImage and BackgroundAlpha are transparent black
-// (as in browsers); FillPaint and StrokePaint are the element's fill and
-// stroke paints flooding the region (their colours; paint servers as
-// transparent black), as Chromium and resvg treat them.
+// one of these. BackgroundImage and BackgroundAlpha are transparent black;
+// FillPaint and StrokePaint flood the layer with FilterEffect::fill_paint
+// and stroke_paint. (The SVG frontend maps all four to SourceGraphic, as
+// resvg's references show; the core keeps their meaning for frontends that
+// have them.)
 enum FilterInput : int32_t {
   FILTER_SOURCE_GRAPHIC = -1,
   FILTER_SOURCE_ALPHA = -2,
