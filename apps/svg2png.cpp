@@ -199,6 +199,8 @@ int run(const cli::Options& opt, const Document& source, Renderers& renderers, c
   RenderStats stats;
   const RenderPlan plan = plan_render(ro);
   const EncodedScene enc = encode_for(doc.scene, plan, ro.gamma, &stats);
+  if (!opt.quiet)
+    for (const std::string& w : stats.warnings) std::fprintf(err, "svg2png: warning: %s\n", w.c_str());
 
   // The backend.
   FrameRenderer* gpu = nullptr;
@@ -427,6 +429,7 @@ int run_batch(const cli::Options& opt, Renderers& renderers) {
     if (!cuda) job->options.threads = 1;
     job->plan = plan_render(job->options);
     job->scene = encode_for(doc.scene, job->plan, job->options.gamma, &job->stats);
+    job->warnings.insert(job->warnings.end(), job->stats.warnings.begin(), job->stats.warnings.end());
     job->prepare_ms[1] = ms_since(t1) - job->stats.encode_ms;
     return job;
   };

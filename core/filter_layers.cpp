@@ -88,7 +88,9 @@ FilterLayer filter_layer(const FilterEffect& f, const RenderOptions& o, const La
   FilterBox b = intersect(pixel_box(f.region, m), grown);
   if (empty(b)) return l;
   // The memory cap: cut the box around the output's centre.
-  while (static_cast<uint64_t>(b.x1 - b.x0) * static_cast<uint64_t>(b.y1 - b.y0) > kMaxFilterLayerPixels) {
+  const uint64_t max_pixels =
+      std::min<uint64_t>(kMaxFilterLayerPixels, kMaxFilterBytes / (16 * (f.primitives.size() + 4)));
+  while (static_cast<uint64_t>(b.x1 - b.x0) * static_cast<uint64_t>(b.y1 - b.y0) > max_pixels) {
     if (warning) *warning = "filter region too large for a layer: cut to the pixels nearest the output";
     const int cx = o.width / 2, cy = o.height / 2;
     if (b.x1 - b.x0 >= b.y1 - b.y0) {
@@ -217,6 +219,25 @@ FilterLayer filter_layer(const FilterEffect& f, const RenderOptions& o, const La
     if (p.kind == FilterKind::Image) op.image = static_cast<uint32_t>(l.images.size()), l.images.push_back(ImageF{}),
                                      l.image_linear.push_back(0);
     l.ops.push_back(op);
+  }
+  // The time cap: pixels each op reads, over its box.
+  double reads = 0;
+  for (const FilterOp& op : l.ops) {
+    const double px = double(op.box.x1 - op.box.x0) * double(op.box.y1 - op.box.y0) + double(l.width) * l.height;
+    double per = 4;
+    auto blur_reads = [](float s) {
+      int size[3], lead[3];
+      return !(s > 0) ? 0.0 : s >= 2.0f ? 3.0 * filter_box_sizes(s, size, lead) + 3 : 6.0 * s + 1;
+    };
+    if (op.kind == FOP_GAUSSIAN_BLUR || op.kind == FOP_DROP_SHADOW) per += blur_reads(op.std_x) + blur_reads(op.std_y);
+    if (op.kind == FOP_MORPHOLOGY) per += 2.0 * op.rx + 2.0 * op.ry;
+    if (op.kind == FOP_CONVOLVE_MATRIX) per += double(op.order_x) * op.order_y;
+    if (op.kind == FOP_TURBULENCE) per += 16.0 * op.octaves;
+    reads += px * per;
+  }
+  if (reads > kMaxFilterReads) {
+    if (warning) *warning = "filter effect too costly (blur, morphology or convolution windows over a large layer): not drawn";
+    return FilterLayer{};
   }
   // feImage's pictures: an element rendered over the layer like the
   // source, a raster resampled (bilinear, premultiplied) into its box.

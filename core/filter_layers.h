@@ -28,8 +28,14 @@ namespace mpvg {
 
 struct RenderOptions;
 
-// Layers larger than this are cut to it (about 4x a 4K frame).
+// Layers larger than this are cut to it (about 4x a 4K frame), and to what
+// kMaxFilterBytes holds of the graph's results (16 bytes a pixel each).
 constexpr uint64_t kMaxFilterLayerPixels = uint64_t(1) << 25;
+constexpr uint64_t kMaxFilterBytes = uint64_t(1) << 30;
+// A graph whose ops would read more pixels than this (blur windows,
+// morphology windows, convolution kernels, summed over their boxes) is not
+// run: the filter draws nothing, with a warning (a bounded time, not a hang).
+constexpr double kMaxFilterReads = 2e10;
 
 // One filter effect resolved to pixels: what an executor runs.
 struct FilterLayer {

@@ -75,7 +75,7 @@ EncodedScene encode_for(const Scene& scene, const RenderPlan& plan, Gamma gamma,
     const Scene resolved = resolve_filters(scene, o, ex.render, ex.run, &warnings);
     EncodedScene enc = encode(resolved, plan.view, gamma);
     if (stats) {
-      for (const std::string& w : warnings) stats->note += (stats->note.empty() ? "" : "; ") + w;
+      stats->warnings.insert(stats->warnings.end(), warnings.begin(), warnings.end());
       stats->encode_ms += ms_since(t0);
     }
     return enc;

@@ -41,6 +41,7 @@ struct RenderOptions {
 struct RenderStats {
   std::string backend;  // "cpu" or "cuda"
   std::string note;     // e.g. why auto fell back to the CPU
+  std::vector<std::string> warnings;  // what the user should hear of (filter layers cut or not drawn)
   double encode_ms = 0, stroke_ms = 0, abstract_ms = 0, subdivide_ms = 0, prune_ms = 0, schedule_ms = 0, sample_ms = 0;
   double total_ms = 0;
   double png_ms = 0;  // FrameRenderer::render_png's PNG stage (with CUDA: its kernels, timed on the device)

@@ -498,3 +498,50 @@ TEST_CASE("filter primitives: feTurbulence is deterministic, bounded and stitche
       CHECK(v0 == Approx(v1).margin(1e-9));
     }
 }
+
+TEST_CASE("filter effects stay bounded: huge layers are cut, costly graphs refused", "[filter]") {
+  SceneBuilder src(10, 10);
+  Paint red;
+  red.color = RGBA{1, 0, 0, 1};
+  src.fill(src.add_geometry(Path::rectangle(0, 0, 10, 10)), Affine{}, FillRule::NonZero, red);
+  FilterEffect f;
+  f.source = std::make_shared<const Scene>(src.finish());
+  f.region = FilterRect{-1e6, -1e6, 2e6, 2e6};
+  FilterPrimitive big;
+  big.kind = FilterKind::ConvolveMatrix;
+  big.order_x = big.order_y = 1000;
+  big.target_x = big.target_y = 500;
+  big.kernel.assign(1000000, 1.0f);
+  big.subregion = f.region;
+  f.primitives = {big};
+  RenderOptions o;
+  o.width = o.height = 2000;
+  o.samples = 8;
+  o.threads = 2;
+  int renders = 0;
+  const LayerRenderer render = [&](const Scene& s, const RenderOptions& so) {
+    renders++;
+    return render_cpu(s, so);
+  };
+  std::string warning;
+  FilterBox box;
+  FilterLayer l = filter_layer(f, o, render, box, &warning);
+  CHECK(l.width == 0);  // 4 million pixels x 1 million taps: refused before the source is rendered
+  CHECK(renders == 0);
+  CHECK(warning.find("too costly") != std::string::npos);
+  // A flood over a region far larger than the output: the layer is cut
+  // to the output (plus nothing: a flood reaches no further).
+  FilterPrimitive flood;
+  flood.kind = FilterKind::Flood;
+  flood.subregion = f.region;
+  f.primitives = {flood};
+  warning.clear();
+  l = filter_layer(f, o, render, box, &warning);
+  CHECK(l.width == 2000);
+  CHECK(l.height == 2000);
+  // 20,000 ops: the memory cap cuts the layer to what their results hold.
+  f.primitives.assign(20000, flood);
+  l = filter_layer(f, o, render, box, &warning);
+  CHECK(uint64_t(l.width) * l.height * 16 * (20000 + 4) <= kMaxFilterBytes);
+  CHECK(warning.find("too large") != std::string::npos);
+}
