@@ -251,6 +251,11 @@ struct State {
   // Renders one item in a frame of its own; the error message, or empty.
   std::string render_one(FrameRenderer& renderer, Job& job, std::vector<uint8_t> storage) {
     try {
+      if (job.filtered) {
+        job.scene = renderer.encode(*job.filtered, job.plan, job.options, &job.stats);
+        job.filtered.reset();
+        job.warnings.insert(job.warnings.end(), job.stats.warnings.begin(), job.stats.warnings.end());
+      }
       if (c.bits == 16)
         job.image = renderer.render(job.scene, job.options, &job.stats);
       else if (png_on_device(renderer)) {
@@ -313,8 +318,8 @@ struct State {
           started[j.index] = Clock::now() - it->second;
           spent.erase(it);
         }
-      } while (c.bits == 8 && !to_render.empty() && budget.add(c, *jobs.front(), *jobs.back()) &&
-               budget.fits(*jobs.front(), *to_render.top()));
+      } while (c.bits == 8 && !to_render.empty() && !jobs.front()->filtered && !to_render.top()->filtered &&
+               budget.add(c, *jobs.front(), *jobs.back()) && budget.fits(*jobs.front(), *to_render.top()));
       // Buffers of written items for the 8-bit images (fresh memory costs a
       // page fault per 4 KiB while the copy fills it: a forest frame without
       // them took 16-17 ms of its render thread a pgfmanual page, 12-13

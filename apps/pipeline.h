@@ -29,6 +29,10 @@ struct Job {
   RenderOptions options;
   RenderPlan plan;
   EncodedScene scene;
+  // A scene with filter effects, left for the render thread to encode (its
+  // renderer renders their layers, on its device with CUDA); scene is
+  // empty until then.
+  std::shared_ptr<const Scene> filtered;
   ImageF image;               // --bits 16
   std::vector<uint8_t> rgba8; // --bits 8 (converted where it was rendered)
   png::ImageData png;         // --bits 8, compressed where it was rendered (level 1 on the GPU)

@@ -198,9 +198,11 @@ int run(const cli::Options& opt, const Document& source, Renderers& renderers, c
   ro.aliased_paths = has_aliased_paths(doc.scene);
   RenderStats stats;
   const RenderPlan plan = plan_render(ro);
-  const EncodedScene enc = encode_for(doc.scene, plan, ro.gamma, &stats);
-  if (!opt.quiet)
-    for (const std::string& w : stats.warnings) std::fprintf(err, "svg2png: warning: %s\n", w.c_str());
+  // Filter effects render layers while encoding: a filtered scene is encoded
+  // once the backend is chosen, by its renderer (on the device with CUDA).
+  const bool filtered = has_filters(doc.scene);
+  EncodedScene enc;
+  if (!filtered) enc = encode_for(doc.scene, plan, ro.gamma, &stats);
 
   // The backend.
   FrameRenderer* gpu = nullptr;
@@ -211,7 +213,7 @@ int run(const cli::Options& opt, const Document& source, Renderers& renderers, c
     if (!gpu) throw Error("CUDA backend unavailable: " + why);
   } else if (opt.backend == Backend::Auto) {
     CostInputs in;
-    in.input_segments = enc.input_segment_count;
+    in.input_segments = filtered ? doc.scene.segment_count() : enc.input_segment_count;
     in.unit_areas = double(plan.frame.ua_w) * plan.frame.ua_h;
     in.samples = plan.integ.samples;
     in.support = plan.integ.support;
@@ -244,6 +246,9 @@ int run(const cli::Options& opt, const Document& source, Renderers& renderers, c
       choice_note = "auto chose CUDA: " + choice.why;
     }
   }
+  if (filtered) enc = gpu ? gpu->encode(doc.scene, plan, ro, &stats) : encode_for(doc.scene, plan, ro.gamma, &stats);
+  if (!opt.quiet)
+    for (const std::string& w : stats.warnings) std::fprintf(err, "svg2png: warning: %s\n", w.c_str());
   io.checkpoint("before rendering");
   const auto t_render = Clock::now();
   std::vector<uint8_t> rgba8;
@@ -428,8 +433,12 @@ int run_batch(const cli::Options& opt, Renderers& renderers) {
     job->options.aliased_paths = has_aliased_paths(doc.scene);
     if (!cuda) job->options.threads = 1;
     job->plan = plan_render(job->options);
-    job->scene = encode_for(doc.scene, job->plan, job->options.gamma, &job->stats);
-    job->warnings.insert(job->warnings.end(), job->stats.warnings.begin(), job->stats.warnings.end());
+    if (cuda && has_filters(doc.scene)) {
+      job->filtered = std::make_shared<const Scene>(std::move(doc.scene));  // layers on the render thread's device
+    } else {
+      job->scene = encode_for(doc.scene, job->plan, job->options.gamma, &job->stats);
+      job->warnings.insert(job->warnings.end(), job->stats.warnings.begin(), job->stats.warnings.end());
+    }
     job->prepare_ms[1] = ms_since(t1) - job->stats.encode_ms;
     return job;
   };

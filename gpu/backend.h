@@ -40,6 +40,11 @@ class FrameRenderer {
   Backend backend() const;  // Cpu or Cuda
   int device() const;
   const std::string& note() const;  // why Auto chose the CPU, or empty
+  // encode_for(scene, plan, options.gamma) with the scene's filter effects
+  // rendered as layers by this renderer's executor (with CUDA: sources
+  // rendered and graphs run on its device), warnings in stats.
+  EncodedScene encode(const Scene& scene, const RenderPlan& plan, const RenderOptions& options,
+                      RenderStats* stats = nullptr);
   // scene = encode_for(s, options): the image in the integration colour space.
   ImageF render(const EncodedScene& scene, const RenderOptions& options, RenderStats* stats = nullptr);
   // The same image as to_rgba8(render(...), options.gamma) gives, byte for

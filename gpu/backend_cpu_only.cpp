@@ -30,6 +30,11 @@ FrameRenderer::~FrameRenderer() = default;
 Backend FrameRenderer::backend() const { return Backend::Cpu; }
 int FrameRenderer::device() const { return 0; }
 const std::string& FrameRenderer::note() const { return impl_->note; }
+EncodedScene FrameRenderer::encode(const Scene& scene, const RenderPlan& plan, const RenderOptions& options,
+                                   RenderStats* stats) {
+  return encode_for(scene, plan, options.gamma, stats);
+}
+
 ImageF FrameRenderer::render(const EncodedScene& scene, const RenderOptions& options, RenderStats* stats) {
   ImageF img = render_cpu(scene, options, stats);
   if (stats) stats->note = impl_->note;

@@ -167,6 +167,14 @@ Backend FrameRenderer::backend() const { return impl_->backend; }
 int FrameRenderer::device() const { return impl_->device; }
 const std::string& FrameRenderer::note() const { return impl_->note; }
 
+EncodedScene FrameRenderer::encode(const Scene& scene, const RenderPlan& plan, const RenderOptions& options,
+                                   RenderStats* stats) {
+  if (impl_->backend == Backend::Cpu || !has_filters(scene)) return encode_for(scene, plan, options.gamma, stats);
+  cudaSetDevice(impl_->device);
+  const FilterExecutor filters = cuda_filters(*impl_->ctx);
+  return encode_for(scene, plan, options.gamma, stats, &filters);
+}
+
 ImageF FrameRenderer::render(const EncodedScene& scene, const RenderOptions& options, RenderStats* stats) {
   RenderStats local;
   RenderStats& st = stats ? *stats : local;

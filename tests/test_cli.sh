@@ -193,5 +193,15 @@ printf '<svg xmlns="http://www.w3.org/2000/svg" width="10" height="10"><rect wid
 "$bin" -q "$tmp/z.svgz" "$tmp/z.png"; rc=$?
 check ".svgz input renders" test "$rc" = 0 -a -s "$tmp/z.png"
 
+# Filter effects: one file and a batch give the same bytes; a filter too
+# costly to run warns and the rest of the file still renders.
+f="$src/testdata/golden/filters.svg"
+"$bin" -q --backend cpu --aa 1x32 "$f" "$tmp/filters-one.png"; rc=$?
+mkdir -p "$tmp/fb"; "$bin" -q --backend cpu --aa 1x32 -o "$tmp/fb" "$f" "$src/testdata/golden/arcs.svg"; rc2=$?
+check "filters: one file and a batch give the same bytes" test "$rc" = 0 -a "$rc2" = 0 && cmp -s "$tmp/filters-one.png" "$tmp/fb/filters.png"
+printf '<svg xmlns="http://www.w3.org/2000/svg" width="2000" height="2000"><filter id="f" filterUnits="userSpaceOnUse" x="0" y="0" width="2000" height="2000"><feMorphology radius="3000"/><feMorphology radius="3000"/><feMorphology radius="3000"/></filter><rect width="2000" height="2000" fill="red" filter="url(#f)"/><rect width="10" height="10" fill="lime"/></svg>' > "$tmp/costly.svg"
+err=$("$bin" --backend cpu --aa 1x8 "$tmp/costly.svg" "$tmp/costly.png" 2>&1); rc=$?
+check "a filter too costly to run: a warning, exit 0" test "$rc" = 0 -a -s "$tmp/costly.png" && grep -q "too costly" <<<"$err"
+
 echo "$fails failed"
 test "$fails" = 0
