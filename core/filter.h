@@ -37,6 +37,20 @@ struct FilterRect {
   double x = 0, y = 0, w = 0, h = 0;
 };
 
+// The bounds [x0, x1] x [y0, y1] of rectangle r mapped by m: a region or
+// subregion as the axis-aligned box where its layer lies.
+inline void filter_rect_bounds(const FilterRect& r, const Affine& m, double& x0, double& y0, double& x1,
+                               double& y1) {
+  const Vec2 c[4] = {m.apply({r.x, r.y}), m.apply({r.x + r.w, r.y}), m.apply({r.x, r.y + r.h}),
+                     m.apply({r.x + r.w, r.y + r.h})};
+  x0 = x1 = c[0].x;
+  y0 = y1 = c[0].y;
+  for (const Vec2& p : c) {
+    x0 = p.x < x0 ? p.x : x0, x1 = p.x > x1 ? p.x : x1;
+    y0 = p.y < y0 ? p.y : y0, y1 = p.y > y1 ? p.y : y1;
+  }
+}
+
 enum class FilterKind : uint8_t {
   Blend,              // mode: in2 below, in above (core/blend.h)
   ColorMatrix,        // matrix (values resolved to the 4 x 5 matrix)

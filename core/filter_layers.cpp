@@ -16,13 +16,8 @@ namespace {
 // The pixel bounds of a user-space rectangle mapped by m, rounded out.
 FilterBox pixel_box(const FilterRect& r, const Affine& m) {
   if (!(r.w > 0) || !(r.h > 0)) return FilterBox{};
-  const Vec2 c[4] = {m.apply({r.x, r.y}), m.apply({r.x + r.w, r.y}), m.apply({r.x, r.y + r.h}),
-                     m.apply({r.x + r.w, r.y + r.h})};
-  double x0 = c[0].x, x1 = c[0].x, y0 = c[0].y, y1 = c[0].y;
-  for (const Vec2& p : c) {
-    x0 = std::min(x0, p.x), x1 = std::max(x1, p.x);
-    y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
-  }
+  double x0, y0, x1, y1;
+  filter_rect_bounds(r, m, x0, y0, x1, y1);
   auto clampi = [](double v) { return static_cast<int>(std::clamp(v, -1e9, 1e9)); };
   // A hair inside, so that a region on pixel edges is not grown by rounding.
   return FilterBox{clampi(std::floor(x0 + 1e-6)), clampi(std::floor(y0 + 1e-6)), clampi(std::ceil(x1 - 1e-6)),

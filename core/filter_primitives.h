@@ -285,6 +285,29 @@ MPVG_HD_INLINE int filter_box_sizes(float s, int size[3], int lead[3]) {
   return d;
 }
 
+// The passes of a separable blur by standard deviations sx, sy (pixels):
+// per axis with s > 0, three box passes (d >= 2) or one exact Gaussian,
+// the edge mode on its first pass (later ones read the whole layer).
+struct FilterBlurPass {
+  bool horizontal, boxes;
+  int size, lead;
+  float s;
+  uint32_t edge;
+};
+MPVG_HD_INLINE int filter_blur_passes(float sx, float sy, uint32_t edge, FilterBlurPass out[6]) {
+  int n = 0;
+  for (int axis = 0; axis < 2; axis++) {
+    const float s = axis == 0 ? sx : sy;
+    if (!(s > 0.0f)) continue;
+    int size[3], lead[3];
+    const bool boxes = s >= 2.0f && filter_box_sizes(s, size, lead) > 0;
+    for (int pass = 0; pass < (boxes ? 3 : 1); pass++)
+      out[n++] = FilterBlurPass{axis == 0, boxes, boxes ? size[pass] : 0, boxes ? lead[pass] : 0, s,
+                                pass == 0 ? edge : FEDGE_NONE};
+  }
+  return n;
+}
+
 // feMorphology (§15.20): the per-channel minimum (erode) or maximum
 // (dilate) of the premultiplied pixels over the spec's 2 rx x 2 ry window,
 // [x - rx, x + rx - 1] (its target the pixel at half the width, as

@@ -220,18 +220,13 @@ class Graph {
   std::shared_ptr<Layer> blur(LayerPtr in, float sx, float sy, uint32_t edge) const {
     std::shared_ptr<Layer> cur;
     const int w = l_.width;
-    for (int axis = 0; axis < 2; axis++) {
-      const bool horizontal = axis == 0;
-      const float s = horizontal ? sx : sy;
-      if (!(s > 0.0f)) continue;
-      int size[3], lead[3];
-      const bool boxes = s >= 2.0f && filter_box_sizes(s, size, lead) > 0;
-      for (int pass = 0; pass < (boxes ? 3 : 1); pass++) {
-        const Layer& src = cur ? *cur : *in;
-        cur = make(whole_, src.linear,
-                   BlurPass{src.px.data(), pass == 0 ? src.box : whole_, w, boxes ? size[pass] : 0,
-                            boxes ? lead[pass] : 0, horizontal, boxes, s, pass == 0 ? edge : FEDGE_NONE});
-      }
+    FilterBlurPass passes[6];
+    const int n = filter_blur_passes(sx, sy, edge, passes);
+    for (int i = 0; i < n; i++) {
+      const FilterBlurPass p = passes[i];
+      const Layer& src = cur ? *cur : *in;
+      cur = make(whole_, src.linear,
+                 BlurPass{src.px.data(), src.box, w, p.size, p.lead, p.horizontal, p.boxes, p.s, p.edge});
     }
     if (!cur) cur = make(in->box, in->linear, Shifted{in->px.data(), in->box, w, 0, 0});
     return cur;

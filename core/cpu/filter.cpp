@@ -148,26 +148,20 @@ class Graph {
   Buffer blur(const Buffer& in, float sx, float sy, uint32_t edge) const {
     Buffer cur = in;
     const int w = l_.width;
-    for (int axis = 0; axis < 2; axis++) {
-      const bool horizontal = axis == 0;
-      const float s = horizontal ? sx : sy;
-      if (!(s > 0.0f)) continue;
-      int size[3], lead[3];
-      const bool boxes = s >= 2.0f && filter_box_sizes(s, size, lead) > 0;
-      const int passes = boxes ? 3 : 1;
-      for (int pass = 0; pass < passes; pass++) {
-        const FilterBox read = pass == 0 ? cur.box : whole_;
-        const uint32_t e = pass == 0 ? edge : FEDGE_NONE;
-        const Buffer src = std::move(cur);
-        if (boxes && e == FEDGE_NONE) {
-          cur = box_pass(src, read, horizontal, size[pass], lead[pass]);
-          continue;
-        }
-        cur = make(whole_, src.linear, [&](int x, int y) {
-          return boxes ? filter_box_pass(src.px.data(), w, read, x, y, horizontal, size[pass], lead[pass], e)
-                       : filter_gauss_pass(src.px.data(), w, read, x, y, horizontal, s, e);
-        });
+    FilterBlurPass passes[6];
+    const int n = filter_blur_passes(sx, sy, edge, passes);
+    for (int i = 0; i < n; i++) {
+      const FilterBlurPass p = passes[i];
+      const FilterBox read = cur.box;  // the input's box first, then the whole layer
+      const Buffer src = std::move(cur);
+      if (p.boxes && p.edge == FEDGE_NONE) {
+        cur = box_pass(src, read, p.horizontal, p.size, p.lead);
+        continue;
       }
+      cur = make(whole_, src.linear, [&](int x, int y) {
+        return p.boxes ? filter_box_pass(src.px.data(), w, read, x, y, p.horizontal, p.size, p.lead, p.edge)
+                       : filter_gauss_pass(src.px.data(), w, read, x, y, p.horizontal, p.s, p.edge);
+      });
     }
     return cur;
   }

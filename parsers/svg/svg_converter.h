@@ -287,6 +287,17 @@ std::optional<std::string> parse_keyword(std::string_view s);
 
 bool same(const Affine& l, const Affine& r);
 
+// gradientUnits, patternUnits, patternContentUnits, filterUnits,
+// primitiveUnits: whether the value is objectBoundingBox; `def` when
+// absent or invalid.
+inline bool bounding_box_units(const std::string* v, bool def) {
+  if (!v) return def;
+  const std::string_view t = trim(*v);
+  if (t == "objectBoundingBox") return true;
+  if (t == "userSpaceOnUse") return false;
+  return def;
+}
+
 enum class Kind { Container, Shape, Use, Image, Text, Unsupported, Ignored };
 
 Kind classify(const Element& e);

@@ -121,16 +121,6 @@ double number_attr(const Element& e, const char* name, double def) {
   return parse_number(*a).value_or(def);
 }
 
-// filterUnits, primitiveUnits: whether the value is objectBoundingBox;
-// `def` when absent or invalid.
-bool bounding_box_units(const std::string* v, bool def) {
-  if (!v) return def;
-  const std::string_view t = trim(*v);
-  if (t == "objectBoundingBox") return true;
-  if (t == "userSpaceOnUse") return false;
-  return def;
-}
-
 bool has_area(const Bounds& b) { return !b.empty() && b.width() > 0 && b.height() > 0; }
 
 // A rectangle in fractions of the box b, in b's space.
@@ -144,13 +134,8 @@ FilterRect in_box(const Bounds& b, double x, double y, double w, double h) {
 // (filters/filter/transform-on-shape-with-filter-region shows a skewed
 // element's blur cut by a vertical edge).
 ViewBox mapped_box(const FilterRect& r, const Affine& m) {
-  const Vec2 c[4] = {m.apply({r.x, r.y}), m.apply({r.x + r.w, r.y}), m.apply({r.x, r.y + r.h}),
-                     m.apply({r.x + r.w, r.y + r.h})};
-  double x0 = c[0].x, x1 = c[0].x, y0 = c[0].y, y1 = c[0].y;
-  for (const Vec2& p : c) {
-    x0 = std::min(x0, p.x), x1 = std::max(x1, p.x);
-    y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
-  }
+  double x0, y0, x1, y1;
+  filter_rect_bounds(r, m, x0, y0, x1, y1);
   return {x0, y0, x1 - x0, y1 - y0};
 }
 

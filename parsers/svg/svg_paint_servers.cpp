@@ -60,16 +60,6 @@ bool has_content(const Element& e) {
   });
 }
 
-// gradientUnits, patternUnits, patternContentUnits: whether the value is
-// objectBoundingBox; `def` when absent or invalid.
-bool bounding_box_units(const std::string* v, bool def) {
-  if (!v) return def;
-  const std::string_view t = trim(*v);
-  if (t == "objectBoundingBox") return true;
-  if (t == "userSpaceOnUse") return false;
-  return def;
-}
-
 // spreadMethod (SVG 1.1 §13.2.2): an invalid value is the initial pad.
 Spread parse_spread(const std::string* v) {
   if (!v) return Spread::Pad;
