@@ -151,6 +151,7 @@ struct FilterPrimitive {
   // element rendered like a use of it (scene, in user space).
   std::shared_ptr<const mpvg::Image> image;
   Affine image_xf;
+  bool image_pixelated = false;  // image-rendering asks for the nearest texel (else bilinear)
   std::shared_ptr<const Scene> scene;
 };
 

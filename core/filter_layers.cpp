@@ -271,6 +271,12 @@ FilterLayer filter_layer(const FilterEffect& f, const RenderOptions& o, const La
       for (int x = op.box.x0; x < op.box.x1; x++) {
         const Vec2 q = inv.apply({x + 0.5, y + 0.5});
         if (q.x < 0 || q.y < 0 || q.x >= im.width || q.y >= im.height) continue;
+        if (p.image_pixelated) {
+          const Rgba4 t = texel(static_cast<int>(q.x), static_cast<int>(q.y));
+          float* o4 = &pic.rgba[4 * (size_t(y) * l.width + x)];
+          o4[0] = t.r, o4[1] = t.g, o4[2] = t.b, o4[3] = t.a;
+          continue;
+        }
         const double u = q.x - 0.5, v = q.y - 0.5;
         const int i = static_cast<int>(std::floor(u)), j = static_cast<int>(std::floor(v));
         const float s = static_cast<float>(u - i), t = static_cast<float>(v - j);

@@ -984,6 +984,7 @@ void dump_primitive(std::string& s, const FilterPrimitive& p, size_t i, const st
     case FilterKind::Image:
       if (p.image) appendf(s, " image %dx%d", p.image->width, p.image->height);
       append_matrix(s, p.image_xf);
+      if (p.image_pixelated) s += " pixelated";
       if (p.scene) s += " scene";
       break;
     case FilterKind::Merge:

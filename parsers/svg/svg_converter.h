@@ -287,6 +287,9 @@ std::optional<std::string> parse_keyword(std::string_view s);
 
 bool same(const Affine& l, const Affine& r);
 
+// image-rendering (CSS Images 3 and SVG 1.1's keywords) as a texture filter.
+std::optional<TextureFilter> parse_image_rendering(std::string_view v);
+
 // gradientUnits, patternUnits, patternContentUnits, filterUnits,
 // primitiveUnits: whether the value is objectBoundingBox; `def` when
 // absent or invalid.

@@ -949,6 +949,11 @@ void Converter::fe_image(const Element& fe, const FilterSpace& fs, FilterPrimiti
       return;
     }
     p.image = std::move(raster);
+    // image-rendering on the feImage (painting/image-rendering/on-feImage).
+    p.image_pixelated = inherited_property<TextureFilter>(fe, "image-rendering", TextureFilter::Bicubic,
+                                                          [](std::string_view v, TextureFilter) {
+                                                            return parse_image_rendering(v);
+                                                          }) == TextureFilter::Nearest;
     // A reduced raster's texels cover k x k of the image's own.
     p.image_xf = placed(li.width, li.height) * Affine::scale(k, k);
     return;

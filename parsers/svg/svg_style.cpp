@@ -94,17 +94,6 @@ std::optional<PaintOrder> parse_paint_order(std::string_view v) {
   return PaintOrder{given[0], given[1], given[2]};
 }
 
-// image-rendering (CSS Images 3 and SVG 1.1's keywords), as resvg maps
-// them to filters.
-std::optional<TextureFilter> parse_image_rendering(std::string_view v) {
-  const auto k = parse_keyword(v);
-  if (!k) return std::nullopt;
-  if (*k == "auto" || *k == "optimizequality" || *k == "high-quality") return TextureFilter::Bicubic;
-  if (*k == "smooth") return TextureFilter::Bilinear;
-  if (*k == "optimizespeed" || *k == "crisp-edges" || *k == "pixelated") return TextureFilter::Nearest;
-  return std::nullopt;
-}
-
 // shape-rendering and text-rendering: whether the keyword turns
 // antialiasing off (crispEdges for shapes only, optimizeSpeed for both).
 std::optional<bool> parse_rendering(std::string_view v, bool text) {
@@ -123,6 +112,17 @@ bool is_paint_server(const std::string& name) {
 }
 
 }  // namespace
+
+// image-rendering (CSS Images 3 and SVG 1.1's keywords), as resvg maps
+// them to filters.
+std::optional<TextureFilter> parse_image_rendering(std::string_view v) {
+  const auto k = parse_keyword(v);
+  if (!k) return std::nullopt;
+  if (*k == "auto" || *k == "optimizequality" || *k == "high-quality") return TextureFilter::Bicubic;
+  if (*k == "smooth") return TextureFilter::Bilinear;
+  if (*k == "optimizespeed" || *k == "crisp-edges" || *k == "pixelated") return TextureFilter::Nearest;
+  return std::nullopt;
+}
 
 std::optional<std::string> parse_keyword(std::string_view s) {
   s = trim(s);
