@@ -49,14 +49,6 @@ double reach(const FilterPrimitive& p, double sx, double sy) {
   }
 }
 
-const char* primitive_element(FilterKind k) {
-  static const char* const names[] = {"feBlend", "feColorMatrix", "feComponentTransfer", "feComposite",
-                                      "feConvolveMatrix", "feDiffuseLighting", "feDisplacementMap", "feDropShadow",
-                                      "feFlood", "feGaussianBlur", "feImage", "feMerge", "feMorphology", "feOffset",
-                                      "feSpecularLighting", "feTile", "feTurbulence"};
-  return names[static_cast<int>(k)];
-}
-
 // A straight sRGB-encoded colour premultiplied in the op's space.
 void premultiplied(const float c[4], bool linear, float out[4]) {
   const float a = filter_clamp01(c[3]);
@@ -220,11 +212,11 @@ FilterLayer filter_layer(const FilterEffect& f, const RenderOptions& o, const La
   for (const FilterOp& op : l.ops) {
     const double px = double(op.box.x1 - op.box.x0) * double(op.box.y1 - op.box.y0) + double(l.width) * l.height;
     double per = 4;
-    auto blur_reads = [](float s) {
-      int size[3], lead[3];
-      return !(s > 0) ? 0.0 : s >= 2.0f ? 3.0 * filter_box_sizes(s, size, lead) + 3 : 6.0 * s + 1;
-    };
-    if (op.kind == FOP_GAUSSIAN_BLUR || op.kind == FOP_DROP_SHADOW) per += blur_reads(op.std_x) + blur_reads(op.std_y);
+    if (op.kind == FOP_GAUSSIAN_BLUR || op.kind == FOP_DROP_SHADOW) {
+      FilterBlurPass passes[6];
+      const int n = filter_blur_passes(op.std_x, op.std_y, op.edge, passes);
+      for (int i = 0; i < n; i++) per += passes[i].boxes ? passes[i].size + 1.0 : 6.0 * passes[i].s + 1;
+    }
     if (op.kind == FOP_MORPHOLOGY) per += 2.0 * op.rx + 2.0 * op.ry;
     if (op.kind == FOP_CONVOLVE_MATRIX) per += double(op.order_x) * op.order_y;
     if (op.kind == FOP_TURBULENCE) per += 16.0 * op.octaves;

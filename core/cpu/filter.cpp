@@ -276,7 +276,7 @@ class Graph {
         const double* noise = l_.noise.data() + op.noise_begin;
         return make(op.box, lin, [&](int x, int y) { return filter_turbulence(op, noise, x, y); });
       }
-      default:  // not yet executed (filter_layer warns): transparent black
+      default:  // no other kinds (FilterKind): transparent black
         return make(op.box, lin, [](int, int) { return Rgba4{0, 0, 0, 0}; });
     }
   }
