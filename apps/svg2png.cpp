@@ -29,6 +29,7 @@
 #include "apps/png_writer.h"
 #include "apps/server.h"
 #include "core/error.h"
+#include "core/filter_layers.h"
 #include "core/memory_budget.h"
 #include "core/parallel.h"
 #include "gpu/backend.h"

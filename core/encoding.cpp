@@ -318,7 +318,8 @@ class Encoder {
         } else {
           rec = PaintRecord{0, 0, 0, 0, PAINT_SOLID, 0, 0, 0};
         }
-        break;      case PaintType::Filter:
+        break;
+      case PaintType::Filter:
         // The renderer replaces filters by textures first (core/filter_layers.h).
         throw Error("encoding: a filter effect was not resolved into its layer");
     }
@@ -499,7 +500,16 @@ class Encoder {
       tiles_.back().width = gw;
       tiles_.back().height = gh;
       EncodedScene enc;
-      scene(tile, grid_view, tile_to_out, depth + 1, enc);
+      const Scene* content = &tile;
+      if (!tile.filters.empty()) {
+        // Its filters made layers over the tile's grid, as the output's
+        // are over its pixels; kept while the encoder runs (its images are
+        // known by their addresses).
+        if (!options_.tile_filters) throw Error("encoding: a filter effect in a pattern tile was not resolved");
+        resolved_tiles_.push_back(std::make_shared<const Scene>(options_.tile_filters(tile, gw, gh, grid_view)));
+        content = resolved_tiles_.back().get();
+      }
+      scene(*content, grid_view, tile_to_out, depth + 1, enc);
       tiles_[pr.tree].scene = std::move(enc);  // tiles_ may have grown meanwhile
       tile_index_.emplace(key, pr.tree);
     }
@@ -619,12 +629,19 @@ class Encoder {
     std::vector<uint32_t> widths, heights;
     bool opaque = true;
     bool complete = false;  // reached 1 x 1
+    // Executor texels in device memory (ExecutorTexels::device): no host
+    // levels, no mips.
+    const Texel16* device = nullptr;
+    std::shared_ptr<const void> device_owner;
   };
 
-  // Appends every image's levels and points the texture records at them.
+  // Appends every image's levels and points the texture records at them;
+  // the levels of device texels after all the host's (PaintData::
+  // device_texels).
   void finish() {
     std::unordered_map<const ImageEntry*, uint32_t> first;
     for (const auto& [tex, img] : texture_images_) {
+      if (img->device) continue;  // placed below, after every host texel
       auto it = first.find(img);
       if (it == first.end()) {
         const uint32_t l0 = static_cast<uint32_t>(paint_.levels.size());
@@ -644,6 +661,21 @@ class Encoder {
       paint_.textures[tex].level0 = it->second;
       paint_.textures[tex].levels = static_cast<uint32_t>(img->levels.size());
     }
+    uint64_t offset = paint_.texels.size();
+    for (const auto& [tex, img] : texture_images_) {
+      if (!img->device) continue;
+      auto it = first.find(img);
+      if (it == first.end()) {
+        const uint64_t count = uint64_t(img->widths[0]) * img->heights[0];
+        if (offset + count > 0xffffffffu) throw Error("images too large: more than 2^32 texels in all");
+        it = first.emplace(img, static_cast<uint32_t>(paint_.levels.size())).first;
+        paint_.levels.push_back(TextureLevel{static_cast<uint32_t>(offset), img->widths[0], img->heights[0], 1.0f});
+        paint_.device_texels.push_back(PaintData::DeviceTexels{offset, count, img->device, img->device_owner});
+        offset += count;
+      }
+      paint_.textures[tex].level0 = it->second;
+      paint_.textures[tex].levels = 1;
+    }
   }
 
  private:
@@ -651,6 +683,23 @@ class Encoder {
     auto it = images_.find(im.get());
     if (it != images_.end()) return *it->second;
     auto e = std::make_unique<ImageEntry>();
+    if (im->texels) {
+      // Made for this frame: one level, in the integration space already.
+      e->widths.push_back(static_cast<uint32_t>(im->width));
+      e->heights.push_back(static_cast<uint32_t>(im->height));
+      e->opaque = false;
+      e->complete = true;
+      if (im->texels->device) {
+        e->device = im->texels->device;
+        e->device_owner = im->texels->owner;
+      } else {
+        if (im->texels->host.size() != size_t(im->width) * im->height) throw Error("executor texels of the wrong size");
+        e->levels.push_back(im->texels->host);
+      }
+      ImageEntry& ref = *e;
+      images_.emplace(im.get(), std::move(e));
+      return ref;
+    }
     e->levels.push_back(base_level(*im, gamma_));
     e->widths.push_back(static_cast<uint32_t>(im->width));
     e->heights.push_back(static_cast<uint32_t>(im->height));
@@ -679,6 +728,7 @@ class Encoder {
   using TileKey = std::tuple<const Scene*, int, int, int, double, double, double, double>;
   std::map<TileKey, uint32_t> tile_index_;
   std::vector<std::pair<uint32_t, ImageEntry*>> texture_images_;
+  std::vector<std::shared_ptr<const Scene>> resolved_tiles_;  // pattern tiles with their filters as layers
 };
 
 }  // namespace

@@ -6,6 +6,7 @@
 // becomes a scene of its own, encoded in the grid its tree is built over.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -74,6 +75,11 @@ struct EncodeOptions {
   // of N knots evenly spaced in t (measured against the exact ramps in
   // BENCHMARKS.md).
   int ramp_lut = 0;
+  // Filter effects inside a pattern tile (core/filter_layers.h): the tile
+  // with its filters made layers over the tile's grid (width x height
+  // unit areas, `view` from tile units to them). Unset: such a tile is
+  // refused.
+  std::function<Scene(const Scene& tile, int width, int height, const Affine& view)> tile_filters;
 };
 
 // view maps scene units to pixels. Throws mpvg::Error for rational cubics,

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "core/error.h"
+#include "core/parallel.h"
 #include "core/renderer.h"
 
 namespace mpvg {
@@ -61,10 +62,10 @@ void premultiplied(const float c[4], bool linear, float out[4]) {
 
 }  // namespace
 
-FilterLayer filter_layer(const FilterEffect& f, const RenderOptions& o, const LayerRenderer& render, FilterBox& box,
-                         std::string* warning) {
-  FilterLayer l;
-  box = FilterBox{};
+LayerJob plan_layer(const FilterEffect& f, const RenderOptions& o, std::string* warning) {
+  LayerJob job;
+  FilterLayer& l = job.layer;
+  FilterBox& box = job.box;
   const Affine m = o.view * f.xf;  // user space to output pixels
   const double sx = std::hypot(m.a, m.b), sy = std::hypot(m.c, m.d);
   double margin = 0;
@@ -73,7 +74,7 @@ FilterLayer filter_layer(const FilterEffect& f, const RenderOptions& o, const La
   const int g = static_cast<int>(std::ceil(margin));
   const FilterBox grown{-g, -g, o.width + g, o.height + g};
   FilterBox b = intersect(pixel_box(f.region, m), grown);
-  if (empty(b)) return l;
+  if (empty(b)) return job;
   // The memory cap: cut the box around the output's centre.
   const uint64_t max_pixels =
       std::min<uint64_t>(kMaxFilterLayerPixels, kMaxFilterBytes / (16 * (f.primitives.size() + 4)));
@@ -87,7 +88,7 @@ FilterLayer filter_layer(const FilterEffect& f, const RenderOptions& o, const La
       const int half = (b.y1 - b.y0) / 4;
       b.y0 = std::max(b.y0, cy - half), b.y1 = std::min(b.y1, cy + half);
     }
-    if (empty(b)) return l;
+    if (empty(b)) return job;
   }
   box = b;
   l.width = b.x1 - b.x0;
@@ -224,7 +225,8 @@ FilterLayer filter_layer(const FilterEffect& f, const RenderOptions& o, const La
   }
   if (reads > kMaxFilterReads) {
     if (warning) *warning = "filter effect too costly (blur, morphology or convolution windows over a large layer): not drawn";
-    return FilterLayer{};
+    job.layer = FilterLayer{};
+    return job;
   }
   // feImage's pictures: an element rendered over the layer like the
   // source, a raster resampled (bilinear, premultiplied) into its box.
@@ -239,7 +241,8 @@ FilterLayer filter_layer(const FilterEffect& f, const RenderOptions& o, const La
       io.height = l.height;
       io.view = to_layer * o.view * f.xf;
       io.background = RGBA{0, 0, 0, 0};
-      pic = render(*p.scene, io);
+      io.aliased_paths = o.aliased_paths || has_aliased_paths(*p.scene);
+      job.elements.push_back(LayerJob::Element{op.image, p.scene.get(), io});
       l.image_linear[op.image] = o.gamma == Gamma::Linear ? 1 : 0;
       continue;
     }
@@ -281,37 +284,67 @@ FilterLayer filter_layer(const FilterEffect& f, const RenderOptions& o, const La
       }
   }
   // The source over the layer, at the output's resolution and sampling.
-  RenderOptions so = o;
+  RenderOptions& so = job.source_options;
+  so = o;
   so.width = l.width;
   so.height = l.height;
   so.view = to_layer * o.view;
   so.background = RGBA{0, 0, 0, 0};
-  l.source = render(*f.source, so);
+  so.aliased_paths = o.aliased_paths || has_aliased_paths(*f.source);
+  job.source = f.source.get();
   l.source_linear = o.gamma == Gamma::Linear;
   l.fill_paint = Rgba4{f.fill_paint[0], f.fill_paint[1], f.fill_paint[2], f.fill_paint[3]};
   l.stroke_paint = Rgba4{f.stroke_paint[0], f.stroke_paint[1], f.stroke_paint[2], f.stroke_paint[3]};
-  return l;
+  return job;
 }
 
-namespace {
+FilterLayer filter_layer(const FilterEffect& f, const RenderOptions& o, const LayerRenderer& render, FilterBox& box,
+                         std::string* warning) {
+  LayerJob job = plan_layer(f, o, warning);
+  box = job.box;
+  if (job.layer.width <= 0 || job.layer.height <= 0) return FilterLayer{};
+  for (const LayerJob::Element& e : job.elements) job.layer.images[e.image] = render(*e.scene, e.options);
+  job.layer.source = render(*job.source, job.source_options);
+  return std::move(job.layer);
+}
 
-// Pattern tiles are resolution independent, layers are not: a filter in a
-// tile draws nothing (warned), the rest of the tile as before.
-std::shared_ptr<const Scene> without_filters(const std::shared_ptr<const Scene>& tile, bool& dropped) {
-  if (!has_filters(*tile)) return tile;
-  auto out = std::make_shared<Scene>(*tile);
-  for (Paint& p : out->paints)
-    if (p.type == PaintType::Filter) {
-      p = Paint{};
-      p.color = RGBA{0, 0, 0, 0};
-      dropped = true;
+std::vector<Texel16> result_texels(const FilterResult& r, Gamma gamma, int threads) {
+  const size_t n = r.rgba.size() / 4;
+  std::vector<Texel16> out(n);
+  const bool integ_linear = gamma == Gamma::Linear;
+  parallel_for((n + 4095) / 4096, threads, [&](size_t block) {
+    const size_t end = std::min(n, (block + 1) * 4096);
+    for (size_t i = block * 4096; i < end; i++) {
+      const float* p = &r.rgba[4 * i];
+      out[i] = filter_texel(Rgba4{p[0], p[1], p[2], p[3]}, r.linear, integ_linear);
     }
-  out->filters.clear();
-  for (Pattern& pt : out->patterns) pt.tile = without_filters(pt.tile, dropped);
+  });
   return out;
 }
 
-}  // namespace
+FilterExecutor cpu_filters(int threads) {
+  return FilterExecutor{[threads](std::vector<LayerJob>& jobs) {
+    std::vector<std::shared_ptr<const Image>> out(jobs.size());
+    for (size_t k = 0; k < jobs.size(); k++) {
+      LayerJob& job = jobs[k];
+      FilterLayer& l = job.layer;
+      if (l.width <= 0 || l.height <= 0) continue;
+      for (const LayerJob::Element& e : job.elements) l.images[e.image] = render_cpu(*e.scene, e.options);
+      l.source = render_cpu(*job.source, job.source_options);
+      const FilterResult r = run_filter_cpu(l, threads);
+      auto texels = std::make_shared<ExecutorTexels>();
+      texels->host = r.rgba.empty() ? std::vector<Texel16>(size_t(l.width) * l.height, Texel16{0, 0, 0, 0})
+                                    : result_texels(r, job.source_options.gamma, threads);
+      auto img = std::make_shared<Image>();
+      img->width = l.width;
+      img->height = l.height;
+      img->texels = std::move(texels);
+      out[k] = std::move(img);
+      l.source = ImageF{};
+    }
+    return out;
+  }};
+}
 
 bool has_filters(const Scene& scene) {
   if (!scene.filters.empty()) return true;
@@ -320,58 +353,47 @@ bool has_filters(const Scene& scene) {
   return false;
 }
 
-Scene resolve_filters(const Scene& scene, const RenderOptions& o, const LayerRenderer& render,
-                      const FilterRunner& run, std::vector<std::string>* warnings) {
+Scene resolve_filters(const Scene& scene, const RenderOptions& o, const FilterExecutor& ex,
+                      std::vector<std::string>* warnings, TextureFilter lookup) {
   Scene out = scene;
-  bool dropped = false;
-  for (Pattern& pt : out.patterns) pt.tile = without_filters(pt.tile, dropped);
-  if (dropped && warnings) warnings->push_back("filters inside patterns are not supported: not drawn");
-  if (scene.filters.empty()) return out;
+  if (scene.filters.empty()) return out;  // (pattern tiles' are the encoder's: EncodeOptions::tile_filters)
   if (!o.view.invertible()) throw Error("filter layers need an invertible view");
-  std::vector<int64_t> texture(scene.filters.size(), -2);  // -2: not made yet, -1: draws nothing
+  // The filters the scene paints with, each planned once; their layers made
+  // together.
+  std::vector<int64_t> job_of(scene.filters.size(), -1);
+  std::vector<LayerJob> jobs;
+  std::vector<uint32_t> filter_of;
+  for (const Paint& p : out.paints) {
+    if (p.type != PaintType::Filter || job_of[p.index] >= 0) continue;
+    std::string warning;
+    jobs.push_back(plan_layer(scene.filters[p.index], o, &warning));
+    if (warnings && !warning.empty()) warnings->push_back(warning);
+    job_of[p.index] = static_cast<int64_t>(jobs.size() - 1);
+    filter_of.push_back(p.index);
+  }
+  const std::vector<std::shared_ptr<const Image>> images = ex.run_layers(jobs);
+  std::vector<int64_t> texture(scene.filters.size(), -1);  // -1: draws nothing
+  for (size_t k = 0; k < jobs.size(); k++) {
+    if (k >= images.size() || !images[k]) continue;
+    Texture t;
+    t.image = images[k];
+    // Layer pixels onto output pixels, texel for pixel.
+    t.xf = o.view.inverted() * Affine::translate(jobs[k].box.x0, jobs[k].box.y0);
+    t.filter = lookup;
+    t.wrap_x = t.wrap_y = TextureWrap::Decal;
+    out.textures.push_back(std::move(t));
+    texture[filter_of[k]] = static_cast<int64_t>(out.textures.size() - 1);
+  }
   for (Paint& p : out.paints) {
     if (p.type != PaintType::Filter) continue;
-    const uint32_t i = p.index;
-    if (texture[i] == -2) {
-      FilterBox box;
-      std::string warning;
-      const FilterLayer layer = filter_layer(scene.filters[i], o, render, box, &warning);
-      if (warnings && !warning.empty()) warnings->push_back(warning);
-      texture[i] = -1;
-      if (layer.width > 0 && layer.height > 0) {
-        const FilterResult r = run(layer);
-        auto img = std::make_shared<Image>();
-        img->width = layer.width;
-        img->height = layer.height;
-        img->bits = 16;
-        img->rgba16.resize(r.rgba.size());
-        for (size_t k = 0; k < r.rgba.size(); k += 4) {
-          const Rgba4 px = filter_valid(Rgba4{r.rgba[k], r.rgba[k + 1], r.rgba[k + 2], r.rgba[k + 3]});
-          const float rgb[3] = {px.r, px.g, px.b};
-          for (int c = 0; c < 3; c++) {
-            float v = px.a > 0 ? rgb[c] / px.a : 0.0f;
-            v = filter_clamp01(r.linear ? linear_to_srgb(filter_clamp01(v)) : v);
-            img->rgba16[k + c] = static_cast<uint16_t>(std::lround(v * 65535.0f));
-          }
-          img->rgba16[k + 3] = static_cast<uint16_t>(std::lround(px.a * 65535.0f));
-        }
-        Texture t;
-        t.image = img;
-        // Layer pixels onto output pixels, texel for pixel.
-        t.xf = o.view.inverted() * Affine::translate(box.x0, box.y0);
-        t.filter = TextureFilter::Nearest;
-        t.wrap_x = t.wrap_y = TextureWrap::Decal;
-        out.textures.push_back(std::move(t));
-        texture[i] = static_cast<int64_t>(out.textures.size() - 1);
-      }
-    }
+    const int64_t t = texture[p.index];
     const float opacity = p.opacity;
-    if (texture[i] < 0) {
+    if (t < 0) {
       p = Paint{};
       p.color = RGBA{0, 0, 0, 0};
     } else {
       p.type = PaintType::Texture;
-      p.index = static_cast<uint32_t>(texture[i]);
+      p.index = static_cast<uint32_t>(t);
     }
     p.opacity = opacity;
   }

@@ -17,16 +17,16 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "core/cpu/cpu_stages.h"
 #include "core/filter_primitives.h"
+#include "core/renderer.h"
 #include "core/scene.h"
 
 namespace mpvg {
-
-struct RenderOptions;
 
 // Layers larger than this are cut to it (about 4x a 4K frame), and to what
 // kMaxFilterBytes holds of the graph's results (16 bytes a pixel each).
@@ -66,19 +66,61 @@ using LayerRenderer = std::function<ImageF(const Scene&, const RenderOptions&)>;
 // Runs a layer's graph: the executor's primitives.
 using FilterRunner = std::function<FilterResult(const FilterLayer&)>;
 
-// The layer of filter `f` of a scene rendered with `options`; box receives
-// its position in output pixels ([x0, x1) x [y0, y1)); an empty box: the
-// filter draws nothing there.
+// A layer to make: its graph resolved to pixels and what an executor
+// renders into it. layer.width == 0: the filter draws nothing (no pixel of
+// it can reach the output, or it was refused as too costly).
+struct LayerJob {
+  FilterLayer layer;  // source and element pictures not rendered yet
+  FilterBox box;      // in output pixels, [x0, x1) x [y0, y1)
+  const Scene* source = nullptr;
+  RenderOptions source_options;  // the output's, over the layer's pixels, transparent
+  // feImage's element references: scenes rendered over the layer like the
+  // source, into layer.images[image].
+  struct Element {
+    uint32_t image = 0;
+    const Scene* scene = nullptr;
+    RenderOptions options;
+  };
+  std::vector<Element> elements;
+};
+
+// The layer of filter `f` of a scene rendered with `options`, planned:
+// everything but the renders.
+LayerJob plan_layer(const FilterEffect& f, const RenderOptions& options, std::string* warning = nullptr);
+
+// ... with its source and element pictures rendered by `render`; box
+// receives its position in output pixels (empty: it draws nothing).
 FilterLayer filter_layer(const FilterEffect& f, const RenderOptions& options, const LayerRenderer& render,
                          FilterBox& box, std::string* warning = nullptr);
+
+// An executor of filter layers. run_layers renders every job's source and
+// element pictures (resolving the filters inside them with itself), runs
+// the graphs, and returns each result as the texels of its texture
+// (filter_texel; ExecutorTexels, on the host or the executor's device), in
+// job order; null for a job whose layer is empty. It may do the jobs
+// together: they are independent.
+struct FilterExecutor {
+  std::function<std::vector<std::shared_ptr<const Image>>(std::vector<LayerJob>& jobs)> run_layers;
+};
+
+// The CPU's: each source rendered by render_cpu, each graph by
+// run_filter_cpu.
+FilterExecutor cpu_filters(int threads = 0);
+
+// A graph's result as texels of a frame integrated as `gamma`, on the host.
+std::vector<Texel16> result_texels(const FilterResult& r, Gamma gamma, int threads = 0);
 
 // Does the scene, or a pattern tile in it, have filter effects?
 bool has_filters(const Scene& scene);
 
 // The scene with every Filter paint replaced by the texture of its layer
-// (the scene itself when it has none). Warnings (layers cut) are appended.
-Scene resolve_filters(const Scene& scene, const RenderOptions& options, const LayerRenderer& render,
-                      const FilterRunner& run, std::vector<std::string>* warnings = nullptr);
+// (the scene itself when it has none), the layers of its filters made by
+// `ex` all together. Warnings (layers cut or refused) are appended. The
+// textures are read with `lookup`: Nearest where a layer's texels are the
+// frame's pixels (each sample reads its own pixel's), Bilinear where they
+// are resampled (a pattern tile's grid drawn rotated or scaled).
+Scene resolve_filters(const Scene& scene, const RenderOptions& options, const FilterExecutor& ex,
+                      std::vector<std::string>* warnings = nullptr, TextureFilter lookup = TextureFilter::Nearest);
 
 // The CPU executor's graph (core/cpu/filter.cpp).
 FilterResult run_filter_cpu(const FilterLayer& layer, int threads = 0);

@@ -596,4 +596,27 @@ MPVG_HD_INLINE Rgba4 filter_turbulence(const FilterOp& op, const double* noise, 
   return Rgba4{c[0] * c[3], c[1] * c[3], c[2] * c[3], c[3]};
 }
 
+// ------------------------------------------------------------ result
+
+// A graph's result pixel (premultiplied, in linear light when
+// result_linear) as the texel that paints it (core/filter_layers.h):
+// straight sRGB rounded to 16 bits, then premultiplied in the integration
+// space (linear light when integ_linear) and rounded again, the encoder's
+// conversion of a 16-bit image (core/encoding.cpp, base_level). Rounding
+// is half up: every value is non-negative and below 2^23.
+MPVG_HD_INLINE Texel16 filter_texel(Rgba4 p, bool result_linear, bool integ_linear) {
+  p = filter_valid(p);
+  const float rgb[3] = {p.r, p.g, p.b};
+  const float a = floorf(p.a * 65535.0f + 0.5f) / 65535.0f;
+  uint16_t q[3];
+  for (int c = 0; c < 3; c++) {
+    float v = p.a > 0.0f ? rgb[c] / p.a : 0.0f;
+    v = filter_clamp01(result_linear ? linear_to_srgb(filter_clamp01(v)) : v);
+    float s = floorf(v * 65535.0f + 0.5f) / 65535.0f;  // straight sRGB, 16 bits
+    if (integ_linear) s = srgb_to_linear(s);
+    q[c] = static_cast<uint16_t>(floorf(filter_clamp01(s * a) * 65535.0f + 0.5f));
+  }
+  return Texel16{q[0], q[1], q[2], static_cast<uint16_t>(floorf(a * 65535.0f + 0.5f))};
+}
+
 }  // namespace mpvg

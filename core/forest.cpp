@@ -141,6 +141,8 @@ EncodedScene make_forest(const std::vector<ForestScene>& scenes) {
   auto paint = std::make_shared<PaintData>();
   size_t segments = 0, paths = 0, stream = 0;
   for (const ForestScene& fs : scenes) {
+    if (fs.scene->paint && !fs.scene->paint->device_texels.empty())
+      throw Error("a forest frame cannot hold a scene with device texels (filter layers rendered on a GPU)");
     segments += fs.scene->segments.size();
     paths += fs.scene->paths.size();
     stream += fs.scene->stream.size();

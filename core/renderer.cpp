@@ -69,12 +69,29 @@ EncodedScene encode_for(const Scene& scene, const RenderPlan& plan, Gamma gamma,
     std::vector<std::string> warnings;
     RenderOptions o = plan.options;
     o.gamma = gamma;
-    const FilterExecutor cpu{[](const Scene& s, const RenderOptions& so) { return render_cpu(s, so); },
-                             [&](const FilterLayer& l) { return run_filter_cpu(l, o.threads); }};
-    const FilterExecutor& ex = filters ? *filters : cpu;
-    const Scene resolved = resolve_filters(scene, o, ex.render, ex.run, &warnings);
-    EncodedScene enc = encode(resolved, plan.view, gamma);
+    const FilterExecutor ex = filters ? *filters : cpu_filters(o.threads);
+    const Scene resolved = resolve_filters(scene, o, ex, &warnings);
+    double filter_ms = ms_since(t0);
+    size_t tile_layers = 0;
+    // Filters inside pattern tiles: layers over each tile's grid, made as
+    // the encoder reaches the tile (it chooses the grid).
+    EncodeOptions eo;
+    eo.tile_filters = [&](const Scene& tile, int width, int height, const Affine& view) {
+      const auto t1 = std::chrono::steady_clock::now();
+      RenderOptions to = o;
+      to.width = width;
+      to.height = height;
+      to.view = view;
+      to.background = RGBA{0, 0, 0, 0};
+      Scene r = resolve_filters(tile, to, ex, &warnings, TextureFilter::Bilinear);
+      tile_layers += r.textures.size() - tile.textures.size();
+      filter_ms += ms_since(t1);
+      return r;
+    };
+    EncodedScene enc = encode(resolved, plan.view, gamma, eo);
     if (stats) {
+      stats->filter_ms += filter_ms;
+      stats->filter_layers += resolved.textures.size() - scene.textures.size() + tile_layers;
       stats->warnings.insert(stats->warnings.end(), warnings.begin(), warnings.end());
       stats->encode_ms += ms_since(t0);
     }
@@ -111,6 +128,8 @@ ImageF render_cpu(const EncodedScene& enc, const RenderPlan& plan, const RenderO
   RenderStats local;
   RenderStats& st = stats ? *stats : local;
   st.backend = "cpu";
+  if (enc.paint && !enc.paint->device_texels.empty())
+    throw Error("a scene encoded with device texels (filter layers rendered on a GPU) cannot render on the CPU");
   const auto t_all = std::chrono::steady_clock::now();
   BuildTimes bt;
   const ShortcutTree tree = build_tree_cpu(enc, plan.frame.ua_w, plan.frame.ua_h, plan.tree, &bt);

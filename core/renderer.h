@@ -8,7 +8,6 @@
 
 #include "core/cpu/cpu_stages.h"
 #include "core/encoding.h"
-#include "core/filter_layers.h"
 #include "core/integration.h"
 #include "core/png_encode.h"
 #include "core/scene.h"
@@ -45,6 +44,10 @@ struct RenderStats {
   double encode_ms = 0, stroke_ms = 0, abstract_ms = 0, subdivide_ms = 0, prune_ms = 0, schedule_ms = 0, sample_ms = 0;
   double total_ms = 0;
   double png_ms = 0;  // FrameRenderer::render_png's PNG stage (with CUDA: its kernels, timed on the device)
+  // Filter layers (core/filter_layers.h), inside encode_ms: the frame's own
+  // layers made (theirs nested inside included), and the time taken.
+  size_t filter_layers = 0;
+  double filter_ms = 0;
   size_t input_segments = 0, abstract_segments = 0, leaves = 0, leaf_entries = 0;
   size_t tree_bytes = 0;
   int depth = 0;
@@ -72,12 +75,8 @@ struct RenderPlan {
 };
 RenderPlan plan_render(const RenderOptions& options);
 
-// Filter effects' executor (core/filter_layers.h): how a layer's source is
-// rendered and its graph run. encode_for without one uses the CPU's.
-struct FilterExecutor {
-  LayerRenderer render;
-  FilterRunner run;
-};
+// Filter effects' executor (core/filter_layers.h).
+struct FilterExecutor;
 
 // encode_for and render_cpu with the plan already made: a frame plans once
 // however many of its stages run on this thread. Filter effects are

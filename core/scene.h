@@ -32,6 +32,7 @@
 
 #include "core/filter.h"
 #include "core/geometry.h"
+#include "core/paint.h"
 
 namespace mpvg {
 
@@ -170,11 +171,23 @@ struct Gradient {
 
 // An RGBA raster: straight alpha, sRGB-encoded, row-major, top row first,
 // 8 or 16 bits per channel (only the vector of that depth is used).
+// Texels an executor made for one frame (a filter layer's result,
+// core/filter_layers.h): premultiplied, already in that frame's integration
+// colour space, one level (they map texel for pixel, never minified). On
+// the host (`host`), or in device memory (`device`, kept by `owner`),
+// which only a frame of the same executor and device can read.
+struct ExecutorTexels {
+  std::vector<Texel16> host;
+  const Texel16* device = nullptr;
+  std::shared_ptr<const void> owner;
+};
+
 struct Image {
   int width = 0, height = 0;
   int bits = 8;
   std::vector<uint8_t> rgba8;
   std::vector<uint16_t> rgba16;
+  std::shared_ptr<const ExecutorTexels> texels;  // instead of rgba8 / rgba16 when set
 };
 
 enum class TextureFilter : uint8_t { Nearest, Bilinear, Bicubic };

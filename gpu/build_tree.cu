@@ -112,7 +112,18 @@ void Context::Impl::upload_paints(const PaintData& p) {
   ramp_color.upload(p.ramp_color);
   textures.upload(p.textures);
   texture_levels.upload(p.levels);
-  texels.upload(p.texels);
+  if (p.device_texels.empty()) {
+    texels.upload(p.texels);
+  } else {
+    // Filter layers' texels stay on the device: copied in after the host's.
+    texels.resize(p.texel_count());
+    if (!p.texels.empty())
+      MPVG_CUDA(cudaMemcpy(texels.data(), p.texels.data(), p.texels.size() * sizeof(Texel16), cudaMemcpyHostToDevice));
+    for (const PaintData::DeviceTexels& d : p.device_texels)
+      if (d.count)
+        MPVG_CUDA(cudaMemcpyAsync(texels.data() + d.offset, d.src, d.count * sizeof(Texel16), cudaMemcpyDeviceToDevice,
+                                  cudaStreamPerThread));
+  }
   patterns.upload(p.patterns);
   groups.upload(p.groups);
   meshes.upload(p.meshes);

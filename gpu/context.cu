@@ -96,6 +96,12 @@ ImageF Context::render(const Integration& integ, const IntegrationFrame& frame, 
   return img;
 }
 
+const float* Context::render_to_device(const Integration& integ, const IntegrationFrame& frame,
+                                       const PaintRecord& background, GpuTimes* times, uint32_t root) {
+  impl_->render(integ, frame, background, times, root);
+  return reinterpret_cast<const float*>(impl_->image.data());
+}
+
 std::vector<uint8_t> Context::render_rgba8(const Integration& integ, const IntegrationFrame& frame,
                                           const PaintRecord& background, bool linear, GpuTimes* times,
                                           std::vector<uint8_t> storage, uint32_t root) {

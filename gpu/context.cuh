@@ -299,6 +299,21 @@ struct Context::Impl {
   const uint8_t* grid_of_root = nullptr;  // a forest's root_grid (core/tree.h, in_root_grid); null for one scene
   bool capped = false;                    // the last tree hit TreeParams::max_entries
 
+  // The host copies of what the last render uploaded of its integration
+  // (pattern, weights): a forest's roots and a run of frames with the same
+  // options upload them once.
+  std::vector<SampleOffset> pattern_host;
+  std::vector<float> weights_host, weight_sums_host;
+  std::vector<double> totals_host;
+  template <class T>
+  void upload_changed(DeviceBuffer<T>& dst, std::vector<T>& host, const std::vector<T>& v) {
+    if (dst.size() == v.size() && host.size() == v.size() &&
+        (v.empty() || std::memcmp(host.data(), v.data(), v.size() * sizeof(T)) == 0))
+      return;
+    dst.upload(v);
+    host = v;
+  }
+
   // Host round trips and launches, per build (reported by the benchmark).
   size_t launches = 0, syncs = 0;
   size_t build_launches = 0, build_cub_calls = 0, build_syncs = 0;  // of the last build

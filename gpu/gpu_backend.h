@@ -65,6 +65,11 @@ class Context {
   // The box filter over the pixels the tree was built for.
   ImageF render(const std::vector<SampleOffset>& pattern, const PaintRecord& background, GpuTimes* times = nullptr);
 
+  // As render(), leaving the image on the device: premultiplied RGBA
+  // floats, frame.width x frame.height, valid until the next render.
+  const float* render_to_device(const Integration& integ, const IntegrationFrame& frame, const PaintRecord& background,
+                                GpuTimes* times = nullptr, uint32_t root = 0);
+
   // As render(), returning the image as straight 8-bit codes, 4 bytes per
   // pixel (core/rgba8.h; linear: the image was integrated in linear light),
   // converted on the device: a quarter of the float image is copied back.

@@ -381,7 +381,7 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
   const int width = roots[root].width, height = roots[root].height;
   if (frame.ua_w != width || frame.ua_h != height) throw Error("render frame does not match the built tree");
   const bool direct = integ.support == 1 && integ.pad == 0;
-  pattern.upload(pat);
+  upload_changed(pattern, pattern_host, pat);
   out_width = frame.width;
   out_height = frame.height;
   image.resize(size_t(frame.width) * frame.height);
@@ -389,9 +389,9 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
   Accumulate acc_args{nullptr, nullptr, integ.support, integ.class_mod, frame.acc_w, frame.acc_h};
   const size_t nacc = size_t(frame.acc_w) * frame.acc_h * 4;
   if (!direct) {
-    weights.upload(integ.weights);
-    weight_sums.upload(integ.weight_sums);
-    totals.upload(integ.totals);
+    upload_changed(weights, weights_host, integ.weights);
+    upload_changed(weight_sums, weight_sums_host, integ.weight_sums);
+    upload_changed(totals, totals_host, integ.totals);
     acc.resize(nacc);
     MPVG_CUDA(cudaMemsetAsync(acc.data(), 0, nacc * sizeof(unsigned long long)));
     acc_args.acc = acc.data();

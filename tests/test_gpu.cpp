@@ -686,6 +686,170 @@ TEST_CASE("filter executors: every primitive gives the same layer on the GPU as 
     INFO("worst difference " << worst);
     CHECK(worst <= 1.0f / 1024);
   }
+  // All the graphs at once, each three times over different sources:
+  // batched (layers of one shape in one launch per step), each layer's
+  // texels those of its graph run alone, within 3 units of the 16-bit
+  // texel: filter_texel on the device against the host's, where powf may
+  // round the straight sRGB value to the next 16-bit step, which moves a
+  // linear-light texel by up to 2.4 steps.
+  std::vector<FilterLayer> many;
+  for (size_t g = 0; g < graphs.size(); g++)
+    for (int rep = 0; rep < 3; rep++) {
+      FilterLayer c = l;
+      c.ops = graphs[g];
+      for (float& v : c.source.rgba) v *= 1.0f - 0.3f * rep;
+      many.push_back(std::move(c));
+    }
+  std::vector<const FilterLayer*> ptrs;
+  for (const FilterLayer& c : many) ptrs.push_back(&c);
+  for (Gamma gamma : {Gamma::Srgb, Gamma::Linear}) {
+    const std::vector<std::shared_ptr<const Image>> batched = gpu::run_filters_cuda(ptrs, gamma);
+    REQUIRE(batched.size() == many.size());
+    int worst = 0;
+    for (size_t i = 0; i < many.size(); i++) {
+      const std::vector<Texel16> got = gpu::download_texels(*batched[i]);
+      const std::vector<Texel16> alone = result_texels(gpu::run_filter_cuda(many[i]), gamma);
+      REQUIRE(got.size() == alone.size());
+      for (size_t k = 0; k < got.size(); k++)
+        worst = std::max({worst, std::abs(got[k].r - alone[k].r), std::abs(got[k].g - alone[k].g),
+                          std::abs(got[k].b - alone[k].b), std::abs(got[k].a - alone[k].a)});
+    }
+    INFO("gamma " << static_cast<int>(gamma) << ": worst texel difference " << worst);
+    CHECK(worst <= 3);
+  }
+}
+
+TEST_CASE("filter layers of a frame: forests, batches and nesting render as on the CPU", "[gpu][filter]") {
+  // 40 filtered groups of five sizes (layers of several root sizes: forest
+  // frames and frames alone) and four graph shapes (several batches), one
+  // of them nesting a filtered group in its source (its source has device
+  // texels: rendered alone); CPU and CUDA backends within 1/255.
+  std::mt19937 rng(2828);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  SceneBuilder b(400, 300);
+  auto filtered = [&](std::shared_ptr<const Scene> src, FilterRect region, int shape) {
+    FilterEffect f;
+    f.source = std::move(src);
+    f.region = region;
+    FilterPrimitive p;
+    p.subregion = region;
+    if (shape == 0) {
+      p.kind = FilterKind::GaussianBlur;
+      p.std_dev_x = p.std_dev_y = 1 + 3 * u(rng);
+      f.primitives = {p};
+    } else if (shape == 1) {
+      p.kind = FilterKind::DropShadow;
+      p.std_dev_x = p.std_dev_y = 2;
+      p.dx = 3, p.dy = 4;
+      const float c[4] = {0, 0, 0.3f, 0.6f};
+      std::copy(c, c + 4, p.color);
+      f.primitives = {p};
+    } else if (shape == 2) {
+      p.kind = FilterKind::Morphology;
+      p.radius_x = 2, p.radius_y = 1;
+      p.dilate = true;
+      FilterPrimitive off = p;
+      off.kind = FilterKind::Offset;
+      off.in = 0;
+      off.dx = -3, off.dy = 2;
+      FilterPrimitive merge = p;
+      merge.kind = FilterKind::Merge;
+      merge.inputs = {1, FILTER_SOURCE_GRAPHIC};
+      f.primitives = {p, off, merge};
+    } else {
+      p.kind = FilterKind::ColorMatrix;
+      const float m[20] = {0.2f, 0.7f, 0.1f, 0, 0, 0.3f, 0.3f, 0.4f, 0, 0, 0.6f, 0.1f, 0.3f, 0, 0, 0, 0, 0, 0.8f, 0};
+      std::copy(m, m + 20, p.matrix);
+      f.primitives = {p};
+    }
+    return f;
+  };
+  auto circle_scene = [&](double cx, double cy, double r) {
+    SceneBuilder sb(400, 300);
+    Paint c;
+    c.color = RGBA{float(u(rng)), float(u(rng)), float(u(rng)), 1};
+    Path disc;  // a 24-gon
+    for (int k = 0; k < 24; k++) {
+      const Vec2 q{cx + r * std::cos(k * M_PI / 12), cy + r * std::sin(k * M_PI / 12)};
+      if (k == 0) disc.move_to(q);
+      else disc.line_to(q);
+    }
+    disc.close();
+    sb.fill(sb.add_geometry(disc), Affine{}, FillRule::NonZero, c);
+    return std::make_shared<const Scene>(sb.finish());
+  };
+  const double radii[5] = {4, 9, 15, 24, 40};
+  for (int i = 0; i < 40; i++) {
+    const double r = radii[i % 5], cx = 20 + u(rng) * 360, cy = 20 + u(rng) * 260;
+    const FilterRect region{cx - 2 * r, cy - 2 * r, 4 * r, 4 * r};
+    std::shared_ptr<const Scene> src = circle_scene(cx, cy, r);
+    if (i == 7) {  // a filtered group inside this one's source
+      SceneBuilder nb(400, 300);
+      Paint fp;
+      fp.type = PaintType::Filter;
+      fp.index = nb.add_filter(filtered(circle_scene(cx + 3, cy, r / 2), region, 0));
+      nb.fill(nb.add_geometry(Path::rectangle(region.x, region.y, region.x + region.w, region.y + region.h)), Affine{},
+              FillRule::NonZero, fp);
+      src = std::make_shared<const Scene>(nb.finish());
+    }
+    Paint fp;
+    fp.type = PaintType::Filter;
+    fp.index = b.add_filter(filtered(src, region, (i / 5) % 4));
+    b.fill(b.add_geometry(Path::rectangle(region.x, region.y, region.x + region.w, region.y + region.h)), Affine{},
+           FillRule::NonZero, fp);
+  }
+  const Scene scene = b.finish();
+  for (int preset = 0; preset < 2; preset++) {
+    RenderOptions o;
+    o.width = 400, o.height = 300;
+    o.samples = 32;
+    o.filter = preset ? Filter::Cardinal : Filter::Box;
+    o.gamma = preset ? Gamma::Linear : Gamma::Srgb;
+    o.backend = Backend::Cpu;
+    RenderStats cs, gs;
+    const ImageF cpu = render(scene, o, &cs);
+    o.backend = Backend::Cuda;
+    const ImageF gpu = render(scene, o, &gs);
+    CHECK(cs.filter_layers == 40);
+    CHECK(gs.filter_layers == 40);
+    REQUIRE(cpu.rgba.size() == gpu.rgba.size());
+    float worst = 0;
+    for (size_t i = 0; i < cpu.rgba.size(); i++) worst = std::max(worst, std::fabs(cpu.rgba[i] - gpu.rgba[i]));
+    INFO("preset " << preset << ": worst difference " << worst);
+    CHECK(worst <= 1.0f / 255);
+  }
+}
+
+TEST_CASE("filter golden images render alike on the CUDA backend, filters in pattern tiles included", "[gpu][filter]") {
+  for (const char* name : {"filters.svg", "filters_pattern.svg"}) {
+    const std::string path = std::string(MPVG_SOURCE_DIR) + "/testdata/golden/" + name;
+    RenderOptions base;
+    svg::ParseOptions po;
+    po.view = [&base](double w, double h) {  // 400 pixels wide
+      base.width = 400;
+      base.height = static_cast<int>(std::lround(400 * h / w));
+      base.view = Affine::scale(400 / w, 400 / w);
+      return base.view;
+    };
+    const svg::ParseResult doc = svg::parse_svg_file(path, po);
+    for (int preset = 0; preset < 2; preset++) {
+      RenderOptions o = base;
+      o.filter = preset ? Filter::Cardinal : Filter::Box;
+      o.gamma = preset ? Gamma::Linear : Gamma::Srgb;
+      o.backend = Backend::Cpu;
+      RenderStats cs, gs;
+      const ImageF cpu = render(doc.scene, o, &cs);
+      o.backend = Backend::Cuda;
+      const ImageF gpu = render(doc.scene, o, &gs);
+      CHECK(cs.filter_layers > 0);
+      CHECK(gs.filter_layers == cs.filter_layers);
+      REQUIRE(cpu.rgba.size() == gpu.rgba.size());
+      float worst = 0;
+      for (size_t i = 0; i < cpu.rgba.size(); i++) worst = std::max(worst, std::fabs(cpu.rgba[i] - gpu.rgba[i]));
+      INFO(name << ", preset " << preset << ": worst difference " << worst);
+      CHECK(worst <= 1.0f / 255);
+    }
+  }
 }
 
 TEST_CASE("filter effects render alike through the CPU and the CUDA backends", "[gpu][filter]") {
