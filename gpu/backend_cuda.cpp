@@ -155,16 +155,18 @@ FilterExecutor cuda_filters(gpu::Context& ctx) {
         forest_grid(forest, w, h);
         ctx.build(forest, w, h, plans[g[0]].tree);
       }
+      lap("forest build");
       if (ctx.build_counts().capped) {  // one frame each, as a batch would
         for (size_t k : g) alone(k);
         continue;
       }
-      for (size_t r = 0; r < g.size(); r++) {
-        const RenderPlan& p = plans[g[r]];
-        keep(g[r], ctx.render_to_device(p.integ, p.frame, bg, nullptr, static_cast<uint32_t>(r)));
-      }
+      // Every root at once, each into its layer's source plane.
+      std::vector<IntegrationFrame> frames;
+      std::vector<float*> images;
+      for (size_t k : g) frames.push_back(plans[k].frame), images.push_back(sources.data() + offset[k]);
+      ctx.render_roots_to_device(plans[g[0]].integ, frames, bg, images);
     }
-    lap("render");
+    lap("renders");
     std::vector<const FilterLayer*> layers;
     std::vector<const float*> srcs;
     for (size_t k : live) layers.push_back(&jobs[k].layer), srcs.push_back(sources.data() + offset[k]);

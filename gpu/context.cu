@@ -102,6 +102,11 @@ const float* Context::render_to_device(const Integration& integ, const Integrati
   return reinterpret_cast<const float*>(impl_->image.data());
 }
 
+void Context::render_roots_to_device(const Integration& integ, const std::vector<IntegrationFrame>& frames,
+                                     const PaintRecord& background, const std::vector<float*>& images) {
+  impl_->render_roots(integ, frames, background, images);
+}
+
 std::vector<uint8_t> Context::render_rgba8(const Integration& integ, const IntegrationFrame& frame,
                                           const PaintRecord& background, bool linear, GpuTimes* times,
                                           std::vector<uint8_t> storage, uint32_t root) {

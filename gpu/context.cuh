@@ -204,6 +204,20 @@ struct LevelCountsAdd {
   }
 };
 
+// A root of a forest rendered with others in one pass (Impl::render_roots):
+// its grids and where its buffers are; the kernels of gpu/render.cu read it
+// by tree root (the leaves') or by pass slot (blockIdx.y).
+struct RootPass {
+  int ua_w, ua_h;    // unit areas
+  int acc_w, acc_h;  // accumulation pixels
+  int out_w, out_h;  // output pixels
+  uint32_t root, active, kinds;
+  float4* image;
+  unsigned long long* acc;
+  float4* ua_color;
+  float4* buf;
+};
+
 struct Context::Impl {
   Primitives prim;
   // Scene.
@@ -277,6 +291,8 @@ struct Context::Impl {
   DeviceBuffer<LevelCounts> counts;
   DeviceBuffer<uint32_t> scalar;  // small results read back by the host
   // Rendering.
+  DeviceBuffer<RootPass> pass_table;  // render_roots: per tree root
+  DeviceBuffer<uint32_t> pass_slots;  // ... and the roots of its per-pixel launches
   DeviceBuffer<SampleOffset> pattern;
   DeviceBuffer<float4> image;
   DeviceBuffer<float4> leaf_color;
@@ -357,6 +373,13 @@ struct Context::Impl {
   void upload_paints(const PaintData& p);
   void stash_tile(TileTree& t);
   // Renders root `root` of the built tree (0: a frame of one scene).
+  // Roots 0 .. frames.size() - 1 of a forest's tree, each into images[k]
+  // (frames[k].width x height premultiplied float4s on the device), in one
+  // pass: one schedule and sampler launch per sampler specialisation, the
+  // per-pixel kernels over all roots at once (blockIdx.y the root); each
+  // image the one render() gives its root.
+  void render_roots(const Integration& integ, const std::vector<IntegrationFrame>& frames, const PaintRecord& background,
+                    const std::vector<float*>& images);
   void render(const Integration& integ, const IntegrationFrame& frame, const PaintRecord& background,
               GpuTimes* times, uint32_t root = 0);
   // The rendered image as straight 8-bit codes (core/rgba8.h) in rgba8.

@@ -70,6 +70,13 @@ class Context {
   const float* render_to_device(const Integration& integ, const IntegrationFrame& frame, const PaintRecord& background,
                                 GpuTimes* times = nullptr, uint32_t root = 0);
 
+  // Roots 0 .. frames.size() - 1 of a forest's tree rendered in one pass,
+  // root k into images[k] on the device (frames[k].width x height
+  // premultiplied RGBA floats): each the image render() gives that root,
+  // the launches and host round trips of one frame for all of them.
+  void render_roots_to_device(const Integration& integ, const std::vector<IntegrationFrame>& frames,
+                              const PaintRecord& background, const std::vector<float*>& images);
+
   // As render(), returning the image as straight 8-bit codes, 4 bytes per
   // pixel (core/rgba8.h; linear: the image was integrated in linear light),
   // converted on the device: a quarter of the float image is copied back.

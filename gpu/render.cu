@@ -40,6 +40,14 @@ struct PixelRect {
   uint32_t x0, y0, w, h;
 };
 
+// Where a root of the pass reads and writes: Context::Impl::RootPass, per
+// tree root (by_root) and per pass slot (blockIdx.y of the per-pixel
+// kernels, through pass_roots). Null tables: one root, the kernels'
+// arguments.
+__device__ __forceinline__ const RootPass* pass_of(const RootPass* by_root, const uint32_t* pass_roots) {
+  return by_root + pass_roots[blockIdx.y];
+}
+
 __device__ __forceinline__ PixelRect leaf_rect(const Cell& c, uint32_t root_size, int width, int height) {
   const uint32_t s = root_size >> c.level;
   const uint32_t x0 = c.ix * s, y0 = c.iy * s;
@@ -58,7 +66,8 @@ __device__ __forceinline__ float4 composite(float r, float g, float b, float a, 
 template <uint32_t Kinds>
 __global__ void k_leaf_info(const Cell* leaves, size_t nleaves, const Entry* entries, SampleInputs in,
                             uint32_t root_size, int width, int height, uint32_t tile_w, uint32_t tile_h,
-                            uint32_t root, uint32_t* batches, float4* color) {
+                            uint32_t root, uint32_t* batches, float4* color, const RootPass* by_root,
+                            uint32_t pass_kinds) {
   const size_t l = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
   if (l > nleaves) return;
   if (l == nleaves) {
@@ -66,7 +75,13 @@ __global__ void k_leaf_info(const Cell* leaves, size_t nleaves, const Entry* ent
     return;
   }
   const Cell c = leaves[l];
-  if (c.root != root) {
+  bool mine = c.root == root;
+  if (by_root) {  // every root of the pass with this sampler's kinds
+    const RootPass& p = by_root[c.root];
+    mine = p.active && p.kinds == pass_kinds;
+    width = p.ua_w, height = p.ua_h;
+  }
+  if (!mine) {
     batches[l] = 0;
     return;
   }
@@ -98,21 +113,28 @@ struct Accumulate {
 template <uint32_t Kinds>
 __global__ void k_sample(const Cell* leaves, uint32_t nleaves, const uint32_t* batch_start, SampleInputs in,
                          const SampleOffset* pattern, int n, int chunk, int tile_w, int tile_h, uint32_t root_size,
-                         int width, int height, PaintRecord bg, float4* image, Accumulate a) {
+                         int width, int height, PaintRecord bg, float4* image, Accumulate a, const RootPass* by_root) {
   extern __shared__ __align__(16) unsigned char smem[];
   AbstractSegment* ss = reinterpret_cast<AbstractSegment*>(smem);
   Entry* se = reinterpret_cast<Entry*>(ss + chunk);
   float4* red = reinterpret_cast<float4*>(se + chunk + (chunk & 1));
   unsigned long long* tacc = reinterpret_cast<unsigned long long*>(red + blockDim.x);
 
-  // The leaf of this batch: the last leaf whose batches start at or before it.
   const uint32_t b = blockIdx.x;
+  // The leaf of this batch: the last leaf whose batches start at or before it.
   uint32_t lo = 0, hi = nleaves;
   while (hi - lo > 1) {
     const uint32_t mid = (lo + hi) / 2;
     if (batch_start[mid] <= b) lo = mid; else hi = mid;
   }
   const Cell c = leaves[lo];
+  if (by_root) {  // the leaf's root: its grids and buffers
+    const RootPass& p = by_root[c.root];
+    width = p.ua_w, height = p.ua_h;
+    image = p.image;
+    a.acc = a.acc ? p.acc : nullptr;
+    a.acc_w = p.acc_w, a.acc_h = p.acc_h;
+  }
   const PixelRect r = leaf_rect(c, root_size, width, height);
   // The batch's tile of unit areas within the leaf.
   const uint32_t bi = b - batch_start[lo], tiles_x = (r.w + tile_w - 1) / tile_w;
@@ -197,7 +219,12 @@ __global__ void k_sample(const Cell* leaves, uint32_t nleaves, const uint32_t* b
 }
 
 __global__ void k_fill_uniform(const Node* nodes, uint32_t root_size, uint32_t root, int width, int height,
-                               const float4* color, PaintRecord bg, float4* image) {
+                               const float4* color, PaintRecord bg, float4* image, const RootPass* by_root,
+                               const uint32_t* pass_roots) {
+  if (by_root) {
+    const RootPass& p = *pass_of(by_root, pass_roots);
+    root = p.root, width = p.ua_w, height = p.ua_h, image = p.image;
+  }
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
   if (i >= size_t(width) * height) return;
   const uint32_t x = static_cast<uint32_t>(i % width), y = static_cast<uint32_t>(i / width);
@@ -208,7 +235,12 @@ __global__ void k_fill_uniform(const Node* nodes, uint32_t root_size, uint32_t r
 // Unit areas of uniform leaves send flat colour times the weights' sums.
 // The flat colour of every unit area in a uniform leaf (a < 0 elsewhere).
 __global__ void k_unit_area_color(const Node* nodes, uint32_t root_size, uint32_t root, int ua_w, int ua_h,
-                                  const float4* color, float4* ua_color) {
+                                  const float4* color, float4* ua_color, const RootPass* by_root,
+                                  const uint32_t* pass_roots) {
+  if (by_root) {
+    const RootPass& p = *pass_of(by_root, pass_roots);
+    root = p.root, ua_w = p.ua_w, ua_h = p.ua_h, ua_color = p.ua_color;
+  }
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
   if (i >= size_t(ua_w) * ua_h) return;
   const uint32_t ux = static_cast<uint32_t>(i % ua_w), uy = static_cast<uint32_t>(i / ua_w);
@@ -219,7 +251,12 @@ __global__ void k_unit_area_color(const Node* nodes, uint32_t root_size, uint32_
 // its support (each term rounded to fixed point exactly as if it had been
 // scattered), normalised by the pixel class's total weight.
 __global__ void k_normalize(const unsigned long long* acc, const float4* ua_color, int acc_w, int acc_h, int ua_w,
-                            int K, int class_mod, const float* weight_sums, const double* totals, float4* out) {
+                            int K, int class_mod, const float* weight_sums, const double* totals, float4* out,
+                            const RootPass* by_root, const uint32_t* pass_roots) {
+  if (by_root) {
+    const RootPass& p = *pass_of(by_root, pass_roots);
+    acc = p.acc, ua_color = p.ua_color, acc_w = p.acc_w, acc_h = p.acc_h, ua_w = p.ua_w, out = p.buf;
+  }
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
   if (i >= size_t(acc_w) * acc_h) return;
   const int ax = int(i % acc_w), ay = int(i / acc_w);
@@ -260,7 +297,18 @@ __device__ __forceinline__ float4 axpy4(float a, float4 x, float4 y) {
   return make_float4(a * x.x + y.x, a * x.y + y.y, a * x.z + y.z, a * x.w + y.w);
 }
 
-__global__ void k_prefilter_lines(float4* data, int lines, int n, size_t line_stride, size_t elem_stride) {
+// by_root: each pass slot's accumulation image (blockIdx.y), its rows
+// (columns: false) or its columns.
+__global__ void k_prefilter_lines(float4* data, int lines, int n, size_t line_stride, size_t elem_stride,
+                                  const RootPass* by_root, const uint32_t* pass_roots, bool rows) {
+  if (by_root) {
+    const RootPass& p = *pass_of(by_root, pass_roots);
+    data = p.buf;
+    lines = rows ? p.acc_h : p.acc_w;
+    n = rows ? p.acc_w : p.acc_h;
+    line_stride = rows ? size_t(p.acc_w) : 1;
+    elem_stride = rows ? 1 : size_t(p.acc_w);
+  }
   __shared__ float4 carry[kPrefilterBlocks][kPrefilterLines];
   __shared__ float zpow[kPrefilterBlocks];  // z^(length of block j)
   const float z = kCardinalPole;
@@ -353,7 +401,12 @@ __global__ void k_prefilter_lines(float4* data, int lines, int n, size_t line_st
   }
 }
 
-__global__ void k_output(const float* buf, int acc_w, int pad, int width, int height, PaintRecord bg, float4* image) {
+__global__ void k_output(const float* buf, int acc_w, int pad, int width, int height, PaintRecord bg, float4* image,
+                         const RootPass* by_root, const uint32_t* pass_roots) {
+  if (by_root) {
+    const RootPass& p = *pass_of(by_root, pass_roots);
+    buf = reinterpret_cast<const float*>(p.buf), acc_w = p.acc_w, width = p.out_w, height = p.out_h, image = p.image;
+  }
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
   if (i >= size_t(width) * height) return;
   const size_t x = i % width, y = i / width;
@@ -411,10 +464,12 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
   auto leaf_info = (kinds & SAMPLE_GROUPS) ? k_leaf_info<SAMPLE_GROUPS> : k_leaf_info<PAINTS_SOLID>;
   leaf_info<<<grid_for(nleaves + 1, kBlock), kBlock>>>(leaves.data(), nleaves, leaf_entries.data(), in, root_size, width,
                                                        height, static_cast<uint32_t>(tile_w),
-                                                       static_cast<uint32_t>(tile_h), root, nb, leaf_color.data());
+                                                       static_cast<uint32_t>(tile_h), root, nb, leaf_color.data(), nullptr,
+                                                       0);
   launched();
   prim.exclusive_sum(nb, leaf_batches.data(), nleaves + 1);
   const uint32_t total_batches = read_u32(leaf_batches.data() + nleaves);
+  const size_t nua = size_t(width) * height;
   timer.stop();
 
   timer.start(&t.sample_ms);
@@ -427,20 +482,19 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
       MPVG_CUDA(cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, static_cast<int>(shared)));
       kernel<<<total_batches, threads, shared>>>(leaves.data(), static_cast<uint32_t>(nleaves), leaf_batches.data(), in,
                                                  pattern.data(), n, shape.chunk, tile_w, tile_h, root_size, width,
-                                                 height, bg, image.data(), acc_args);
+                                                 height, bg, image.data(), acc_args, nullptr);
     };
     with_sampler_kinds(kinds, [&](auto k) { launch(k_sample<decltype(k)::value>); });
     launched();
   }
-  const size_t nua = size_t(width) * height;
   if (direct) {
     k_fill_uniform<<<grid_for(nua, kBlock), kBlock>>>(nodes.data(), root_size, root, width, height,
-                                                      leaf_color.data(), bg, image.data());
+                                                      leaf_color.data(), bg, image.data(), nullptr, nullptr);
     launched();
   } else {
     ua_color.resize(nua);
     k_unit_area_color<<<grid_for(nua, kBlock), kBlock>>>(nodes.data(), root_size, root, width, height,
-                                                         leaf_color.data(), ua_color.data());
+                                                         leaf_color.data(), ua_color.data(), nullptr, nullptr);
     launched();
   }
   timer.stop();
@@ -451,26 +505,150 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
     const size_t npacc = size_t(frame.acc_w) * frame.acc_h;
     k_normalize<<<grid_for(npacc, kBlock), kBlock>>>(acc.data(), ua_color.data(), frame.acc_w, frame.acc_h, width,
                                                       integ.support, integ.class_mod, weight_sums.data(),
-                                                      totals.data(), reinterpret_cast<float4*>(buf.data()));
+                                                      totals.data(), reinterpret_cast<float4*>(buf.data()), nullptr,
+                                                      nullptr);
     launched();
     if (integ.prefilter) {
       const dim3 block(kPrefilterLines, kPrefilterBlocks);
       float4* b4 = reinterpret_cast<float4*>(buf.data());
       // Rows, then columns, as on the CPU.
       k_prefilter_lines<<<grid_for(frame.acc_h, kPrefilterLines), block>>>(b4, frame.acc_h, frame.acc_w,
-                                                                            size_t(frame.acc_w), 1);
+                                                                            size_t(frame.acc_w), 1, nullptr, nullptr,
+                                                                            true);
       launched();
       k_prefilter_lines<<<grid_for(frame.acc_w, kPrefilterLines), block>>>(b4, frame.acc_w, frame.acc_h, 1,
-                                                                            size_t(frame.acc_w));
+                                                                            size_t(frame.acc_w), nullptr, nullptr,
+                                                                            false);
       launched();
     }
     const size_t npix = size_t(frame.width) * frame.height;
     k_output<<<grid_for(npix, kBlock), kBlock>>>(buf.data(), frame.acc_w, integ.pad, frame.width, frame.height, bg,
-                                                 image.data());
+                                                 image.data(), nullptr, nullptr);
     launched();
     timer.stop();
   }
   timer.collect();
+}
+
+void Context::Impl::render_roots(const Integration& integ, const std::vector<IntegrationFrame>& frames,
+                                 const PaintRecord& bg, const std::vector<float*>& images) {
+  const int n = integ.samples;
+  const int threads = n <= shape.threads ? n * (shape.threads / n) : n;
+  if (n < 1 || threads > 1024) throw Error("the CUDA sampler takes 1 to 1024 samples per unit area");
+  if (frames.size() > roots.size() || images.size() != frames.size())
+    throw Error("render of roots the built tree does not have");
+  if (frames.empty()) return;
+  const bool direct = integ.support == 1 && integ.pad == 0;
+  const bool odd = integ.support % 2 == 1;
+  upload_changed(pattern, pattern_host, integ.offsets);
+  if (!direct) {
+    upload_changed(weights, weights_host, integ.weights);
+    upload_changed(weight_sums, weight_sums_host, integ.weight_sums);
+    upload_changed(totals, totals_host, integ.totals);
+  }
+  // Each root's grids, and its share of the accumulators, the unit-area
+  // colours and the accumulation image.
+  size_t nacc = 0, nua = 0, max_ua = 0, max_acc = 0, max_out = 0, max_lines = 0;
+  for (size_t k = 0; k < frames.size(); k++) {
+    const IntegrationFrame& f = frames[k];
+    if (f.ua_w != roots[k].width || f.ua_h != roots[k].height) throw Error("render frame does not match the built tree");
+    nacc += size_t(f.acc_w) * f.acc_h, nua += size_t(f.ua_w) * f.ua_h;
+    max_ua = std::max(max_ua, size_t(f.ua_w) * f.ua_h);
+    max_acc = std::max(max_acc, size_t(f.acc_w) * f.acc_h);
+    max_out = std::max(max_out, size_t(f.width) * f.height);
+    max_lines = std::max<size_t>(max_lines, std::max(f.acc_w, f.acc_h));
+  }
+  if (!direct) {
+    acc.resize(nacc * 4);
+    MPVG_CUDA(cudaMemsetAsync(acc.data(), 0, nacc * 4 * sizeof(unsigned long long)));
+    ua_color.resize(nua);
+    buf.resize(nacc * 4);
+  }
+  std::vector<RootPass> table(roots.size(), RootPass{});
+  std::vector<uint32_t> slots(frames.size());
+  std::vector<uint32_t> kinds_seen;
+  size_t at_acc = 0, at_ua = 0;
+  for (size_t k = 0; k < frames.size(); k++) {
+    const IntegrationFrame& f = frames[k];
+    RootPass& p = table[k];
+    p.ua_w = f.ua_w, p.ua_h = f.ua_h, p.acc_w = f.acc_w, p.acc_h = f.acc_h, p.out_w = f.width, p.out_h = f.height;
+    p.root = static_cast<uint32_t>(k);
+    p.active = 1;
+    p.kinds = roots[k].kinds[odd];
+    p.image = reinterpret_cast<float4*>(images[k]);
+    if (!direct) {
+      p.acc = acc.data() + at_acc * 4;
+      p.buf = reinterpret_cast<float4*>(buf.data()) + at_acc;
+      p.ua_color = ua_color.data() + at_ua;
+    }
+    at_acc += size_t(f.acc_w) * f.acc_h, at_ua += size_t(f.ua_w) * f.ua_h;
+    slots[k] = static_cast<uint32_t>(k);
+    if (std::find(kinds_seen.begin(), kinds_seen.end(), p.kinds) == kinds_seen.end()) kinds_seen.push_back(p.kinds);
+  }
+  pass_table.upload(table);
+  pass_slots.upload(slots);
+  const RootPass* by_root = pass_table.data();
+  const uint32_t* pass_roots = pass_slots.data();
+  const unsigned nslots = static_cast<unsigned>(frames.size());
+  const SampleInputs in{leaf_entries.data(), segments.data(), paths.data(), paint_view.data()};
+  Accumulate acc_args{nullptr, direct ? nullptr : weights.data(), integ.support, integ.class_mod, 0, 0};
+  if (!direct) acc_args.acc = acc.data();  // non-null: accumulate (each root's own, from the table)
+  int log_batch = 0;
+  while ((2 << log_batch) <= shape.batch) log_batch++;
+  const int tile_w = 1 << ((log_batch + 1) / 2), tile_h = (1 << log_batch) / tile_w;
+  leaf_batches.resize(nleaves + 1);
+  leaf_color.resize(nleaves + 1);
+  uint32_t* nb = (u32[0].resize(nleaves + 1), u32[0].data());
+  // One schedule and one sampler launch per sampler specialisation (each
+  // root keeps its own, as alone: SceneRoot::kinds).
+  for (const uint32_t kinds : kinds_seen) {
+    auto leaf_info = (kinds & SAMPLE_GROUPS) ? k_leaf_info<SAMPLE_GROUPS> : k_leaf_info<PAINTS_SOLID>;
+    leaf_info<<<grid_for(nleaves + 1, kBlock), kBlock>>>(leaves.data(), nleaves, leaf_entries.data(), in, root_size, 0,
+                                                         0, static_cast<uint32_t>(tile_w),
+                                                         static_cast<uint32_t>(tile_h), 0, nb, leaf_color.data(),
+                                                         by_root, kinds);
+    launched();
+    prim.exclusive_sum(nb, leaf_batches.data(), nleaves + 1);
+    const uint32_t total_batches = read_u32(leaf_batches.data() + nleaves);
+    if (!total_batches) continue;
+    const int K = integ.support;
+    const size_t shared = sizeof(AbstractSegment) * shape.chunk + sizeof(Entry) * (shape.chunk + (shape.chunk & 1)) +
+                          sizeof(float4) * threads +
+                          (direct ? 0 : sizeof(unsigned long long) * 4 * (tile_w + K - 1) * (tile_h + K - 1));
+    auto launch = [&](auto kernel) {
+      MPVG_CUDA(cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, static_cast<int>(shared)));
+      kernel<<<total_batches, threads, shared>>>(leaves.data(), static_cast<uint32_t>(nleaves), leaf_batches.data(), in,
+                                                 pattern.data(), n, shape.chunk, tile_w, tile_h, root_size, 0, 0, bg,
+                                                 nullptr, acc_args, by_root);
+    };
+    with_sampler_kinds(kinds, [&](auto k) { launch(k_sample<decltype(k)::value>); });
+    launched();
+  }
+  if (direct) {
+    k_fill_uniform<<<dim3(grid_for(max_ua, kBlock), nslots), kBlock>>>(nodes.data(), root_size, 0, 0, 0,
+                                                                      leaf_color.data(), bg, nullptr, by_root,
+                                                                      pass_roots);
+    launched();
+    return;
+  }
+  k_unit_area_color<<<dim3(grid_for(max_ua, kBlock), nslots), kBlock>>>(nodes.data(), root_size, 0, 0, 0,
+                                                                       leaf_color.data(), nullptr, by_root, pass_roots);
+  launched();
+  k_normalize<<<dim3(grid_for(max_acc, kBlock), nslots), kBlock>>>(nullptr, nullptr, 0, 0, 0, integ.support,
+                                                                  integ.class_mod, weight_sums.data(), totals.data(),
+                                                                  nullptr, by_root, pass_roots);
+  launched();
+  if (integ.prefilter) {
+    const dim3 block(kPrefilterLines, kPrefilterBlocks);
+    const dim3 grid(grid_for(max_lines, kPrefilterLines), nslots);
+    k_prefilter_lines<<<grid, block>>>(nullptr, 0, 0, 0, 0, by_root, pass_roots, true);
+    launched();
+    k_prefilter_lines<<<grid, block>>>(nullptr, 0, 0, 0, 0, by_root, pass_roots, false);
+    launched();
+  }
+  k_output<<<dim3(grid_for(max_out, kBlock), nslots), kBlock>>>(nullptr, 0, integ.pad, 0, 0, bg, nullptr, by_root,
+                                                               pass_roots);
+  launched();
 }
 
 }  // namespace mpvg::gpu
