@@ -235,7 +235,23 @@ class Batch {
   // The last op's planes (transparent ones for an empty graph).
   PlanesPtr run() {
     const FilterLayer& first = *l_[0];
-    for (size_t k = 0; k < first.ops.size(); k++) results_.push_back(apply(k));
+    const size_t n = first.ops.size();
+    // Each result is dropped after the last op that reads it: a graph holds
+    // the images still to be read, not all it made.
+    std::vector<size_t> last(n, n);
+    for (size_t k = 0; k < n; k++) {
+      const FilterOp& o = first.ops[k];
+      auto use = [&](int32_t in) {
+        if (in >= 0 && static_cast<size_t>(in) < k) last[in] = k;
+      };
+      use(o.in), use(o.in2);
+      for (uint32_t j = 0; j < o.inputs_count; j++) use(first.inputs[o.inputs_begin + j]);
+    }
+    for (size_t k = 0; k < n; k++) {
+      results_.push_back(apply(k));
+      for (size_t i = 0; i + 1 < n && i < k; i++)
+        if (last[i] == k || last[i] == n) results_[i].reset();
+    }
     if (results_.empty()) return make(whole_, false, [](size_t) { return Constant{Rgba4{0, 0, 0, 0}}; });
     return results_.back();
   }
@@ -286,6 +302,7 @@ class Batch {
   PlanesPtr input(int32_t in, bool linear) {
     if (in >= 0 && static_cast<size_t>(in) < results_.size()) {
       const PlanesPtr r = results_[in];
+      if (!r) throw Error("filter graph: a result read after its last use");
       if (r->linear == linear) return r;
       return make(r->boxes, linear, [&](size_t i) {
         return Converted{px(*r, i), r->boxes[i], width(i), r->linear, linear, false};
