@@ -417,6 +417,27 @@ __global__ void k_output(const float* buf, int acc_w, int pad, int width, int he
   image[i] = composite(p[0], p[1], p[2], p[3], bg);
 }
 
+// The sampler over `total` batches (one block each), specialised for
+// `kinds`, its shared memory sized for the shape and, under a wide filter,
+// the accumulators of a tile and its apron.
+void launch_sampler(Context::Impl& m, uint32_t kinds, uint32_t total, int threads, bool direct, const Integration& integ,
+                    int tile_w, int tile_h, const SampleInputs& in, int width, int height, const PaintRecord& bg,
+                    float4* image, const Accumulate& a, const RootPass* by_root) {
+  const int K = integ.support;
+  const SamplerShape& sh = m.shape;
+  const size_t shared = sizeof(AbstractSegment) * sh.chunk + sizeof(Entry) * (sh.chunk + (sh.chunk & 1)) +
+                        sizeof(float4) * threads +
+                        (direct ? 0 : sizeof(unsigned long long) * 4 * (tile_w + K - 1) * (tile_h + K - 1));
+  auto launch = [&](auto kernel) {
+    MPVG_CUDA(cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, static_cast<int>(shared)));
+    kernel<<<total, threads, shared>>>(m.leaves.data(), static_cast<uint32_t>(m.nleaves), m.leaf_batches.data(), in,
+                                       m.pattern.data(), integ.samples, sh.chunk, tile_w, tile_h, m.root_size, width,
+                                       height, bg, image, a, by_root);
+  };
+  with_sampler_kinds(kinds, [&](auto k) { launch(k_sample<decltype(k)::value>); });
+  m.launched();
+}
+
 }  // namespace
 
 void Context::Impl::render(const Integration& integ, const IntegrationFrame& frame, const PaintRecord& bg,
@@ -474,18 +495,8 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
 
   timer.start(&t.sample_ms);
   if (total_batches) {
-    const int K = integ.support;
-    const size_t shared = sizeof(AbstractSegment) * shape.chunk + sizeof(Entry) * (shape.chunk + (shape.chunk & 1)) +
-                          sizeof(float4) * threads +
-                          (direct ? 0 : sizeof(unsigned long long) * 4 * (tile_w + K - 1) * (tile_h + K - 1));
-    auto launch = [&](auto kernel) {
-      MPVG_CUDA(cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, static_cast<int>(shared)));
-      kernel<<<total_batches, threads, shared>>>(leaves.data(), static_cast<uint32_t>(nleaves), leaf_batches.data(), in,
-                                                 pattern.data(), n, shape.chunk, tile_w, tile_h, root_size, width,
-                                                 height, bg, image.data(), acc_args, nullptr);
-    };
-    with_sampler_kinds(kinds, [&](auto k) { launch(k_sample<decltype(k)::value>); });
-    launched();
+    launch_sampler(*this, kinds, total_batches, threads, direct, integ, tile_w, tile_h, in, width, height, bg,
+                   image.data(), acc_args, nullptr);
   }
   if (direct) {
     k_fill_uniform<<<grid_for(nua, kBlock), kBlock>>>(nodes.data(), root_size, root, width, height,
@@ -611,18 +622,8 @@ void Context::Impl::render_roots(const Integration& integ, const std::vector<Int
     prim.exclusive_sum(nb, leaf_batches.data(), nleaves + 1);
     const uint32_t total_batches = read_u32(leaf_batches.data() + nleaves);
     if (!total_batches) continue;
-    const int K = integ.support;
-    const size_t shared = sizeof(AbstractSegment) * shape.chunk + sizeof(Entry) * (shape.chunk + (shape.chunk & 1)) +
-                          sizeof(float4) * threads +
-                          (direct ? 0 : sizeof(unsigned long long) * 4 * (tile_w + K - 1) * (tile_h + K - 1));
-    auto launch = [&](auto kernel) {
-      MPVG_CUDA(cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, static_cast<int>(shared)));
-      kernel<<<total_batches, threads, shared>>>(leaves.data(), static_cast<uint32_t>(nleaves), leaf_batches.data(), in,
-                                                 pattern.data(), n, shape.chunk, tile_w, tile_h, root_size, 0, 0, bg,
-                                                 nullptr, acc_args, by_root);
-    };
-    with_sampler_kinds(kinds, [&](auto k) { launch(k_sample<decltype(k)::value>); });
-    launched();
+    launch_sampler(*this, kinds, total_batches, threads, direct, integ, tile_w, tile_h, in, 0, 0, bg, nullptr, acc_args,
+                   by_root);
   }
   if (direct) {
     k_fill_uniform<<<dim3(grid_for(max_ua, kBlock), nslots), kBlock>>>(nodes.data(), root_size, 0, 0, 0,
