@@ -12,6 +12,7 @@ PACKAGES=(
   libmupdf-dev libmujs-dev libgumbo-dev libjbig2dec0-dev libopenjp2-7-dev
   libjpeg-dev libharfbuzz-dev libfribidi-dev zlib1g-dev
   libfontconfig-dev fonts-dejavu-core fonts-lohit-deva fonts-wqy-microhei
+  fonts-liberation fonts-urw-base35
   catch2
   libpng-dev libdeflate-dev
   python3-dev python3-numpy pybind11-dev

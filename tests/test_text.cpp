@@ -505,3 +505,106 @@ TEST_CASE("one db shared by threads gives the single-threaded results", "[text]"
   }
   for (int t = 0; t < 12; ++t) CHECK(got[t] == expected[t % 3]);
 }
+
+// URW's base 35 (Debian's fonts-urw-base35, installed by
+// scripts/setup-debian.sh) ships each face as OpenType CFF (.otf) and as
+// Type 1 (.t1): the two must shape and draw alike, Type 1 through
+// FreeType's cmap and advances.
+TEST_CASE("Type 1 faces shape and draw as their OpenType twins", "[text]") {
+  const std::string otf = "/usr/share/fonts/opentype/urw-base35/NimbusSans-Regular.otf";
+  const std::string t1 = "/usr/share/fonts/type1/urw-base35/NimbusSans-Regular.t1";
+  if (!fs::exists(otf) || !fs::exists(t1)) {
+    WARN("SKIPPED: URW base 35 fonts are absent (Debian package fonts-urw-base35)");
+    return;
+  }
+  tx::FontDb db;
+  REQUIRE(db.add_file(otf) == 1);
+  REQUIRE(db.add_file(t1) == 1);
+  REQUIRE(db.faces().size() == 2);
+  CHECK(db.faces()[0].sfnt);
+  CHECK_FALSE(db.faces()[1].sfnt);
+  CHECK(db.faces()[0].family == db.faces()[1].family);
+  // Same family and style: the OpenType face is the match.
+  CHECK(db.match({"Nimbus Sans"}, 400, false) == 0);
+  // Letter by letter: the OpenType face also kerns pairs (GPOS), which a
+  // Type 1 file without its AFM cannot.
+  for (char c : std::string("Label Ag 0123")) {
+    INFO("'" << c << "'");
+    const std::vector<tx::ShapedGlyph> a = tx::shape(db, 0, std::string(1, c), 100);
+    const std::vector<tx::ShapedGlyph> b = tx::shape(db, 1, std::string(1, c), 100);
+    REQUIRE(a.size() == 1);
+    REQUIRE(b.size() == 1);
+    CHECK(b[0].glyph != 0);
+    CHECK(std::abs(b[0].x_advance - a[0].x_advance) < 0.05);
+    const mpvg::Path pa = tx::glyph_outline(db, 0, a[0].glyph, 100), pb = tx::glyph_outline(db, 1, b[0].glyph, 100);
+    CHECK(pa.empty() == pb.empty());
+    if (pa.empty()) continue;
+    // The boxes of the control points (both are the same cubic design).
+    auto box = [](const mpvg::Path& p) {
+      std::vector<double> b = {1e9, 1e9, -1e9, -1e9};
+      for (const mpvg::Vec2& q : p.points())
+        b = {std::min(b[0], q.x), std::min(b[1], q.y), std::max(b[2], q.x), std::max(b[3], q.y)};
+      return b;
+    };
+    const std::vector<double> ba = box(pa), bb = box(pb);
+    for (int k = 0; k < 4; k++) CHECK(std::abs(ba[k] - bb[k]) < 0.2);
+  }
+}
+
+// fontconfig as the oracle: a family the system lacks resolves to the
+// family fontconfig's own match gives (its aliases: Helvetica to Nimbus
+// Sans, Arial to Liberation Sans, ...), and the system's fonts come from
+// its cache with the faces' own family, weight and style.
+TEST_CASE("system fonts: families resolved as fontconfig resolves them", "[text]") {
+  tx::FontDb db;
+  if (db.add_system_fonts() == 0) {
+    WARN("SKIPPED: no fontconfig, or no system fonts");
+    return;
+  }
+  bool urw = false, liberation = false;
+  for (const tx::FaceInfo& f : db.faces()) {
+    urw = urw || f.family == "Nimbus Sans";
+    liberation = liberation || f.family == "Liberation Sans";
+  }
+  if (!urw || !liberation) {
+    WARN("SKIPPED: URW base 35 or Liberation fonts are absent (fonts-urw-base35, fonts-liberation)");
+    return;
+  }
+  // fc-match's answer for each name, through the library.
+  auto fc_match = [](const std::string& name) {
+    std::string out;
+    std::string cmd = "fc-match -f '%{family[0]}' '" + name + "' 2>/dev/null";
+    if (FILE* p = popen(cmd.c_str(), "r")) {
+      char buf[256];
+      while (fgets(buf, sizeof buf, p)) out += buf;
+      pclose(p);
+    }
+    return out;
+  };
+  for (const char* name : {"Helvetica", "Arial", "Times New Roman", "Times", "Courier", "Courier New",
+                           "Bitstream Vera Sans"}) {
+    const std::string want = fc_match(name);
+    if (want.empty()) {
+      WARN("SKIPPED: fc-match is absent");
+      return;
+    }
+    const int face = db.match({name}, 400, false);
+    REQUIRE(face >= 0);
+    INFO(name << ": fontconfig " << want << ", matched " << db.faces()[face].family);
+    CHECK(db.faces()[face].family == want);
+    CHECK(db.is_alias(name, want));
+    // Matched and drawn: the face has the letters.
+    CHECK(db.has_glyph(face, U'L'));
+    CHECK_FALSE(tx::shape(db, face, "Label", 20).empty());
+  }
+  // A family the document's list names first, when present, wins over
+  // the aliases of an earlier absent one only in list order.
+  const int f = db.match({"No Such Family 7f3a", "Liberation Sans"}, 400, false);
+  CHECK(db.faces()[f].family == "Liberation Sans");
+  CHECK_FALSE(db.is_alias("No Such Family 7f3a", "DejaVu Sans"));
+  // The cache's description of a face agrees with the face itself.
+  const int bold = db.match({"Nimbus Sans"}, 700, true);
+  CHECK(db.faces()[bold].weight == 700);
+  CHECK(db.faces()[bold].italic);
+  CHECK(db.faces()[bold].sfnt);
+}

@@ -31,6 +31,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <tuple>
 
 namespace mpvg::text {
 
@@ -109,6 +110,7 @@ FaceInfo read_info(FT_Face f, const std::string& path, int index) {
   info.index = index;
   info.family = typographic_family(f);
   if (info.family.empty() && f->family_name) info.family = f->family_name;
+  info.sfnt = FT_IS_SFNT(f);
   info.italic = (f->style_flags & FT_STYLE_FLAG_ITALIC) != 0;
   info.weight = (f->style_flags & FT_STYLE_FLAG_BOLD) ? 700 : 400;
   if (const auto* os2 = static_cast<const TT_OS2*>(FT_Get_Sfnt_Table(f, FT_SFNT_OS2));
@@ -239,6 +241,59 @@ struct FontDb::Impl {
       {"cursive", "Yellowtail"},       {"fantasy", "Sedgwick Ave Display"},
       {"monospace", "Noto Mono"},
   };
+#ifdef MPVG_HAVE_FONTCONFIG
+  FcConfig* fc = nullptr;  // the system's configuration, once add_system_fonts ran
+#endif
+  // fontconfig's substitutes of a family (lower-case name), cached.
+  mutable std::map<std::string, std::vector<std::string>> substitutes;
+
+  // Under mu. The families fontconfig's configuration substitutes for
+  // `name`, in its order (FcConfigSubstitute, FcDefaultSubstitute). For a
+  // family name, only its aliases: what the rules put ahead of the default
+  // list every unknown name gets (the common tail of the two lists is
+  // cut). For a generic name, the whole list: that is its resolution.
+  const std::vector<std::string>& fontconfig_families(const std::string& name, bool generic_name) const {
+    const std::string key = (generic_name ? "g:" : "f:") + name;
+    if (auto it = substitutes.find(key); it != substitutes.end()) return it->second;
+    std::vector<std::string>& out = substitutes[key];
+#ifdef MPVG_HAVE_FONTCONFIG
+    if (!fc) return out;
+    auto families = [this](const std::string& n) {
+      std::vector<std::string> list;
+      FcPattern* p = FcPatternCreate();
+      FcPatternAddString(p, FC_FAMILY, reinterpret_cast<const FcChar8*>(n.c_str()));
+      FcConfigSubstitute(fc, p, FcMatchPattern);
+      FcDefaultSubstitute(p);
+      FcChar8* f = nullptr;
+      for (int i = 0; FcPatternGetString(p, FC_FAMILY, i, &f) == FcResultMatch; ++i)
+        list.push_back(lower(reinterpret_cast<const char*>(f)));
+      FcPatternDestroy(p);
+      return list;
+    };
+    std::vector<std::string> list = families(name);
+    if (!generic_name) {
+      const std::vector<std::string> unknown = families("mpvg-no-such-family-7f3a");
+      size_t common = 0;
+      while (common < list.size() && common + 1 < unknown.size() &&
+             list[list.size() - 1 - common] == unknown[unknown.size() - 1 - common])
+        ++common;
+      list.resize(list.size() - common);
+      if (!list.empty() && list[0] == name) list.erase(list.begin());
+    }
+    out = std::move(list);
+#else
+    (void)generic_name;
+#endif
+    return out;
+  }
+
+  // Under mu. The first family fontconfig substitutes for `name` that the
+  // db has (empty: none).
+  std::vector<int> fontconfig_faces(const std::string& name, bool generic_name) const {
+    for (const std::string& f : fontconfig_families(name, generic_name))
+      if (std::vector<int> c = family_faces(f); !c.empty()) return c;
+    return {};
+  }
 
   // Under mu.
   FT_Face face(int i) const {
@@ -257,6 +312,17 @@ struct FontDb::Impl {
   hb_font_t* font(int i) const {
     FT_Face f = face(i);
     if (!f) return nullptr;
+    if (!hb[i] && !FT_IS_SFNT(f)) {
+      // No OpenType tables (Type 1, bare CFF): HarfBuzz takes the cmap and
+      // advances from FreeType, unhinted, at a size of one pixel per font
+      // unit: the same scale of 64 per unit.
+      FT_Set_Char_Size(f, 0, static_cast<FT_F26Dot6>(f->units_per_EM) * 64, 72, 72);
+      hb_font_t* font = hb_ft_font_create_referenced(f);
+      hb_ft_font_set_load_flags(font, FT_LOAD_NO_HINTING);
+      const int upem = static_cast<int>(f->units_per_EM);
+      hb_font_set_scale(font, upem * 64, upem * 64);
+      hb[i] = font;
+    }
     if (!hb[i]) {
       hb_face_t* hf = hb_ft_face_create_referenced(f);
       hb_font_t* font = hb_font_create(hf);
@@ -311,8 +377,15 @@ struct FontDb::Impl {
     std::vector<int> weights;
     for (int i : styled) weights.push_back(faces[i].weight);
     const int w = nearest_weight(weights, weight);
+    // The same face as OpenType and Type 1 (URW's base 35 ship both):
+    // the OpenType one, whose tables HarfBuzz shapes with.
+    int first = -1;
     for (int i : styled)
-      if (faces[i].weight == w) return i;
+      if (faces[i].weight == w) {
+        if (faces[i].sfnt) return i;
+        if (first < 0) first = i;
+      }
+    if (first >= 0) return first;
     return styled.empty() ? -1 : styled[0];
   }
 };
@@ -327,6 +400,9 @@ FontDb::~FontDb() {
   for (FT_Face f : impl_->ft)
     if (f) FT_Done_Face(f);
   if (impl_->lib) FT_Done_FreeType(impl_->lib);
+#ifdef MPVG_HAVE_FONTCONFIG
+  if (impl_->fc) FcConfigDestroy(impl_->fc);
+#endif
 }
 
 size_t FontDb::add_file(const std::string& path, std::vector<std::string>* warnings) {
@@ -401,27 +477,88 @@ size_t FontDb::add_system_fonts() {
     if (!file.empty() && file[0] == '/' && !std::filesystem::exists(file, ec) && !std::getenv("FONTCONFIG_PATH"))
       return 0;
   }
-  FcConfig* config = FcInitLoadConfigAndFonts();
-  if (!config) return 0;
+  Impl& m = *impl_;
+  {
+    std::lock_guard<std::mutex> lock(m.mu);
+    if (m.fc) return 0;  // already added
+    m.fc = FcInitLoadConfigAndFonts();
+    if (!m.fc) return 0;
+    m.substitutes.clear();
+  }
+  // The faces as fontconfig's cache describes them: a text file costs no
+  // scan of the system's fonts. Variable fonts are read by FreeType (their
+  // default instance's weight and width are not in the cache as numbers).
   FcPattern* pattern = FcPatternCreate();
-  FcObjectSet* objects = FcObjectSetBuild(FC_FILE, nullptr);
-  FcFontSet* set = FcFontList(config, pattern, objects);
-  std::vector<std::string> files;
+  FcObjectSet* objects = FcObjectSetBuild(FC_FILE, FC_INDEX, FC_FAMILY, FC_WEIGHT, FC_SLANT, FC_WIDTH,
+                                          FC_FONTFORMAT, FC_VARIABLE, FC_OUTLINE, FC_COLOR, nullptr);
+  FcFontSet* set = FcFontList(m.fc, pattern, objects);
+  struct Listed {
+    FaceInfo info;
+    bool variable = false;
+  };
+  std::vector<Listed> listed;
   if (set) {
     for (int i = 0; i < set->nfont; ++i) {
+      const FcPattern* p = set->fonts[i];
       FcChar8* file = nullptr;
-      if (FcPatternGetString(set->fonts[i], FC_FILE, 0, &file) == FcResultMatch && file)
-        files.emplace_back(reinterpret_cast<const char*>(file));
+      FcChar8* family = nullptr;
+      FcChar8* format = nullptr;
+      int index = 0, slant = 0;
+      double weight = 80, width = 100;
+      FcBool variable = FcFalse, outline = FcTrue, color = FcFalse;
+      if (FcPatternGetString(p, FC_FILE, 0, &file) != FcResultMatch || !file) continue;
+      FcPatternGetInteger(p, FC_INDEX, 0, &index);
+      if (index < 0 || index >= 0x10000) continue;  // named instances of a variable font: its face is listed
+      FcPatternGetBool(p, FC_VARIABLE, 0, &variable);
+      FcPatternGetBool(p, FC_OUTLINE, 0, &outline);
+      FcPatternGetBool(p, FC_COLOR, 0, &color);
+      if (!outline && !color) continue;  // bitmap-only faces give no outlines
+      Listed l;
+      l.variable = variable;
+      l.info.path = reinterpret_cast<const char*>(file);
+      l.info.index = index;
+      if (FcPatternGetString(p, FC_FAMILY, 0, &family) == FcResultMatch && family)
+        l.info.family = reinterpret_cast<const char*>(family);
+      FcPatternGetDouble(p, FC_WEIGHT, 0, &weight);
+      FcPatternGetInteger(p, FC_SLANT, 0, &slant);
+      FcPatternGetDouble(p, FC_WIDTH, 0, &width);
+      l.info.weight = std::clamp(static_cast<int>(std::lround(FcWeightToOpenTypeDouble(weight))), 1, 1000);
+      l.info.italic = slant >= FC_SLANT_ITALIC;
+      // CSS font-stretch keywords 1..9 from fontconfig's percentages.
+      static const double widths[9] = {50, 62.5, 75, 87.5, 100, 112.5, 125, 150, 200};
+      int nearest = 0;
+      for (int k = 1; k < 9; ++k)
+        if (std::abs(widths[k] - width) < std::abs(widths[nearest] - width)) nearest = k;
+      l.info.stretch = nearest + 1;
+      l.info.sfnt = true;
+      if (FcPatternGetString(p, FC_FONTFORMAT, 0, &format) == FcResultMatch && format) {
+        const std::string f = reinterpret_cast<const char*>(format);
+        l.info.sfnt = f == "TrueType" || (f == "CFF" && l.info.path.size() > 4 &&
+                                           lower(l.info.path.substr(l.info.path.size() - 4)) == ".otf");
+      }
+      listed.push_back(std::move(l));
     }
     FcFontSetDestroy(set);
   }
   FcObjectSetDestroy(objects);
   FcPatternDestroy(pattern);
-  FcConfigDestroy(config);
-  std::sort(files.begin(), files.end());
-  files.erase(std::unique(files.begin(), files.end()), files.end());
+  std::sort(listed.begin(), listed.end(), [](const Listed& a, const Listed& b) {
+    return std::tie(a.info.path, a.info.index) < std::tie(b.info.path, b.info.index);
+  });
   size_t added = 0;
-  for (const std::string& f : files) added += add_file(f, nullptr);
+  for (Listed& l : listed) {
+    if (l.variable) {
+      added += add_file(l.info.path, nullptr) > 0;
+      continue;
+    }
+    std::lock_guard<std::mutex> lock(m.mu);
+    if (!m.known.insert({l.info.path, l.info.index}).second) continue;
+    m.faces.push_back(std::move(l.info));
+    m.ft.push_back(nullptr);
+    m.hb.push_back(nullptr);
+    m.open_failed.push_back(false);
+    ++added;
+  }
   return added;
 #else
   return 0;
@@ -441,18 +578,29 @@ int FontDb::match(const std::vector<std::string>& families, int weight, bool ita
   if (m.faces.empty()) return -1;
   std::string first_generic;
   for (const std::string& name : families) {
-    std::string key = lower(name);
+    const std::string key = lower(name);
     if (auto g = m.generic.find(key); g != m.generic.end()) {
       if (first_generic.empty()) first_generic = key;
-      key = lower(g->second);
+      std::vector<int> c = m.family_faces(lower(g->second));
+      if (c.empty()) c = m.fontconfig_faces(key, true);
+      if (!c.empty()) return m.select(c, weight, italic, stretch);
+      continue;
     }
-    const std::vector<int> c = m.family_faces(key);
+    std::vector<int> c = m.family_faces(key);
+    if (c.empty()) c = m.fontconfig_faces(key, false);
     if (!c.empty()) return m.select(c, weight, italic, stretch);
   }
   std::vector<int> c;
   if (auto g = m.generic.find("serif"); g != m.generic.end()) c = m.family_faces(lower(g->second));
+  if (c.empty()) c = m.fontconfig_faces(first_generic.empty() ? "serif" : first_generic, true);
   if (c.empty()) c = m.heuristic_family(first_generic.empty() ? "serif" : first_generic);
   return m.select(c, weight, italic, stretch);
+}
+
+bool FontDb::is_alias(const std::string& family, const std::string& substitute) const {
+  std::lock_guard<std::mutex> lock(impl_->mu);
+  const std::vector<std::string>& list = impl_->fontconfig_families(lower(family), false);
+  return std::find(list.begin(), list.end(), lower(substitute)) != list.end();
 }
 
 bool FontDb::has_glyph(int face, char32_t c) const {

@@ -26,6 +26,7 @@ struct FaceInfo {
   int stretch = 5;     // 1..9, CSS font-stretch keywords (OS/2 usWidthClass)
   std::string path;
   int index = 0;       // face index inside a collection
+  bool sfnt = true;    // TrueType or OpenType; false: Type 1 and other formats FreeType reads
 };
 
 // Thread-safe: one mutex serialises every FreeType and HarfBuzz call on the
@@ -44,7 +45,9 @@ class FontDb {
   // already in the db, same path and index, is not added again).
   size_t add_dir(const std::string& dir, std::vector<std::string>* warnings = nullptr);
   size_t add_file(const std::string& path, std::vector<std::string>* warnings = nullptr);
-  // fontconfig's list of fonts (0 when mpvg was built without fontconfig).
+  // fontconfig's list of fonts, read from its cache (no font file is opened
+  // but variable fonts'); 0 when mpvg was built without fontconfig. It also
+  // makes match() resolve families as fontconfig's configuration says.
   size_t add_system_fonts();
 
   // Generic families (serif, sans-serif, cursive, fantasy, monospace; names
@@ -56,11 +59,21 @@ class FontDb {
   const std::vector<FaceInfo>& faces() const;
 
   // CSS Fonts 4 §5.2 font matching: the first family of the list (names
-  // case-insensitive, generic names mapped) that has faces; among its faces
-  // the nearest stretch, then style, then weight by the CSS rules. No family
-  // found: the "serif" mapping, else a family chosen by name heuristics.
-  // -1 only when the db is empty.
+  // case-insensitive) that has faces; among its faces the nearest stretch,
+  // then style, then weight by the CSS rules, an OpenType face before a
+  // Type 1 one of the same family and style. A family the db lacks is
+  // resolved as fontconfig's rules alias it (FcConfigSubstitute: Helvetica
+  // to Nimbus Sans, Arial to Liberation Sans; the families its
+  // configuration puts ahead of its default list, as Chromium and librsvg
+  // take them); a generic name by its mapping when that family is present
+  // (set_generic, resvg's test-suite defaults), else as fontconfig resolves
+  // it. No family found: "serif" the same way, else a family chosen by name
+  // heuristics. -1 only when the db is empty.
   int match(const std::vector<std::string>& families, int weight, bool italic, int stretch = 5) const;
+
+  // Is `substitute` a family fontconfig's configuration puts in for
+  // `family` (an alias such as Helvetica's Nimbus Sans, not its default)?
+  bool is_alias(const std::string& family, const std::string& substitute) const;
 
   bool has_glyph(int face, char32_t c) const;
   // Whether the face has colour bitmap strikes (CBDT, sbix).

@@ -452,7 +452,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
       const std::string& got = db.faces()[key.face].family;
       bool found = false;
       for (const std::string& f : inh.font_family)
-        found = found || iequals(f, got) ||
+        found = found || iequals(f, got) || db.is_alias(f, got) ||
                 std::any_of(std::begin(generics), std::end(generics), [&](const char* g) { return iequals(f, g); });
       if (!found && !inh.font_family.empty()) {
         std::string list;
