@@ -44,6 +44,7 @@
 #include <vector>
 
 #include "core/scene.h"
+#include "parsers/svg/svg_basic_shapes.h"
 #include "parsers/svg/svg_dom.h"
 #include "parsers/svg/svg_geometry.h"
 #include "parsers/svg/svg_parser.h"
@@ -100,6 +101,11 @@ struct Op {
   // its content, whatever its filter (SVG 2 coords.html#BoundingBoxes);
   // the content's geometry stays as bounds-only operations beside it.
   bool filter = false;
+  // Drawn by a marker: not part of its element's bounding box (SVG 2
+  // coords.html#BoundingBoxes: the object bounding box leaves markers
+  // out), so a mask or clip region in objectBoundingBox units cuts the
+  // markers as browsers do.
+  bool marker = false;
 
   static Op of(OpKind k) {
     Op op;
@@ -308,10 +314,12 @@ Kind classify(const Element& e);
 // One url() or filter function of a filter value (svg_filters.cpp).
 struct FilterItem;
 
-// A clip-path or mask value resolved to its target.
+// A clip-path or mask value resolved to its target. Shape: a clip-path
+// basic shape or reference box (CSS Masking 1 §3.1), not an element.
 struct ClipRef {
-  enum State { None, Valid, Invalid } state = None;
+  enum State { None, Valid, Invalid, Shape } state = None;
   const Element* element = nullptr;
+  std::shared_ptr<const ClipShape> shape;  // Shape
 };
 using MaskRef = ClipRef;
 
@@ -572,6 +580,8 @@ class Converter {
   // paint-order.
   // box: the bounding box for objectBoundingBox paint servers when it is
   // not the shape's own (a text's spans use the whole text's).
+  // markable: the shape element, whose markers are drawn and whose
+  // pathLength scales the dashes; nullptr for text.
   void paint_shape(uint32_t shape, const Style& st, const Affine& space, bool fillable, const Bounds* box = nullptr,
                    const Element* markable = nullptr, int depth = 0);
   // The markers of e's shape (svg_markers.cpp).
@@ -650,14 +660,18 @@ class Converter {
 
   // ------------------------------------------------------------ strokes (svg_strokes.cpp)
 
-  std::optional<Op> shape_stroke(uint32_t shape, const Style& st, const Affine& space, ShapeBox& bbox);
+  // `element`: the shape element drawn, whose pathLength scales the
+  // dashes; nullptr for text.
+  std::optional<Op> shape_stroke(uint32_t shape, const Style& st, const Affine& space, ShapeBox& bbox,
+                                 const Element* element);
 
 
   // ------------------------------------------------------------ clip paths
 
   template <class F>
   void for_each_content(size_t begin, size_t end, F f) const;
-  Bounds content_bounds(size_t begin, size_t end, const Affine& space) const;
+  // strokes: the stroke bounding box instead (SVG 2 coords.html#TermStrokeBoundingBox).
+  Bounds content_bounds(size_t begin, size_t end, const Affine& space, bool strokes = false) const;
 
   // The object bounding box of a clipped element, computed on first use.
   struct LazyBounds {
@@ -671,6 +685,11 @@ class Converter {
     }
   };
   void clip_content(size_t start, const Element& cp, const Affine& space, int depth);
+  // The same with the clip items that `items` appends (false: the clip
+  // is invalid and the content goes).
+  void clip_content(size_t start, const Affine& space, const std::function<bool(LazyBounds&)>& items);
+  // A clip-path basic shape or reference box (svg_basic_shapes.cpp).
+  void clip_shape_content(size_t start, const ClipShape& cs, const Affine& space, double em);
   bool clip_items(const Element& cp, const Affine& space, LazyBounds& bbox, int depth);
   void clip_child(const Element& e, const Context& ctx, int depth);
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "core/stroke_curve.h"
 #include "parsers/svg/svg_values.h"
 
 namespace mpvg::svg::detail {
@@ -502,6 +503,31 @@ void add_path_bounds(const Path& path, const Affine& m, Bounds& b) {
         break;
     }
   }
+}
+
+double path_length(const Path& path) {
+  using namespace stroking;
+  const auto& pts = path.points();
+  double total = 0;
+  for (const Path::Segment& sg : path.segments()) {
+    const Vec2* q = &pts[sg.first_point];
+    Curve c;
+    switch (sg.type) {
+      case SegmentType::Line: total += length(q[1] - q[0]); continue;
+      case SegmentType::Quad: c = {CURVE_QUAD, {q[0], q[1], q[2]}}; break;
+      case SegmentType::RQuad: c = {CURVE_RQUAD, {q[0], q[1], q[2]}, path.weights()[sg.first_weight]}; break;
+      case SegmentType::Cubic: c = {CURVE_CUBIC, {q[0], q[1], q[2], q[3]}}; break;
+      case SegmentType::RCubic: continue;  // SVG geometry makes none
+    }
+    total += ArcTable(c).total();
+  }
+  return total;
+}
+
+std::optional<double> parse_path_length(std::string_view s) {
+  const auto n = parse_number(s);
+  if (!n || *n < 0) return std::nullopt;
+  return n;
 }
 
 }  // namespace mpvg::svg::detail

@@ -1,11 +1,12 @@
 // SVG geometry to scene paths: path data, elliptical arcs as rational
-// quadratics, the basic shapes, and tight bounding boxes.
+// quadratics, the basic shapes, tight bounding boxes and path lengths.
 //
 // Internal to the SVG frontend. Curves stay curves: quadratic and cubic
 // commands become Quad and Cubic segments, arcs become RQuad conics.
 #pragma once
 #include <array>
 #include <limits>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -89,5 +90,17 @@ void add_path_bounds(const Path& path, const Affine& m, Bounds& b);
 // them). Used where text paths and markers measure and orient along a
 // path as resvg does.
 std::array<Vec2, 4> segment_cubic(const Path& path, const Path::Segment& sg);
+
+// The length of `path` as the stroke stage measures it to place dashes
+// (core/stroke_curve.h's ArcTable, lines exactly): the sum of its segments'
+// arc lengths, each closepath's line included. The "computed length" that
+// pathLength is compared with, so that dashes scaled by it end where the
+// author meant them to.
+double path_length(const Path& path);
+
+// A pathLength attribute (SVG 2 paths.html#PathLengthAttribute): a
+// non-negative number; nullopt when it is negative or not a number, which
+// leaves the attribute without effect.
+std::optional<double> parse_path_length(std::string_view s);
 
 }  // namespace mpvg::svg::detail

@@ -249,6 +249,7 @@ void Converter::draw_markers(const Element& e, const Style& st, uint32_t shape, 
       const Affine at = space * Affine::translate(p.x, p.y) * Affine{cs, sn, -sn, cs, 0, 0} *
                         Affine::scale(scale, scale) * Affine::translate(-refp.x, -refp.y);
       if (!at.invertible()) return;
+      const size_t first = ops_.size();
       if (clipped) {
         ops_.push_back(Op::of(OpKind::Push));
         Op c = Op::of(OpKind::Clip);
@@ -262,6 +263,7 @@ void Converter::draw_markers(const Element& e, const Style& st, uint32_t shape, 
       for (const auto& c : m.children) render(*c, inner, depth + 1);
       s_.active.pop_back();
       if (clipped) ops_.push_back(Op::of(OpKind::Pop));
+      for (size_t k = first; k < ops_.size(); k++) ops_[k].marker = true;
     };
     if (which == Start) {
       if (segs[0].kind == Seg::Move) draw_at(segs[0].p, 0);

@@ -136,8 +136,8 @@ const Element* Converter::find(const std::string& id) const {
 // Following resvg (and the suite's masking tests): a reference to a
 // missing element or a reference cycle is ignored (the element is drawn
 // unclipped, unmasked); a reference to an element of another kind makes
-// the element invisible. Other values (CSS basic shapes, images) are not
-// supported and ignored.
+// the element invisible. Other values (images) are not supported and
+// ignored; clip-path's basic shapes are resolved before (resolve_clip).
 ClipRef Converter::resolve_reference(const std::string& value, const char* what, const char* element,
                                      const std::vector<const Element*>& active) {
   ClipRef r;
@@ -170,6 +170,13 @@ ClipRef Converter::resolve_reference(const std::string& value, const char* what,
 }
 
 ClipRef Converter::resolve_clip(const std::string& value) {
+  bool invalid = false;
+  if (auto cs = parse_clip_shape(value, &invalid)) {
+    ClipRef r;
+    r.state = ClipRef::Shape;
+    r.shape = std::make_shared<const ClipShape>(std::move(*cs));
+    return r;
+  }
   return resolve_reference(value, "clip-path", "clipPath", s_.active_clips);
 }
 
@@ -277,14 +284,61 @@ int Converter::shape_index(const Element& e, double em) {
   return index;
 }
 
+namespace {
+
+// The path data of a d declaration's path(<string>); nullopt when the
+// value is something else. The string is a CSS string token (CSS Syntax 3
+// §4.3.5); one with an escape, which path data never needs, or a newline
+// (a bad string) is taken as invalid.
+std::optional<std::string_view> css_path_string(std::string_view v) {
+  Scanner s(trim(v));
+  if (!s.consume_word("path(")) return std::nullopt;
+  s.skip_ws();
+  const char quote = s.peek();
+  if (quote != '"' && quote != '\'') return std::nullopt;
+  s.consume(quote);
+  const std::string_view rest = s.rest();
+  const size_t end = rest.find(quote);
+  if (end == std::string_view::npos) return std::nullopt;
+  const std::string_view data = rest.substr(0, end);
+  if (data.find_first_of("\\\n") != std::string_view::npos) return std::nullopt;
+  Scanner after(rest.substr(end + 1));
+  after.skip_ws();
+  if (!after.consume(')') || !after.at_end()) return std::nullopt;
+  return data;
+}
+
+// The d property of e (SVG 2 paths.html#TheDProperty; not inherited) into
+// `out`; false for none. Its last declaration in cascade order that is
+// none or path(<string>) wins; path() with a fill rule, or with an error
+// anywhere in its path data, is an invalid declaration and dropped, as
+// Chromium drops it. Without one, a path's d attribute (the property's
+// presentation attribute) applies, its data kept up to an error (SVG 2
+// paths.html#PathDataErrorHandling). initial is none; inherit takes the
+// parent's value.
+bool d_property(const Element& e, Path& out, std::vector<uint32_t>* arc_continuations) {
+  for (auto it = e.declarations.rbegin(); it != e.declarations.rend(); ++it) {
+    if (it->first != "d") continue;
+    const auto keyword = parse_keyword(it->second);
+    if (keyword == "none" || keyword == "initial") return false;
+    if (keyword == "inherit") return e.parent && d_property(*e.parent, out, arc_continuations);
+    if (const auto data = css_path_string(it->second); data && parse_path_data(*data, out, arc_continuations))
+      return true;
+  }
+  const std::string* d = e.name == "path" ? e.attribute("d") : nullptr;
+  if (!d) return false;
+  parse_path_data(*d, out, arc_continuations);
+  return true;
+}
+
+}  // namespace
+
 std::optional<Path> Converter::build_shape(const Element& e, double em,
                                            std::vector<uint32_t>* arc_continuations) const {
   const std::string& n = e.name;
   if (n == "path") {
-    const std::string* d = e.attribute("d");
-    if (!d) return std::nullopt;
     Path p;
-    parse_path_data(*d, p, arc_continuations);  // on an error, what came before it is kept
+    if (!d_property(e, p, arc_continuations)) return std::nullopt;
     return p;
   }
   if (n == "rect") {
@@ -397,6 +451,7 @@ void Converter::render(const Element& e, const Context& ctx, int depth) {
   if (!filter_content(e, st, space, depth, [&](Converter& c) { c.draw_content(e, kind, pl, inner, depth); })) return;
   if (!group_content(e, start, st, space, depth)) return;
   if (clip.state == ClipRef::Valid) clip_content(start, *clip.element, space, depth);
+  if (clip.state == ClipRef::Shape) clip_shape_content(start, *clip.shape, space, st.inh.font_size);
 }
 
 void Converter::draw_content(const Element& e, Kind kind, const Placed& pl, const Context& inner, int depth) {
@@ -477,7 +532,7 @@ void Converter::paint_shape(uint32_t shape, const Style& st, const Affine& space
       fill.paint = *paint;
     }
   }
-  const std::optional<Op> stroke = shape_stroke(static_cast<uint32_t>(shape), st, space, bbox);
+  const std::optional<Op> stroke = shape_stroke(static_cast<uint32_t>(shape), st, space, bbox, markable);
   for (PaintLayer l : st.inh.paint_order) {
     if (l == PaintLayer::Fill) ops_.push_back(fill);
     if (l == PaintLayer::Stroke && stroke) ops_.push_back(*stroke);
@@ -489,14 +544,17 @@ void Converter::paint_shape(uint32_t shape, const Style& st, const Affine& space
 
 // The tight bounding box of the content in ops_[begin, end), in the user
 // space `space`.
-Bounds Converter::content_bounds(size_t begin, size_t end, const Affine& space) const {
+Bounds Converter::content_bounds(size_t begin, size_t end, const Affine& space, bool strokes) const {
   Bounds b;
   const Affine inv = space.inverted();
   for_each_content(begin, end, [&](const Op& op) {
     // An embedded document's box is its <image>'s, a Bounds operation; a
     // filter's region is no box at all.
-    if (op.stroke || op.filter || op.kind == OpKind::Append) return;
-    add_path_bounds(shapes_[op.shape], same(op.xf, space) ? Affine{} : inv * op.xf, b);
+    if (op.filter || op.marker || op.kind == OpKind::Append) return;
+    if (!op.stroke) add_path_bounds(shapes_[op.shape], same(op.xf, space) ? Affine{} : inv * op.xf, b);
+    else if (strokes)
+      add_stroke_bounds(shapes_[op.shape], stroke_styles_[op.stroke_style], device_ * op.xf,
+                        (device_ * space).inverted(), b);
   });
   return b;
 }
@@ -505,10 +563,14 @@ Bounds Converter::content_bounds(size_t begin, size_t end, const Affine& space) 
 // path `cp`: push, the clip items, activate, the content, pop. An invalid
 // clip path removes the content (the element is not rendered).
 void Converter::clip_content(size_t start, const Element& cp, const Affine& space, int depth) {
+  clip_content(start, space, [&](LazyBounds& bbox) { return clip_items(cp, space, bbox, depth + 1); });
+}
+
+void Converter::clip_content(size_t start, const Affine& space, const std::function<bool(LazyBounds&)>& items) {
   const size_t end = ops_.size();
   LazyBounds bbox{*this, start, end, space, std::nullopt};
   ops_.push_back(Op::of(OpKind::Push));
-  if (!clip_items(cp, space, bbox, depth + 1)) {
+  if (!items(bbox)) {
     ops_.resize(start);
     return;
   }
@@ -605,7 +667,9 @@ void Converter::clip_child(const Element& e, const Context& ctx, int depth) {
     op.aliased = st.inh.aliased_shapes;
     ops_.push_back(op);
   }
-  if (clip.state == ClipRef::Valid && ops_.size() > start) clip_content(start, *clip.element, space, depth);
+  if (ops_.size() == start) return;
+  if (clip.state == ClipRef::Valid) clip_content(start, *clip.element, space, depth);
+  if (clip.state == ClipRef::Shape) clip_shape_content(start, *clip.shape, space, st.inh.font_size);
 }
 
 // ------------------------------------------------------------ output

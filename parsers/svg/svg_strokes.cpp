@@ -11,7 +11,8 @@ namespace mpvg::svg::detail {
 // stroke none, zero width, invisible or fully transparent). `bbox` is the
 // shape's, for paint servers. The outline itself is built when the scene is
 // rendered (core/stroke.h), in user space, to 1/16 of an output pixel.
-std::optional<Op> Converter::shape_stroke(uint32_t shape, const Style& st, const Affine& space, ShapeBox& bbox) {
+std::optional<Op> Converter::shape_stroke(uint32_t shape, const Style& st, const Affine& space, ShapeBox& bbox,
+                                          const Element* element) {
   const Inherited& inh = st.inh;
   if (inh.stroke.kind == PaintSpec::Kind::None || !inh.visible || !(inh.stroke_width > 0)) return std::nullopt;
   StrokeStyle style;
@@ -20,6 +21,22 @@ std::optional<Op> Converter::shape_stroke(uint32_t shape, const Style& st, const
   style.miter_limit = inh.stroke_miterlimit;
   style.dashes = inh.stroke_dasharray;
   style.dash_offset = inh.stroke_dashoffset;
+  // pathLength (SVG 2 painting.html#StrokeDashing): the dash array and
+  // offset are lengths in the author's units along the path, scaled by
+  // its computed length over pathLength. pathLength="0" (an infinite
+  // scale in SVG 2) leaves the stroke solid, as Chromium draws it, and so
+  // does a path of length zero.
+  if (const std::string* pl = element ? element->attribute("pathLength") : nullptr; pl && !style.dashes.empty())
+    if (const auto author = parse_path_length(*pl)) {
+      const double k = *author > 0 ? path_length(shapes_[shape]) / *author : 0;
+      if (k > 0) {
+        for (double& d : style.dashes) d *= k;
+        style.dash_offset *= k;
+      } else {
+        style.dashes.clear();
+        style.dash_offset = 0;
+      }
+    }
   Op op = Op::of(OpKind::Fill);
   op.stroke = true;
   op.rule = FillRule::NonZero;

@@ -535,8 +535,14 @@ Style Converter::compute_style(const Element& e, const Context& ctx) {
   st.display_none = display.state == Prop<std::string>::Set       ? display.value == "none"
                     : display.state == Prop<std::string>::Inherit ? ctx.parent_display_none
                                                                   : false;
-  const auto clip = property<std::string>(
-      e, "clip-path", [](std::string_view v) { return std::optional<std::string>(std::string(trim(v))); });
+  // A basic shape or reference box that does not parse makes the
+  // declaration invalid (CSS Masking 1 §3.1), so that the next one applies.
+  const auto clip = property<std::string>(e, "clip-path", [](std::string_view v) -> std::optional<std::string> {
+    bool invalid = false;
+    parse_clip_shape(v, &invalid);
+    if (invalid) return std::nullopt;
+    return std::string(trim(v));
+  });
   st.clip_path = clip.state == Prop<std::string>::Set       ? clip.value
                  : clip.state == Prop<std::string>::Inherit ? ctx.parent_clip_path
                                                             : std::string();

@@ -348,8 +348,24 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
         if (cs.display_none) continue;
         double offset = 0;
         if (const std::string* so = c->attribute("startOffset"))
-          if (const auto l = parse_length(*so))
-            offset = l->unit == Unit::Percent ? l->value / 100 * measure.total() : to_user(*l, Axis::X, cs.inh.font_size);
+          if (const auto l = parse_length(*so)) {
+            if (l->unit == Unit::Percent) {
+              offset = l->value / 100 * measure.total();
+            } else {
+              offset = to_user(*l, Axis::X, cs.inh.font_size);
+              // A length is in the author's units when the path has a
+              // pathLength (SVG 2 text.html#TextPathElementStartOffsetAttribute):
+              // scaled by the path's length, as the text measures it, over
+              // pathLength. Zero scales by infinity (SVG 2
+              // paths.html#PathLengthAttribute): any offset but 0 leaves
+              // the path, and the text with it, as in Chromium.
+              const std::string* pl = target->attribute("pathLength");
+              if (const auto author = pl ? parse_path_length(*pl) : std::nullopt) {
+                if (*author > 0) offset *= measure.total() / *author;
+                else if (offset != 0) offset = std::copysign(HUGE_VAL, offset);
+              }
+            }
+          }
         paths.push_back(std::move(measure));
         start_offsets.push_back(offset);
         current_flow = static_cast<int>(paths.size()) - 1;
@@ -446,7 +462,8 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
     if (inh.small_caps) key.features.push_back("smcp");
     if (!inh.kerning) key.features.push_back("-kern");
     // A list naming only families the database lacks: say which face
-    // stands in (a generic family always counts as found).
+    // stands in (a generic family, or a family fontconfig aliases to the
+    // one used, counts as found).
     if (key.face >= 0) {
       static const char* generics[] = {"serif", "sans-serif", "cursive", "fantasy", "monospace", "system-ui"};
       const std::string& got = db.faces()[key.face].family;

@@ -88,6 +88,7 @@ void Converter::render_viewport(const Element& e, const Context& ctx, int depth,
   if (!filter_content(e, st, space, depth, draw)) return;
   if (!group_content(e, start, st, space, depth)) return;
   if (clip.state == ClipRef::Valid) clip_content(start, *clip.element, space, depth);
+  if (clip.state == ClipRef::Shape) clip_shape_content(start, *clip.shape, space, st.inh.font_size);
 }
 
 }  // namespace mpvg::svg::detail
