@@ -139,3 +139,23 @@ TEST_CASE("markers are outside their element's bounding box: an objectBoundingBo
                  R"~(<mask id="k" maskUnits="userSpaceOnUse" x="4" y="69" width="192" height="12">
                      <rect width="200" height="100" fill="white"/></mask></defs>)~" + line);
 }
+
+TEST_CASE("transform-box fill-box: transform-origin's percentages and keywords of the object bounding box", "[svg][features]") {
+  // CSS Transforms 1 §5, §6: the box of x 20..80, y 30..70; its centre is
+  // (50, 50), 25 % 100 % is (35, 70), and with no transform-origin (0 0)
+  // the origin is the box's corner (20, 30).
+  check_same(R"~(<rect x="20" y="30" width="60" height="40" fill="green"
+                  style="transform-box: fill-box; transform-origin: center" transform="rotate(30)"/>)~",
+             R"~(<rect x="20" y="30" width="60" height="40" fill="green" transform="rotate(30 50 50)"/>)~");
+  check_same(R"~(<circle cx="50" cy="50" r="20" fill="blue"
+                  style="transform-box: content-box; transform-origin: 25% 100%" transform="rotate(-20)"/>)~",
+             R"~(<circle cx="50" cy="50" r="20" fill="blue" transform="rotate(-20 40 70)"/>)~");
+  check_same(R"~(<rect x="20" y="30" width="60" height="40" fill="red" style="transform-box: fill-box"
+                  transform="scale(0.5)"/>)~",
+             R"~(<rect x="20" y="30" width="60" height="40" fill="red"
+                  transform="translate(20 30) scale(0.5) translate(-20 -30)"/>)~");
+  // view-box is the default: percentages of the viewport (200 x 100).
+  check_same(R"~(<rect x="20" y="30" width="60" height="40" fill="green"
+                  style="transform-box: view-box; transform-origin: 50% 50%" transform="rotate(30)"/>)~",
+             R"~(<rect x="20" y="30" width="60" height="40" fill="green" transform="rotate(30 100 50)"/>)~");
+}

@@ -422,7 +422,7 @@ class Converter {
   Scene run();
 
  private:
-  void warn(std::string msg);
+  void warn(std::string msg) const;
   // Depth and size limits; false when the element must be skipped.
   bool enter(int depth);
   const Element* find(const std::string& id) const;
@@ -520,6 +520,7 @@ class Converter {
   double percent_base(Axis axis) const;
   // transform-origin of e (user units), and a transform moved to it.
   std::optional<Vec2> transform_origin(const Element& e, double em) const;
+  std::optional<Bounds> object_box(const Element& e, double em) const;
   Affine with_origin(const Element& e, const Affine& t, double em) const;
   double to_user(const Length& l, Axis axis, double em) const;
   // A length attribute of a paint server (`def` when absent or invalid):

@@ -105,7 +105,7 @@ Scene Converter::run() {
   return scene;
 }
 
-void Converter::warn(std::string msg) {
+void Converter::warn(std::string msg) const {
   if (s_.warned.insert(msg).second) s_.warnings.push_back(std::move(msg));
 }
 

@@ -570,9 +570,29 @@ Style Converter::compute_style(const Element& e, const Context& ctx) {
 // transform-origin (CSS Transforms 1 §6; not inherited): one or two of
 // left | center | right | top | bottom | <length-percentage>, the first
 // horizontal unless it is top or bottom; a missing one is center.
-// Percentages and keywords are of the viewport (transform-box view-box,
-// SVG's default).
+// Percentages, keywords and the origin itself are of the reference box
+// transform-box names (§5; not inherited): view-box, SVG's default, the
+// viewport at the user space's origin; fill-box (and content-box, which
+// SVG elements map to it) the element's object bounding box, so that
+// without a transform-origin (initially 0 0 for SVG elements) the box's
+// top-left corner is the origin. stroke-box and border-box take the fill
+// box too (warned): the stroke's box is not known before the stroke is
+// made, and only shapes and images have a box here (other elements:
+// view-box, warned).
 std::optional<Vec2> Converter::transform_origin(const Element& e, double em) const {
+  const auto tb = property<std::string>(e, "transform-box", [](std::string_view v) -> std::optional<std::string> {
+    const std::string k = std::string(trim(v));
+    for (const char* known : {"view-box", "fill-box", "content-box", "stroke-box", "border-box"})
+      if (k == known) return k;
+    return std::nullopt;
+  });
+  std::optional<Bounds> box;
+  if (tb.state == Prop<std::string>::Set && tb.value != "view-box") {
+    if (tb.value == "stroke-box" || tb.value == "border-box")
+      warn("transform-box " + tb.value + " is taken as fill-box");
+    box = object_box(e, em);
+    if (!box) warn("transform-box " + tb.value + " on <" + e.name + "> is taken as view-box");
+  }
   const auto o = property<std::pair<std::string, std::string>>(
       e, "transform-origin", [](std::string_view v) -> std::optional<std::pair<std::string, std::string>> {
         std::vector<std::string> words;
@@ -591,19 +611,38 @@ std::optional<Vec2> Converter::transform_origin(const Element& e, double em) con
           std::swap(words[0], words[1]);
         return std::pair(words[0], words[1]);
       });
-  if (o.state != Prop<std::pair<std::string, std::string>>::Set) return std::nullopt;
+  if (o.state != Prop<std::pair<std::string, std::string>>::Set) {
+    if (box) return Vec2{box->x0, box->y0};  // 0 0 of the box
+    return std::nullopt;
+  }
   auto resolve = [&](const std::string& w, Axis axis) -> std::optional<double> {
-    const double base = percent_base(axis);
-    if (w == "center") return base / 2;
-    if (w == (axis == Axis::X ? "left" : "top")) return 0.0;
-    if (w == (axis == Axis::X ? "right" : "bottom")) return base;
+    const double start = box ? (axis == Axis::X ? box->x0 : box->y0) : 0.0;
+    const double base = box ? (axis == Axis::X ? box->x1 - box->x0 : box->y1 - box->y0) : percent_base(axis);
+    if (w == "center") return start + base / 2;
+    if (w == (axis == Axis::X ? "left" : "top")) return start;
+    if (w == (axis == Axis::X ? "right" : "bottom")) return start + base;
     const auto l = parse_length(w, CalcOk::Yes);
     if (!l) return std::nullopt;
-    return to_user(*l, axis, em);
+    if (box && l->unit == Unit::Percent) return start + l->value / 100 * base;
+    return start + to_user(*l, axis, em);
   };
   const auto x = resolve(o.value.first, Axis::X), y = resolve(o.value.second, Axis::Y);
   if (!x || !y) return std::nullopt;
   return Vec2{*x, *y};
+}
+
+// The object bounding box of a shape or an image in its own user space
+// (before its transform); nullopt for other elements.
+std::optional<Bounds> Converter::object_box(const Element& e, double em) const {
+  if (e.name == "image") {
+    const double x = length(e, "x", Axis::X, 0, em), y = length(e, "y", Axis::Y, 0, em);
+    return Bounds{x, y, x + length(e, "width", Axis::X, 0, em), y + length(e, "height", Axis::Y, 0, em)};
+  }
+  const std::optional<Path> p = build_shape(e, em, nullptr);
+  if (!p || p->empty()) return std::nullopt;
+  Bounds b;
+  add_path_bounds(*p, Affine{}, b);
+  return b;
 }
 
 Affine Converter::with_origin(const Element& e, const Affine& t, double em) const {
