@@ -6,10 +6,11 @@ whose stems are 40 units thin at wght 100 and 240 thick at 900, so a test
 can tell the weights apart by their ink. Needs python3-fonttools; the font
 is committed, so the tests do not run this.
 
-    python3 scripts/make-test-font.py testdata/fonts/MpvgTestVF.ttf testdata/fonts/MpvgTestColor.ttf
+    python3 scripts/make-test-font.py testdata/fonts/MpvgTestVF.ttf testdata/fonts/MpvgTestColor.ttf \
+        testdata/fonts/MpvgTestSvg.ttf
 
 The second font (colour glyphs: COLR version 0 and sbix) is described at
-color_font() below.
+color_font() below, the third (OpenType SVG glyphs) at svg_font().
 """
 import sys
 
@@ -149,3 +150,73 @@ def color_font(path):
 
 if len(sys.argv) > 2:
     color_font(sys.argv[2])
+
+
+# svg_font()'s documents. Glyph 2 (U+E000) shares the first with glyph 3,
+# which it does not draw: a gradient from defs filling a rectangle, a
+# circle in currentColor, and a lime square outside any glyph element.
+SVG_GLYPHS_2_3 = (
+    '<svg xmlns="http://www.w3.org/2000/svg">'
+    '<defs><linearGradient id="g" x1="0" x2="1">'
+    '<stop offset="0" stop-color="#f00"/><stop offset="1" stop-color="#00f"/></linearGradient></defs>'
+    '<g id="glyph2"><rect x="100" y="-700" width="500" height="700" fill="url(#g)"/>'
+    '<circle cx="350" cy="-350" r="150" fill="currentColor"/></g>'
+    '<rect id="glyph3" x="0" y="-500" width="300" height="300" fill="#808"/>'
+    '<rect x="0" y="-1000" width="1000" height="1000" fill="lime"/>'
+    '</svg>'
+)
+# Glyph 4 (U+E001), gzip-compressed: a viewBox of 500 units on the 1000
+# units of the em square doubles it.
+SVG_GLYPH_4 = (
+    '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 500 500">'
+    '<path id="glyph4" d="M50 -350 h250 v350 h-250 z" fill="#0a0" stroke="#000" stroke-width="10"/>'
+    '</svg>'
+)
+# Glyph 5 (U+E002): an image file, which a glyph document may not read.
+SVG_GLYPH_5 = (
+    '<svg xmlns="http://www.w3.org/2000/svg">'
+    '<image id="glyph5" href="x.png" y="-700" width="700" height="700"/>'
+    '</svg>'
+)
+
+
+def svg_font(path):
+    """testdata/fonts/MpvgTestSvg.ttf, "Mpvg Test SVG": U+E000 to U+E002
+    (private use, so no other test falls back to them) have black box
+    outlines and SVG glyphs (SVG_GLYPHS_2_3, SVG_GLYPH_4 and SVG_GLYPH_5
+    above), all 700 units wide."""
+    import gzip
+
+    from fontTools.ttLib import newTable
+
+    order = [".notdef", "space", "uniE000", "glyph3", "uniE001", "uniE002"]
+    g = {
+        ".notdef": rects([(50, 0, 450, 700)]),
+        "space": rects([]),
+        "uniE000": rects([(100, 0, 600, 700)]),
+        "glyph3": rects([(0, 200, 300, 500)]),
+        "uniE001": rects([(100, 0, 600, 700)]),
+        "uniE002": rects([(100, 0, 600, 700)]),
+    }
+    fb = FontBuilder(1000, isTTF=True)
+    fb.setupGlyphOrder(order)
+    fb.setupCharacterMap({0x20: "space", 0xE000: "uniE000", 0xE001: "uniE001", 0xE002: "uniE002"})
+    fb.setupGlyf(g)
+    fb.setupHorizontalMetrics({n: (700, lsb(g[n])) for n in order})
+    fb.setupHorizontalHeader(ascent=800, descent=-200)
+    fb.setupNameTable({"familyName": "Mpvg Test SVG", "styleName": "Regular"})
+    fb.setupOS2(sTypoAscender=800, sTypoDescender=-200, usWinAscent=800, usWinDescent=200)
+    fb.setupPost()
+    svg = newTable("SVG ")
+    # fontTools writes each document as given: the second one as gzip bytes.
+    svg.docList = [
+        (SVG_GLYPHS_2_3, 2, 3),
+        (gzip.compress(SVG_GLYPH_4.encode(), mtime=0), 4, 4),
+        (SVG_GLYPH_5, 5, 5),
+    ]
+    fb.font["SVG "] = svg
+    fb.font.save(path)
+
+
+if len(sys.argv) > 3:
+    svg_font(sys.argv[3])

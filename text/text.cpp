@@ -5,6 +5,7 @@
 
 #include <ft2build.h>
 #include FT_FREETYPE_H
+#include FT_GZIP_H
 #include FT_COLOR_H
 #include FT_MULTIPLE_MASTERS_H
 #include FT_OUTLINE_H
@@ -1048,6 +1049,67 @@ GlyphBitmap glyph_bitmap(const FontDb& db, int face, uint32_t glyph, double size
     out.image = std::move(im);
   }
   return out;  // (outlines load unscaled: the strike chosen does not matter to them)
+}
+
+std::optional<SvgDocument> svg_document(const FontDb& db, int face, uint32_t glyph) {
+  FontDb::Impl& m = db.impl();
+  std::lock_guard<std::mutex> lock(m.mu);
+  FT_Face f = m.face(face);
+  const FT_ULong tag = FT_MAKE_TAG('S', 'V', 'G', ' ');
+  FT_ULong size = 0;
+  if (!f || glyph > 0xFFFF || FT_Load_Sfnt_Table(f, tag, 0, nullptr, &size) != 0) return std::nullopt;
+  // Pieces of the table, not all of it: Twitter Color Emoji's is 10 MB
+  // and a glyph needs its record and its document.
+  std::vector<unsigned char> b;
+  auto read = [&](FT_ULong at, FT_ULong n) {
+    if (at > size || n > size - at) return false;
+    b.resize(n);
+    FT_ULong length = n;
+    return n == 0 || FT_Load_Sfnt_Table(f, tag, at, b.data(), &length) == 0;
+  };
+  auto u16 = [&](size_t o) { return uint32_t(b[o]) << 8 | b[o + 1]; };
+  auto u32 = [&](size_t o) { return u16(o) << 16 | u16(o + 2); };
+  // Header: version, svgDocumentListOffset, reserved. The list: numEntries,
+  // then records {startGlyphID, endGlyphID, svgDocOffset (from the list),
+  // svgDocLength}, sorted by glyph and not overlapping.
+  if (!read(0, 10)) return std::nullopt;
+  const FT_ULong list = u32(2);
+  if (!read(list, 2)) return std::nullopt;
+  const size_t entries = u16(0);
+  if (!read(list + 2, 12 * entries)) return std::nullopt;
+  // The first record that ends at or after the glyph: the glyph's, if it
+  // starts at or before it.
+  size_t lo = 0, hi = entries;
+  while (lo < hi) {
+    const size_t mid = (lo + hi) / 2;
+    if (u16(12 * mid + 2) < glyph) lo = mid + 1;
+    else hi = mid;
+  }
+  if (lo == entries || glyph < u16(12 * lo)) return std::nullopt;
+  SvgDocument out;
+  out.first_glyph = u16(12 * lo);
+  out.last_glyph = u16(12 * lo + 2);
+  // A document for one glyph is kilobytes; the cap keeps a broken length
+  // or gzip size field (ISIZE) from asking for gigabytes.
+  constexpr size_t kMaxDocument = size_t(64) << 20;
+  const size_t length = u32(12 * lo + 8);
+  if (length > kMaxDocument || !read(list + u32(12 * lo + 4), length)) return std::nullopt;
+  if (b.size() >= 18 && b[0] == 0x1F && b[1] == 0x8B) {
+    // gzip (RFC 1952): ISIZE, the last four bytes, little-endian, is the
+    // inflated size modulo 2^32; FreeType's inflate detects the header.
+    const size_t n = b.size();
+    const size_t inflated = uint32_t(b[n - 4]) | uint32_t(b[n - 3]) << 8 | uint32_t(b[n - 2]) << 16 |
+                            uint32_t(b[n - 1]) << 24;
+    if (inflated == 0 || inflated > kMaxDocument) return std::nullopt;
+    out.text.resize(inflated);
+    FT_ULong length = inflated;
+    if (FT_Gzip_Uncompress(f->memory, reinterpret_cast<FT_Byte*>(out.text.data()), &length, b.data(), n) != 0 ||
+        length != inflated)
+      return std::nullopt;
+  } else {
+    out.text.assign(b.begin(), b.end());
+  }
+  return out;
 }
 
 Metrics metrics(const FontDb& db, int face, double size) {

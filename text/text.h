@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -168,6 +169,17 @@ struct GlyphBitmap {
   double x = 0, y = 0, scale = 1;
 };
 GlyphBitmap glyph_bitmap(const FontDb& db, int face, uint32_t glyph, double size);
+
+// A glyph's SVG document (OpenType `SVG ` table): the document of the
+// record whose glyph range holds the glyph, inflated when it is
+// gzip-compressed, with that range (the glyphs that share the document).
+// nullopt for glyphs without one, fonts without the table, and documents
+// that are truncated, corrupt or inflate to more than 64 MiB.
+struct SvgDocument {
+  std::string text;
+  uint32_t first_glyph = 0, last_glyph = 0;
+};
+std::optional<SvgDocument> svg_document(const FontDb& db, int face, uint32_t glyph);
 
 struct Metrics {
   double ascent = 0, descent = 0;  // descent positive below the baseline

@@ -36,6 +36,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <string_view>
 #include <tuple>
@@ -50,6 +51,10 @@
 #include "parsers/svg/svg_parser.h"
 #include "parsers/svg/svg_resources.h"
 #include "parsers/svg/svg_values.h"
+
+namespace mpvg::text {
+class FontDb;
+}
 
 namespace mpvg::svg::detail {
 
@@ -357,12 +362,25 @@ struct LoadedImage {
   std::shared_ptr<const Document> svg;  // inflated first when it was svgz
   std::string path;   // the file's canonical path; "" for data: URIs
   std::string error;  // one line; non-empty when nothing can be drawn
+  // An OpenType SVG glyph's document: it reads no file, whatever folders
+  // the document that shows it may read.
+  bool reads_nothing = false;
 };
 
 // Loaded images by (base folder, href), shared by a document and the
 // documents it embeds: a resource is read and decoded once, and its uses
 // share one Image (the encoder builds one mip chain per Image).
 using ImageCache = std::map<std::pair<std::string, std::string>, LoadedImage>;
+
+// An OpenType SVG table's document, parsed (svg_text.cpp): the glyph IDs
+// of its record, and the font's units per em (a glyph's viewport is the
+// em square, one user unit per font unit).
+struct SvgGlyphSource {
+  uint32_t first = 0, last = 0;
+  double units_per_em = 1000;
+  std::shared_ptr<const Document> doc;  // null when it does not parse
+  std::string font;                     // the family, for warnings
+};
 
 // What the converters of one document share: a pattern's tile is converted
 // by a converter of its own, nested in the one that meets the pattern.
@@ -410,6 +428,12 @@ struct Session {
   // documents (kMaxEmbeddedSegments).
   size_t embedded_segments = 0;
   std::shared_ptr<ImageCache> images = std::make_shared<ImageCache>();
+  // OpenType SVG glyphs: each face's documents met so far, each parsed
+  // once; the glyphs found to have none; the document that draws one
+  // glyph (its source, the glyph, currentColor as #rrggbbaa or "").
+  std::map<int, std::vector<std::shared_ptr<const SvgGlyphSource>>> svg_glyph_sources;
+  std::set<std::pair<int, uint32_t>> plain_glyphs;
+  std::map<std::tuple<const SvgGlyphSource*, uint32_t, std::string>, LoadedImage> svg_glyphs;
 };
 
 class Converter {
@@ -601,7 +625,17 @@ class Converter {
     // rectangle), texel (i, j) mapped to user space by image_xf.
     std::shared_ptr<const Image> image;
     Affine image_xf;
+    // An OpenType SVG glyph instead: the document that holds glyph
+    // svg_glyph_id, its font units mapped to user space by image_xf; `path`
+    // is the glyph's outline (what a clip path takes).
+    std::shared_ptr<const SvgGlyphSource> svg_glyph;
+    uint32_t svg_glyph_id = 0;
   };
+  // The parsed SVG document of a glyph, null when it has none.
+  std::shared_ptr<const SvgGlyphSource> svg_glyph_source(const text::FontDb& db, int face, uint32_t glyph);
+  // A text piece's SVG glyph appended to the scene: the element glyph<ID>
+  // of its document, drawn as a <use> of it would be.
+  void draw_svg_glyph(const TextPiece& piece, const Affine& space);
   // cells, when given: the union of the glyph cells (each cluster's
   // advance by the font's ascent and descent), the text's box.
   std::vector<TextPiece> layout_text(const Element& e, const Style& st, const Affine& space, Bounds* cells = nullptr);

@@ -300,11 +300,12 @@ std::optional<Converter::Embedded> Converter::embed_document(const LoadedImage& 
     };
     Session session(doc, options, warnings);
     session.base_dir = li.path.empty() ? s_.base_dir : std::filesystem::path(li.path).parent_path().string();
-    session.allowed_dirs = s_.allowed_dirs;
+    session.allowed_dirs = li.reads_nothing ? std::vector<std::string>{} : s_.allowed_dirs;
     session.image_depth = s_.image_depth + 1;
     session.documents = s_.documents;
     if (!li.path.empty()) session.documents.push_back(li.path);
-    session.images = s_.images;
+    // Not even what the document around it has read already.
+    session.images = li.reads_nothing ? std::make_shared<ImageCache>() : s_.images;
     // One budget of element instances and filter effects for the whole
     // document tree; filters nest across documents too.
     session.instances = s_.instances;

@@ -26,6 +26,7 @@
 #include <map>
 #include <mutex>
 
+#include "core/error.h"
 #include "parsers/svg/svg_converter.h"
 #include "parsers/svg/svg_text_path.h"
 #include "parsers/svg/svg_values.h"
@@ -575,7 +576,8 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
   std::vector<Path> decoration_paths(spans.size() * 3);
   std::vector<std::vector<std::pair<Path, text::ColorLayer>>> color_paths(spans.size());
   std::map<std::pair<int, uint32_t>, std::vector<text::ColorLayer>> color_layer_cache;
-  std::vector<std::vector<TextPiece>> bitmap_pieces(spans.size());
+  // Bitmap and SVG glyphs, each a piece of its own.
+  std::vector<std::vector<TextPiece>> picture_pieces(spans.size());
   std::map<int, bool> bitmap_faces;
   auto db_has_bitmaps = [&](int face) {
     auto it = bitmap_faces.find(face);
@@ -841,12 +843,26 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
         }
         for (const PlacedGlyph& g : cl.glyphs) {
           const Affine at = ts * Affine::translate(g.at.x, g.at.y);
+          if (std::shared_ptr<const SvgGlyphSource> svg = svg_glyph_source(db, g.face, g.id)) {
+            // An SVG glyph (OpenType SVG table) is drawn instead of the
+            // outline, as COLR layers are; its font units (y down, origin
+            // at the pen) scale by size / units per em.
+            TextPiece piece;
+            piece.path =
+                text::glyph_outline(db, g.face, g.id, span_size(span), keys[g.key].variations).transformed(at);
+            const double k = span_size(span) / svg->units_per_em;
+            piece.image_xf = at * Affine::scale(k, k);
+            piece.svg_glyph = std::move(svg);
+            piece.svg_glyph_id = g.id;
+            picture_pieces[span].push_back(std::move(piece));
+            continue;
+          }
           if (db_has_bitmaps(g.face)) {
             const text::GlyphBitmap bm = text::glyph_bitmap(db, g.face, g.id, span_size(span));
             if (bm.image) {
               const Affine texel = at * Affine::translate(bm.x, bm.y) * Affine::scale(bm.scale, bm.scale);
               Path rect = Path::rectangle(0, 0, bm.image->width, bm.image->height).transformed(texel);
-              bitmap_pieces[span].push_back({std::move(rect), Style{}, bm.image, texel});
+              picture_pieces[span].push_back({std::move(rect), Style{}, bm.image, texel, nullptr, 0});
               continue;
             }
           }
@@ -923,7 +939,8 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
     if (!own.inh.visible) continue;
     auto add_decoration = [&](int slot, int line) {
       Path& p = decoration_paths[k * 3 + slot];
-      if (!p.empty()) pieces.push_back({std::move(p), decorating_style(static_cast<int>(k), line), nullptr, Affine{}});
+      if (!p.empty())
+        pieces.push_back({std::move(p), decorating_style(static_cast<int>(k), line), nullptr, Affine{}, nullptr, 0});
     };
     add_decoration(0, Under);
     add_decoration(1, Over);
@@ -932,9 +949,9 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
       // glyphs fill by non-zero winding, overlapping contours included.
       Style st = own;
       st.inh.fill_rule = FillRule::NonZero;
-      pieces.push_back({std::move(glyph_paths[k]), st, nullptr, Affine{}});
+      pieces.push_back({std::move(glyph_paths[k]), st, nullptr, Affine{}, nullptr, 0});
     }
-    for (TextPiece& piece : bitmap_pieces[k]) {
+    for (TextPiece& piece : picture_pieces[k]) {
       piece.st = own;
       pieces.push_back(std::move(piece));
     }
@@ -945,7 +962,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
       st.inh.fill_rule = FillRule::NonZero;
       if (!layer.foreground) st.inh.fill = PaintSpec::solid(layer.color);
       st.inh.stroke = PaintSpec();
-      pieces.push_back({std::move(path), st, nullptr, Affine{}});
+      pieces.push_back({std::move(path), st, nullptr, Affine{}, nullptr, 0});
     }
     add_decoration(2, Through);
   }
@@ -966,6 +983,10 @@ void Converter::text(const Element& e, const Style& st, const Affine& space) {
     ops_.push_back(cells);
   }
   for (TextPiece& piece : pieces) {
+    if (piece.svg_glyph) {
+      draw_svg_glyph(piece, space);
+      continue;
+    }
     const uint32_t shape = static_cast<uint32_t>(shapes_.size());
     shapes_.push_back(std::move(piece.path));
     if (!piece.image) {
@@ -981,9 +1002,123 @@ void Converter::text(const Element& e, const Style& st, const Affine& space) {
   }
 }
 
+namespace {
+
+// A copy of e and its subtree under `parent`, its ids entered in `doc`
+// (the first element carrying each, in document order).
+std::unique_ptr<Element> copy_tree(const Element& e, const Element* parent, Document& doc) {
+  auto c = std::make_unique<Element>();
+  c->name = e.name;
+  c->attributes = e.attributes;
+  c->declarations = e.declarations;
+  c->style_attribute = e.style_attribute;
+  c->text = e.text;
+  c->parent = parent;
+  if (const std::string* id = c->attribute("id"); id && !id->empty()) doc.ids.emplace(*id, c.get());
+  for (const auto& child : e.children) c->children.push_back(copy_tree(*child, c.get(), doc));
+  return c;
+}
+
+// The document that draws glyph `id` of `source` (OpenType 1.9, SVG
+// table): a copy of it on the em square (its root units_per_em wide and
+// high, so one user unit per font unit where there is no viewBox). Unless
+// the glyph element is the root itself, the root's content becomes defs
+// (reachable by id, not drawn) beside a <use> of the element glyph<ID>.
+// current_color, when not empty, is the root's `color` for currentColor,
+// unless the source's root sets its own.
+Document glyph_drawing(const SvgGlyphSource& source, uint32_t id, const std::string& current_color) {
+  Document doc;
+  doc.root = copy_tree(*source.doc->root, nullptr, doc);
+  Element& root = *doc.root;
+  char em[32];
+  std::snprintf(em, sizeof em, "%.17g", source.units_per_em);
+  std::erase_if(root.attributes, [](const auto& a) { return a.first == "width" || a.first == "height"; });
+  root.attributes.push_back({"width", em});
+  root.attributes.push_back({"height", em});
+  if (!current_color.empty() && !root.attribute("color")) root.attributes.push_back({"color", current_color});
+  const std::string glyph = "glyph" + std::to_string(id);
+  if (const auto target = doc.ids.find(glyph); target != doc.ids.end() && target->second == &root) return doc;
+  auto defs = std::make_unique<Element>();
+  defs->name = "defs";
+  defs->parent = &root;
+  defs->children = std::move(root.children);
+  for (auto& child : defs->children) child->parent = defs.get();
+  auto use = std::make_unique<Element>();
+  use->name = "use";
+  use->attributes.push_back({"href", "#" + glyph});
+  use->parent = &root;
+  root.children.clear();
+  root.children.push_back(std::move(defs));
+  root.children.push_back(std::move(use));
+  return doc;
+}
+
+}  // namespace
+
+std::shared_ptr<const SvgGlyphSource> Converter::svg_glyph_source(const text::FontDb& db, int face, uint32_t glyph) {
+  // A document holds the glyph only with an element glyph<ID>; without
+  // one the outline is drawn.
+  auto holding = [&](const std::shared_ptr<const SvgGlyphSource>& s) -> std::shared_ptr<const SvgGlyphSource> {
+    return s->doc && s->doc->ids.count("glyph" + std::to_string(glyph)) ? s : nullptr;
+  };
+  std::vector<std::shared_ptr<const SvgGlyphSource>>& sources = s_.svg_glyph_sources[face];
+  for (const auto& s : sources)
+    if (glyph >= s->first && glyph <= s->last) return holding(s);
+  if (s_.plain_glyphs.count({face, glyph})) return nullptr;
+  std::optional<text::SvgDocument> found = text::svg_document(db, face, glyph);
+  if (!found) {
+    s_.plain_glyphs.insert({face, glyph});
+    return nullptr;
+  }
+  auto s = std::make_shared<SvgGlyphSource>();
+  s->first = found->first_glyph;
+  s->last = found->last_glyph;
+  s->units_per_em = text::metrics(db, face, 1).units_per_em;
+  s->font = db.faces()[face].family;
+  try {
+    // No loader: its style sheets' @import and <?xml-stylesheet?> read
+    // nothing.
+    s->doc = std::make_shared<const Document>(parse_document(found->text));
+  } catch (const Error& err) {
+    warn("an SVG glyph document of '" + s->font + "' does not parse (" + err.what() + "): its outlines are drawn");
+  }
+  sources.push_back(s);
+  return holding(s);
+}
+
+void Converter::draw_svg_glyph(const TextPiece& piece, const Affine& space) {
+  // currentColor is the text's fill, as for COLR's foreground layers; a
+  // paint server leaves it black.
+  std::string current;
+  if (piece.st.inh.fill.kind == PaintSpec::Kind::Color) {
+    const RGBA& c = piece.st.inh.fill.color;
+    auto byte = [](float v) { return static_cast<unsigned>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255)); };
+    char hex[16];
+    std::snprintf(hex, sizeof hex, "#%02x%02x%02x%02x", byte(c.r), byte(c.g), byte(c.b), byte(c.a));
+    current = hex;
+  }
+  const auto [it, added] = s_.svg_glyphs.try_emplace({piece.svg_glyph.get(), piece.svg_glyph_id, current});
+  LoadedImage& li = it->second;
+  if (added) {
+    li.svg = std::make_shared<const Document>(glyph_drawing(*piece.svg_glyph, piece.svg_glyph_id, current));
+    li.reads_nothing = true;
+  }
+  // Drawn as an embedded SVG document is (svg_image.cpp): its own
+  // converter, under the same budgets; not clipped to the em square.
+  const std::string shown = "glyph" + std::to_string(piece.svg_glyph_id) + " of " + piece.svg_glyph->font;
+  auto viewport = [](double w, double h) { return ViewBox{0, 0, w, h}; };
+  std::optional<Embedded> doc = embed_document(li, shown, viewport, AspectRatio{}, space * piece.image_xf);
+  if (!doc || doc->scene.paths.empty()) return;
+  Op append = Op::of(OpKind::Append);
+  append.scene = static_cast<uint32_t>(embedded_.size());
+  append.xf = space * piece.image_xf * doc->place;
+  embedded_.push_back(std::move(doc->scene));
+  ops_.push_back(append);
+}
+
 void Converter::clip_text(const Element& e, const Style& st, const Affine& space) {
   // Each span's glyphs clip with its clip-rule; the clip path is their union
-  // (a bitmap glyph clips with its rectangle).
+  // (a bitmap glyph clips with its rectangle, an SVG glyph with its outline).
   for (TextPiece& piece : layout_text(e, st, space)) {
     Op op = Op::of(OpKind::Clip);
     op.shape = static_cast<uint32_t>(shapes_.size());
