@@ -632,16 +632,20 @@ std::optional<Vec2> Converter::transform_origin(const Element& e, double em) con
 }
 
 // The object bounding box of a shape or an image in its own user space
-// (before its transform); nullopt for other elements.
+// (before its transform); nullopt for other elements. A shape without
+// geometry draws nothing, whatever its box: an empty one at the origin.
 std::optional<Bounds> Converter::object_box(const Element& e, double em) const {
   if (e.name == "image") {
     const double x = length(e, "x", Axis::X, 0, em), y = length(e, "y", Axis::Y, 0, em);
     return Bounds{x, y, x + length(e, "width", Axis::X, 0, em), y + length(e, "height", Axis::Y, 0, em)};
   }
+  static const char* shapes[] = {"path", "rect", "circle", "ellipse", "line", "polyline", "polygon"};
+  if (std::none_of(std::begin(shapes), std::end(shapes), [&](const char* n) { return e.name == n; }))
+    return std::nullopt;
   const std::optional<Path> p = build_shape(e, em, nullptr);
-  if (!p || p->empty()) return std::nullopt;
   Bounds b;
-  add_path_bounds(*p, Affine{}, b);
+  if (p) add_path_bounds(*p, Affine{}, b);
+  if (b.empty()) return Bounds{0, 0, 0, 0};
   return b;
 }
 
