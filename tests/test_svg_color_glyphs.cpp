@@ -99,3 +99,16 @@ TEST_CASE("svg glyphs: a glyph document reads no file", "[svg][text]") {
   CHECK(says(own, "cannot read 'x.png'"));
   CHECK(says(glyph, "'x.png' lies outside the folders the document may read"));
 }
+
+TEST_CASE("svg glyphs: fill-opacity fades the glyph as a whole", "[svg][text]") {
+  // As a group of the glyph's drawing with that opacity (COLR's layers
+  // take it the same way).
+  const std::vector<uint8_t> text = pixels(
+      "<text x='20' y='80' font-family='Mpvg Test SVG' font-size='50' fill='#804000' fill-opacity='0.4'>"
+      "&#xE000;</text>");
+  const std::vector<uint8_t> direct = pixels("<g opacity='0.4'>" + glyph2(20, 80, "#804000") + "</g>");
+  CHECK(max_difference(text, direct) <= 1);
+  CHECK(max_difference(text, pixels(glyph2(20, 80, "#804000"))) > 20);
+  CHECK(blank(pixels("<text x='20' y='80' font-family='Mpvg Test SVG' font-size='50' fill-opacity='0'>"
+                     "&#xE000;</text>")));
+}

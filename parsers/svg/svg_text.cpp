@@ -1107,13 +1107,26 @@ void Converter::draw_svg_glyph(const TextPiece& piece, const Affine& space) {
   // converter, under the same budgets; not clipped to the em square.
   const std::string shown = "glyph" + std::to_string(piece.svg_glyph_id) + " of " + piece.svg_glyph->font;
   auto viewport = [](double w, double h) { return ViewBox{0, 0, w, h}; };
+  const double opacity = piece.st.inh.fill_opacity;
+  if (!(opacity > 0)) return;
   std::optional<Embedded> doc = embed_document(li, shown, viewport, AspectRatio{}, space * piece.image_xf);
   if (!doc || doc->scene.paths.empty()) return;
+  // fill-opacity fades the glyph as a whole, as it does COLR's layers
+  // (and the outline a browser without SVG glyphs draws instead).
+  if (opacity < 1) {
+    Group g;
+    g.opacity = static_cast<float>(opacity);
+    Op begin = Op::of(OpKind::GroupBegin);
+    begin.scene = static_cast<uint32_t>(groups_.size());
+    groups_.push_back(g);
+    ops_.push_back(begin);
+  }
   Op append = Op::of(OpKind::Append);
   append.scene = static_cast<uint32_t>(embedded_.size());
   append.xf = space * piece.image_xf * doc->place;
   embedded_.push_back(std::move(doc->scene));
   ops_.push_back(append);
+  if (opacity < 1) ops_.push_back(Op::of(OpKind::GroupEnd));
 }
 
 void Converter::clip_text(const Element& e, const Style& st, const Affine& space) {
