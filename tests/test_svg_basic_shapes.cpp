@@ -152,3 +152,18 @@ TEST_CASE("clip-path invalid basic shapes drop the declaration", "[svg][clip][sh
   CHECK((render("<" + kRect + " style=\"clip-path: inset(50%)\"/>") == empty));
   CHECK((render("<" + kRect + " style=\"clip-path: path('')\"/>") == empty));
 }
+
+TEST_CASE("clip-path basic shape on a clipPath element intersects, against the clipped element's box", "[svg][clip][shapes]") {
+  // circle(30px at 50% 50%) of the rectangle's fill box (10, 10)-(90, 70):
+  // the circle at (50, 40), r 30, intersected with the clipPath's own
+  // half-plane x < 50.
+  const std::string with_shape = R"~(<clipPath id="c" style="clip-path: circle(30px at 50% 50%) fill-box">
+      <rect x="0" y="0" width="50" height="100"/></clipPath><)~" + kRect + R"~( clip-path="url(#c)"/>)~";
+  const std::string written = R"~(<clipPath id="k"><circle cx="50" cy="40" r="30"/></clipPath>
+      <clipPath id="c" clip-path="url(#k)"><rect x="0" y="0" width="50" height="100"/></clipPath><)~" + kRect +
+                              R"~( clip-path="url(#c)"/>)~";
+  const std::vector<uint8_t> image = render(with_shape);
+  CHECK(image == render(written));
+  CHECK(image != render(R"~(<clipPath id="c"><rect x="0" y="0" width="50" height="100"/></clipPath><)~" + kRect +
+                        R"~( clip-path="url(#c)"/>)~"));
+}

@@ -725,6 +725,7 @@ class Converter {
   void clip_content(size_t start, const Affine& space, const std::function<bool(LazyBounds&)>& items);
   // A clip-path basic shape or reference box (svg_basic_shapes.cpp).
   void clip_shape_content(size_t start, const ClipShape& cs, const Affine& space, double em);
+  bool clip_shape_items(const ClipShape& cs, const Affine& space, LazyBounds& bbox, double em);
   bool clip_items(const Element& cp, const Affine& space, LazyBounds& bbox, int depth);
   void clip_child(const Element& e, const Context& ctx, int depth);
 

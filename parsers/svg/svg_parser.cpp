@@ -613,17 +613,20 @@ bool Converter::clip_items(const Element& cp, const Affine& space, LazyBounds& b
   s_.active_clips.push_back(&cp);
   const ClipRef nested = resolve_clip(st.clip_path);
   bool ok = nested.state != ClipRef::Invalid;
-  if (ok && nested.state == ClipRef::Valid) {
+  const bool intersects = nested.state == ClipRef::Valid || nested.state == ClipRef::Shape;
+  if (ok && intersects) {
     // clip-path on the clipPath itself intersects, in the user space of
-    // the clipped element.
+    // the clipped element (a basic shape against the clipped element's
+    // boxes).
     ops_.push_back(Op::of(OpKind::Push));
-    ok = clip_items(*nested.element, space, bbox, depth + 1);
+    ok = nested.state == ClipRef::Valid ? clip_items(*nested.element, space, bbox, depth + 1)
+                                        : clip_shape_items(*nested.shape, space, bbox, st.inh.font_size);
     if (ok) ops_.push_back(Op::of(OpKind::Activate));
   }
   if (ok) {
     const Context inner = child_context(st, base, true);
     for (const auto& c : cp.children) clip_child(*c, inner, depth + 1);
-    if (nested.state == ClipRef::Valid) ops_.push_back(Op::of(OpKind::Pop));
+    if (intersects) ops_.push_back(Op::of(OpKind::Pop));
   }
   s_.active_clips.pop_back();
   return ok;
