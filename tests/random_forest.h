@@ -92,4 +92,23 @@ inline std::vector<Page> pages(uint32_t seed, const RenderOptions& like) {
   return out;
 }
 
+// The pages planned and encoded alone (plan_render, encode_for), and the
+// forest frame's scenes that point at them (the vectors keep their
+// elements where they are when the whole is moved).
+struct Encoded {
+  std::vector<RenderPlan> plans;
+  std::vector<EncodedScene> scenes;
+  std::vector<FrameScene> frame;
+};
+
+inline Encoded encoded(const std::vector<Page>& ps) {
+  Encoded e;
+  for (const Page& p : ps) {
+    e.plans.push_back(plan_render(p.options));
+    e.scenes.push_back(encode_for(p.scene, e.plans.back(), p.options.gamma));
+  }
+  for (size_t k = 0; k < ps.size(); k++) e.frame.push_back(FrameScene{&e.scenes[k], &e.plans[k], nullptr});
+  return e;
+}
+
 }  // namespace mpvg::random_forest

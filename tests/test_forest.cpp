@@ -17,18 +17,11 @@ namespace {
 void check_forest(const RenderOptions& like, uint32_t seeds) {
   for (uint32_t seed = 1; seed <= seeds; seed++) {
     const std::vector<random_forest::Page> ps = random_forest::pages(seed, like);
-    std::vector<RenderPlan> plans;
-    std::vector<EncodedScene> encs;
+    for (const random_forest::Page& p : ps) REQUIRE(same_frame_options(p.options, like));
+    const random_forest::Encoded e = random_forest::encoded(ps);
     std::vector<ImageF> alone;
-    for (const random_forest::Page& p : ps) {
-      REQUIRE(same_frame_options(p.options, like));
-      plans.push_back(plan_render(p.options));
-      encs.push_back(encode_for(p.scene, plans.back(), p.options.gamma));
-      alone.push_back(render_cpu(encs.back(), plans.back(), p.options));
-    }
-    std::vector<FrameScene> frame;
-    for (size_t k = 0; k < ps.size(); k++) frame.push_back(FrameScene{&encs[k], &plans[k], nullptr});
-    const std::vector<ImageF> together = render_forest_cpu(frame, like);
+    for (size_t k = 0; k < ps.size(); k++) alone.push_back(render_cpu(e.scenes[k], e.plans[k], ps[k].options));
+    const std::vector<ImageF> together = render_forest_cpu(e.frame, like);
     REQUIRE(together.size() == ps.size());
     for (size_t k = 0; k < ps.size(); k++) {
       INFO("seed " << seed << ", scene " << k);
@@ -186,14 +179,6 @@ TEST_CASE("forest: scenes whose root squares differ are refused, not rendered di
 TEST_CASE("forest: a forest over the entry cap is refused (its scenes' trees would be coarser)", "[forest]") {
   RenderOptions like;
   like.tree.max_entries = 3000;
-  const std::vector<random_forest::Page> ps = random_forest::pages(3, like);
-  std::vector<RenderPlan> plans;
-  std::vector<EncodedScene> encs;
-  for (const random_forest::Page& p : ps) {
-    plans.push_back(plan_render(p.options));
-    encs.push_back(encode_for(p.scene, plans.back(), p.options.gamma));
-  }
-  std::vector<FrameScene> frame;
-  for (size_t k = 0; k < ps.size(); k++) frame.push_back(FrameScene{&encs[k], &plans[k], nullptr});
-  CHECK_THROWS_WITH(render_forest_cpu(frame, like), kForestCapped);
+  const random_forest::Encoded e = random_forest::encoded(random_forest::pages(3, like));
+  CHECK_THROWS_WITH(render_forest_cpu(e.frame, like), kForestCapped);
 }

@@ -504,18 +504,14 @@ TEST_CASE("forest: each scene renders on the GPU as it does alone", "[gpu][fores
     for (uint32_t seed = 1; seed <= 4; seed++) {
       INFO("variant " << variant << ", seed " << seed);
       const std::vector<random_forest::Page> ps = random_forest::pages(seed, like);
-      std::vector<RenderPlan> plans;
-      std::vector<EncodedScene> encs;
+      const random_forest::Encoded e = random_forest::encoded(ps);
+      const std::vector<FrameScene>& frame = e.frame;
       std::vector<std::vector<uint8_t>> alone;
       std::vector<png::ImageData> alone_png;
-      for (const random_forest::Page& p : ps) {
-        plans.push_back(plan_render(p.options));
-        encs.push_back(encode_for(p.scene, plans.back(), p.options.gamma));
-        alone.push_back(r.render_rgba8(encs.back(), plans.back(), p.options));
-        alone_png.push_back(r.render_png(encs.back(), plans.back(), p.options));
+      for (size_t k = 0; k < ps.size(); k++) {
+        alone.push_back(r.render_rgba8(e.scenes[k], e.plans[k], ps[k].options));
+        alone_png.push_back(r.render_png(e.scenes[k], e.plans[k], ps[k].options));
       }
-      std::vector<FrameScene> frame;
-      for (size_t k = 0; k < ps.size(); k++) frame.push_back(FrameScene{&encs[k], &plans[k], nullptr});
       const std::vector<FrameRenderer::Output> together = r.render_forest(frame, like, false);
       const std::vector<FrameRenderer::Output> together_png = r.render_forest(frame, like, true);
       RenderOptions cpu_like = like;
@@ -574,15 +570,9 @@ TEST_CASE("forest: all roots rendered in one pass give each root's own image", "
     for (uint32_t seed = 1; seed <= 3; seed++) {
       INFO("variant " << variant << ", seed " << seed);
       const std::vector<random_forest::Page> ps = random_forest::pages(seed, like);
-      std::vector<RenderPlan> plans;
-      std::vector<EncodedScene> encs;
-      for (const random_forest::Page& p : ps) {
-        plans.push_back(plan_render(p.options));
-        encs.push_back(encode_for(p.scene, plans.back(), p.options.gamma));
-      }
-      std::vector<FrameScene> frame;
-      for (size_t k = 0; k < ps.size(); k++) frame.push_back(FrameScene{&encs[k], &plans[k], nullptr});
-      const EncodedScene forest = forest_of(frame);
+      const random_forest::Encoded e = random_forest::encoded(ps);
+      const std::vector<RenderPlan>& plans = e.plans;
+      const EncodedScene forest = forest_of(e.frame);
       int w = 0, h = 0;
       forest_grid(forest, w, h);
       gpu::Context ctx;
