@@ -298,13 +298,22 @@ LayerJob plan_layer(const FilterEffect& f, const RenderOptions& o, std::string* 
   return job;
 }
 
+namespace {
+
+// A planned layer's element pictures and source, rendered by `render`.
+void render_inputs(LayerJob& job, const LayerRenderer& render) {
+  for (const LayerJob::Element& e : job.elements) job.layer.images[e.image] = render(*e.scene, e.options);
+  job.layer.source = render(*job.source, job.source_options);
+}
+
+}  // namespace
+
 FilterLayer filter_layer(const FilterEffect& f, const RenderOptions& o, const LayerRenderer& render, FilterBox& box,
                          std::string* warning) {
   LayerJob job = plan_layer(f, o, warning);
   box = job.box;
   if (job.layer.width <= 0 || job.layer.height <= 0) return FilterLayer{};
-  for (const LayerJob::Element& e : job.elements) job.layer.images[e.image] = render(*e.scene, e.options);
-  job.layer.source = render(*job.source, job.source_options);
+  render_inputs(job, render);
   return std::move(job.layer);
 }
 
@@ -329,8 +338,7 @@ FilterExecutor cpu_filters(int threads) {
       LayerJob& job = jobs[k];
       FilterLayer& l = job.layer;
       if (l.width <= 0 || l.height <= 0) continue;
-      for (const LayerJob::Element& e : job.elements) l.images[e.image] = render_cpu(*e.scene, e.options);
-      l.source = render_cpu(*job.source, job.source_options);
+      render_inputs(job, [](const Scene& s, const RenderOptions& so) { return render_cpu(s, so); });
       const FilterResult r = run_filter_cpu(l, threads);
       auto texels = std::make_shared<ExecutorTexels>();
       texels->host = r.rgba.empty() ? std::vector<Texel16>(size_t(l.width) * l.height, Texel16{0, 0, 0, 0})

@@ -63,8 +63,6 @@ struct FilterResult {
 // Renders a scene over options' size and view (the source of a layer):
 // the executor's pipeline.
 using LayerRenderer = std::function<ImageF(const Scene&, const RenderOptions&)>;
-// Runs a layer's graph: the executor's primitives.
-using FilterRunner = std::function<FilterResult(const FilterLayer&)>;
 
 // A layer to make: its graph resolved to pixels and what an executor
 // renders into it. layer.width == 0: the filter draws nothing (no pixel of

@@ -73,8 +73,9 @@ ImageF render_cuda(gpu::Context& ctx, const Scene& scene, const RenderOptions& o
 // Filter layers on the device (core/filter_layers.h's FilterExecutor): the
 // sources encoded (their own filters resolved by this executor first),
 // those that can share a frame rendered as forest frames (core/forest.h:
-// one tree build for all, each root to the image it has alone), each left
-// on the device and copied into the layers' source planes; then all the
+// one tree build for all, each root to the image it has alone), every
+// root rendered straight into its layer's source plane on the device (a
+// source alone: a frame of one root); then all the
 // graphs batched (gpu/filter.h), the results left on the device as the
 // textures' texels.
 FilterExecutor cuda_filters(gpu::Context& ctx) {
@@ -116,15 +117,11 @@ FilterExecutor cuda_filters(gpu::Context& ctx) {
     for (size_t k : live) offset[k] = total, total += size_t(jobs[k].layer.width) * jobs[k].layer.height * 4;
     gpu::DeviceBuffer<float> sources(std::max<size_t>(total, 4));
     const PaintRecord bg = background_paint(RGBA{0, 0, 0, 0}, live.empty() ? Gamma::Srgb : jobs[live[0]].source_options.gamma);
-    auto keep = [&](size_t k, const float* image) {
-      const size_t n = size_t(jobs[k].layer.width) * jobs[k].layer.height * 4;
-      MPVG_CUDA(cudaMemcpyAsync(sources.data() + offset[k], image, n * sizeof(float), cudaMemcpyDeviceToDevice,
-                                cudaStreamPerThread));
-    };
+    // A source alone in its frame, rendered straight into its plane.
     auto alone = [&](size_t k) {
       const RenderPlan& p = plans[k];
       ctx.build(encs[k], p.frame.ua_w, p.frame.ua_h, p.tree);
-      keep(k, ctx.render_to_device(p.integ, p.frame, bg));
+      ctx.render_roots_to_device(p.integ, {p.frame}, bg, {sources.data() + offset[k]});
     };
     // Forests: sources with no device texels whose frames agree.
     std::vector<std::vector<size_t>> groups;

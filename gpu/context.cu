@@ -96,12 +96,6 @@ ImageF Context::render(const Integration& integ, const IntegrationFrame& frame, 
   return img;
 }
 
-const float* Context::render_to_device(const Integration& integ, const IntegrationFrame& frame,
-                                       const PaintRecord& background, GpuTimes* times, uint32_t root) {
-  impl_->render(integ, frame, background, times, root);
-  return reinterpret_cast<const float*>(impl_->image.data());
-}
-
 void Context::render_roots_to_device(const Integration& integ, const std::vector<IntegrationFrame>& frames,
                                      const PaintRecord& background, const std::vector<float*>& images) {
   impl_->render_roots(integ, frames, background, images);

@@ -24,8 +24,8 @@ std::vector<std::shared_ptr<const Image>> run_filters_cuda(const std::vector<con
 // An executor image's texels on the host (tests): width x height texels.
 std::vector<Texel16> download_texels(const Image& image);
 
-// One layer's graph from its host source to its host result (core/
-// filter_layers.h's FilterRunner; tests compare it with the CPU's).
+// One layer's graph from its host source to its host result, as
+// run_filter_cpu gives it (tests compare the two).
 FilterResult run_filter_cuda(const FilterLayer& layer);
 
 }  // namespace mpvg::gpu

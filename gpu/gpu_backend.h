@@ -65,11 +65,6 @@ class Context {
   // The box filter over the pixels the tree was built for.
   ImageF render(const std::vector<SampleOffset>& pattern, const PaintRecord& background, GpuTimes* times = nullptr);
 
-  // As render(), leaving the image on the device: premultiplied RGBA
-  // floats, frame.width x frame.height, valid until the next render.
-  const float* render_to_device(const Integration& integ, const IntegrationFrame& frame, const PaintRecord& background,
-                                GpuTimes* times = nullptr, uint32_t root = 0);
-
   // Roots 0 .. frames.size() - 1 of a forest's tree rendered in one pass,
   // root k into images[k] on the device (frames[k].width x height
   // premultiplied RGBA floats): each the image render() gives that root,

@@ -417,6 +417,21 @@ __global__ void k_output(const float* buf, int acc_w, int pad, int width, int he
   image[i] = composite(p[0], p[1], p[2], p[3], bg);
 }
 
+// A block's threads for n samples per unit area (whole unit areas, as many
+// as fit in the shape's threads), and the tile of unit areas a batch is:
+// U = 2^b unit areas as 2^ceil(b/2) x 2^floor(b/2).
+struct SamplerGrid {
+  int threads, tile_w, tile_h;
+};
+SamplerGrid sampler_grid(const SamplerShape& shape, int n) {
+  const int threads = n <= shape.threads ? n * (shape.threads / n) : n;
+  if (n < 1 || threads > 1024) throw Error("the CUDA sampler takes 1 to 1024 samples per unit area");
+  int log_batch = 0;
+  while ((2 << log_batch) <= shape.batch) log_batch++;
+  const int tile_w = 1 << ((log_batch + 1) / 2);
+  return SamplerGrid{threads, tile_w, (1 << log_batch) / tile_w};
+}
+
 // The sampler over `total` batches (one block each), specialised for
 // `kinds`, its shared memory sized for the shape and, under a wide filter,
 // the accumulators of a tile and its apron.
@@ -446,10 +461,8 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
   StageTimer timer(times != nullptr);
   GpuTimes local;
   GpuTimes& t = times ? *times : local;
-  const int n = integ.samples;
-  // A block holds whole unit areas: as many as fit in the shape's threads.
-  const int threads = n <= shape.threads ? n * (shape.threads / n) : n;
-  if (n < 1 || threads > 1024) throw Error("the CUDA sampler takes 1 to 1024 samples per unit area");
+  const SamplerGrid sg = sampler_grid(shape, integ.samples);
+  const int threads = sg.threads, tile_w = sg.tile_w, tile_h = sg.tile_h;
   if (root >= roots.size()) throw Error("render of a root the built tree does not have");
   // The root's own grid (a forest's tree is built over the largest).
   const int width = roots[root].width, height = roots[root].height;
@@ -471,11 +484,6 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
     acc_args.acc = acc.data();
     acc_args.weights = weights.data();
   }
-
-  // Batches are tiles of U = 2^b unit areas: 2^ceil(b/2) x 2^floor(b/2).
-  int log_batch = 0;
-  while ((2 << log_batch) <= shape.batch) log_batch++;
-  const int tile_w = 1 << ((log_batch + 1) / 2), tile_h = (1 << log_batch) / tile_w;
 
   timer.start(&t.schedule_ms);
   leaf_batches.resize(nleaves + 1);
@@ -543,9 +551,8 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
 
 void Context::Impl::render_roots(const Integration& integ, const std::vector<IntegrationFrame>& frames,
                                  const PaintRecord& bg, const std::vector<float*>& images) {
-  const int n = integ.samples;
-  const int threads = n <= shape.threads ? n * (shape.threads / n) : n;
-  if (n < 1 || threads > 1024) throw Error("the CUDA sampler takes 1 to 1024 samples per unit area");
+  const SamplerGrid sg = sampler_grid(shape, integ.samples);
+  const int threads = sg.threads, tile_w = sg.tile_w, tile_h = sg.tile_h;
   if (frames.size() > roots.size() || images.size() != frames.size())
     throw Error("render of roots the built tree does not have");
   if (frames.empty()) return;
@@ -604,9 +611,6 @@ void Context::Impl::render_roots(const Integration& integ, const std::vector<Int
   const SampleInputs in{leaf_entries.data(), segments.data(), paths.data(), paint_view.data()};
   Accumulate acc_args{nullptr, direct ? nullptr : weights.data(), integ.support, integ.class_mod, 0, 0};
   if (!direct) acc_args.acc = acc.data();  // non-null: accumulate (each root's own, from the table)
-  int log_batch = 0;
-  while ((2 << log_batch) <= shape.batch) log_batch++;
-  const int tile_w = 1 << ((log_batch + 1) / 2), tile_h = (1 << log_batch) / tile_w;
   leaf_batches.resize(nleaves + 1);
   leaf_color.resize(nleaves + 1);
   uint32_t* nb = (u32[0].resize(nleaves + 1), u32[0].data());
