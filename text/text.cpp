@@ -549,7 +549,7 @@ size_t FontDb::add_system_fonts() {
   size_t added = 0;
   for (Listed& l : listed) {
     if (l.variable) {
-      added += add_file(l.info.path, nullptr) > 0;
+      added += add_file(l.info.path, nullptr);
       continue;
     }
     std::lock_guard<std::mutex> lock(m.mu);

@@ -635,13 +635,12 @@ std::optional<Vec2> Converter::transform_origin(const Element& e, double em) con
 // (before its transform); nullopt for other elements. A shape without
 // geometry draws nothing, whatever its box: an empty one at the origin.
 std::optional<Bounds> Converter::object_box(const Element& e, double em) const {
-  if (e.name == "image") {
+  const Kind kind = classify(e);
+  if (kind == Kind::Image) {
     const double x = length(e, "x", Axis::X, 0, em), y = length(e, "y", Axis::Y, 0, em);
     return Bounds{x, y, x + length(e, "width", Axis::X, 0, em), y + length(e, "height", Axis::Y, 0, em)};
   }
-  static const char* shapes[] = {"path", "rect", "circle", "ellipse", "line", "polyline", "polygon"};
-  if (std::none_of(std::begin(shapes), std::end(shapes), [&](const char* n) { return e.name == n; }))
-    return std::nullopt;
+  if (kind != Kind::Shape) return std::nullopt;
   const std::optional<Path> p = build_shape(e, em, nullptr);
   Bounds b;
   if (p) add_path_bounds(*p, Affine{}, b);
