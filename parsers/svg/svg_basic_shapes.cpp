@@ -235,13 +235,14 @@ std::vector<std::vector<std::string_view>> comma_groups(const std::vector<std::s
 }
 
 // An optional leading <'fill-rule'> argument of polygon() and path();
-// removes it from `groups`. False when it is there but not followed by
-// anything.
-bool leading_fill_rule(std::vector<std::vector<std::string_view>>& groups, FillRule& rule) {
+// removes it from `groups`, setting *given when it was there. False when
+// it is there but not followed by anything.
+bool leading_fill_rule(std::vector<std::vector<std::string_view>>& groups, FillRule& rule, bool* given = nullptr) {
   if (groups.front().size() != 1) return true;
   const std::string_view w = groups.front()[0];
   if (!is_word(w, "nonzero") && !is_word(w, "evenodd")) return true;
   rule = is_word(w, "evenodd") ? FillRule::EvenOdd : FillRule::NonZero;
+  if (given) *given = true;
   groups.erase(groups.begin());
   return !groups.empty();
 }
@@ -259,13 +260,23 @@ bool polygon(const std::vector<std::string_view>& t, BasicShape& out) {
   return true;
 }
 
+// A CSS string token (CSS Syntax 3 §4.3.5) holding path data: its text
+// between the quotes. One with an escape, which path data never needs, or
+// a newline (a bad string) is taken as invalid.
+std::optional<std::string_view> path_string(std::string_view t) {
+  if (t.size() < 2 || (t[0] != '"' && t[0] != '\'') || t.back() != t[0]) return std::nullopt;
+  const std::string_view data = t.substr(1, t.size() - 2);
+  if (data.find_first_of("\\\n") != std::string_view::npos) return std::nullopt;
+  return data;
+}
+
 // path( <'fill-rule'>? , <string> ): SVG path data that must parse whole.
-bool path(const std::vector<std::string_view>& t, BasicShape& out) {
+bool path(const std::vector<std::string_view>& t, BasicShape& out, bool* rule_given = nullptr) {
   auto groups = comma_groups(t);
-  if (!leading_fill_rule(groups, out.rule) || groups.size() != 1 || groups[0].size() != 1) return false;
-  const std::string_view s = groups[0][0];
-  if (s.size() < 2 || (s[0] != '"' && s[0] != '\'') || s.back() != s[0]) return false;
-  out.path_data = std::string(s.substr(1, s.size() - 2));
+  if (!leading_fill_rule(groups, out.rule, rule_given) || groups.size() != 1 || groups[0].size() != 1) return false;
+  const auto data = path_string(groups[0][0]);
+  if (!data) return false;
+  out.path_data = std::string(*data);
   Path scratch;
   return parse_path_data(out.path_data, scratch);
 }
@@ -300,6 +311,22 @@ bool is_shape_function(const std::string& name) {
 }
 
 }  // namespace
+
+std::optional<CssPath> parse_css_path(std::string_view value) {
+  const auto t = components(value);
+  if (!t || t->size() != 1) return std::nullopt;
+  const auto f = function(t->front());
+  if (!f || f->first != "path") return std::nullopt;
+  const auto args = components(f->second);
+  if (!args) return std::nullopt;
+  BasicShape s;
+  bool rule_given = false;
+  if (!path(*args, s, &rule_given)) return std::nullopt;
+  CssPath out;
+  if (rule_given) out.rule = s.rule;
+  out.data = std::move(s.path_data);
+  return out;
+}
 
 std::optional<ClipShape> parse_clip_shape(std::string_view value, bool* invalid) {
   *invalid = false;

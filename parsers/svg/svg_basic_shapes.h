@@ -56,6 +56,17 @@ struct ClipShape {
   ReferenceBox box = ReferenceBox::Stroke;
 };
 
+// A value that is one path() function, path( <'fill-rule'>? , <string> )
+// (CSS Shapes 1 §3.1; the d property's path(<string>), SVG 2
+// paths.html#TheDProperty, is the same without the fill rule): its fill
+// rule if given and its path data, which parses whole. nullopt for any
+// other value, and for a path() whose data has an error.
+struct CssPath {
+  std::optional<FillRule> rule;
+  std::string data;
+};
+std::optional<CssPath> parse_css_path(std::string_view value);
+
 // Parses a clip-path value. nullopt when it is not a basic shape or a
 // geometry box (none, url(), anything else); then *invalid is set when it
 // starts like one (a shape function or a box keyword) but does not parse,

@@ -286,28 +286,6 @@ int Converter::shape_index(const Element& e, double em) {
 
 namespace {
 
-// The path data of a d declaration's path(<string>); nullopt when the
-// value is something else. The string is a CSS string token (CSS Syntax 3
-// §4.3.5); one with an escape, which path data never needs, or a newline
-// (a bad string) is taken as invalid.
-std::optional<std::string_view> css_path_string(std::string_view v) {
-  Scanner s(trim(v));
-  if (!s.consume_word("path(")) return std::nullopt;
-  s.skip_ws();
-  const char quote = s.peek();
-  if (quote != '"' && quote != '\'') return std::nullopt;
-  s.consume(quote);
-  const std::string_view rest = s.rest();
-  const size_t end = rest.find(quote);
-  if (end == std::string_view::npos) return std::nullopt;
-  const std::string_view data = rest.substr(0, end);
-  if (data.find_first_of("\\\n") != std::string_view::npos) return std::nullopt;
-  Scanner after(rest.substr(end + 1));
-  after.skip_ws();
-  if (!after.consume(')') || !after.at_end()) return std::nullopt;
-  return data;
-}
-
 // The d property of e (SVG 2 paths.html#TheDProperty; not inherited) into
 // `out`; false for none. Its last declaration in cascade order that is
 // none or path(<string>) wins; path() with a fill rule, or with an error
@@ -322,7 +300,7 @@ bool d_property(const Element& e, Path& out, std::vector<uint32_t>* arc_continua
     const auto keyword = parse_keyword(it->second);
     if (keyword == "none" || keyword == "initial") return false;
     if (keyword == "inherit") return e.parent && d_property(*e.parent, out, arc_continuations);
-    if (const auto data = css_path_string(it->second); data && parse_path_data(*data, out, arc_continuations))
+    if (const auto p = parse_css_path(it->second); p && !p->rule && parse_path_data(p->data, out, arc_continuations))
       return true;
   }
   const std::string* d = e.name == "path" ? e.attribute("d") : nullptr;
