@@ -112,3 +112,18 @@ TEST_CASE("svg glyphs: fill-opacity fades the glyph as a whole", "[svg][text]") 
   CHECK(blank(pixels("<text x='20' y='80' font-family='Mpvg Test SVG' font-size='50' fill-opacity='0'>"
                      "&#xE000;</text>")));
 }
+
+TEST_CASE("svg glyphs: synthetic oblique slants the glyph's drawing at its pen", "[svg][text]") {
+  // The test font has no italic face: font-style italic slants each glyph
+  // by a quarter of its height about its pen position, as outlines are.
+  const std::vector<uint8_t> text = pixels(
+      "<text x='40' y='80' font-family='Mpvg Test SVG' font-size='50' fill='#804000' font-style='italic'>"
+      "&#xE000;&#xE001;</text>");
+  auto slanted = [](double x, double y, const std::string& content) {
+    return "<g transform='translate(" + std::to_string(x) + " " + std::to_string(y) + ") matrix(1 0 -0.25 1 0 0) "
+           "translate(" + std::to_string(-x) + " " + std::to_string(-y) + ")'>" + content + "</g>";
+  };
+  const std::vector<uint8_t> direct = pixels(slanted(40, 80, glyph2(40, 80, "#804000")) + slanted(75, 80, glyph4(75, 80)));
+  CHECK(max_difference(text, direct) <= 1);
+  CHECK(max_difference(text, pixels(glyph2(40, 80, "#804000") + glyph4(75, 80))) > 100);
+}

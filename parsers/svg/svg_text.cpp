@@ -485,7 +485,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
   // Synthetic bold and oblique (CSS Fonts 4 §5.5, font-synthesis auto):
   // bold asked for (600 or more) of a face at 500 or less that has no
   // weight axis: outlines grown by 1/32 em; italic or oblique asked for of
-  // an upright face: outlines slanted by a quarter of their height (14°).
+  // an upright face: glyphs slanted by a quarter of their height (14°).
   std::vector<uint8_t> synth_bold(spans.size(), 0), synth_oblique(spans.size(), 0);
   for (size_t k = 0; k < spans.size(); k++) {
     const Inherited& inh = elems[spans[k].elem].st.inh;
@@ -842,7 +842,11 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
             cells->add(cell.apply(c));
         }
         for (const PlacedGlyph& g : cl.glyphs) {
-          const Affine at = ts * Affine::translate(g.at.x, g.at.y);
+          // Synthetic oblique (font-style without an italic face) slants
+          // every kind of glyph, colour ones included, as Skia's text
+          // matrix does; synthetic bold grows outlines only.
+          const Affine slant = synth_oblique[span] ? Affine{1, 0, -0.25, 1, 0, 0} : Affine{};
+          const Affine at = ts * Affine::translate(g.at.x, g.at.y) * slant;
           if (std::shared_ptr<const SvgGlyphSource> svg = svg_glyph_source(db, g.face, g.id)) {
             // An SVG glyph (OpenType SVG table) is drawn instead of the
             // outline, as COLR layers are; its font units (y down, origin
@@ -879,8 +883,7 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
           }
           const Path outline = text::glyph_outline(db, g.face, g.id, span_size(span), keys[g.key].variations,
                                                    synth_bold[span] ? 1.0 / 32 : 0);
-          const Affine slant = synth_oblique[span] ? Affine{1, 0, -0.25, 1, 0, 0} : Affine{};
-          if (!outline.empty()) glyph_paths[span].append(outline.transformed(at * slant));
+          if (!outline.empty()) glyph_paths[span].append(outline.transformed(at));
         }
       }
       // text-decoration (CSS Text Decoration 3): one rectangle per run of
