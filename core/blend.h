@@ -10,6 +10,15 @@
 // reduces it to plain source-over. The sampler composites front to back
 // ("under"), which only normal blending allows; a blended group is
 // composited onto its backdrop once its content is known.
+//
+// After the blend modes come three Porter-Duff operators (Compositing 1
+// §9.1; plus-lighter from Compositing 2 §6), whole compositing operators
+// rather than B functions, premultiplied:
+//   plus-lighter: co = min(1, cs + cb),             ao = min(1, as + ab)
+//   source-atop:  co = cs ab + cb (1 - as),         ao = ab
+//   xor:          co = cs (1 - ab) + cb (1 - as),   ao = as + ab - 2 as ab
+// Each is bounded: a transparent source leaves the backdrop unchanged,
+// which is what lets groups treat them like blend modes (core/scene.h).
 #pragma once
 #include <cmath>
 #include <cstdint>
@@ -37,10 +46,15 @@ enum BlendModeCode : uint32_t {  // Scene's BlendMode (core/scene.h), same order
   BLEND_SATURATION,
   BLEND_COLOR,
   BLEND_LUMINOSITY,
+  // Porter-Duff operators: composited as a whole by blend_porter_duff.
+  BLEND_PLUS_LIGHTER,
+  BLEND_SOURCE_ATOP,
+  BLEND_XOR,
   BLEND_MODE_COUNT
 };
 
 MPVG_HD_INLINE bool blend_separable(uint32_t mode) { return mode < BLEND_HUE; }
+MPVG_HD_INLINE bool blend_is_porter_duff(uint32_t mode) { return mode >= BLEND_PLUS_LIGHTER && mode < BLEND_MODE_COUNT; }
 
 MPVG_HD_INLINE float blend_min(float a, float b) { return a < b ? a : b; }
 MPVG_HD_INLINE float blend_max(float a, float b) { return a > b ? a : b; }
@@ -139,8 +153,25 @@ MPVG_HD_INLINE Rgb3 blend_nonseparable(uint32_t mode, Rgb3 cb, Rgb3 cs) {
   }
 }
 
-// Source `s` over backdrop `b` with blend mode `mode`, both premultiplied.
+// Source `s` onto backdrop `b` with Porter-Duff operator `mode` (one of
+// plus-lighter, source-atop, xor; see the top of this file), premultiplied.
+MPVG_HD_INLINE Rgba4 blend_porter_duff(uint32_t mode, Rgba4 b, Rgba4 s) {
+  const float as = s.a, ab = b.a;
+  if (mode == BLEND_PLUS_LIGHTER) {
+    return Rgba4{blend_min(1.0f, s.r + b.r), blend_min(1.0f, s.g + b.g), blend_min(1.0f, s.b + b.b),
+                 blend_min(1.0f, as + ab)};
+  }
+  const float fs = mode == BLEND_SOURCE_ATOP ? ab : 1.0f - ab;  // the source's factor
+  const float fb = 1.0f - as;                                   // the backdrop's
+  const float ao = mode == BLEND_SOURCE_ATOP ? ab : as * fs + ab * fb;
+  return Rgba4{s.r * fs + b.r * fb, s.g * fs + b.g * fb, s.b * fs + b.b * fb, ao};
+}
+
+// Source `s` over backdrop `b` with blend mode `mode`, both premultiplied
+// (a Porter-Duff operator instead of source-over for those modes).
 MPVG_HD_INLINE Rgba4 blend_over(uint32_t mode, Rgba4 b, Rgba4 s) {
+  // Before the shortcut below: source-atop over nothing is nothing.
+  if (blend_is_porter_duff(mode)) return blend_porter_duff(mode, b, s);
   const float as = s.a, ab = b.a;
   const float ao = as + ab * (1.0f - as);
   if (mode == BLEND_NORMAL || as <= 0.0f || ab <= 0.0f) {

@@ -277,9 +277,10 @@ class Encoder {
         break;
       }
       case PaintType::LinearGradient:
-      case PaintType::RadialGradient: {
+      case PaintType::RadialGradient:
+      case PaintType::SweepGradient: {
         bool opaque = false;
-        if (gradient(scene.gradients.at(p.index), p.type == PaintType::RadialGradient, view, rec, opaque)) {
+        if (gradient(scene.gradients.at(p.index), p.type, view, rec, opaque)) {
           flags |= PATH_VARYING;
           if (opaque && op >= 1.0f) flags |= PATH_OPAQUE;
         } else {
@@ -334,16 +335,31 @@ class Encoder {
     return r;
   }
 
-  // Fills in a gradient paint; false when the gradient paints nothing
-  // anywhere (degenerate geometry or transform).
-  bool gradient(const Gradient& g, bool radial, const Affine& view, PaintRecord& rec, bool& opaque) {
+  // Fills in a gradient paint of type `type` (linear, radial or sweep);
+  // false when the gradient paints nothing anywhere (degenerate geometry or
+  // transform).
+  bool gradient(const Gradient& g, PaintType type, const Affine& view, PaintRecord& rec, bool& opaque) {
     const Affine to_paint = view * g.xf;
     if (!to_paint.invertible()) return false;
     const Affine G = to_paint.inverted();  // pixels to gradient space
     GradientRecord gr{};
     const Vec2 cd = g.center - g.focal;
     bool covers = true;  // every point gets a t
-    if (radial) {
+    if (type == PaintType::SweepGradient) {
+      // The angle does not depend on the scale: the centre is moved to the
+      // origin and nothing else.
+      gr.m = to_float(Affine::translate(-g.center.x, -g.center.y) * G);
+      const double span = g.end_angle - g.start_angle;
+      const float start = static_cast<float>(g.start_angle), inv = static_cast<float>(1 / span);
+      if (!std::isfinite(start)) return false;  // beyond float range: no angle compares with it
+      gr.r0 = start;
+      // A span too small for its inverse to be a float is the step of
+      // equal angles (dr = 0), which only pad paints.
+      gr.dr = std::isfinite(inv) ? inv : 0.0f;
+      if (gr.dr == 0.0f && g.spread != Spread::Pad) return false;
+      // Every angle gets a t (pad extends, repeat and reflect wrap): the
+      // spread decides below whether the plane is covered.
+    } else if (type == PaintType::RadialGradient) {
       const double s = std::max({std::hypot(cd.x, cd.y), std::fabs(g.focal_radius), std::fabs(g.radius)});
       if (!(s > 0)) return false;
       const Affine N = Affine::scale(1 / s, 1 / s) * Affine::translate(-g.focal.x, -g.focal.y);
@@ -381,7 +397,9 @@ class Encoder {
     }
     const bool ramp_opaque = ramp(g, gr);  // always appends the ramp
     opaque = covers && ramp_opaque;
-    rec.kind = radial ? PAINT_RADIAL : PAINT_LINEAR;
+    rec.kind = type == PaintType::SweepGradient    ? PAINT_SWEEP
+               : type == PaintType::RadialGradient ? PAINT_RADIAL
+                                                   : PAINT_LINEAR;
     rec.index = static_cast<uint32_t>(paint_.gradients.size());
     paint_.gradients.push_back(gr);
     return true;

@@ -48,7 +48,8 @@ void append_paint(PaintData& dst, const PaintData& src, const Offsets& o) {
   for (PaintRecord r : src.paints) {
     switch (r.kind) {
       case PAINT_LINEAR:
-      case PAINT_RADIAL: r.index += o.gradients; break;
+      case PAINT_RADIAL:
+      case PAINT_SWEEP: r.index += o.gradients; break;
       case PAINT_TEXTURE: r.index += o.textures; break;
       case PAINT_PATTERN: r.index += o.patterns; break;
       case PAINT_MESH: r.index += o.meshes; break;

@@ -1,6 +1,6 @@
-// Gradients evaluated per sample: t from the sample's position (linear, or
-// the general two-point conical radial gradient), the spread mode, then the
-// colour ramp. Host/device code shared by both executors; the encoder
+// Gradients evaluated per sample: t from the sample's position (linear,
+// the general two-point conical radial gradient, or the sweep around a
+// centre), the spread mode, then the colour ramp. Host/device code shared by both executors; the encoder
 // (core/encoding.cpp) prepares the records.
 #pragma once
 #include <cmath>
@@ -45,6 +45,19 @@ MPVG_HD_INLINE bool radial_t(const GradientRecord& g, float u, float v, float& t
     return true;
   }
   return false;
+}
+
+// t of a sweep gradient at (u, v), the point relative to its centre
+// (GradientRecord): theta = atan2(v, u) in degrees, in [0, 360), and 0 at
+// the centre itself (where atan2f(0, -0) would say 180), then
+// t = (theta - start) / (end - start). Equal angles (dr = 0, pad only)
+// make a step at the start angle: t = -1 before it, 2 from it on, which
+// the pad spread turns into the first or the last stop.
+MPVG_HD_INLINE float sweep_t(const GradientRecord& g, float u, float v) {
+  float theta = (u == 0.0f && v == 0.0f) ? 0.0f : atan2f(v, u) * 57.2957795f;
+  if (theta < 0.0f) theta += 360.0f;
+  if (g.dr == 0.0f) return theta < g.r0 ? -1.0f : 2.0f;
+  return (theta - g.r0) * g.dr;
 }
 
 // The spread mode applied to t: pad clamps to [0, 1], repeat keeps the
@@ -105,15 +118,18 @@ MPVG_HD_INLINE Rgba4 ramp_at(const GradientRecord& g, const float* kt, const Rgb
   return Rgba4{a.r + s * (b.r - a.r), a.g + s * (b.g - a.g), a.b + s * (b.b - a.b), a.a + s * (b.a - a.a)};
 }
 
-// Premultiplied colour of gradient g at pixel (px, py); transparent where
+// Premultiplied colour of gradient g, of paint kind `kind` (PAINT_LINEAR,
+// PAINT_RADIAL or PAINT_SWEEP), at pixel (px, py); transparent where
 // nothing is painted. Out of line in kernels: the gradient sampler drops from
 // 75 to 62 registers and tiger_gradients renders 4 % faster (BENCHMARKS.md).
-MPVG_HD_NOINLINE inline Rgba4 gradient_at(const GradientRecord& g, bool radial, const float* kt, const Rgba4* kc,
+MPVG_HD_NOINLINE inline Rgba4 gradient_at(const GradientRecord& g, uint32_t kind, const float* kt, const Rgba4* kc,
                                           float px, float py) {
   float u, v, t;
   affine_apply(g.m, px, py, u, v);
-  if (radial) {
+  if (kind == PAINT_RADIAL) {
     if (!radial_t(g, u, v, t)) return Rgba4{0.0f, 0.0f, 0.0f, 0.0f};
+  } else if (kind == PAINT_SWEEP) {
+    t = sweep_t(g, u, v);
   } else {
     t = u;
   }

@@ -6,8 +6,8 @@
 // A group's content is composited on its own into a colour of its own; at
 // its end the result, times its opacity and its mask, goes onto the colour
 // of the list the group is in: "under" it when that list runs front to
-// back (normal blending only), with the group's blend mode over it when the
-// list runs back to front. A per-sample stack keeps the enclosing lists'
+// back (normal blending only), with the group's blend mode (or Porter-Duff
+// operator, core/blend.h) over it when the list runs back to front. A per-sample stack keeps the enclosing lists'
 // colours, kMaxGroupDepth deep (checked by SceneBuilder).
 //
 // Every sample has shape 0 or 1 (a point is inside a path or not), so the
@@ -60,7 +60,7 @@ enum : uint32_t {
 struct GroupRecord {
   float opacity;
   uint32_t flags;
-  uint32_t blend;      // BlendMode (blend.h)
+  uint32_t blend;      // BlendModeCode (blend.h): a blend mode or a Porter-Duff operator
   float lum[3];        // luminance masks: weights of r, g, b
   Rgba4 backdrop;      // luminance masks: premultiplied, in integration's space
   uint32_t pad0, pad1;

@@ -47,6 +47,7 @@ enum PaintKind : uint32_t {
   PAINT_TEXTURE = 3,
   PAINT_PATTERN = 4,
   PAINT_MESH = 5,
+  PAINT_SWEEP = 6,  // a sweep (conic) gradient: a GradientRecord
 };
 
 // One paint. r, g, b, a are premultiplied: for PAINT_SOLID the colour; for
@@ -55,7 +56,7 @@ enum PaintKind : uint32_t {
 struct PaintRecord {
   float r, g, b, a;
   uint32_t kind;
-  uint32_t index;  // GradientRecord, TextureRecord, PatternRecord or MeshRecord
+  uint32_t index;  // GradientRecord (linear, radial, sweep), TextureRecord, PatternRecord or MeshRecord
   uint32_t pad0, pad1;
 };
 static_assert(sizeof(PaintRecord) == 32, "PaintRecord is a 32-byte record shared by CPU and GPU");
@@ -73,6 +74,11 @@ enum : uint32_t {
 // centred at the origin and the gradient's extent is about 1; the end
 // circle's centre is (cdx, cdy), the radius r0 + t dr, and
 // a = cdx^2 + cdy^2 - dr^2 (0 when the circles are tangent internally).
+// Sweep: m maps pixels to gradient space translated so that the centre is
+// the origin; r0 holds start_angle and dr holds 1 / (end_angle -
+// start_angle), both in degrees, so t = (theta - r0) dr with theta the
+// point's angle in [0, 360); dr = 0 for equal angles (pad only: t below 0
+// for theta < r0, above 1 from r0 on). cdx, cdy and a are unused.
 struct GradientRecord {
   Affine2f m;
   float cdx, cdy, r0, dr, a;

@@ -53,7 +53,7 @@ struct SampleInputs {
 // colours or not.
 enum : uint32_t {
   PAINTS_SOLID = 0,
-  PAINTS_GRADIENTS = 1u << 0,  // gradients and meshes
+  PAINTS_GRADIENTS = 1u << 0,  // gradients (linear, radial, sweep) and meshes
   PAINTS_TEXTURES = 1u << 1,
   PAINTS_PATTERNS = 1u << 2,
   PAINTS_ALL = PAINTS_GRADIENTS | PAINTS_TEXTURES | PAINTS_PATTERNS,
@@ -150,9 +150,8 @@ template <int Depth = 0, uint32_t Kinds = SAMPLE_ALL>
 MPVG_HD_INLINE Rgba4 paint_at(const PaintTables& t, uint32_t index, float px, float py) {
   const PaintRecord p = t.paints[index];
   if constexpr ((Kinds & PAINTS_GRADIENTS) != 0) {
-    if (p.kind == PAINT_LINEAR || p.kind == PAINT_RADIAL)
-      return paint_scale(gradient_at(t.gradients[p.index], p.kind == PAINT_RADIAL, t.ramp_t, t.ramp_color, px, py),
-                         p);
+    if (p.kind == PAINT_LINEAR || p.kind == PAINT_RADIAL || p.kind == PAINT_SWEEP)
+      return paint_scale(gradient_at(t.gradients[p.index], p.kind, t.ramp_t, t.ramp_color, px, py), p);
     if (p.kind == PAINT_MESH) return paint_scale(mesh_at(t.meshes[p.index], t, px, py), p);
   }
   if constexpr ((Kinds & PAINTS_TEXTURES) != 0) {

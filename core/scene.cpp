@@ -220,7 +220,7 @@ bool finite(const RGBA& c) { return finite(c.r) && finite(c.g) && finite(c.b) &&
 uint32_t SceneBuilder::add_gradient(Gradient g) {
   if (g.stops.empty()) throw Error("scene: gradient without stops");
   if (!finite(g.xf) || !finite(g.p0) || !finite(g.p1) || !finite(g.focal) || !finite(g.center) ||
-      !finite(g.focal_radius) || !finite(g.radius))
+      !finite(g.focal_radius) || !finite(g.radius) || !finite(g.start_angle) || !finite(g.end_angle))
     throw Error("scene: gradient with a non-finite parameter");
   for (size_t i = 0; i < g.stops.size(); i++) {
     if (!finite(g.stops[i].offset) || !finite(g.stops[i].color)) throw Error("scene: gradient stop with a non-finite value");
@@ -293,6 +293,10 @@ void check_primitive(const FilterPrimitive& p, int32_t index) {
        p.target_x < 0 || p.target_x >= p.order_x || p.target_y < 0 || p.target_y >= p.order_y))
     throw Error("scene: filter convolution kernel of the wrong size");
   if (p.kind == FilterKind::Turbulence && p.num_octaves < 0) throw Error("scene: turbulence with negative octaves");
+  // feBlend: the blend modes and plus-lighter, not the other Porter-Duff
+  // operators (those are feComposite's).
+  if (p.kind == FilterKind::Blend && p.blend_mode > static_cast<uint8_t>(BlendMode::PlusLighter))
+    throw Error("scene: filter blend with an unknown mode");
 }
 
 }  // namespace
@@ -388,7 +392,7 @@ void SceneBuilder::begin_group(const Group& g) {
   if (!std::isfinite(g.opacity) || !finite(g.backdrop) || !std::isfinite(g.luminance[0]) ||
       !std::isfinite(g.luminance[1]) || !std::isfinite(g.luminance[2]))
     throw Error("scene: group with a non-finite parameter");
-  if (static_cast<unsigned>(g.blend) > static_cast<unsigned>(BlendMode::Luminosity) ||
+  if (static_cast<unsigned>(g.blend) > static_cast<unsigned>(BlendMode::Xor) ||
       static_cast<unsigned>(g.mask) > static_cast<unsigned>(MaskType::Alpha))
     throw Error("scene: group with an unknown blend mode or mask type");
   Node* n = new Node{Node::Transparency, {}, {}, {}};
@@ -438,6 +442,15 @@ struct GroupAnalysis {
     }
     return false;
   }
+  // Does a fill list (clip groups' content included) hold a source-atop
+  // group, the one operator that is not its source over transparency?
+  bool atop(const std::vector<Node*>& items) const {
+    for (const Node* n : items) {
+      if (n->kind == Node::ClipGroup && atop(n->content)) return true;
+      if (n->kind == Node::Transparency && groups[n->group].blend == BlendMode::SourceAtop) return true;
+    }
+    return false;
+  }
   bool no_op(const Node* n) const {
     const Group& g = groups[n->group];
     return g.opacity == 1 && g.blend == BlendMode::Normal && !n->mask && !g.knockout &&
@@ -465,7 +478,12 @@ struct GroupAnalysis {
     if (n->mask) group(n->mask);
     Group& g = groups[n->group];
     list(n->content, g.knockout);
-    g.back_to_front = blends(n->content) && !(g.knockout && g.isolated);
+    // An isolated knockout group composites each element onto transparency,
+    // which every blend mode (and plus-lighter, xor) leaves as the element
+    // itself: its list can run front to back, the top-most element that
+    // covers winning. Source-atop onto transparency is nothing, which only
+    // the back-to-front list computes.
+    g.back_to_front = blends(n->content) && !(g.knockout && g.isolated && !atop(n->content));
     if (!g.back_to_front) g.isolated = true;  // nothing inside sees the backdrop
   }
 };
@@ -624,6 +642,7 @@ struct Replay {
       case PaintType::Solid: break;
       case PaintType::LinearGradient:
       case PaintType::RadialGradient:
+      case PaintType::SweepGradient:
         out.index = server(gradient, s.gradients, p.index, [&](Gradient g) { return b.add_gradient(std::move(g)); });
         break;
       case PaintType::Texture:
@@ -828,6 +847,7 @@ const char* paint_type_name(PaintType t) {
     case PaintType::Pattern: return "pattern";
     case PaintType::Mesh: return "mesh";
     case PaintType::Filter: return "filter";
+    case PaintType::SweepGradient: return "sweep";
   }
   return "?";
 }
@@ -846,6 +866,8 @@ void dump_servers(std::string& s, const Scene& scene, const std::string& indent)
             g.p1.x, g.p1.y, g.focal.x, g.focal.y, g.focal_radius, g.center.x, g.center.y, g.radius,
             spreads[static_cast<int>(g.spread)], g.interpolation == ColorSpace::Srgb ? "srgb" : "linearrgb");
     if (!g.extend_start || !g.extend_end) appendf(s, " extend %d %d", g.extend_start ? 1 : 0, g.extend_end ? 1 : 0);
+    // The sweep's angles (around `center`) where they are not the defaults.
+    if (g.start_angle != 0 || g.end_angle != 360) appendf(s, " sweep %g %g", g.start_angle, g.end_angle);
     append_matrix(s, g.xf);
     s += "\n";
     appendf(s, "%s  stops", indent.c_str());
@@ -1103,11 +1125,13 @@ void dump_into(std::string& s, const Scene& scene, const std::string& indent) {
 }  // namespace
 
 const char* blend_mode_name(BlendMode m) {
-  static const char* const names[] = {"normal",      "multiply",   "screen",     "overlay",    "darken",
-                                      "lighten",     "color-dodge", "color-burn", "hard-light", "soft-light",
-                                      "difference",  "exclusion",  "hue",        "saturation", "color",
-                                      "luminosity"};
-  return names[static_cast<int>(m)];
+  static const char* const names[] = {"normal",       "multiply",    "screen",     "overlay",    "darken",
+                                      "lighten",      "color-dodge", "color-burn", "hard-light", "soft-light",
+                                      "difference",   "exclusion",   "hue",        "saturation", "color",
+                                      "luminosity",   "plus-lighter", "source-atop", "xor"};
+  static_assert(sizeof names / sizeof names[0] == static_cast<size_t>(BlendMode::Xor) + 1, "a name per mode");
+  const auto i = static_cast<size_t>(m);
+  return i < sizeof names / sizeof names[0] ? names[i] : "?";
 }
 
 std::string dump(const Scene& scene) {

@@ -125,7 +125,8 @@ struct RGBA {
 
 // Filter: the result of a filter effect (core/filter.h) over its region,
 // which the renderer resolves into a Texture before encoding.
-enum class PaintType : uint8_t { Solid, LinearGradient, RadialGradient, Texture, Pattern, Mesh, Filter };
+// SweepGradient comes last: the other values keep their numbers.
+enum class PaintType : uint8_t { Solid, LinearGradient, RadialGradient, Texture, Pattern, Mesh, Filter, SweepGradient };
 
 // What a colour ramp does with t outside [0, 1].
 enum class Spread : uint8_t { Pad, Reflect, Repeat };
@@ -152,6 +153,18 @@ struct ColorStop {
 // painted. Any placement is allowed: the focal circle inside, on or outside
 // the end circle, focal_radius > 0, equal radii (a cylinder).
 //
+// Sweep (conic; COLR v1's PaintSweepGradient): the angle of a point p of
+// gradient space around `center`,
+//   theta = atan2(p.y - center.y, p.x - center.x), in degrees, measured from
+//           +x towards +y and taken in [0, 360) (the centre itself: 0),
+// gives t = (theta - start_angle) / (end_angle - start_angle). Any angles
+// are allowed (start > end runs backwards; a span beyond 360 reaches only
+// part of the ramp). A counter-clockwise sweep in a y-up space is the y
+// flip in xf. Equal angles: with Pad, theta < start_angle takes the first
+// stop's colour and theta >= start_angle the last's (a hard step, the
+// extend flags applying to either side); with Reflect or Repeat nothing is
+// painted.
+//
 // Stops: at least one; offsets non-decreasing (equal offsets make a hard
 // step). Colours between stops are interpolated with straight alpha in
 // `interpolation`'s space; t below the first stop takes its colour, above
@@ -163,6 +176,7 @@ struct Gradient {
   Vec2 p0, p1;
   Vec2 focal, center;
   double focal_radius = 0, radius = 0;
+  double start_angle = 0, end_angle = 360;  // sweep, degrees
   std::vector<ColorStop> stops;
   Spread spread = Spread::Pad;
   ColorSpace interpolation = ColorSpace::Srgb;
@@ -250,7 +264,7 @@ struct Paint {
   PaintType type = PaintType::Solid;
   RGBA color;         // Solid only
   float opacity = 1;  // multiplies the paint, whatever its type (fill-opacity × opacity)
-  uint32_t index = 0; // gradients (LinearGradient, RadialGradient), textures, patterns, meshes or filters of the scene
+  uint32_t index = 0; // gradients (LinearGradient, RadialGradient, SweepGradient), textures, patterns, meshes or filters of the scene
 };
 
 // One path instance of the stream: geometry, its transform to scene units,
@@ -292,13 +306,24 @@ struct ScenePath {
 
 // ----------------------------------------------------- groups and masks
 
-// W3C Compositing and Blending Level 1's blend modes, in core/blend.h's order.
+// W3C Compositing and Blending Level 1's blend modes, in core/blend.h's
+// order, then three Porter-Duff operators (premultiplied; Compositing 1
+// §9.1, Compositing 2 for plus-lighter) that COLR v1's PaintComposite needs:
+//   PlusLighter: co = min(1, cs + cb), ao = min(1, as + ab)
+//   SourceAtop:  co = cs ab + cb (1 - as), ao = ab
+//   Xor:         co = cs (1 - ab) + cb (1 - as), ao = as + ab - 2 as ab
+// All three are bounded (a transparent source leaves the backdrop as it
+// is), so a group with one of them is treated like a group with a blend
+// mode: its list runs back to front, it never hides its backdrop. Filters'
+// feBlend takes the 16 blend modes and PlusLighter.
 enum class BlendMode : uint8_t {
   Normal, Multiply, Screen, Overlay, Darken, Lighten, ColorDodge, ColorBurn,
   HardLight, SoftLight, Difference, Exclusion, Hue, Saturation, Color, Luminosity,
+  PlusLighter, SourceAtop, Xor,
 };
 
-// The mode's CSS keyword ("normal", "color-dodge", ...).
+// The mode's CSS keyword ("normal", "color-dodge", ..., "plus-lighter",
+// "source-atop", "xor").
 const char* blend_mode_name(BlendMode m);
 
 enum class MaskType : uint8_t { None, Luminance, Alpha };

@@ -4,7 +4,10 @@
 // non-isolated, knockout, opacity 0, 1 and between, luminance and alpha
 // masks with transparent or opaque backdrops, masks on masks, clip groups
 // around groups and inside masks, full-cover rectangles (so that pruning's
-// rules fire), opaque and translucent colours.
+// rules fire), opaque and translucent colours. With porter_duff, groups
+// also take the Porter-Duff operators (plus-lighter, source-atop, xor);
+// without it the draws, and so every seed's scene, are what they were
+// before those operators existed.
 #pragma once
 #include <memory>
 #include <random>
@@ -20,6 +23,7 @@ using reference::Node;
 struct Gen {
   random_scenes::Gen shapes;  // geometry and fill rules
   int max_depth;
+  bool porter_duff = false;  // groups' modes include plus-lighter, source-atop and xor
 
   std::mt19937& rng() { return shapes.rng; }
   SceneBuilder& b() { return shapes.b; }
@@ -60,6 +64,9 @@ struct Gen {
     const float o = u();
     g.opacity = o < 0.4f ? 1.0f : o < 0.45f ? 0.0f : u();
     g.blend = chance(0.5) ? BlendMode::Normal : static_cast<BlendMode>(std::uniform_int_distribution<int>(1, 15)(rng()));
+    // Drawn only with the flag: scenes without it stay the same.
+    if (porter_duff && chance(0.4))
+      g.blend = static_cast<BlendMode>(std::uniform_int_distribution<int>(int(BlendMode::PlusLighter), int(BlendMode::Xor))(rng()));
     g.isolated = chance(0.5);
     g.knockout = chance(0.2);
     return g;
@@ -109,9 +116,9 @@ struct GroupScene {
   Node root;  // an isolated group holding the top level
 };
 
-inline GroupScene group_scene(uint32_t seed, int max_depth, int size) {
+inline GroupScene group_scene(uint32_t seed, int max_depth, int size, bool porter_duff = false) {
   SceneBuilder b(size, size);
-  Gen g{random_scenes::Gen{std::mt19937(seed), b, 0, double(size)}, max_depth};
+  Gen g{random_scenes::Gen{std::mt19937(seed), b, 0, double(size)}, max_depth, porter_duff};
   GroupScene out;
   out.root.kind = Node::Transparency;
   g.list(0, out.root.children);

@@ -1,7 +1,8 @@
 // Random scenes for tests: fills and nested clip groups over random curved
 // paths, full-cover rectangles (F1/C1 candidates in every cell), doubly
 // wound ones (F0/C0 under even-odd) and half-plane boxes; solid paints, or
-// paints of every kind.
+// paints of every kind (sweep gradients among them only when asked, so that
+// the scenes of existing seeds stay what they were).
 #pragma once
 #include <random>
 
@@ -20,6 +21,9 @@ struct Gen {
   bool rich_paints = false;
   // Half the paths drawn without antialiasing (ScenePath::aliased).
   bool aliased = false;
+  // With rich paints: half the gradients become sweep gradients (their own
+  // draws come after the others', so scenes without the flag are unchanged).
+  bool sweep_gradients = false;
 
   Path shape() {
     std::uniform_int_distribution<int> kind(0, 9);
@@ -79,6 +83,21 @@ struct Gen {
       g.spread = static_cast<Spread>(std::uniform_int_distribution<int>(0, 2)(rng));
       g.interpolation = std::bernoulli_distribution(0.5)(rng) ? ColorSpace::Srgb : ColorSpace::LinearRgb;
       p.type = kind == 1 ? PaintType::LinearGradient : PaintType::RadialGradient;
+      if (sweep_gradients && std::bernoulli_distribution(0.5)(rng)) {
+        // Any angles: backwards, past 360, negative, and now and then equal
+        // (a pad step, or nothing for repeat and reflect); a skewed or
+        // flipped gradient space about the centre.
+        std::uniform_real_distribution<double> angle(-400.0, 400.0);
+        g.start_angle = angle(rng);
+        const int span = std::uniform_int_distribution<int>(0, 4)(rng);
+        g.end_angle = span == 0 ? g.start_angle : span == 1 ? g.start_angle + 720 * u(rng) : angle(rng);
+        g.extend_start = std::bernoulli_distribution(0.8)(rng);
+        g.extend_end = std::bernoulli_distribution(0.8)(rng);
+        g.xf = Affine::translate(g.center.x, g.center.y) *
+               Affine::scale(std::bernoulli_distribution(0.3)(rng) ? -1.0 : 1.0, 0.5 + u(rng)) *
+               Affine::skew_x_degrees(40 * u(rng) - 20) * Affine::translate(-g.center.x, -g.center.y);
+        p.type = PaintType::SweepGradient;
+      }
       p.index = b.add_gradient(g);
     } else if (kind == 3) {
       auto im = std::make_shared<Image>();
@@ -146,11 +165,13 @@ struct Gen {
   }
 };
 
-inline Scene clip_scene(uint32_t seed, int max_depth, int size, bool rich_paints = false, bool aliased = false) {
+inline Scene clip_scene(uint32_t seed, int max_depth, int size, bool rich_paints = false, bool aliased = false,
+                        bool sweep_gradients = false) {
   SceneBuilder b(size, size);
   Gen g{std::mt19937(seed), b, max_depth, double(size)};
   g.rich_paints = rich_paints;
   g.aliased = aliased;
+  g.sweep_gradients = sweep_gradients;
   g.fill_list(0);
   return b.finish();
 }

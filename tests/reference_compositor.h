@@ -9,12 +9,21 @@
 //     backdrop, and at the end its contribution is removed:
 //     result = composite - (1 - alpha_g) backdrop, alpha_g the union of the
 //     elements' alphas;
+//   - a non-isolated group that changes nothing (opacity 1, normal, no
+//     mask, not knockout, in a list that is not knockout) is no group: its
+//     content composites straight onto the list it is in, as SceneBuilder
+//     dissolves it. (The removal above would give the same colour, but as
+//     alpha the union of the elements' alphas, which is not the alpha of a
+//     composite with xor or source-atop in it.)
 //   - in a knockout group every element is composited onto the group's
 //     initial backdrop and replaces what came before where it covers; a
 //     group covers where one of its fills does and its mask is not 0;
 //   - a group's result times its opacity and its mask value is blended
-//     onto its parent with its blend mode (source-over with B(Cb, Cs));
-//   - a mask is a group evaluated on its own: its result (times its own
+//     onto its parent with its blend mode (source-over with B(Cb, Cs)), or
+//     composited with its Porter-Duff operator (plus-lighter, source-atop,
+//     xor: Compositing 1 §9.1 with Fa, Fb, and Compositing 2's clamped sum);
+//   - a mask is a group evaluated on its own (isolated, whatever its
+//     Group says, as SceneBuilder makes it): its result (times its own
 //     mask) over its backdrop colour gives the luminance (weights . rgb of
 //     the premultiplied colour) or the alpha, times its opacity, clamped to
 //     [0, 1].
@@ -98,8 +107,25 @@ inline D3 blend(uint32_t mode, const D3& cb, const D3& cs) {
   }
 }
 
+// Premultiplied source s onto premultiplied backdrop b with a Porter-Duff
+// operator, as §9.1 writes them: co = cs Fa + cb Fb, ao = as Fa + ab Fb,
+// and plus-lighter as the clamped sum.
+inline D4 porter_duff(uint32_t mode, const D4& b, const D4& s) {
+  D4 o{};
+  if (mode == BLEND_PLUS_LIGHTER) {
+    for (int k = 0; k < 4; k++) o[k] = std::min(1.0, s[k] + b[k]);
+    return o;
+  }
+  const double as = s[3], ab = b[3];
+  const double fa = mode == BLEND_SOURCE_ATOP ? ab : 1 - ab;  // source-atop: Fa = ab; xor: Fa = 1 - ab
+  const double fb = 1 - as;                                   // both: Fb = 1 - as
+  for (int k = 0; k < 4; k++) o[k] = s[k] * fa + b[k] * fb;
+  return o;
+}
+
 // Premultiplied source s over premultiplied backdrop b (§5.8 with §9.1.4).
 inline D4 over(uint32_t mode, const D4& b, const D4& s) {
+  if (mode == BLEND_PLUS_LIGHTER || mode == BLEND_SOURCE_ATOP || mode == BLEND_XOR) return porter_duff(mode, b, s);
   const double as = s[3], ab = b[3];
   D3 m{};
   auto straight = [](const D4& c) {
@@ -153,15 +179,16 @@ class Compositor {
 
   // The result of group `g` (a Transparency node) over `backdrop`, at the
   // points where `live` (points outside the clips around it need nothing);
-  // `shape` receives where it covers.
+  // `shape` receives where it covers. A mask is always isolated.
   Buffer group(const Node& g, const Buffer& backdrop, const std::vector<bool>& live, std::vector<bool>& shape) {
     const Group& p = g.group;
-    Buffer buf = p.isolated ? Buffer(n_, D4{}) : backdrop;  // one buffer per group
+    const bool isolated = p.isolated || p.mask != MaskType::None;
+    Buffer buf = isolated ? Buffer(n_, D4{}) : backdrop;  // one buffer per group
     const Buffer initial = buf;
     std::vector<double> alpha_g(n_, 0.0);
     shape.assign(n_, false);
     list(g.children, live, p.knockout, initial, buf, alpha_g, shape);
-    if (!p.isolated)
+    if (!isolated)
       for (size_t i = 0; i < n_; i++)
         for (int k = 0; k < 4; k++) buf[i][k] = k == 3 ? alpha_g[i] : buf[i][k] - (1 - alpha_g[i]) * backdrop[i][k];
     return buf;
@@ -176,6 +203,12 @@ class Compositor {
         for (size_t i = 0; i < n_; i++)
           for (const auto& [geo, rule] : item->clips) inner[i] = inner[i] || (live[i] && inside_(i, geo, rule));
         list(item->children, inner, knockout, initial, buf, alpha_g, shape);
+        continue;
+      }
+      if (item->kind == Node::Transparency && !knockout && !item->mask && !item->group.isolated &&
+          item->group.opacity == 1 && item->group.blend == BlendMode::Normal && !item->group.knockout &&
+          item->group.mask == MaskType::None) {
+        list(item->children, live, knockout, initial, buf, alpha_g, shape);
         continue;
       }
       Buffer src(n_, D4{});

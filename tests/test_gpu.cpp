@@ -1,6 +1,7 @@
 // CPU vs GPU, stage by stage (CTest label "gpu"; reported as skipped where
 // no CUDA device exists), on random scenes of clip groups, paints of every
-// kind, and transparency groups and masks: abstract segments equal, every tree level equal
+// kind (sweep gradients included), and transparency groups and masks (the
+// Porter-Duff operators included): abstract segments equal, every tree level equal
 // entry for entry, leaves and nodes equal, images within 1/255, and GPU
 // images bit-identical from run to run and across sampler shapes.
 //
@@ -54,6 +55,13 @@ std::vector<Case> cases() {
     out.push_back({"random paints " + std::to_string(seed), encode(s, Affine{}, seed % 2 ? Gamma::Srgb : Gamma::Linear),
                    100, 80});
   }
+  // Sweep gradients among the paints: any angles (backwards, past 360,
+  // equal), every spread and extend flag, skewed and flipped spaces.
+  for (uint32_t seed = 91; seed <= 98; seed++) {
+    const Scene s = random_scenes::clip_scene(seed, 3, 100, true, false, true);
+    out.push_back({"random sweeps " + std::to_string(seed), encode(s, Affine{}, seed % 2 ? Gamma::Srgb : Gamma::Linear),
+                   100, 80});
+  }
   // Aliased fills and clips (shape-rendering: crispEdges), in pattern
   // tiles too: the samplers compiled for them.
   for (uint32_t seed = 81; seed <= 88; seed++) {
@@ -65,6 +73,12 @@ std::vector<Case> cases() {
   for (uint32_t seed = 41; seed <= 52; seed++) {
     const Scene s = random_groups::group_scene(seed, 4, 100).scene;
     out.push_back({"random groups " + std::to_string(seed), encode(s, Affine{}, Gamma::Srgb), 100, 80});
+  }
+  // Groups with the Porter-Duff operators among their modes (plus-lighter,
+  // source-atop, xor; other seeds than above: the generator's flag draws more).
+  for (uint32_t seed = 141; seed <= 148; seed++) {
+    const Scene s = random_groups::group_scene(seed, 4, 100, true).scene;
+    out.push_back({"random porter-duff groups " + std::to_string(seed), encode(s, Affine{}, Gamma::Srgb), 100, 80});
   }
   // Groups inside pattern tiles (a stack per pattern level).
   for (uint32_t seed = 61; seed <= 64; seed++) {
@@ -264,6 +278,9 @@ TEST_CASE("CPU and GPU agree within 1/255 under every preset, filter and colour 
   for (uint32_t seed = 1; seed <= 4; seed++) scenes.push_back({"random " + std::to_string(seed), random_scenes::clip_scene(seed, 3, 100)});
   for (uint32_t seed = 41; seed <= 44; seed++)
     scenes.push_back({"random paints " + std::to_string(seed), random_scenes::clip_scene(seed, 3, 100, true)});
+  for (uint32_t seed = 91; seed <= 92; seed++)
+    scenes.push_back({"random sweeps " + std::to_string(seed), random_scenes::clip_scene(seed, 3, 100, true, false, true)});
+  scenes.push_back({"random porter-duff groups 141", random_groups::group_scene(141, 4, 100, true).scene});
   // Aliased paths: wide filters over odd supports (3 x 3, 5 x 5 unit areas).
   for (uint32_t seed = 81; seed <= 82; seed++)
     scenes.push_back({"random aliased " + std::to_string(seed), random_scenes::clip_scene(seed, 3, 100, seed == 82, true)});
@@ -654,7 +671,7 @@ TEST_CASE("filter executors: every primitive gives the same layer on the GPU as 
       std::copy(k, k + 4, comp.k);
       graphs.push_back({off, comp});
     }
-    for (uint32_t m = 0; m < BLEND_MODE_COUNT; m++) {
+    for (uint32_t m = 0; m <= BLEND_PLUS_LIGHTER; m++) {  // feBlend's modes (SceneBuilder refuses the others)
       FilterOp b = op(FOP_BLEND, FILTER_SOURCE_GRAPHIC, 0, linear, whole);
       b.mode = m;
       graphs.push_back({off, b});

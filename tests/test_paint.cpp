@@ -2,9 +2,11 @@
 // core/sampling.h) against references written from the definitions in
 // double precision, independently of the encoder's normalisation:
 //   - gradients: t from the geometry (the two-point conical gradient by
-//     solving for every circle through the point), spread, ramp with exact
-//     colour-space conversions, for random parameters and every focal
-//     configuration;
+//     solving for every circle through the point, the sweep gradient by
+//     the angle around its centre), spread, ramp with exact colour-space
+//     conversions, for random parameters, every focal configuration, and
+//     sweeps of any angles (backwards, past 360, negative, equal) through
+//     the CPU renderer's sampler over a grid;
 //   - textures: nearest, bilinear and Mitchell bicubic sums over texels for
 //     every wrap mode, and minification of a checkerboard;
 //   - patterns: a pattern rendered through its tile tree against the same
@@ -299,6 +301,318 @@ TEST_CASE("radial gradients match the two-point conical closed form in every foc
       }
   INFO(compared << " of " << total << " points away from discontinuities");
   CHECK(compared > total * 8 / 10);
+}
+
+namespace {
+
+// ------------------------------------------------------------ sweep gradients
+
+// The sweep gradient straight from its definition (core/scene.h, Gradient),
+// in double: the angle of the point in gradient space around the centre,
+// from +x towards +y in [0, 360) (0 at the centre), t by the angles, the
+// spread, then the ramp. Premultiplied; nothing painted is transparent.
+C4 ref_sweep(const Gradient& g, const Affine& view, Vec2 p, Gamma gamma) {
+  const Vec2 q = apply_inverse(view * g.xf, p);
+  const double dx = q.x - g.center.x, dy = q.y - g.center.y;
+  double theta = dx == 0 && dy == 0 ? 0 : std::atan2(dy, dx) * (180 / M_PI);
+  if (theta < 0) theta += 360;
+  const double span = g.end_angle - g.start_angle;
+  double t;
+  if (span == 0) {
+    if (g.spread != Spread::Pad) return C4{0, 0, 0, 0};
+    t = theta < g.start_angle ? -INFINITY : INFINITY;  // the step: first stop before, last from it on
+  } else {
+    t = (theta - g.start_angle) / span;
+  }
+  switch (g.spread) {
+    case Spread::Pad:
+      if ((t < 0 && !g.extend_start) || (t > 1 && !g.extend_end)) return C4{0, 0, 0, 0};
+      t = std::clamp(t, 0.0, 1.0);
+      break;
+    case Spread::Repeat: t -= std::floor(t); break;
+    case Spread::Reflect: {
+      const double m = std::fabs(t) - 2 * std::floor(std::fabs(t) / 2);
+      t = m > 1 ? 2 - m : m;
+      break;
+    }
+  }
+  const C4 c = ref_ramp(g, t, gamma);
+  return C4{c.r * c.a, c.g * c.a, c.b * c.a, c.a};
+}
+
+struct SweepResult {
+  int compared = 0, skipped = 0;
+  double worst = 0;
+};
+
+// The CPU renderer's samples (its tree and sampler) of a square filled with
+// sweep gradient g, against the reference on a grid of 100 x 100 points of
+// a 200 x 200 pixel image. Points where the reference jumps by more than
+// 0.01 within 0.02 px (the seam where the angle wraps, the ends of a pad
+// range, repeat seams, hard steps, the centre), and points within 0.05 px
+// of the centre (where float positions leave the angle undecided), are
+// skipped.
+SweepResult compare_sweep(const Gradient& g, const Affine& view, Gamma gamma, double tolerance) {
+  Paint p;
+  p.type = PaintType::SweepGradient;
+  const Scene scene = one_rect(100, p, {g});
+  const EncodedScene enc = encode(scene, view, gamma);
+  TreeParams tp;
+  tp.min_segments = 4;
+  const ShortcutTree tree = build_tree_cpu(enc, 200, 200, tp);
+  const Vec2 centre = (view * g.xf).apply(g.center);
+  SweepResult r;
+  for (int j = 0; j < 100; j++)
+    for (int i = 0; i < 100; i++) {
+      const Vec2 q{2 * i + 0.37, 2 * j + 1.61};
+      const C4 ref = ref_sweep(g, view, q, gamma);
+      bool edge = std::hypot(q.x - centre.x, q.y - centre.y) < 0.05;
+      for (Vec2 d : {Vec2{0.02, 0}, Vec2{-0.02, 0}, Vec2{0, 0.02}, Vec2{0, -0.02}})
+        edge = edge || max_diff(ref, ref_sweep(g, view, q + d, gamma)) > 0.01;
+      if (edge) {
+        r.skipped++;
+        continue;
+      }
+      const Rgba4 got = sample_tree_cpu(tree, float(q.x), float(q.y));
+      const double d = max_diff(ref, got);
+      r.worst = std::max(r.worst, d);
+      r.compared++;
+      if (d > tolerance) {
+        INFO("at (" << q.x << ", " << q.y << ") ref " << ref.r << " " << ref.g << " " << ref.b << " " << ref.a
+                    << " got " << got.r << " " << got.g << " " << got.b << " " << got.a);
+        CHECK(d <= tolerance);
+      }
+    }
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("sweep gradients match their definition: angles, spreads, extension, transforms, hard stops",
+          "[paint][gradient][sweep]") {
+  // Float angles (atan2f, about 4e-5 degrees) over spans of 20 degrees or
+  // more move t by less than 1e-5; the ramp's knots are within 1/4096.
+  constexpr double kTolerance = 1.0 / 1024;
+  struct Angles {
+    double start, end;
+  };
+  const Angles angles[] = {
+      {0, 360},      // the full turn
+      {90, 180},     // a quarter: pad extends both ways
+      {270, 45},     // start > end: runs backwards
+      {-90, 630},    // negative start, a span of two turns: t only in [0.125, 0.625)
+      {-720, -700},  // far negative, narrow: t from 36 to 54, wrapped by repeat and reflect
+      {400, 380},    // backwards past 360: every angle lies before the start (t > 1)
+      {30, 30},      // equal: a pad step, nothing for repeat and reflect
+  };
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(0, 1);
+  const std::vector<ColorStop> hard = {{0, RGBA{1, 0, 0, 1}},   {0.5, RGBA{1, 1, 0, 1}},
+                                       {0.5, RGBA{0, 0, 1, 0.5f}}, {0.75, RGBA{0, 1, 0, 1}},
+                                       {0.75, RGBA{1, 0, 1, 1}}, {1, RGBA{0, 1, 1, 0.2f}}};
+  int compared = 0, total = 0, configs = 0;
+  double worst = 0;
+  for (int c = 0; c < 4; c++)  // where the centre lies, and how gradient space maps
+    for (const Angles& a : angles)
+      for (Spread spread : {Spread::Pad, Spread::Reflect, Spread::Repeat})
+        for (int k = 0; k < 3; k++) {
+          Gradient g;
+          switch (c) {
+            case 0: g.center = {50.3, 41.7}; break;  // inside, identity
+            case 1:                                  // inside, skewed and scaled unevenly
+              g.center = {10, 20};
+              g.xf = Affine::translate(30, 55) * Affine::skew_x_degrees(25) * Affine::scale(1.5, 0.7);
+              break;
+            case 2:  // y flipped (a y-up space: counter-clockwise on screen)
+              g.center = {-20.5, 30.25};
+              g.xf = Affine::translate(80, 100) * Affine::scale(1, -1);
+              break;
+            case 3:  // outside the square, rotated and mirrored
+              g.center = {0, 0};
+              g.xf = Affine::translate(-15, 120) * Affine::rotate_degrees(33) * Affine::scale(-1.2, 0.9);
+              break;
+          }
+          g.start_angle = a.start;
+          g.end_angle = a.end;
+          g.spread = spread;
+          g.stops = k == 0 ? hard : random_stops(rng, 2 + k, k == 1);
+          g.interpolation = k == 2 ? ColorSpace::LinearRgb : ColorSpace::Srgb;
+          // Pad: every combination of the extend flags over the cases.
+          g.extend_start = spread != Spread::Pad || (c + k) % 3 != 1;
+          g.extend_end = spread != Spread::Pad || (c + k) % 4 != 2;
+          const Gamma gamma = k == 1 ? Gamma::Linear : Gamma::Srgb;
+          INFO("centre case " << c << " angles " << a.start << " " << a.end << " spread " << int(spread) << " stops "
+                              << k);
+          const SweepResult r = compare_sweep(g, Affine::scale(2, 2), gamma, kTolerance);
+          compared += r.compared;
+          total += r.compared + r.skipped;
+          worst = std::max(worst, r.worst);
+          configs++;
+        }
+  INFO(compared << " of " << total << " points away from discontinuities over " << configs
+                << " gradients; worst difference " << worst);
+  CHECK(worst <= kTolerance);
+  CHECK(compared > total * 8 / 10);
+}
+
+TEST_CASE("sweep gradients by hand: direction, the centre, the step of equal angles", "[paint][gradient][sweep]") {
+  Gradient g;
+  g.center = {50, 50};
+  g.stops = {{0, RGBA{1, 0, 0, 1}}, {1, RGBA{0, 0, 1, 1}}};
+  Paint p;
+  p.type = PaintType::SweepGradient;
+  auto at = [&](const Gradient& gr, float x, float y) {
+    const Evaluator ev(encode(one_rect(100, p, {gr}), Affine{}, Gamma::Srgb));
+    return ev.at(x, y);
+  };
+  // From +x towards +y (down on screen): a quarter turn at (50, 60).
+  CHECK(at(g, 60, 50.001f).r == Approx(1).margin(1e-4));   // just past 0: red
+  CHECK(at(g, 60, 49.999f).b == Approx(1).margin(1e-4));   // just before 360: blue
+  const Rgba4 quarter = at(g, 50, 60);
+  CHECK(quarter.r == Approx(0.75).margin(1e-5));
+  CHECK(quarter.b == Approx(0.25).margin(1e-5));
+  CHECK(at(g, 40, 50).r == Approx(0.5).margin(1e-5));
+  // The centre itself has angle 0.
+  CHECK(at(g, 50, 50).r == 1);
+  // Backwards: from 90 down to 0.
+  Gradient back = g;
+  back.start_angle = 90;
+  back.end_angle = 0;
+  CHECK(at(back, 50, 60).r == Approx(1).margin(1e-5));
+  CHECK(at(back, 60, 50.001f).b == Approx(1).margin(1e-3));
+  const Rgba4 mid = at(back, 60, 60);  // 45 degrees
+  CHECK(mid.r == Approx(0.5).margin(1e-5));
+  // Equal angles with pad: the first stop before 90, the last from 90 on;
+  // either side dropped by its extend flag.
+  Gradient step = g;
+  step.start_angle = step.end_angle = 90;
+  CHECK(at(step, 60, 55).r == 1);  // about 27 degrees
+  CHECK(at(step, 40, 55).b == 1);  // about 153 degrees
+  CHECK(at(step, 40, 45).b == 1);  // about 207 degrees
+  step.extend_start = false;
+  CHECK(at(step, 60, 55).a == 0);
+  CHECK(at(step, 40, 55).b == 1);
+  // ... and nothing with repeat or reflect.
+  for (Spread sp : {Spread::Repeat, Spread::Reflect}) {
+    Gradient none = g;
+    none.start_angle = none.end_angle = 90;
+    none.spread = sp;
+    CHECK(at(none, 60, 55).a == 0);
+    CHECK(at(none, 40, 55).a == 0);
+  }
+  // The y flip in xf makes the sweep counter-clockwise on screen: a quarter
+  // turn lands at (50, 40).
+  Gradient up = g;
+  up.center = {0, 0};
+  up.xf = Affine::translate(50, 50) * Affine::scale(1, -1);
+  const Rgba4 ccw = at(up, 50, 40);
+  CHECK(ccw.r == Approx(0.75).margin(1e-5));
+  CHECK(ccw.b == Approx(0.25).margin(1e-5));
+}
+
+TEST_CASE("sweep gradients mark paths opaque only where every angle gets an opaque colour", "[paint][gradient][sweep]") {
+  auto flags = [](Spread spread, double start, double end, bool ext_start, bool ext_end, float alpha) {
+    Gradient g;
+    g.center = {30, 60};
+    g.start_angle = start;
+    g.end_angle = end;
+    g.spread = spread;
+    g.extend_start = ext_start;
+    g.extend_end = ext_end;
+    g.stops = {{0, RGBA{1, 0, 0, 1}}, {1, RGBA{0, 0, 1, alpha}}};
+    Paint p;
+    p.type = PaintType::SweepGradient;
+    const EncodedScene e = encode(one_rect(100, p, {g}), Affine{}, Gamma::Srgb);
+    return std::make_pair(e.paths[0].flags, e.paint->paints[0].kind);
+  };
+  auto opaque = [&](Spread spread, double start, double end, bool es, bool ee, float alpha) {
+    return (flags(spread, start, end, es, ee, alpha).first & PATH_OPAQUE) != 0;
+  };
+  CHECK(opaque(Spread::Pad, 0, 360, true, true, 1));
+  CHECK(opaque(Spread::Pad, 90, 120, true, true, 1));
+  CHECK(opaque(Spread::Pad, 45, 45, true, true, 1));  // the step covers both sides
+  CHECK(opaque(Spread::Repeat, 10, 50, false, false, 1));
+  CHECK(opaque(Spread::Reflect, 50, 10, true, true, 1));
+  CHECK_FALSE(opaque(Spread::Pad, 90, 120, false, true, 1));
+  CHECK_FALSE(opaque(Spread::Pad, 90, 120, true, false, 1));
+  CHECK_FALSE(opaque(Spread::Pad, 0, 360, true, true, 0.5f));
+  // Equal angles with repeat or reflect paint nothing: a transparent solid.
+  for (Spread sp : {Spread::Repeat, Spread::Reflect}) {
+    const auto [f, kind] = flags(sp, 45, 45, true, true, 1);
+    CHECK((f & PATH_OPAQUE) == 0);
+    CHECK(kind == PAINT_SOLID);
+  }
+  CHECK(flags(Spread::Pad, 0, 360, true, true, 1).second == PAINT_SWEEP);
+  CHECK((flags(Spread::Pad, 0, 360, true, true, 1).first & PATH_VARYING) != 0);
+}
+
+TEST_CASE("sweep gradients in dumps, appended scenes and SceneBuilder's checks", "[paint][gradient][sweep]") {
+  Gradient g;
+  g.center = {5, 6};
+  g.start_angle = 30;
+  g.end_angle = -45.5;
+  g.spread = Spread::Repeat;
+  g.stops = {{0, RGBA{1, 0, 0, 1}}, {1, RGBA{0, 0, 1, 1}}};
+  Paint p;
+  p.type = PaintType::SweepGradient;
+  const Scene s = one_rect(10, p, {g});
+  const std::string text = dump(s);
+  CHECK(text.find("sweep 0 opacity 1") != std::string::npos);
+  CHECK(text.find(" repeat srgb sweep 30 -45.5") != std::string::npos);
+  // Default angles add nothing to a gradient's line (dumps of scenes
+  // without sweeps stay as they were).
+  Gradient plain = g;
+  plain.start_angle = 0;
+  plain.end_angle = 360;
+  const std::string plain_text = dump(one_rect(10, p, {plain}));
+  const size_t line = plain_text.find("gradient 0 ");
+  REQUIRE(line != std::string::npos);
+  CHECK(plain_text.substr(line, plain_text.find('\n', line) - line).find("sweep") == std::string::npos);
+  // Appended elsewhere, the paint stays a sweep with its angles, its
+  // transform composed.
+  SceneBuilder b(20, 20);
+  b.append(s, Affine::translate(3, 4));
+  const Scene a = b.finish();
+  REQUIRE(a.paints.size() == 1);
+  CHECK(a.paints[0].type == PaintType::SweepGradient);
+  CHECK(a.gradients[0].start_angle == 30);
+  CHECK(a.gradients[0].end_angle == -45.5);
+  CHECK(a.gradients[0].xf.e == 3);
+  // Non-finite angles are refused.
+  SceneBuilder bad(10, 10);
+  Gradient nan = g;
+  nan.end_angle = std::nan("");
+  CHECK_THROWS_AS(bad.add_gradient(nan), Error);
+}
+
+TEST_CASE("a sweep gradient in a forest frame renders as it does alone", "[paint][gradient][sweep]") {
+  // The second scene's gradient records sit after the first's in the
+  // merged tables (core/forest.cpp): its paint's index must follow them.
+  Gradient lin;
+  lin.p0 = {0, 0};
+  lin.p1 = {64, 0};
+  lin.stops = {{0, RGBA{0, 1, 0, 1}}, {1, RGBA{1, 1, 0, 1}}};
+  Paint pl;
+  pl.type = PaintType::LinearGradient;
+  Gradient sw;
+  sw.center = {30, 35};
+  sw.start_angle = 20;
+  sw.end_angle = 250;
+  sw.spread = Spread::Reflect;
+  sw.stops = {{0, RGBA{1, 0, 0, 1}}, {0.5, RGBA{0, 0, 1, 0.5f}}, {1, RGBA{1, 1, 1, 1}}};
+  Paint ps;
+  ps.type = PaintType::SweepGradient;
+  const Scene a = one_rect(64, pl, {lin}), b = one_rect(64, ps, {sw});
+  RenderOptions o;
+  o.width = o.height = 64;
+  o.samples = 8;
+  o.backend = Backend::Cpu;
+  const RenderPlan plan = plan_render(o);
+  const EncodedScene ea = encode_for(a, plan, o.gamma), eb = encode_for(b, plan, o.gamma);
+  const std::vector<ImageF> together = render_forest_cpu({{&ea, &plan}, {&eb, &plan}}, o);
+  REQUIRE(together.size() == 2);
+  CHECK(together[0].rgba == render_cpu(ea, plan, o).rgba);
+  CHECK(together[1].rgba == render_cpu(eb, plan, o).rgba);
 }
 
 TEST_CASE("degenerate gradients paint nothing, single stops paint one colour", "[paint][gradient]") {
