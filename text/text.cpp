@@ -948,6 +948,23 @@ Path glyph_outline(const FontDb& db, int face, uint32_t glyph, double size,
   return sink.path;
 }
 
+void with_ft_face(const FontDb& db, int face, const std::vector<std::pair<std::string, double>>& variations,
+                  const std::function<void(void* ft_face)>& fn) {
+  FontDb::Impl& m = db.impl();
+  std::lock_guard<std::mutex> lock(m.mu);
+  FT_Face f = m.face(face);
+  const bool vary = f && !variations.empty();
+  if (vary) set_ft_variations(m.lib, f, variations);
+  struct Reset {  // also when fn throws
+    FT_Library lib;
+    FT_Face f;
+    ~Reset() {
+      if (f) set_ft_variations(lib, f, {});
+    }
+  } reset{m.lib, vary ? f : nullptr};
+  fn(f);
+}
+
 std::vector<ColorLayer> color_layers(const FontDb& db, int face, uint32_t glyph) {
   FontDb::Impl& m = db.impl();
   std::lock_guard<std::mutex> lock(m.mu);

@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -180,6 +181,14 @@ struct SvgDocument {
   uint32_t first_glyph = 0, last_glyph = 0;
 };
 std::optional<SvgDocument> svg_document(const FontDb& db, int face, uint32_t glyph);
+
+// Internal, for the font engine's other files (text/color_glyph.cpp): runs
+// fn with the face's FT_Face (as void*, so that this header needs no
+// FreeType; nullptr where the face cannot be opened) under the db's mutex,
+// its variation coordinates set to `variations` for the call (reset after
+// it). fn must not call the functions of this header: the mutex is held.
+void with_ft_face(const FontDb& db, int face, const std::vector<std::pair<std::string, double>>& variations,
+                  const std::function<void(void* ft_face)>& fn);
 
 struct Metrics {
   double ascent = 0, descent = 0;  // descent positive below the baseline

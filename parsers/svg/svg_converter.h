@@ -434,6 +434,9 @@ struct Session {
   std::map<int, std::vector<std::shared_ptr<const SvgGlyphSource>>> svg_glyph_sources;
   std::set<std::pair<int, uint32_t>> plain_glyphs;
   std::map<std::tuple<const SvgGlyphSource*, uint32_t, std::string>, LoadedImage> svg_glyphs;
+  // COLR v1 glyphs: each glyph's drawing at 1 user unit per em, by face,
+  // glyph, variations and foreground colour; null for glyphs without one.
+  std::map<std::tuple<int, uint32_t, std::string, std::array<float, 4>>, std::shared_ptr<const Scene>> colr_glyphs;
 };
 
 class Converter {
@@ -630,7 +633,20 @@ class Converter {
     // is the glyph's outline (what a clip path takes).
     std::shared_ptr<const SvgGlyphSource> svg_glyph;
     uint32_t svg_glyph_id = 0;
+    // A COLR v1 glyph instead: its paint graph's scene (text/color_glyph.h)
+    // at 1 user unit per em, mapped to user space by image_xf; `path` is
+    // the glyph's outline.
+    std::shared_ptr<const Scene> color_scene;
   };
+  // The COLR v1 drawing of a glyph with `foreground` as the text's colour,
+  // null when it has none (cached per document).
+  std::shared_ptr<const Scene> colr_glyph(const text::FontDb& db, int face, uint32_t glyph,
+                                          const std::vector<std::pair<std::string, double>>& variations,
+                                          const RGBA& foreground);
+  // A piece's drawing (an SVG glyph's embedded document or a COLR v1
+  // glyph's scene) appended to the scene, the text's fill-opacity fading
+  // it as a whole.
+  void append_glyph_drawing(Scene scene, const Affine& xf, double opacity);
   // The parsed SVG document of a glyph, null when it has none.
   std::shared_ptr<const SvgGlyphSource> svg_glyph_source(const text::FontDb& db, int face, uint32_t glyph);
   // A text piece's SVG glyph appended to the scene: the element glyph<ID>

@@ -31,6 +31,7 @@
 #include "parsers/svg/svg_text_path.h"
 #include "parsers/svg/svg_values.h"
 #include "parsers/svg/xml_encoding.h"
+#include "text/color_glyph.h"
 #include "text/text.h"
 
 namespace mpvg::svg::detail {
@@ -225,6 +226,14 @@ double baseline_offset(Baseline b, const text::Metrics& m) {
     case Baseline::Ideographic: return -m.descent;
   }
   return 0;
+}
+
+// The colour a colour glyph takes for the text's own (COLR's foreground,
+// an SVG glyph's currentColor): the fill's, black where the fill is a paint
+// server or none.
+RGBA text_color(const Style& st) {
+  if (st.inh.fill.kind == PaintSpec::Kind::Color) return st.inh.fill.color;
+  return RGBA{0, 0, 0, 1};
 }
 
 }  // namespace
@@ -847,6 +856,19 @@ std::vector<Converter::TextPiece> Converter::layout_text(const Element& root, co
           // matrix does; synthetic bold grows outlines only.
           const Affine slant = synth_oblique[span] ? Affine{1, 0, -0.25, 1, 0, 0} : Affine{};
           const Affine at = ts * Affine::translate(g.at.x, g.at.y) * slant;
+          if (std::shared_ptr<const Scene> colr = colr_glyph(db, g.face, g.id, keys[g.key].variations,
+                                                             text_color(elems[spans[span].elem].st))) {
+            // A COLR v1 glyph (paint graph), drawn instead of its outline,
+            // its version 0 layers and its SVG document (as Chromium
+            // prefers it).
+            TextPiece piece;
+            piece.path =
+                text::glyph_outline(db, g.face, g.id, span_size(span), keys[g.key].variations).transformed(at);
+            piece.image_xf = at * Affine::scale(span_size(span), span_size(span));
+            piece.color_scene = std::move(colr);
+            picture_pieces[span].push_back(std::move(piece));
+            continue;
+          }
           if (std::shared_ptr<const SvgGlyphSource> svg = svg_glyph_source(db, g.face, g.id)) {
             // An SVG glyph (OpenType SVG table) is drawn instead of the
             // outline, as COLR layers are; its font units (y down, origin
@@ -990,6 +1012,10 @@ void Converter::text(const Element& e, const Style& st, const Affine& space) {
       draw_svg_glyph(piece, space);
       continue;
     }
+    if (piece.color_scene) {
+      append_glyph_drawing(*piece.color_scene, space * piece.image_xf, piece.st.inh.fill_opacity);
+      continue;
+    }
     const uint32_t shape = static_cast<uint32_t>(shapes_.size());
     shapes_.push_back(std::move(piece.path));
     if (!piece.image) {
@@ -1114,8 +1140,13 @@ void Converter::draw_svg_glyph(const TextPiece& piece, const Affine& space) {
   if (!(opacity > 0)) return;
   std::optional<Embedded> doc = embed_document(li, shown, viewport, AspectRatio{}, space * piece.image_xf);
   if (!doc || doc->scene.paths.empty()) return;
+  append_glyph_drawing(std::move(doc->scene), space * piece.image_xf * doc->place, opacity);
+}
+
+void Converter::append_glyph_drawing(Scene scene, const Affine& xf, double opacity) {
+  if (!(opacity > 0)) return;
   // fill-opacity fades the glyph as a whole, as it does COLR's layers
-  // (and the outline a browser without SVG glyphs draws instead).
+  // (and the outline a browser without colour glyphs draws instead).
   if (opacity < 1) {
     Group g;
     g.opacity = static_cast<float>(opacity);
@@ -1126,10 +1157,27 @@ void Converter::draw_svg_glyph(const TextPiece& piece, const Affine& space) {
   }
   Op append = Op::of(OpKind::Append);
   append.scene = static_cast<uint32_t>(embedded_.size());
-  append.xf = space * piece.image_xf * doc->place;
-  embedded_.push_back(std::move(doc->scene));
+  append.xf = xf;
+  embedded_.push_back(std::move(scene));
   ops_.push_back(append);
   if (opacity < 1) ops_.push_back(Op::of(OpKind::GroupEnd));
+}
+
+std::shared_ptr<const Scene> Converter::colr_glyph(const text::FontDb& db, int face, uint32_t glyph,
+                                                   const std::vector<std::pair<std::string, double>>& variations,
+                                                   const RGBA& foreground) {
+  std::string axes;
+  for (const auto& [tag, value] : variations) axes += tag + "=" + std::to_string(value) + ";";
+  const auto key = std::tuple(face, glyph, axes, std::array<float, 4>{foreground.r, foreground.g, foreground.b, foreground.a});
+  if (const auto it = s_.colr_glyphs.find(key); it != s_.colr_glyphs.end()) return it->second;
+  text::ColorGlyphOptions o;
+  o.foreground = foreground;
+  o.variations = variations;
+  std::vector<std::string> warnings;
+  std::shared_ptr<const Scene> scene = text::color_glyph_scene(db, face, glyph, o, &warnings);
+  for (const std::string& w : warnings) warn(w);
+  s_.colr_glyphs.emplace(key, scene);
+  return scene;
 }
 
 void Converter::clip_text(const Element& e, const Style& st, const Affine& space) {
