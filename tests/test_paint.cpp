@@ -99,19 +99,9 @@ C4 ref_ramp(const Gradient& g, double t, Gamma gamma) {
   return c;
 }
 
-// Premultiplied colour of gradient g at pixel p (view maps scene units to
-// pixels).
-C4 ref_gradient(const Gradient& g, bool radial, const Affine& view, Vec2 p, Gamma gamma) {
-  const Vec2 q = apply_inverse(view * g.xf, p);
-  double t;
-  if (radial) {
-    const auto rt = ref_radial_t(g, q);
-    if (!rt) return C4{0, 0, 0, 0};
-    t = *rt;
-  } else {
-    const Vec2 d = g.p1 - g.p0;
-    t = dot(q - g.p0, d) / dot(d, d);
-  }
+// A gradient's premultiplied colour at t: the spread (and a pad
+// gradient's extend flags), then the ramp.
+C4 ref_spread_color(const Gradient& g, double t, Gamma gamma) {
   switch (g.spread) {
     case Spread::Pad:
       if ((t < 0 && !g.extend_start) || (t > 1 && !g.extend_end)) return C4{0, 0, 0, 0};
@@ -126,6 +116,22 @@ C4 ref_gradient(const Gradient& g, bool radial, const Affine& view, Vec2 p, Gamm
   }
   const C4 c = ref_ramp(g, t, gamma);
   return C4{c.r * c.a, c.g * c.a, c.b * c.a, c.a};
+}
+
+// Premultiplied colour of gradient g at pixel p (view maps scene units to
+// pixels).
+C4 ref_gradient(const Gradient& g, bool radial, const Affine& view, Vec2 p, Gamma gamma) {
+  const Vec2 q = apply_inverse(view * g.xf, p);
+  double t;
+  if (radial) {
+    const auto rt = ref_radial_t(g, q);
+    if (!rt) return C4{0, 0, 0, 0};
+    t = *rt;
+  } else {
+    const Vec2 d = g.p1 - g.p0;
+    t = dot(q - g.p0, d) / dot(d, d);
+  }
+  return ref_spread_color(g, t, gamma);
 }
 
 double max_diff(const C4& a, const Rgba4& b) {
@@ -324,20 +330,7 @@ C4 ref_sweep(const Gradient& g, const Affine& view, Vec2 p, Gamma gamma) {
   } else {
     t = (theta - g.start_angle) / span;
   }
-  switch (g.spread) {
-    case Spread::Pad:
-      if ((t < 0 && !g.extend_start) || (t > 1 && !g.extend_end)) return C4{0, 0, 0, 0};
-      t = std::clamp(t, 0.0, 1.0);
-      break;
-    case Spread::Repeat: t -= std::floor(t); break;
-    case Spread::Reflect: {
-      const double m = std::fabs(t) - 2 * std::floor(std::fabs(t) / 2);
-      t = m > 1 ? 2 - m : m;
-      break;
-    }
-  }
-  const C4 c = ref_ramp(g, t, gamma);
-  return C4{c.r * c.a, c.g * c.a, c.b * c.a, c.a};
+  return ref_spread_color(g, t, gamma);
 }
 
 struct SweepResult {
