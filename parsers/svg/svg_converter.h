@@ -244,24 +244,42 @@ struct Prop {
   T value{};
 };
 
+// Whether an attribute `name` is a presentation attribute, read as the
+// property of that name (the property table in svg_style.cpp): false for
+// the properties that SVG 2 styling.html#PresentationAttributes leaves out
+// (font-kerning, transform-box, the mask-* longhands, ...), true for the
+// others and for names that are no property of the table.
+bool presentation_attribute(std::string_view name);
+// False for a value of property `name` that svg_style.cpp knows to be
+// invalid before the property's own parser sees it: a word that is none of
+// the keywords of a property whose value is one keyword (overflow,
+// mask-type), a negative size in a declaration (width, height, r, rx, ry).
+bool value_valid(std::string_view name, std::string_view value, bool attribute);
+
 // The value of property `name` on `e`. Declarations of the style attribute
 // win over the presentation attribute (SVG 2 styling.html#PresentationAttributes:
 // they count as author style sheet rules of specificity 0, before all others); a
 // later declaration wins over an earlier one; a declaration or attribute
 // whose value does not parse is ignored (CSS Syntax 3: invalid declarations are dropped), so the
-// next candidate applies.
+// next candidate applies. unset (and revert, which falls back to the
+// user agent's values: SVG has none for these) ends the search as Unset:
+// no value, so that the property inherits or takes its initial value as
+// it would without any declaration (CSS Cascade 4 §7.3.3).
 template <class T, class Parse>
 Prop<T> property(const Element& e, std::string_view name, Parse parse) {
   Prop<T> p;
-  auto accept = [&](const std::string& text) {
-    if (iequals(trim(text), "inherit")) {
+  auto accept = [&](const std::string& text, bool attribute) {
+    const std::string_view t = trim(text);
+    if (iequals(t, "inherit")) {
       p.state = Prop<T>::Inherit;
       return true;
     }
-    if (iequals(trim(text), "initial")) {
+    if (iequals(t, "initial")) {
       p.state = Prop<T>::Initial;
       return true;
     }
+    if (iequals(t, "unset") || iequals(t, "revert") || iequals(t, "revert-layer")) return true;
+    if (!value_valid(name, t, attribute)) return false;
     std::optional<T> v = parse(text);
     if (!v) return false;
     p.state = Prop<T>::Set;
@@ -269,14 +287,15 @@ Prop<T> property(const Element& e, std::string_view name, Parse parse) {
     return true;
   };
   for (auto it = e.declarations.rbegin(); it != e.declarations.rend(); ++it)
-    if (it->first == name && accept(it->second)) return p;
-  if (const std::string* a = e.attribute(name)) accept(*a);
+    if (it->first == name && accept(it->second, false)) return p;
+  if (const std::string* a = e.attribute(name); a && presentation_attribute(name)) accept(*a, true);
   return p;
 }
 
 // The computed value on e of an inherited property: `initial` at the root,
-// then each element's own value from the top down. parse(text, inherited)
-// sees the value inherited from the parent.
+// then each element's own value from the top down ("initial" restarts
+// from `initial`). parse(text, inherited) sees the value inherited from
+// the parent.
 template <class T, class Parse>
 T inherited_property(const Element& e, const char* name, T initial, Parse parse) {
   std::vector<const Element*> chain;
@@ -285,6 +304,7 @@ T inherited_property(const Element& e, const char* name, T initial, Parse parse)
   for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
     const auto p = property<T>(**it, name, [&](std::string_view v) { return parse(v, value); });
     if (p.state == Prop<T>::Set) value = p.value;
+    if (p.state == Prop<T>::Initial) value = initial;
   }
   return value;
 }
@@ -406,6 +426,9 @@ struct Session {
   // decided on the first mask reference met.
   std::unordered_set<const Element*> cut_masks;
   bool masks_checked = false;
+  // The document's properties were checked for unsupported ones
+  // (Converter::warn_unsupported_properties).
+  bool properties_checked = false;
   std::vector<const Element*> active_patterns;  // patterns whose tiles are being converted
   // Filter effects whose sources are being converted, nested (at most
   // kMaxFilterDepth), and the filter elements whose primitives are (an
@@ -458,6 +481,10 @@ class Converter {
 
   Style compute_style(const Element& e, const Context& ctx);
   void stroke_style(const Element& e, Inherited& inh, Style& st);
+  // One warning per property of the document that mpvg does not support
+  // (or per unsupported value), wherever it is declared; run once, by the
+  // first compute_style of a session.
+  void warn_unsupported_properties();
   PaintSpec resolve_paint(const PaintValue& p, const RGBA& current, const std::string& what);
   Context child_context(const Style& st, const Affine& space, bool in_clip) const;
   // The context `e` is converted in when reached from its document

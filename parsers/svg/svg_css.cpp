@@ -456,7 +456,22 @@ std::vector<CssDeclaration> parse_declarations(std::string_view block) {
       value = trim(value.substr(0, bang));
       important = true;
     }
-    if (!name.empty() && !value.empty()) out.push_back({std::move(name), std::string(value), important});
+    if (name.empty() || value.empty()) return;
+    // Shorthands become their longhands where they stand, so that the
+    // cascade orders each longhand among the others' declarations (CSS
+    // Cascade 4 §1.2): marker sets marker-start, -mid and -end; font its
+    // font-* longhands (an invalid font is dropped whole).
+    if (name == "marker") {
+      for (const char* m : {"marker-start", "marker-mid", "marker-end"})
+        out.push_back({m, std::string(value), important});
+      return;
+    }
+    if (name == "font") {
+      if (const auto longhands = split_font_shorthand(value))
+        for (const auto& [n, v] : *longhands) out.push_back({n, v, important});
+      return;
+    }
+    out.push_back({std::move(name), std::string(value), important});
   };
   size_t start = 0;
   int depth = 0;

@@ -37,7 +37,9 @@ namespace mpvg::svg::detail {
 void apply_style_sheets(Document& doc,
                         const std::function<std::optional<std::string>(std::string_view)>& load = nullptr);
 
-// One declaration block's declarations with their !important flag.
+// One declaration block's declarations with their !important flag. The
+// shorthands marker and font come as the longhands they set, in their
+// place (an invalid font shorthand sets none).
 struct CssDeclaration {
   std::string name, value;
   bool important = false;

@@ -1,11 +1,14 @@
 // Computed style (CSS Cascade 4 as SVG 2 styling.html uses it): properties
 // from presentation attributes and style declarations, inheritance, and the
-// fill and stroke paint values.
+// fill and stroke paint values; and the table of every property of SVG 2's
+// index (kProperties): which mpvg supports, which are presentation
+// attributes, and the warning for those it does not support.
 #include <algorithm>
-#include <cmath>
-
 #include <charconv>
 #include <cmath>
+#include <cstring>
+#include <iterator>
+#include <unordered_map>
 
 #include "parsers/svg/svg_converter.h"
 
@@ -111,6 +114,17 @@ bool is_paint_server(const std::string& name) {
          name == "meshgradient" || name == "hatch" || name == "solidcolor";
 }
 
+// The value of a property that is not inherited with "inherit" resolved:
+// the parent's value, up the document tree (CSS Cascade 4 §7.3.2); at the
+// root, none (the initial value).
+template <class T, class Parse>
+Prop<T> own_property(const Element& e, std::string_view name, Parse parse) {
+  Prop<T> p = property<T>(e, name, parse);
+  for (const Element* a = e.parent; p.state == Prop<T>::Inherit && a; a = a->parent) p = property<T>(*a, name, parse);
+  if (p.state == Prop<T>::Inherit) p.state = Prop<T>::Unset;
+  return p;
+}
+
 }  // namespace
 
 // image-rendering (CSS Images 3 and SVG 1.1's keywords), as resvg maps
@@ -178,25 +192,47 @@ std::optional<int> parse_font_weight(std::string_view v, int parent) {
   return std::nullopt;
 }
 
+// font-style: normal | italic | oblique <angle>? (any angle slants as
+// italic does here).
 std::optional<bool> parse_font_style(std::string_view v) {
-  const auto k = parse_keyword(v);
-  if (k == "normal") return false;
-  if (k == "italic" || k == "oblique") return true;
+  v = trim(v);
+  Scanner s(v);
+  const std::string_view w = s.word();
+  if (w.size() == v.size()) {
+    const auto k = parse_keyword(v);
+    if (k == "normal") return false;
+    if (k == "italic" || k == "oblique") return true;
+    return std::nullopt;
+  }
+  s.skip_ws();
+  const std::string_view angle = v.substr(s.pos());
+  Scanner a(angle);
+  if (!iequals(w, "oblique") || !a.number()) return std::nullopt;
+  for (const char* unit : {"deg", "grad", "rad", "turn"})
+    if (iequals(angle.substr(a.pos()), unit)) return true;
   return std::nullopt;
 }
 
+// font-stretch: a keyword, as 1 (ultra-condensed) .. 9 (ultra-expanded),
+// or a percentage, taken as the nearest keyword (CSS Fonts 4 §2.4's
+// table: 50% .. 200%).
 std::optional<int> parse_font_stretch(std::string_view v) {
   static const char* names[] = {"ultra-condensed", "extra-condensed", "condensed", "semi-condensed", "normal",
                                 "semi-expanded",   "expanded",        "extra-expanded", "ultra-expanded"};
+  static const double percents[] = {50, 62.5, 75, 87.5, 100, 112.5, 125, 150, 200};
   const auto k = parse_keyword(v);
   for (int i = 0; i < 9; i++)
     if (k == names[i]) return i + 1;
-  return std::nullopt;
+  const auto l = parse_length(v);
+  if (!l || l->unit != Unit::Percent || l->value < 0) return std::nullopt;
+  int best = 0;
+  for (int i = 1; i < 9; i++)
+    if (std::fabs(percents[i] - l->value) < std::fabs(percents[best] - l->value)) best = i;
+  return best + 1;
 }
 
-// The font shorthand (CSS Fonts 4 §2.9): [ style || variant || weight ||
-// stretch ]? size [ / line-height ]? family; what it leaves out is reset to
-// its initial value.
+// The font shorthand, for the font attribute: style sheets and style
+// attributes have it split into its longhands already (svg_css.cpp).
 struct FontShorthand {
   bool italic = false, small_caps = false;
   int weight = 400, stretch = 5;
@@ -205,51 +241,36 @@ struct FontShorthand {
 };
 
 std::optional<FontShorthand> parse_font_shorthand(std::string_view v, const Inherited& parent) {
+  // (property() takes the CSS-wide keywords before this is called.)
+  const auto longhands = split_font_shorthand(v);
+  if (!longhands) return std::nullopt;
   FontShorthand f;
-  v = trim(v);
-  for (size_t pos = 0; pos < v.size();) {
-    const size_t b = v.find_first_not_of(" \t\n\r", pos);
-    if (b == std::string_view::npos) return std::nullopt;
-    size_t end = v.find_first_of(" \t\n\r", b);
-    if (end == std::string_view::npos) end = v.size();
-    const std::string_view word = v.substr(b, end - b);
-    const size_t slash = word.find('/');
-    // The first word that is a size ends the prefix; the family follows.
-    // A plain number is a weight (a size needs a unit there).
-    const auto plain = parse_length(word.substr(0, slash));
-    const bool number = plain && plain->unit == Unit::None && slash == std::string_view::npos;
-    if (const auto size = number ? std::nullopt : parse_font_size(word.substr(0, slash), parent.font_size)) {
+  for (const auto& [name, value] : *longhands) {
+    if (name == "font-style") {
+      const auto it = parse_font_style(value);
+      if (!it) return std::nullopt;
+      f.italic = *it;
+    } else if (name == "font-variant") {
+      f.small_caps = value == "small-caps";
+    } else if (name == "font-weight") {
+      const auto w = parse_font_weight(value, parent.font_weight);
+      if (!w) return std::nullopt;
+      f.weight = *w;
+    } else if (name == "font-stretch") {
+      const auto st = parse_font_stretch(value);
+      if (!st) return std::nullopt;
+      f.stretch = *st;
+    } else if (name == "font-size") {
+      const auto size = parse_font_size(value, parent.font_size);
+      if (!size) return std::nullopt;
       f.size = *size;
-      size_t rest = end;
-      if (slash == std::string_view::npos) {
-        // "12px / 1.5": a line height after a lone slash.
-        const size_t n = v.find_first_not_of(" \t\n\r", end);
-        if (n != std::string_view::npos && v[n] == '/') {
-          const size_t lh = v.find_first_not_of(" \t\n\r", n + 1);
-          rest = lh == std::string_view::npos ? v.size() : v.find_first_of(" \t\n\r", lh);
-          if (rest == std::string_view::npos) rest = v.size();
-        }
-      }
-      const auto family = parse_font_family(v.substr(std::min(rest, v.size())));
+    } else if (name == "font-family") {
+      const auto family = parse_font_family(value);
       if (!family) return std::nullopt;
       f.family = *family;
-      return f;
     }
-    if (iequals(word, "normal")) {
-    } else if (const auto st = parse_font_style(word); st) {
-      f.italic = *st;
-    } else if (iequals(word, "small-caps")) {
-      f.small_caps = true;
-    } else if (const auto w = parse_font_weight(word, parent.font_weight); w) {
-      f.weight = *w;
-    } else if (const auto s = parse_font_stretch(word); s) {
-      f.stretch = *s;
-    } else {
-      return std::nullopt;
-    }
-    pos = end;
   }
-  return std::nullopt;
+  return f;
 }
 
 // The inherited text properties (CSS Fonts 4, CSS Text 3, SVG 2 text.html).
@@ -324,7 +345,9 @@ void text_style(const Element& e, const Context& ctx, Inherited& inh, double dia
       });
       fa.state == Prop<double>::Set)
     inh.font_size_adjust = fa.value;
-  // font-feature-settings: "normal" or a comma-separated list of items.
+  // font-feature-settings (CSS Fonts 4 §6.12): normal or a comma-separated
+  // list of <string> [ <integer [0,∞]> | on | off ]?, the string a
+  // four-character tag; the items are kept as written (text/ parses them).
   if (const auto ff = property<std::vector<std::string>>(
           e, "font-feature-settings", [](std::string_view v) -> std::optional<std::vector<std::string>> {
             std::vector<std::string> out;
@@ -333,7 +356,15 @@ void text_style(const Element& e, const Context& ctx, Inherited& inh, double dia
               size_t end = v.find(',', pos);
               if (end == std::string_view::npos) end = v.size();
               const std::string_view item = trim(v.substr(pos, end - pos));
-              if (!item.empty()) out.emplace_back(item);
+              const size_t close = item.empty() ? 0 : item.find(item[0], 1);
+              if (item.empty() || (item[0] != '"' && item[0] != '\'') || close != 5) return std::nullopt;
+              for (size_t i = 1; i < 5; i++)
+                if (item[i] < 0x20 || item[i] > 0x7e) return std::nullopt;
+              const std::string_view rest = trim(item.substr(6));
+              if (!rest.empty() && !iequals(rest, "on") && !iequals(rest, "off") &&
+                  rest.find_first_not_of("0123456789") != std::string_view::npos)
+                return std::nullopt;
+              out.emplace_back(item);
               pos = end + 1;
             }
             return out;
@@ -377,64 +408,316 @@ void text_style(const Element& e, const Context& ctx, Inherited& inh, double dia
       });
       db.state == Prop<Inherited::Baseline>::Set)
     inh.dominant_baseline = db.value;
-  // xml:space is an attribute, inherited (XML 1.0 §2.10).
-  if (const std::string* xs = e.attribute("xml:space")) inh.space_preserve = *xs == "preserve";
+  // White space: the white-space property (CSS Text 3; inherited) over
+  // the xml:space attribute, which SVG 2 text.html#WhiteSpace maps to it in
+  // the user agent's sheet, below any author declaration. pre, pre-wrap
+  // and break-spaces keep spaces as xml:space="preserve" does (newlines
+  // and tabs become spaces: without wrapping there are no line breaks);
+  // normal and nowrap collapse them; pre-line is not supported (warned).
+  const auto ws = property<bool>(e, "white-space", [](std::string_view v) -> std::optional<bool> {
+    const auto k = parse_keyword(v);
+    if (k == "pre" || k == "pre-wrap" || k == "break-spaces") return true;
+    if (k == "normal" || k == "nowrap") return false;
+    return std::nullopt;
+  });
+  const std::string* xs = e.attribute("xml:space");
+  if (ws.state == Prop<bool>::Set)
+    inh.space_preserve = ws.value;
+  else if (ws.state == Prop<bool>::Inherit)
+    inh.space_preserve = ctx.inh.space_preserve;
+  else if (ws.state == Prop<bool>::Initial)
+    inh.space_preserve = false;
+  else if (xs)
+    inh.space_preserve = *xs == "preserve";
+}
+
+namespace {
+
+// How mpvg treats a property of the table below.
+enum class Support : uint8_t {
+  Yes,     // read and applied
+  Partly,  // read; a value with a word outside `quiet` is not supported (warned)
+  No,      // ignored; warned unless every word of its value is in `quiet`
+  Moot,    // ignored without a warning: it cannot change a static drawing,
+           // or only through a property that is warned itself
+};
+
+// Whether the attribute of the property's name is read as a declaration.
+enum class Attr : uint8_t {
+  Yes,     // a presentation attribute (SVG 2 styling.html#PresentationAttributes;
+           // mask-type by CSS Masking 1 §7.3; clip as in SVG 1.1)
+  No,      // none: the attribute is ignored, as browsers ignore it
+  Legacy,  // none in SVG 2 (browsers ignore it), yet read as one: tests rely on it
+};
+
+const Inherited kInitial{};
+
+using Reset = void (*)(Inherited&);
+
+struct PropertyRow {
+  const char* name;
+  Support support;
+  Attr attr;
+  // Space-separated lower-case words: for No, the values that change
+  // nothing (the initial one and its equivalents; "0": a zero length);
+  // for Partly, the supported ones.
+  const char* quiet;
+  // Inherited properties that mpvg applies: their initial value, for the
+  // keyword "initial" (CSS Cascade 4 §7.3.1); null for the others.
+  Reset reset;
+};
+
+// Every property of SVG 2's property index (propidx.html), with the CSS
+// longhands it names (CSS Masking 1 mask-*, CSS Fonts 4 font-variant-*,
+// CSS Text Decoration 3) and the geometry properties. Where each is
+// applied: svg_style.cpp unless noted.
+// clang-format off
+const PropertyRow kProperties[] = {
+    {"alignment-baseline", Support::Yes, Attr::Yes, nullptr, nullptr},  // svg_text.cpp
+    {"baseline-shift", Support::Yes, Attr::Yes, nullptr, nullptr},      // svg_text.cpp
+    {"clip", Support::No, Attr::Yes, "auto", nullptr},  // rect() on viewports: deprecated (CSS Masking 1 §5.1)
+    {"clip-path", Support::Yes, Attr::Yes, nullptr, nullptr},
+    {"clip-rule", Support::Yes, Attr::Yes, nullptr, [](Inherited& i) { i.clip_rule = kInitial.clip_rule; }},
+    {"color", Support::Yes, Attr::Yes, nullptr, [](Inherited& i) { i.color = kInitial.color; }},
+    {"color-interpolation", Support::Yes, Attr::Yes, nullptr, nullptr},          // gradients: svg_paint_servers.cpp
+    {"color-interpolation-filters", Support::Yes, Attr::Yes, nullptr, nullptr},  // svg_filters.cpp
+    {"color-rendering", Support::Moot, Attr::Yes, nullptr, nullptr},  // a speed hint: colours are exact anyway
+    {"cursor", Support::Moot, Attr::Yes, nullptr, nullptr},           // interactive only
+    {"cx", Support::Yes, Attr::Yes, nullptr, nullptr},  // geometry: svg_parser.cpp, svg_basic_shapes.cpp
+    {"cy", Support::Yes, Attr::Yes, nullptr, nullptr},
+    {"d", Support::Yes, Attr::Yes, nullptr, nullptr},
+    {"direction", Support::No, Attr::Yes, "ltr", nullptr},  // bidi runs take their direction from the text
+    {"display", Support::Yes, Attr::Yes, nullptr, nullptr},
+    {"dominant-baseline", Support::Yes, Attr::Yes, nullptr,
+     [](Inherited& i) { i.dominant_baseline = kInitial.dominant_baseline; }},
+    {"fill", Support::Yes, Attr::Yes, nullptr, [](Inherited& i) { i.fill = kInitial.fill; }},
+    {"fill-opacity", Support::Yes, Attr::Yes, nullptr, [](Inherited& i) { i.fill_opacity = kInitial.fill_opacity; }},
+    {"fill-rule", Support::Yes, Attr::Yes, nullptr, [](Inherited& i) { i.fill_rule = kInitial.fill_rule; }},
+    {"filter", Support::Yes, Attr::Yes, nullptr, nullptr},          // svg_filters.cpp
+    {"flood-color", Support::Yes, Attr::Yes, nullptr, nullptr},     // svg_filters.cpp
+    {"flood-opacity", Support::Yes, Attr::Yes, nullptr, nullptr},   // svg_filters.cpp
+    // font: declarations come split into longhands (svg_css.cpp); the
+    // attribute is read for tests/test_svg_text.cpp.
+    {"font", Support::Yes, Attr::Legacy, nullptr, nullptr},
+    {"font-family", Support::Yes, Attr::Yes, nullptr, [](Inherited& i) { i.font_family = kInitial.font_family; }},
+    {"font-feature-settings", Support::Yes, Attr::No, nullptr,
+     [](Inherited& i) { i.font_features = kInitial.font_features; }},
+    {"font-kerning", Support::Yes, Attr::No, nullptr, [](Inherited& i) { i.kerning = kInitial.kerning; }},
+    {"font-size", Support::Yes, Attr::Yes, nullptr, [](Inherited& i) { i.font_size = kInitial.font_size; }},
+    {"font-size-adjust", Support::Yes, Attr::Yes, nullptr,
+     [](Inherited& i) { i.font_size_adjust = kInitial.font_size_adjust; }},
+    {"font-stretch", Support::Yes, Attr::Yes, nullptr, [](Inherited& i) { i.font_stretch = kInitial.font_stretch; }},
+    {"font-style", Support::Yes, Attr::Yes, nullptr, [](Inherited& i) { i.font_italic = kInitial.font_italic; }},
+    {"font-variant", Support::Partly, Attr::Yes, "normal small-caps",
+     [](Inherited& i) { i.small_caps = kInitial.small_caps; }},
+    {"font-variant-alternates", Support::No, Attr::No, "normal", nullptr},
+    {"font-variant-caps", Support::No, Attr::No, "normal", nullptr},
+    {"font-variant-east-asian", Support::No, Attr::No, "normal", nullptr},
+    {"font-variant-emoji", Support::No, Attr::No, "normal", nullptr},
+    {"font-variant-ligatures", Support::No, Attr::No, "normal", nullptr},
+    {"font-variant-numeric", Support::No, Attr::No, "normal", nullptr},
+    {"font-variant-position", Support::No, Attr::No, "normal", nullptr},
+    // Not in SVG 2's index (CSS Fonts 4); the attribute is read for
+    // testdata/golden-text/variable_weight.svg.
+    {"font-variation-settings", Support::Yes, Attr::Legacy, nullptr,
+     [](Inherited& i) { i.font_variations = kInitial.font_variations; }},
+    {"font-weight", Support::Yes, Attr::Yes, nullptr, [](Inherited& i) { i.font_weight = kInitial.font_weight; }},
+    {"glyph-orientation-vertical", Support::No, Attr::Yes, "auto", nullptr},
+    {"height", Support::Yes, Attr::Yes, nullptr, nullptr},
+    {"image-rendering", Support::Yes, Attr::Yes, nullptr,
+     [](Inherited& i) { i.image_rendering = kInitial.image_rendering; }},
+    {"inline-size", Support::No, Attr::No, "0 auto", nullptr},  // auto-wrapped text
+    {"isolation", Support::Yes, Attr::No, nullptr, nullptr},     // svg_masks.cpp
+    {"letter-spacing", Support::Yes, Attr::Yes, nullptr,
+     [](Inherited& i) { i.letter_spacing = kInitial.letter_spacing; }},
+    {"lighting-color", Support::Yes, Attr::Yes, nullptr, nullptr},  // svg_filters.cpp
+    {"line-height", Support::Moot, Attr::No, nullptr, nullptr},  // spaces the lines of wrapped text only
+    {"marker", Support::Yes, Attr::No, nullptr, nullptr},        // split into longhands (svg_css.cpp)
+    {"marker-end", Support::Yes, Attr::Yes, nullptr, [](Inherited& i) { i.marker_end = kInitial.marker_end; }},
+    {"marker-mid", Support::Yes, Attr::Yes, nullptr, [](Inherited& i) { i.marker_mid = kInitial.marker_mid; }},
+    {"marker-start", Support::Yes, Attr::Yes, nullptr, [](Inherited& i) { i.marker_start = kInitial.marker_start; }},
+    {"mask", Support::Yes, Attr::Yes, nullptr, nullptr},  // url(#mask) (svg_masks.cpp warns about the rest)
+    // Mask borders, and the mask layers' images: not supported. The other
+    // mask-* longhands size, place, clip and combine mask images only.
+    {"mask-border", Support::No, Attr::No, "none", nullptr},
+    {"mask-border-mode", Support::Moot, Attr::No, nullptr, nullptr},
+    {"mask-border-outset", Support::Moot, Attr::No, nullptr, nullptr},
+    {"mask-border-repeat", Support::Moot, Attr::No, nullptr, nullptr},
+    {"mask-border-slice", Support::Moot, Attr::No, nullptr, nullptr},
+    {"mask-border-source", Support::No, Attr::No, "none", nullptr},
+    {"mask-border-width", Support::Moot, Attr::No, nullptr, nullptr},
+    {"mask-clip", Support::Moot, Attr::No, nullptr, nullptr},
+    {"mask-composite", Support::Moot, Attr::No, nullptr, nullptr},
+    {"mask-image", Support::No, Attr::No, "none", nullptr},
+    {"mask-mode", Support::No, Attr::No, "match-source", nullptr},  // it would override mask-type
+    {"mask-origin", Support::Moot, Attr::No, nullptr, nullptr},
+    {"mask-position", Support::Moot, Attr::No, nullptr, nullptr},
+    {"mask-repeat", Support::Moot, Attr::No, nullptr, nullptr},
+    {"mask-size", Support::Moot, Attr::No, nullptr, nullptr},
+    {"mask-type", Support::Yes, Attr::Yes, nullptr, nullptr},  // svg_masks.cpp
+    // svg_masks.cpp; the attribute is read for tests/test_svg_masks.cpp.
+    {"mix-blend-mode", Support::Yes, Attr::Legacy, nullptr, nullptr},
+    {"opacity", Support::Yes, Attr::Yes, nullptr, nullptr},
+    {"overflow", Support::Yes, Attr::Yes, nullptr, nullptr},  // svg_viewports.cpp, svg_markers.cpp
+    {"paint-order", Support::Yes, Attr::Yes, nullptr, [](Inherited& i) { i.paint_order = kInitial.paint_order; }},
+    {"pointer-events", Support::Moot, Attr::Yes, nullptr, nullptr},  // interactive only
+    {"r", Support::Yes, Attr::Yes, nullptr, nullptr},
+    {"rx", Support::Yes, Attr::Yes, nullptr, nullptr},
+    {"ry", Support::Yes, Attr::Yes, nullptr, nullptr},
+    // Text flowed into shapes (SVG 2 text.html#TextShapeInside): only
+    // shape-inside starts it; the others shape what it does.
+    {"shape-image-threshold", Support::Moot, Attr::No, nullptr, nullptr},
+    {"shape-inside", Support::No, Attr::No, "auto none", nullptr},
+    {"shape-margin", Support::Moot, Attr::No, nullptr, nullptr},
+    {"shape-padding", Support::Moot, Attr::No, nullptr, nullptr},
+    {"shape-rendering", Support::Yes, Attr::Yes, nullptr,
+     [](Inherited& i) { i.aliased_shapes = kInitial.aliased_shapes; }},
+    {"shape-subtract", Support::Moot, Attr::No, nullptr, nullptr},
+    {"stop-color", Support::Yes, Attr::Yes, nullptr, nullptr},    // svg_paint_servers.cpp
+    {"stop-opacity", Support::Yes, Attr::Yes, nullptr, nullptr},  // svg_paint_servers.cpp
+    {"stroke", Support::Yes, Attr::Yes, nullptr, [](Inherited& i) { i.stroke = kInitial.stroke; }},
+    {"stroke-dasharray", Support::Yes, Attr::Yes, nullptr,
+     [](Inherited& i) { i.stroke_dasharray = kInitial.stroke_dasharray; }},
+    {"stroke-dashoffset", Support::Yes, Attr::Yes, nullptr,
+     [](Inherited& i) { i.stroke_dashoffset = kInitial.stroke_dashoffset; }},
+    {"stroke-linecap", Support::Yes, Attr::Yes, nullptr, [](Inherited& i) { i.stroke_cap = kInitial.stroke_cap; }},
+    {"stroke-linejoin", Support::Yes, Attr::Yes, nullptr, [](Inherited& i) { i.stroke_join = kInitial.stroke_join; }},
+    {"stroke-miterlimit", Support::Yes, Attr::Yes, nullptr,
+     [](Inherited& i) { i.stroke_miterlimit = kInitial.stroke_miterlimit; }},
+    {"stroke-opacity", Support::Yes, Attr::Yes, nullptr,
+     [](Inherited& i) { i.stroke_opacity = kInitial.stroke_opacity; }},
+    {"stroke-width", Support::Yes, Attr::Yes, nullptr, [](Inherited& i) { i.stroke_width = kInitial.stroke_width; }},
+    {"text-anchor", Support::Yes, Attr::Yes, nullptr, [](Inherited& i) { i.text_anchor = kInitial.text_anchor; }},
+    {"text-decoration", Support::Partly, Attr::Yes, "none underline overline line-through", nullptr},  // svg_text.cpp
+    // SVG paints a decoration with the fill and stroke of the element that
+    // declares it (text.html#TextDecorationProperties), not in a colour.
+    {"text-decoration-color", Support::Moot, Attr::No, nullptr, nullptr},
+    {"text-decoration-line", Support::No, Attr::No, "none", nullptr},
+    {"text-decoration-style", Support::No, Attr::No, "solid", nullptr},
+    {"text-overflow", Support::Moot, Attr::Yes, nullptr, nullptr},  // wrapped text only (inline-size)
+    {"text-rendering", Support::Yes, Attr::Yes, nullptr, [](Inherited& i) { i.aliased_text = kInitial.aliased_text; }},
+    {"transform", Support::Yes, Attr::Yes, nullptr, nullptr},
+    {"transform-box", Support::Yes, Attr::No, nullptr, nullptr},
+    {"transform-origin", Support::Yes, Attr::Yes, nullptr, nullptr},
+    {"unicode-bidi", Support::No, Attr::Yes, "normal", nullptr},
+    {"vector-effect", Support::Partly, Attr::Yes, "none non-scaling-stroke viewport screen", nullptr},
+    {"visibility", Support::Yes, Attr::Yes, nullptr, [](Inherited& i) { i.visible = kInitial.visible; }},
+    {"white-space", Support::Partly, Attr::Yes, "normal nowrap pre pre-wrap break-spaces",
+     [](Inherited& i) { i.space_preserve = kInitial.space_preserve; }},
+    {"width", Support::Yes, Attr::Yes, nullptr, nullptr},
+    {"word-spacing", Support::Yes, Attr::Yes, nullptr, [](Inherited& i) { i.word_spacing = kInitial.word_spacing; }},
+    {"writing-mode", Support::Partly, Attr::Yes, "horizontal-tb vertical-rl vertical-lr lr lr-tb rl rl-tb tb tb-rl",
+     [](Inherited& i) { i.vertical = kInitial.vertical; }},
+    {"x", Support::Yes, Attr::Yes, nullptr, nullptr},
+    {"y", Support::Yes, Attr::Yes, nullptr, nullptr},
+};
+// clang-format on
+
+const PropertyRow* property_row(std::string_view name) {
+  static const std::unordered_map<std::string_view, const PropertyRow*> rows = [] {
+    std::unordered_map<std::string_view, const PropertyRow*> m;
+    for (const PropertyRow& r : kProperties) m.emplace(r.name, &r);
+    return m;
+  }();
+  const auto it = rows.find(name);
+  return it == rows.end() ? nullptr : it->second;
+}
+
+bool css_wide_keyword(std::string_view v) {
+  for (const char* k : {"inherit", "initial", "unset", "revert", "revert-layer"})
+    if (iequals(v, k)) return true;
+  return false;
+}
+
+// The first word of `value` that is not one of `quiet`'s (case-insensitive;
+// "0" in quiet takes any zero length); empty when there is none.
+std::string unquiet_word(std::string_view value, const char* quiet) {
+  value = trim(value);
+  if (css_wide_keyword(value)) return {};
+  for (size_t pos = 0; pos < value.size();) {
+    const size_t b = value.find_first_not_of(" \t\n\r\f", pos);
+    if (b == std::string_view::npos) break;
+    size_t end = value.find_first_of(" \t\n\r\f", b);
+    if (end == std::string_view::npos) end = value.size();
+    const std::string_view word = value.substr(b, end - b);
+    bool found = false;
+    for (std::string_view q = quiet ? quiet : ""; !q.empty() && !found;) {
+      const size_t sp = q.find(' ');
+      const std::string_view k = q.substr(0, sp);
+      const auto l = k == "0" ? parse_length(word) : std::nullopt;
+      found = iequals(word, k) || (l && l->value == 0 && l->unit != Unit::Calc);
+      q = sp == std::string_view::npos ? std::string_view() : q.substr(sp + 1);
+    }
+    if (!found) return std::string(word);
+    pos = end;
+  }
+  return {};
+}
+
+}  // namespace
+
+bool presentation_attribute(std::string_view name) {
+  const PropertyRow* r = property_row(name);
+  return !r || r->attr != Attr::No;
+}
+
+bool value_valid(std::string_view name, std::string_view value, bool attribute) {
+  // Properties whose value is one keyword, which the files that read them
+  // take as any word (svg_masks.cpp, svg_viewports.cpp): another word is
+  // an invalid declaration, dropped.
+  static const std::pair<const char*, const char*> keywords[] = {
+      {"mask-type", "luminance alpha"},
+      {"overflow", "visible hidden scroll auto clip"},
+  };
+  for (const auto& [n, k] : keywords)
+    if (name == n) return unquiet_word(value, k).empty() && !trim(value).empty() && parse_keyword(value);
+  // Sizes that CSS makes non-negative (SVG 2 geometry.html): a negative
+  // one in a declaration is invalid; a negative attribute keeps SVG's
+  // error handling (the element is not rendered), where svg_parser.cpp
+  // and svg_basic_shapes.cpp read it.
+  if (!attribute && (name == "width" || name == "height" || name == "r" || name == "rx" || name == "ry"))
+    if (const auto l = parse_length(value); l && l->value < 0) return false;
+  return true;
 }
 
 // "initial" on an inherited property: its initial value instead of the
 // parent's (the non-inherited ones start from their initial values anyway).
 void reset_initial(const Element& e, Inherited& inh) {
-  static const Inherited init;
-  using Reset = void (*)(Inherited&);
-  static const std::pair<const char*, Reset> resets[] = {
-      {"fill", [](Inherited& i) { i.fill = init.fill; }},
-      {"fill-rule", [](Inherited& i) { i.fill_rule = init.fill_rule; }},
-      {"fill-opacity", [](Inherited& i) { i.fill_opacity = init.fill_opacity; }},
-      {"stroke", [](Inherited& i) { i.stroke = init.stroke; }},
-      {"stroke-opacity", [](Inherited& i) { i.stroke_opacity = init.stroke_opacity; }},
-      {"stroke-width", [](Inherited& i) { i.stroke_width = init.stroke_width; }},
-      {"stroke-linejoin", [](Inherited& i) { i.stroke_join = init.stroke_join; }},
-      {"stroke-linecap", [](Inherited& i) { i.stroke_cap = init.stroke_cap; }},
-      {"stroke-miterlimit", [](Inherited& i) { i.stroke_miterlimit = init.stroke_miterlimit; }},
-      {"stroke-dasharray", [](Inherited& i) { i.stroke_dasharray = init.stroke_dasharray; }},
-      {"stroke-dashoffset", [](Inherited& i) { i.stroke_dashoffset = init.stroke_dashoffset; }},
-      {"paint-order", [](Inherited& i) { i.paint_order = init.paint_order; }},
-      {"font-size", [](Inherited& i) { i.font_size = init.font_size; }},
-      {"font-family", [](Inherited& i) { i.font_family = init.font_family; }},
-      {"font-weight", [](Inherited& i) { i.font_weight = init.font_weight; }},
-      {"font-style", [](Inherited& i) { i.font_italic = init.font_italic; }},
-      {"font-stretch", [](Inherited& i) { i.font_stretch = init.font_stretch; }},
-      {"text-anchor", [](Inherited& i) { i.text_anchor = init.text_anchor; }},
-      {"letter-spacing", [](Inherited& i) { i.letter_spacing = init.letter_spacing; }},
-      {"word-spacing", [](Inherited& i) { i.word_spacing = init.word_spacing; }},
-      {"dominant-baseline", [](Inherited& i) { i.dominant_baseline = init.dominant_baseline; }},
-      {"font-variation-settings", [](Inherited& i) { i.font_variations = init.font_variations; }},
-      {"writing-mode", [](Inherited& i) { i.vertical = init.vertical; }},
-      {"font-variant", [](Inherited& i) { i.small_caps = init.small_caps; }},
-      {"font-kerning", [](Inherited& i) { i.kerning = init.kerning; }},
-      {"font-feature-settings", [](Inherited& i) { i.font_features = init.font_features; }},
-      {"font-size-adjust", [](Inherited& i) { i.font_size_adjust = init.font_size_adjust; }},
-      {"marker-start", [](Inherited& i) { i.marker_start = init.marker_start; }},
-      {"marker-mid", [](Inherited& i) { i.marker_mid = init.marker_mid; }},
-      {"marker-end", [](Inherited& i) { i.marker_end = init.marker_end; }},
-      {"clip-rule", [](Inherited& i) { i.clip_rule = init.clip_rule; }},
-      {"visibility", [](Inherited& i) { i.visible = init.visible; }},
-      {"color", [](Inherited& i) { i.color = init.color; }},
-      {"image-rendering", [](Inherited& i) { i.image_rendering = init.image_rendering; }},
-      {"shape-rendering", [](Inherited& i) { i.aliased_shapes = init.aliased_shapes; }},
-      {"text-rendering", [](Inherited& i) { i.aliased_text = init.aliased_text; }},
-  };
   // Most elements have no "initial" at all: one scan decides.
   bool any = false;
   for (const auto& [k, v] : e.declarations) any = any || iequals(trim(v), "initial");
   for (const auto& [k, v] : e.attributes) any = any || iequals(trim(v), "initial");
   if (!any) return;
-  for (const auto& [name, reset] : resets)
-    if (property<int>(e, name, [](std::string_view) { return std::optional<int>(); }).state == Prop<int>::Initial)
-      reset(inh);
+  for (const PropertyRow& r : kProperties)
+    if (r.reset &&
+        property<int>(e, r.name, [](std::string_view) { return std::optional<int>(); }).state == Prop<int>::Initial)
+      r.reset(inh);
+}
+
+void Converter::warn_unsupported_properties() {
+  s_.properties_checked = true;
+  auto check = [&](const std::string& name, const std::string& value, bool attribute) {
+    const PropertyRow* r = property_row(name);
+    if (!r || (attribute && r->attr == Attr::No)) return;
+    if (r->support == Support::No && !unquiet_word(value, r->quiet).empty())
+      warn("property '" + name + "' is not supported: ignored");
+    if (r->support == Support::Partly)
+      if (const std::string w = unquiet_word(value, r->quiet); !w.empty())
+        warn("property '" + name + "' value '" + w + "' is not supported: ignored");
+  };
+  std::vector<const Element*> stack{s_.doc.root.get()};
+  while (!stack.empty()) {
+    const Element* e = stack.back();
+    stack.pop_back();
+    if (!e) continue;
+    for (const auto& [name, value] : e->attributes) check(name, value, true);
+    for (const auto& [name, value] : e->declarations) check(name, value, false);
+    for (auto it = e->children.rbegin(); it != e->children.rend(); ++it) stack.push_back(it->get());
+  }
 }
 
 Style Converter::compute_style(const Element& e, const Context& ctx) {
+  if (!s_.properties_checked) warn_unsupported_properties();
   Style st;
   st.inh = ctx.inh;
   Inherited& inh = st.inh;
@@ -449,8 +732,8 @@ Style Converter::compute_style(const Element& e, const Context& ctx) {
   // font-size before any length: em units refer to it. Relative values
   // (em, ex, %, larger, smaller) are relative to the parent's font size.
   const double parent_em = ctx.inh.font_size;
-  // The font shorthand first; the longhands (here and in text_style)
-  // override it.
+  // The font attribute first (declarations of the shorthand come split
+  // into longhands); the longhands (here and in text_style) override it.
   if (const auto f = property<FontShorthand>(
           e, "font", [&](std::string_view v) { return parse_font_shorthand(v, ctx.inh); });
       f.state == Prop<FontShorthand>::Set) {
@@ -483,19 +766,18 @@ Style Converter::compute_style(const Element& e, const Context& ctx) {
     st.filter = filter.state == Prop<std::string>::Set       ? filter.value
                 : filter.state == Prop<std::string>::Inherit ? ctx.parent_filter
                                                              : std::string();
-    // Markers (inherited): none or a url; the marker shorthand sets all
-    // three, from style sheets and the style attribute only (it is not a
-    // presentation attribute).
+    // Markers (inherited): none or a url. The marker shorthand, from style
+    // sheets and the style attribute only (it is not a presentation
+    // attribute), comes split into the three (svg_css.cpp).
     auto marker_value = [](std::string_view v) -> std::optional<std::string> {
       if (parse_keyword(v) == "none") return std::string();
       Scanner sc(v);
       bool external = false;
       if (!parse_func_iri(sc, &external)) return std::nullopt;
+      sc.skip_ws();
+      if (!sc.at_end()) return std::nullopt;
       return std::string(trim(v));
     };
-    for (const auto& [name, value] : e.declarations)
-      if (name == "marker")
-        if (const auto m = marker_value(value)) inh.marker_start = inh.marker_mid = inh.marker_end = *m;
     std::string* slots[] = {&inh.marker_start, &inh.marker_mid, &inh.marker_end};
     const char* names[] = {"marker-start", "marker-mid", "marker-end"};
     for (int i = 0; i < 3; i++)
@@ -531,7 +813,33 @@ Style Converter::compute_style(const Element& e, const Context& ctx) {
   st.opacity = opacity.state == Prop<double>::Set       ? opacity.value
                : opacity.state == Prop<double>::Inherit ? ctx.parent_opacity
                                                         : 1.0;
-  const auto display = property<std::string>(e, "display", parse_keyword);
+  // display (CSS Display 3): only none matters here; any other valid
+  // value renders, an invalid one is dropped.
+  const auto display = property<std::string>(e, "display", [](std::string_view v) -> std::optional<std::string> {
+    static const char* const keywords[] = {
+        "none",         "contents",        "inline",          "block",        "run-in",           "flow",
+        "flow-root",    "table",           "flex",            "grid",         "ruby",             "list-item",
+        "inline-block", "inline-table",    "inline-flex",     "inline-grid",  "table-row-group",  "table-row",
+        "table-cell",   "table-caption",   "table-column",    "table-column-group", "table-header-group",
+        "table-footer-group", "ruby-base", "ruby-text",       "ruby-base-container", "ruby-text-container"};
+    std::string k;  // the words in lower case, one space apart
+    int n = 0;
+    for (size_t pos = 0; pos < v.size();) {
+      const size_t b = v.find_first_not_of(" \t\n\r\f", pos);
+      if (b == std::string_view::npos) break;
+      size_t end = v.find_first_of(" \t\n\r\f", b);
+      if (end == std::string_view::npos) end = v.size();
+      const std::string_view w = v.substr(b, end - b);
+      if (std::none_of(std::begin(keywords), std::end(keywords), [&](const char* kw) { return iequals(w, kw); }))
+        return std::nullopt;
+      if (n++ > 0) k += ' ';
+      for (char c : w) k += ascii_lower(c);
+      pos = end;
+    }
+    // One keyword, or an outer and an inner display ("block flow", "inline flow-root list-item").
+    if (n == 0 || n > 3 || (n > 1 && k.find("none") != std::string::npos)) return std::nullopt;
+    return k;
+  });
   st.display_none = display.state == Prop<std::string>::Set       ? display.value == "none"
                     : display.state == Prop<std::string>::Inherit ? ctx.parent_display_none
                                                                   : false;
@@ -546,14 +854,57 @@ Style Converter::compute_style(const Element& e, const Context& ctx) {
   st.clip_path = clip.state == Prop<std::string>::Set       ? clip.value
                  : clip.state == Prop<std::string>::Inherit ? ctx.parent_clip_path
                                                             : std::string();
-  const auto mask = property<std::string>(
-      e, "mask", [](std::string_view v) { return std::optional<std::string>(std::string(trim(v))); });
+  // mask: the CSS Masking 1 §7.1 shorthand. Its grammar is checked word by
+  // word (url()s, image functions, the keywords of its longhands, lengths,
+  // '/' and ','), so that an invalid value is dropped; svg_masks.cpp draws
+  // url(#mask) and warns about the rest.
+  const auto mask = property<std::string>(e, "mask", [](std::string_view v) -> std::optional<std::string> {
+    static const char* const keywords[] = {
+        "none",      "alpha",       "luminance",   "match-source", "repeat",   "repeat-x",  "repeat-y",
+        "space",     "round",       "no-repeat",   "left",         "right",    "top",       "bottom",
+        "center",    "cover",       "contain",     "auto",         "border-box", "padding-box", "content-box",
+        "margin-box", "fill-box",   "stroke-box",  "view-box",     "no-clip",  "add",       "subtract",
+        "intersect", "exclude"};
+    static const char* const images[] = {"url(", "linear-gradient(", "radial-gradient(", "conic-gradient(",
+                                         "repeating-linear-gradient(", "repeating-radial-gradient(",
+                                         "repeating-conic-gradient(", "image(", "image-set(", "cross-fade(",
+                                         "element(", "paint("};
+    const std::string_view t = trim(v);
+    if (t.empty()) return std::nullopt;
+    for (size_t pos = 0; pos < t.size();) {
+      const char c = t[pos];
+      if (is_ws(c) || c == '/' || c == ',') {
+        pos++;
+        continue;
+      }
+      size_t end = pos;
+      int depth = 0;
+      while (end < t.size() && (depth > 0 || !(is_ws(t[end]) || t[end] == '/' || t[end] == ','))) {
+        if (t[end] == '(') depth++;
+        if (t[end] == ')') depth--;
+        end++;
+      }
+      if (depth != 0) return std::nullopt;
+      const std::string_view w = t.substr(pos, end - pos);
+      const bool ok =
+          std::any_of(std::begin(keywords), std::end(keywords), [&](const char* k) { return iequals(w, k); }) ||
+          std::any_of(std::begin(images), std::end(images),
+                      [&](const char* f) {
+                        const size_t n = std::strlen(f);
+                        return w.size() > n && iequals(w.substr(0, n), f);
+                      }) ||
+          parse_length(w, CalcOk::Yes);
+      if (!ok) return std::nullopt;
+      pos = end;
+    }
+    return std::string(t);
+  });
   st.mask = mask.state == Prop<std::string>::Set       ? mask.value
             : mask.state == Prop<std::string>::Inherit ? ctx.parent_mask
                                                        : std::string();
-  if (const auto b = property<BlendMode>(e, "mix-blend-mode", parse_blend_mode); b.state == Prop<BlendMode>::Set)
+  if (const auto b = own_property<BlendMode>(e, "mix-blend-mode", parse_blend_mode); b.state == Prop<BlendMode>::Set)
     st.blend = b.value;
-  const auto iso = property<std::string>(e, "isolation", [](std::string_view v) {
+  const auto iso = own_property<std::string>(e, "isolation", [](std::string_view v) {
     auto k = parse_keyword(v);
     if (k && (*k == "auto" || *k == "isolate")) return k;
     return std::optional<std::string>();
@@ -561,9 +912,11 @@ Style Converter::compute_style(const Element& e, const Context& ctx) {
   st.isolate = iso.state == Prop<std::string>::Set && iso.value == "isolate";
   // transform is a presentation attribute in SVG 2 (CSS Transforms 1); an unparsable
   // value is ignored like any invalid declaration.
-  const auto xf = property<Affine>(e, "transform", parse_transform);
+  const auto xf = own_property<Affine>(e, "transform", parse_transform);
   if (xf.state == Prop<Affine>::Set) st.transform = with_origin(e, xf.value, inh.font_size);
-  st.transform_invalid = xf.state == Prop<Affine>::Unset && (e.attribute("transform") != nullptr);
+  // A transform attribute that does not parse, with no declaration over it.
+  const std::string* xf_attribute = e.attribute("transform");
+  st.transform_invalid = xf.state == Prop<Affine>::Unset && xf_attribute && !parse_transform(*xf_attribute);
   return st;
 }
 
@@ -580,8 +933,8 @@ Style Converter::compute_style(const Element& e, const Context& ctx) {
 // made, and only shapes and images have a box here (other elements:
 // view-box, warned).
 std::optional<Vec2> Converter::transform_origin(const Element& e, double em) const {
-  const auto tb = property<std::string>(e, "transform-box", [](std::string_view v) -> std::optional<std::string> {
-    const std::string k = std::string(trim(v));
+  const auto tb = own_property<std::string>(e, "transform-box", [](std::string_view v) -> std::optional<std::string> {
+    const auto k = parse_keyword(v);
     for (const char* known : {"view-box", "fill-box", "content-box", "stroke-box", "border-box"})
       if (k == known) return k;
     return std::nullopt;
@@ -593,7 +946,7 @@ std::optional<Vec2> Converter::transform_origin(const Element& e, double em) con
     box = object_box(e, em);
     if (!box) warn("transform-box " + tb.value + " on <" + e.name + "> is taken as view-box");
   }
-  const auto o = property<std::pair<std::string, std::string>>(
+  const auto o = own_property<std::pair<std::string, std::string>>(
       e, "transform-origin", [](std::string_view v) -> std::optional<std::pair<std::string, std::string>> {
         std::vector<std::string> words;
         for (size_t pos = 0; pos < v.size();) {
@@ -601,14 +954,26 @@ std::optional<Vec2> Converter::transform_origin(const Element& e, double em) con
           if (b == std::string_view::npos) break;
           size_t end = v.find_first_of(" \t\n\r,", b);
           if (end == std::string_view::npos) end = v.size();
-          words.emplace_back(v.substr(b, end - b));
+          std::string w(v.substr(b, end - b));
+          for (char& c : w) c = ascii_lower(c);
+          words.push_back(std::move(w));
           pos = end;
         }
         if (words.empty() || words.size() > 3) return std::nullopt;
+        auto is = [](const std::string& w, std::initializer_list<const char*> ks) {
+          return std::any_of(ks.begin(), ks.end(), [&](const char* k) { return w == k; });
+        };
+        for (size_t i = 0; i < words.size(); i++) {
+          const auto l = parse_length(words[i], CalcOk::Yes);
+          // The third value, z, is a length (and moves nothing in 2D).
+          const bool ok = i < 2 ? l || is(words[i], {"left", "center", "right", "top", "bottom"})
+                                : l && l->unit != Unit::Percent;
+          if (!ok) return std::nullopt;
+        }
         if (words.size() == 1) words.push_back("center");
         // "top left": vertical keyword first.
-        if (words[0] == "top" || words[0] == "bottom" || words[1] == "left" || words[1] == "right")
-          std::swap(words[0], words[1]);
+        if (is(words[0], {"top", "bottom"}) || is(words[1], {"left", "right"})) std::swap(words[0], words[1]);
+        if (is(words[0], {"top", "bottom"}) || is(words[1], {"left", "right"})) return std::nullopt;  // "left right"
         return std::pair(words[0], words[1]);
       });
   if (o.state != Prop<std::pair<std::string, std::string>>::Set) {
@@ -712,10 +1077,32 @@ void Converter::stroke_style(const Element& e, Inherited& inh, Style& st) {
     inh.stroke_dashoffset = o.value;
   if (const auto po = property<PaintOrder>(e, "paint-order", parse_paint_order); po.state == Prop<PaintOrder>::Set)
     inh.paint_order = po.value;
-  // vector-effect is not inherited (SVG 2 coords.html#VectorEffects); of its values only
-  // non-scaling-stroke concerns what we draw.
-  const auto ve = property<std::string>(e, "vector-effect", parse_keyword);
-  st.non_scaling_stroke = ve.state == Prop<std::string>::Set && ve.value == "non-scaling-stroke";
+  // vector-effect is not inherited (SVG 2 coords.html#VectorEffects):
+  // none | [ non-scaling-stroke | non-scaling-size | non-rotation |
+  // fixed-position ]+ [ viewport | screen ]?; of these only
+  // non-scaling-stroke is drawn (the others are warned about).
+  const auto ve = own_property<bool>(e, "vector-effect", [](std::string_view v) -> std::optional<bool> {
+    if (parse_keyword(v) == "none") return false;
+    bool nss = false, any = false, space = false;
+    Scanner sc(trim(v));
+    while (!sc.at_end()) {
+      const auto k = parse_keyword(sc.word());
+      if (!k || space) return std::nullopt;  // the space keyword comes last
+      if (*k == "viewport" || *k == "screen") {
+        space = true;
+      } else if (*k == "non-scaling-stroke" || *k == "non-scaling-size" || *k == "non-rotation" ||
+                 *k == "fixed-position") {
+        nss = nss || *k == "non-scaling-stroke";
+        any = true;
+      } else {
+        return std::nullopt;
+      }
+      sc.skip_ws();
+    }
+    if (!any) return std::nullopt;
+    return nss;
+  });
+  st.non_scaling_stroke = ve.state == Prop<bool>::Set && ve.value;
 }
 
 // Resolves a fill or stroke paint (SVG 2 painting.html#SpecifyingPaint);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <initializer_list>
+#include <iterator>
 #include <string>
 
 namespace mpvg::svg::detail {
@@ -610,6 +612,107 @@ std::optional<double> parse_alpha(std::string_view text) {
   if (s.consume('%')) a /= 100.0;
   if (!s.at_end()) return std::nullopt;
   return std::clamp(a, 0.0, 1.0);
+}
+
+// ---------------------------------------------------------------- font shorthand
+
+std::optional<std::vector<std::pair<std::string, std::string>>> split_font_shorthand(std::string_view v) {
+  using Longhands = std::vector<std::pair<std::string, std::string>>;
+  static const char* const names[] = {"font-style",  "font-variant", "font-weight",      "font-stretch", "font-size",
+                                      "line-height", "font-family",  "font-size-adjust", "font-kerning"};
+  v = trim(v);
+  for (const char* keyword : {"inherit", "initial", "unset", "revert", "revert-layer"})
+    if (iequals(v, keyword)) {
+      Longhands out;
+      for (const char* n : names) out.emplace_back(n, std::string(v));
+      return out;
+    }
+  auto lower = [](std::string_view w) {
+    std::string k(w);
+    for (char& c : k) c = ascii_lower(c);
+    return k;
+  };
+  auto one_of = [](const std::string& k, std::initializer_list<const char*> list) {
+    for (const char* x : list)
+      if (k == x) return true;
+    return false;
+  };
+  // The next word from `pos`: up to white space or '/', parentheses kept whole (calc()).
+  auto next_word = [&](size_t& pos) -> std::string_view {
+    while (pos < v.size() && is_ws(v[pos])) pos++;
+    const size_t b = pos;
+    int depth = 0;
+    while (pos < v.size() && (depth > 0 || !(is_ws(v[pos]) || v[pos] == '/'))) {
+      if (v[pos] == '(') depth++;
+      if (v[pos] == ')') depth--;
+      pos++;
+    }
+    return v.substr(b, pos - b);
+  };
+  std::string style, variant, weight, stretch;
+  int words = 0;
+  for (size_t pos = 0;;) {
+    const std::string_view word = next_word(pos);
+    if (word.empty() || ++words > 5) return std::nullopt;  // no size, or more than four words before it
+    const std::string k = lower(word);
+    const auto length = parse_length(word, CalcOk::Yes);
+    const bool size_keyword = one_of(k, {"xx-small", "x-small", "small", "medium", "large", "x-large", "xx-large",
+                                         "xxx-large", "larger", "smaller"});
+    const bool unitless = length && length->unit == Unit::None;
+    if (size_keyword || (length && (!unitless || length->value == 0) && length->value >= 0)) {
+      std::string line_height = "normal";
+      size_t at = pos;
+      while (at < v.size() && is_ws(v[at])) at++;
+      if (at < v.size() && v[at] == '/') {
+        pos = at + 1;
+        const std::string_view lh = next_word(pos);
+        if (lh.empty()) return std::nullopt;
+        line_height = std::string(lh);
+      }
+      const std::string_view family = trim(v.substr(pos));
+      // A family is required; quotes must close.
+      if (family.empty() || family.front() == ',' || family.back() == ',') return std::nullopt;
+      for (size_t i = 0; i < family.size(); i++)
+        if (family[i] == '"' || family[i] == '\'') {
+          const size_t close = family.find(family[i], i + 1);
+          if (close == std::string_view::npos) return std::nullopt;
+          i = close;
+        }
+      const std::string values[] = {style.empty() ? "normal" : style,     variant.empty() ? "normal" : variant,
+                                    weight.empty() ? "normal" : weight,   stretch.empty() ? "normal" : stretch,
+                                    std::string(word),                    line_height,
+                                    std::string(family),                  "none",
+                                    "auto"};
+      Longhands out;
+      for (size_t i = 0; i < std::size(names); i++) out.emplace_back(names[i], values[i]);
+      return out;
+    }
+    if (k == "normal") continue;
+    if (style.empty() && (k == "italic" || k == "oblique")) {
+      style = k;
+      // oblique <angle>
+      size_t at = pos;
+      const std::string_view angle = next_word(at);
+      Scanner sc(angle);
+      if (k == "oblique" && sc.number() && !sc.at_end()) {
+        const std::string unit = lower(angle.substr(sc.pos()));
+        if (one_of(unit, {"deg", "grad", "rad", "turn"})) {
+          style += " " + std::string(angle);
+          pos = at;
+        }
+      }
+    } else if (variant.empty() && k == "small-caps") {
+      variant = k;
+    } else if (weight.empty() && (one_of(k, {"bold", "bolder", "lighter"}) ||
+                                  (unitless && length->value >= 1 && length->value <= 1000))) {
+      weight = k;
+    } else if (stretch.empty() && one_of(k, {"ultra-condensed", "extra-condensed", "condensed", "semi-condensed",
+                                             "semi-expanded", "expanded", "extra-expanded", "ultra-expanded"})) {
+      stretch = k;
+    } else {
+      return std::nullopt;
+    }
+  }
 }
 
 // ---------------------------------------------------------------- viewports

@@ -1,5 +1,6 @@
 // Lexical parsers for SVG attribute and property values: numbers, lengths,
-// transform lists, colours, paints, viewBox and preserveAspectRatio.
+// transform lists, colours, paints, the font shorthand, viewBox and
+// preserveAspectRatio.
 //
 // Internal to the SVG frontend. Every parser is total: it returns nullopt (or
 // reports how far it got) on malformed text, never throws, and rejects NaN,
@@ -8,6 +9,8 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "core/geometry.h"
 #include "core/scene.h"
@@ -149,6 +152,20 @@ std::optional<double> parse_alpha(std::string_view s);
 // mix-blend-mode (Compositing and Blending 1): one of the 16 blend-mode
 // keywords; anything else (plus-lighter, plus-darker, invalid) is nullopt.
 std::optional<BlendMode> parse_blend_mode(std::string_view s);
+
+// The font shorthand (CSS Fonts 4 §2.8) split into the longhands it sets,
+// values as written: [ <font-style> || small-caps || <font-weight> ||
+// <font-stretch keyword> ]? <font-size> [ / <line-height> ]? <family>#,
+// each word before the size at most once ("normal" standing for any of
+// them), a unitless number there a weight. The result sets font-style,
+// font-variant, font-weight, font-stretch, font-size, line-height and
+// font-family (normal where the value leaves one out) and resets
+// font-size-adjust and font-kerning, as the shorthand does; a CSS-wide
+// keyword (inherit, initial, unset, revert) goes to all of them. nullopt
+// when the value does not follow the grammar (system fonts such as
+// "caption" included: they are not supported), which makes the
+// declaration invalid.
+std::optional<std::vector<std::pair<std::string, std::string>>> split_font_shorthand(std::string_view v);
 
 struct ViewBox {
   double x = 0, y = 0, w = 0, h = 0;
