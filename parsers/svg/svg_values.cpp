@@ -598,8 +598,11 @@ std::optional<PaintValue> parse_paint(std::string_view text) {
   return p;
 }
 
+// <blend-mode> (Compositing and Blending 1 §7, and plus-lighter of level
+// 2, which Chromium takes); core's Porter-Duff operators past it are not
+// CSS blend modes.
 std::optional<BlendMode> parse_blend_mode(std::string_view s) {
-  for (int i = 0; i <= static_cast<int>(BlendMode::Luminosity); i++)
+  for (int i = 0; i <= static_cast<int>(BlendMode::PlusLighter); i++)
     if (iequals(trim(s), blend_mode_name(static_cast<BlendMode>(i)))) return static_cast<BlendMode>(i);
   return std::nullopt;
 }
