@@ -40,9 +40,9 @@ stream F0 {0 F1 F2 }
 TEST_CASE("svg groups: mix-blend-mode and isolation make groups; the top level is wrapped", "[svg][groups]") {
   const auto r = parse(R"~(<rect width="10" height="10" fill="red"/>)~"
                        R"~(<g style="isolation:isolate"><rect width="5" height="5" fill="blue" mix-blend-mode="screen"/></g>)~"
-                       R"~(<rect width="4" height="4" style="mix-blend-mode:plus-lighter"/>)~");
+                       R"~(<rect width="4" height="4" style="mix-blend-mode:source-atop"/>)~");
   // screen inside the isolated group: that group's list runs back to front;
-  // plus-lighter is not a blend mode of Compositing 1: ignored.
+  // source-atop is a compositing operator, not a blend mode: ignored.
   CHECK(summary(r) == R"~(path 0 fill nonzero rgba(0,0,0,1) opacity 1
 path 1 fill nonzero rgba(0,0,1,1) opacity 1
 path 2 fill nonzero rgba(1,0,0,1) opacity 1
