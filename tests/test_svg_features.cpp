@@ -159,3 +159,29 @@ TEST_CASE("transform-box fill-box: transform-origin's percentages and keywords o
                   style="transform-box: view-box; transform-origin: 50% 50%" transform="rotate(30)"/>)~",
              R"~(<rect x="20" y="30" width="60" height="40" fill="green" transform="rotate(30 100 50)"/>)~");
 }
+
+TEST_CASE("transform-box fill-box on a group: the union of its children's boxes under their transforms", "[svg][features]") {
+  // SVG 2 coords.html#BoundingBoxes: a rect at x 20..60, y 20..40 and a
+  // rect of 10 x 10 moved by (70, 50), whose own rotation about its centre
+  // (fill-box, center) leaves its box 70..80 x 50..60 wide as its
+  // diagonal: 75 -/+ 7.07. A hidden child (display none) adds nothing.
+  // Union: x 20..82.07, y 20..62.07, centre (51.04, 41.04).
+  const double half = 5 * std::sqrt(2.0);
+  const double cx = (20 + 75 + half) / 2, cy = (20 + 55 + half) / 2;
+  const std::string children =
+      R"~(<rect x="20" y="20" width="40" height="20" fill="green"/>)~"
+      R"~(<rect width="10" height="10" fill="blue" transform="translate(70 50)"/>)~"
+      R"~(<rect x="150" y="90" width="5" height="5" fill="red" display="none"/>)~";
+  const std::string rotated_child =
+      R"~(<rect x="20" y="20" width="40" height="20" fill="green"/>)~"
+      R"~(<g transform="translate(70 50)"><rect width="10" height="10" fill="blue"
+            style="transform-box: fill-box; transform-origin: center" transform="rotate(45)"/></g>)~";
+  check_same(R"~(<g style="transform-box: fill-box; transform-origin: center" transform="rotate(30)">)~" +
+                 rotated_child + "</g>",
+             "<g transform='rotate(30 " + std::to_string(cx) + " " + std::to_string(cy) + ")'>" + rotated_child +
+                 "</g>");
+  // Percentages of the box; a group of a group.
+  check_same(R"~(<g style="transform-box: fill-box; transform-origin: 0% 100%" transform="scale(0.5)"><g>)~" +
+                 children + "</g></g>",
+             "<g transform='translate(20 60) scale(0.5) translate(-20 -60)'>" + children + "</g>");
+}

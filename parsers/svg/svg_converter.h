@@ -575,6 +575,10 @@ class Converter {
   // transform-origin of e (user units), and a transform moved to it.
   std::optional<Vec2> transform_origin(const Element& e, double em) const;
   std::optional<Bounds> object_box(const Element& e, double em) const;
+  // object_box's walk: e's box mapped by xf added to b; false where it
+  // holds an element whose box is not known before conversion.
+  bool add_object_bounds(const Element& e, const Affine& xf, double em, Bounds& b, int depth) const;
+  static constexpr int kMaxBoxDepth = 64;  // nested groups object_box looks into
   Affine with_origin(const Element& e, const Affine& t, double em) const;
   double to_user(const Length& l, Axis axis, double em) const;
   // A length attribute of a paint server (`def` when absent or invalid):

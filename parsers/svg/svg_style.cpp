@@ -930,8 +930,8 @@ Style Converter::compute_style(const Element& e, const Context& ctx) {
 // without a transform-origin (initially 0 0 for SVG elements) the box's
 // top-left corner is the origin. stroke-box and border-box take the fill
 // box too (warned): the stroke's box is not known before the stroke is
-// made, and only shapes and images have a box here (other elements:
-// view-box, warned).
+// made. Shapes, images and groups of them have a box here (object_box);
+// other elements take view-box, warned.
 std::optional<Vec2> Converter::transform_origin(const Element& e, double em) const {
   const auto tb = own_property<std::string>(e, "transform-box", [](std::string_view v) -> std::optional<std::string> {
     const auto k = parse_keyword(v);
@@ -996,21 +996,44 @@ std::optional<Vec2> Converter::transform_origin(const Element& e, double em) con
   return Vec2{*x, *y};
 }
 
-// The object bounding box of a shape or an image in its own user space
-// (before its transform); nullopt for other elements. A shape without
-// geometry draws nothing, whatever its box: an empty one at the origin.
+// The object bounding box of e in its own user space (before its
+// transform; SVG 2 coords.html#BoundingBoxes): a shape's geometry, an
+// image's rectangle, a group's (g, a) rendered children each under its own
+// transform, tight for their curves. nullopt for other elements and for
+// groups that hold text, use or nested viewports, whose boxes are not
+// known before they are converted. A shape without geometry, or a group
+// of nothing, has an empty box at the origin.
 std::optional<Bounds> Converter::object_box(const Element& e, double em) const {
+  Bounds b;
+  if (!add_object_bounds(e, Affine{}, em, b, 0)) return std::nullopt;
+  if (b.empty()) return Bounds{0, 0, 0, 0};
+  return b;
+}
+
+bool Converter::add_object_bounds(const Element& e, const Affine& xf, double em, Bounds& b, int depth) const {
   const Kind kind = classify(e);
   if (kind == Kind::Image) {
     const double x = length(e, "x", Axis::X, 0, em), y = length(e, "y", Axis::Y, 0, em);
-    return Bounds{x, y, x + length(e, "width", Axis::X, 0, em), y + length(e, "height", Axis::Y, 0, em)};
+    const double w = length(e, "width", Axis::X, 0, em), h = length(e, "height", Axis::Y, 0, em);
+    for (const Vec2 c : {Vec2{x, y}, Vec2{x + w, y}, Vec2{x, y + h}, Vec2{x + w, y + h}}) b.add(xf.apply(c));
+    return true;
   }
-  if (kind != Kind::Shape) return std::nullopt;
-  const std::optional<Path> p = build_shape(e, em, nullptr);
-  Bounds b;
-  if (p) add_path_bounds(*p, Affine{}, b);
-  if (b.empty()) return Bounds{0, 0, 0, 0};
-  return b;
+  if (kind == Kind::Shape) {
+    if (const std::optional<Path> p = build_shape(e, em, nullptr)) add_path_bounds(*p, xf, b);
+    return true;
+  }
+  if (kind != Kind::Container || (e.name != "g" && e.name != "a") || depth > kMaxBoxDepth) return false;
+  for (const auto& child : e.children) {
+    const Kind k = classify(*child);
+    if (k == Kind::Ignored) continue;
+    const auto display = property<std::string>(*child, "display", parse_keyword);
+    if (display.state == Prop<std::string>::Set && display.value == "none") continue;
+    Affine t;
+    if (const auto ct = property<Affine>(*child, "transform", parse_transform); ct.state == Prop<Affine>::Set)
+      t = with_origin(*child, ct.value, em);
+    if (!add_object_bounds(*child, xf * t, em, b, depth + 1)) return false;
+  }
+  return true;
 }
 
 Affine Converter::with_origin(const Element& e, const Affine& t, double em) const {
