@@ -426,16 +426,18 @@ stream F0 F1 F2 F3 F4 F5 F6 F7 F8 F9 F10 F11 F12 F13
 )~");
 }
 
-TEST_CASE("svg style: currentColor resolves where fill is declared, color inherits", "[svg][style][color]") {
-  // The group's fill=currentColor resolves with the group's color (navy);
-  // the second rect declares its own fill=currentColor with color=olive.
+TEST_CASE("svg style: an inherited currentColor takes the inheriting element's color", "[svg][style][color]") {
+  // CSS Color 4 §6.4: currentColor inherits as the keyword, so the first
+  // rect's inherited fill is its own color (red; Chromium and rsvg-convert
+  // draw it so), the second declares fill=currentColor with color=olive,
+  // the third has no color but the initial black.
   CHECK(headers_of(R"~(<g color="navy" fill="currentColor"><rect width="1" height="1" color="red"/>)~"
                    R"~(<rect width="1" height="1" color="olive" fill="currentColor"/></g>)~"
                    R"~(<rect width="1" height="1" fill="currentColor"/>)~") ==
         R"~(scene 100 100
 path 0 fill nonzero rgba(0,0,0,1) opacity 1
 path 1 fill nonzero rgba(0.501961,0.501961,0,1) opacity 1
-path 2 fill nonzero rgba(0,0,0.501961,1) opacity 1
+path 2 fill nonzero rgba(1,0,0,1) opacity 1
 stream F0 F1 F2
 )~");
 }

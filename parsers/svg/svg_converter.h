@@ -138,6 +138,9 @@ struct PaintSpec {
   // context element's paints in Converter::contexts_, whose user space and
   // bounding box a paint server then uses; -1 otherwise.
   int context = -1;
+  // `color` is currentColor (the paint's, or a server's fallback): where
+  // the paint is inherited, it follows the inheriting element's color.
+  bool current_color = false;
 
   static PaintSpec solid(const RGBA& c) {
     PaintSpec p;

@@ -729,6 +729,11 @@ Style Converter::compute_style(const Element& e, const Context& ctx) {
     return parse_color(v);
   });
   if (color.state == Prop<RGBA>::Set) inh.color = color.value;
+  // An inherited currentColor paint is the keyword, not the parent's
+  // colour (CSS Color 4 §6.4; Chromium and librsvg agree): it takes this
+  // element's color.
+  if (inh.fill.current_color) inh.fill.color = inh.color;
+  if (inh.stroke.current_color) inh.stroke.color = inh.color;
   // font-size before any length: em units refer to it. Relative values
   // (em, ex, %, larger, smaller) are relative to the parent's font size.
   const double parent_em = ctx.inh.font_size;
@@ -1136,13 +1141,18 @@ PaintSpec Converter::resolve_paint(const PaintValue& p, const RGBA& current, con
   switch (p.kind) {
     case PaintValue::Kind::None: return {};
     case PaintValue::Kind::Color: return PaintSpec::solid(p.color);
-    case PaintValue::Kind::CurrentColor: return PaintSpec::solid(current);
+    case PaintValue::Kind::CurrentColor: {
+      PaintSpec c = PaintSpec::solid(current);
+      c.current_color = true;
+      return c;
+    }
     case PaintValue::Kind::Context: {
       // The context element's paint (none without one), keeping its user
       // space and box for a paint server.
       if (context_ < 0) return {};
       PaintSpec c = p.context_stroke ? contexts_[context_].stroke : contexts_[context_].fill;
       if (c.kind == PaintSpec::Kind::Server) c.context = context_;
+      c.current_color = false;  // the context element's colour, resolved there
       return c;
     }
     case PaintValue::Kind::Url: break;
@@ -1151,7 +1161,10 @@ PaintSpec Converter::resolve_paint(const PaintValue& p, const RGBA& current, con
   // paints nothing (SVG 2 painting.html#SpecifyingPaint).
   PaintSpec fallback;
   if (p.fallback == PaintValue::Fallback::Color) fallback = PaintSpec::solid(p.fallback_color);
-  if (p.fallback == PaintValue::Fallback::CurrentColor) fallback = PaintSpec::solid(current);
+  if (p.fallback == PaintValue::Fallback::CurrentColor) {
+    fallback = PaintSpec::solid(current);
+    fallback.current_color = true;
+  }
   if (p.url_external) {
     warn("references to other documents are not supported: " + what + " falls back");
     return fallback;
@@ -1173,6 +1186,7 @@ PaintSpec Converter::resolve_paint(const PaintValue& p, const RGBA& current, con
   server.server = target;
   server.fallback = fallback.kind == PaintSpec::Kind::Color;
   server.color = fallback.color;
+  server.current_color = fallback.current_color;
   return server;
 }
 
