@@ -298,7 +298,9 @@ bool d_property(const Element& e, Path& out, std::vector<uint32_t>* arc_continua
   for (auto it = e.declarations.rbegin(); it != e.declarations.rend(); ++it) {
     if (it->first != "d") continue;
     const auto keyword = parse_keyword(it->second);
-    if (keyword == "none" || keyword == "initial") return false;
+    // unset and revert: d is not inherited, and presentation attributes
+    // are author style, which revert rolls back past: none.
+    if (keyword == "none" || keyword == "initial" || keyword == "unset" || keyword == "revert") return false;
     if (keyword == "inherit") return e.parent && d_property(*e.parent, out, arc_continuations);
     if (const auto p = parse_css_path(it->second); p && !p->rule && parse_path_data(p->data, out, arc_continuations))
       return true;
