@@ -177,7 +177,10 @@ bool Converter::mask_ops(const Element& mask, const Affine& space, LazyBounds& b
   if (!(w > 0 && h > 0)) return false;
   const Affine region_xf = obb ? space * box : space;
 
-  const auto type = property<std::string>(mask, "mask-type", parse_keyword);
+  // mask-type is not inherited: inherit takes the parent's value.
+  auto type = property<std::string>(mask, "mask-type", parse_keyword);
+  for (const Element* at = mask.parent; type.state == Prop<std::string>::Inherit && at; at = at->parent)
+    type = property<std::string>(*at, "mask-type", parse_keyword);
   Group g;
   g.mask = type.state == Prop<std::string>::Set && type.value == "alpha" ? MaskType::Alpha : MaskType::Luminance;
   Op begin = Op::of(OpKind::GroupBegin);

@@ -245,9 +245,19 @@ std::optional<Length> Converter::length_value(const Element& e, const char* name
   static constexpr std::string_view geometry[] = {"x", "y", "width", "height", "cx", "cy", "r", "rx", "ry"};
   const bool property_like = std::find(std::begin(geometry), std::end(geometry), name) != std::end(geometry);
   if (!s_.svg1 && property_like) {
-    const auto p = property<Length>(e, name, [](std::string_view v) { return parse_length(v, CalcOk::Yes); });
-    if (p.state == Prop<Length>::Set) return p.value;
-    return std::nullopt;  // absent, invalid, or inherit/initial (not inherited: the initial value)
+    // rx and ry take auto too (SVG 2 geometry.html#RX): a value of its
+    // own, which overrides a lower declaration or the attribute.
+    const bool takes_auto = std::string_view(name) == "rx" || std::string_view(name) == "ry";
+    const auto p = property<std::optional<Length>>(e, name, [&](std::string_view v) {
+      if (takes_auto && iequals(trim(v), "auto")) return std::optional<std::optional<Length>>(std::optional<Length>());
+      const auto l = parse_length(v, CalcOk::Yes);
+      return l ? std::optional<std::optional<Length>>(l) : std::nullopt;
+    });
+    if (p.state == Prop<std::optional<Length>>::Set) return p.value;
+    // inherit: the parent's value (these properties are not inherited
+    // otherwise); absent, invalid, initial or unset: the initial value.
+    if (p.state == Prop<std::optional<Length>>::Inherit && e.parent) return length_value(*e.parent, name);
+    return std::nullopt;
   }
   const std::string* a = e.attribute(name);
   if (!a) return std::nullopt;

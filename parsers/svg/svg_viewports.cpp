@@ -21,12 +21,14 @@ bool Converter::clips_overflow(const Element& e) const {
   };
   auto p = value(e);
   if (p.state == Prop<std::string>::Unset) return true;
+  if (p.state == Prop<std::string>::Initial) return false;  // CSS's initial value: visible
   const Element* at = &e;
   while (p.state == Prop<std::string>::Inherit) {
     at = at->parent;
     if (!at) return false;
     p = value(*at);
-    if (p.state == Prop<std::string>::Unset) return false;  // the parent's computed value: initial (visible)
+    if (p.state == Prop<std::string>::Unset || p.state == Prop<std::string>::Initial)
+      return false;  // the parent's computed value: initial (visible)
   }
   return !(p.value == "visible" || p.value == "auto");
 }
