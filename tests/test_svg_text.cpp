@@ -444,3 +444,28 @@ TEST_CASE("text: text-rendering optimizeSpeed draws glyphs without antialiasing;
   for (const mpvg::ScenePath& p : r.scene.paths) aliased_clips += p.is_clip && p.aliased;
   CHECK(aliased_clips >= 1);
 }
+
+TEST_CASE("text: the text-decoration shorthand's grammar", "[svg][text]") {
+  REQUIRE_FONT();
+  // CSS Text Decoration 3 §2.4: lines, a style and a colour in any order,
+  // keywords in any case; none alone; anything else invalid, so the
+  // cascade falls back (here to the attribute's overline).
+  auto paths = [](const std::string& value) {
+    return parse("<text x='10' y='50' text-decoration='overline' style='text-decoration: " + value +
+                 "'>Hi</text>").scene.paths.size();
+  };
+  const size_t none = parse("<text x='10' y='50'>Hi</text>").scene.paths.size();
+  const size_t one = parse("<text x='10' y='50' text-decoration='underline'>Hi</text>").scene.paths.size();
+  REQUIRE(one == none + 1);
+  CHECK(paths("UNDERLINE") == one);
+  CHECK(paths("underline rgb(255, 0, 0) wavy") == one);
+  CHECK(paths("dotted underline line-through") == one + 1);
+  CHECK(paths("none") == none);
+  // Invalid: the attribute's overline stays (one line).
+  CHECK(paths("none underline") == one);
+  CHECK(paths("underline underline") == one);
+  CHECK(paths("underline bogus") == one);
+  const auto over = parse("<text x='10' y='50' text-decoration='overline' style='text-decoration: none underline'>Hi</text>");
+  const auto plain_over = parse("<text x='10' y='50' text-decoration='overline'>Hi</text>");
+  CHECK(mpvg::dump(over.scene) == mpvg::dump(plain_over.scene));
+}

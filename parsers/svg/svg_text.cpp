@@ -15,12 +15,15 @@
 //     (dominant-baseline, alignment-baseline, baseline-shift), with its
 //     decorations, painted with the span's fill and stroke.
 //
+// Colour glyphs, in this order of preference: COLR version 1 paint graphs
+// (text/color_glyph.h, where FreeType gives them), OpenType SVG documents,
+// bitmaps (CBDT, sbix), COLR version 0 layers.
+//
 // Not yet: textPath's method and spacing, and its SVG 2 path attribute (as
-// resvg and Chrome); colour fonts: COLR version 0 layers and bitmap glyphs
-// (CBDT, sbix) are drawn, COLR version 1 paints and SVG glyphs are not;
-// text-rendering="optimizeSpeed" is antialiased like the rest.
+// resvg and Chrome).
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -172,21 +175,47 @@ double anchor_offset(Inherited::Anchor a, double width) {
 
 enum Line { Under = 1, Over = 2, Through = 4 };
 
+// text-decoration (CSS Text Decoration 3 §2.4, the shorthand): its lines;
+// a style and a colour may come with them (drawn solid, in the fill:
+// svg_style.cpp warns), each component at most once, none only alone,
+// keywords case-insensitive. Anything else makes the declaration invalid.
 int decoration_of(const Element& e) {
   const auto d = property<int>(e, "text-decoration", [](std::string_view v) -> std::optional<int> {
     int lines = 0;
+    bool none = false, style = false, color = false;
     for (size_t pos = 0; pos < v.size();) {
       const size_t b = v.find_first_not_of(" \t\n\r", pos);
       if (b == std::string_view::npos) break;
-      size_t end = v.find_first_of(" \t\n\r", b);
-      if (end == std::string_view::npos) end = v.size();
+      size_t end = b;  // a word, or a function with its parentheses (rgb(0, 0, 0))
+      for (int depth = 0; end < v.size() && (depth > 0 || !std::strchr(" \t\n\r", v[end])); end++)
+        depth += v[end] == '(' ? 1 : v[end] == ')' ? -1 : 0;
       const std::string_view w = v.substr(b, end - b);
-      if (w == "underline") lines |= Under;
-      else if (w == "overline") lines |= Over;
-      else if (w == "line-through") lines |= Through;
-      else if (w != "none") return std::nullopt;
       pos = end;
+      int line = 0;
+      if (iequals(w, "underline")) line = Under;
+      else if (iequals(w, "overline")) line = Over;
+      else if (iequals(w, "line-through")) line = Through;
+      if (line) {
+        if (lines & line) return std::nullopt;
+        lines |= line;
+        continue;
+      }
+      if (iequals(w, "none") && !none) {
+        none = true;
+        continue;
+      }
+      if (!style && (iequals(w, "solid") || iequals(w, "double") || iequals(w, "dotted") || iequals(w, "dashed") ||
+                     iequals(w, "wavy"))) {
+        style = true;
+        continue;
+      }
+      if (!color && parse_color(w)) {
+        color = true;
+        continue;
+      }
+      return std::nullopt;
     }
+    if (none && lines) return std::nullopt;
     return lines;
   });
   return d.state == Prop<int>::Set ? d.value : 0;
