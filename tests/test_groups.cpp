@@ -328,21 +328,25 @@ TEST_CASE("Porter-Duff groups by hand: over a backdrop, over nothing, partly tra
     check_pixel(r, 5, 30, {0, 1, 0, 1});          // atop nothing: green shows
     check_pixel(r, 30, 5, {k, 1 - k, 0, 1});
   }
-  {  // An isolated knockout group composites each element onto
-     // transparency: a source-atop element there is nothing, and knocks out
-     // the red below it. Its list must run back to front for that.
+  // An isolated knockout group of red, then blue in a group of `mode`.
+  auto knockout = [](BlendMode mode, float blue_alpha) {
     SceneBuilder b(40, 40);
     Group ko;
     ko.knockout = true;
     b.begin_group(ko);
     fill_box(b, 0, 0, 40, 20, {1, 0, 0, 1});
-    Group atop;
-    atop.blend = BlendMode::SourceAtop;
-    b.begin_group(atop);
-    fill_box(b, 0, 0, 20, 40, {0, 0, 1, 1});
+    Group g;
+    g.blend = mode;
+    b.begin_group(g);
+    fill_box(b, 0, 0, 20, 40, {0, 0, 1, blue_alpha});
     b.end_group();
     b.end_group();
-    const Scene s = b.finish();
+    return b.finish();
+  };
+  {  // Each element is composited onto transparency: a source-atop
+     // element there is nothing, and knocks out the red below it. Its list
+     // must run back to front for that.
+    const Scene s = knockout(BlendMode::SourceAtop, 1);
     CHECK(s.groups[0].back_to_front);
     const Rendered r(s);
     check_pixel(r, 5, 5, {0, 0, 0, 0});
@@ -351,18 +355,7 @@ TEST_CASE("Porter-Duff groups by hand: over a backdrop, over nothing, partly tra
   }
   {  // ... whereas xor and plus-lighter onto transparency are the source:
      // that knockout list keeps running front to back.
-    SceneBuilder b(40, 40);
-    Group ko;
-    ko.knockout = true;
-    b.begin_group(ko);
-    fill_box(b, 0, 0, 40, 20, {1, 0, 0, 1});
-    Group x;
-    x.blend = BlendMode::Xor;
-    b.begin_group(x);
-    fill_box(b, 0, 0, 20, 40, {0, 0, 1, 0.5f});
-    b.end_group();
-    b.end_group();
-    const Scene s = b.finish();
+    const Scene s = knockout(BlendMode::Xor, 0.5f);
     CHECK_FALSE(s.groups[0].back_to_front);
     const Rendered r(s);
     check_pixel(r, 5, 5, {0, 0, 0.5f, 0.5f});
