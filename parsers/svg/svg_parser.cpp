@@ -254,9 +254,23 @@ std::optional<Length> Converter::length_value(const Element& e, const char* name
       return l ? std::optional<std::optional<Length>>(l) : std::nullopt;
     });
     if (p.state == Prop<std::optional<Length>>::Set) return p.value;
-    // inherit: the parent's value (these properties are not inherited
-    // otherwise); absent, invalid, initial or unset: the initial value.
-    if (p.state == Prop<std::optional<Length>>::Inherit && e.parent) return length_value(*e.parent, name);
+    // inherit in a declaration: the parent's value (these properties are
+    // not inherited otherwise), from its declarations, or from its
+    // attribute where that is the property's presentation attribute (x on
+    // a rect, not on a g). In an attribute Chromium takes inherit as
+    // invalid, as resvg's suite expects. Absent, invalid, initial or
+    // unset: the initial value.
+    if (p.state == Prop<std::optional<Length>>::Inherit && e.parent &&
+        std::any_of(e.declarations.begin(), e.declarations.end(),
+                    [&](const auto& d) { return d.first == name && iequals(trim(d.second), "inherit"); })) {
+      const Element& parent = *e.parent;
+      const bool attribute_is_property = classify(parent) == Kind::Shape || parent.name == "image" ||
+                                         parent.name == "svg" || parent.name == "foreignObject";
+      if (!attribute_is_property && !std::any_of(parent.declarations.begin(), parent.declarations.end(),
+                                                 [&](const auto& d) { return d.first == name; }))
+        return std::nullopt;
+      return length_value(parent, name);
+    }
     return std::nullopt;
   }
   const std::string* a = e.attribute(name);
