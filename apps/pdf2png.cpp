@@ -7,7 +7,10 @@
 // (the longer side in pixels), -x X -y Y -W W -H H (a crop window in
 // pixels), -f N and -l N (first and last page), --singlefile (the first
 // page only, written to OUT-PREFIX.png), --password P, --transparent (no
-// white page background), --threads N (worker threads, default one per
+// white page background), --box media|crop|bleed|trim|art (the page box
+// rendered, default crop; -cropbox is pdftoppm's spelling of --box crop),
+// -gray and -mono (a greyscale or 1-bit PNG, as pdftoppm's; apps/
+// png_writer.h gives their formulas), --threads N (worker threads, default one per
 // core, less the render threads with CUDA), --render-threads N (default 3 with CUDA, 5 with --compression 1, 1 on the CPU), --repeat N
 // (the pages N times over, for benchmarks: later rounds run warm); IN.pdf
 // "-" reads stdin. The rendering options
@@ -87,6 +90,8 @@ struct PdfOptions {
   bool singlefile = false;  // the first page only, to OUT-PREFIX.png
   int scale_to = 0;         // the longer side in pixels (overrides the resolution)
   int crop_x = 0, crop_y = 0, crop_w = 0, crop_h = 0;  // -x -y -W -H, pixels at the resolution
+  mpvg::pdf::PageBox box = mpvg::pdf::PageBox::Crop;   // --box, -cropbox
+  bool gray = false, mono = false;                      // -gray, -mono
   int threads = 0;          // worker threads; 0: one per core
   int repeat = 1;           // --repeat N: the pages N times over (benchmarks: later rounds run warm)
   // Threads rendering, each with its own backend state: per device with
@@ -108,9 +113,16 @@ void usage() {
       "  -r, --dpi N               resolution (default 150)\n"
       "      --scale-to N          the longer side in pixels (instead of -r)\n"
       "  -x X -y Y -W W -H H       a crop window, in pixels at the resolution\n"
+      "      --box B               the page box rendered: media, crop (default), bleed,\n"
+      "                            trim or art (PDF 32000-1 14.11.2)\n"
+      "      -cropbox              --box crop (pdftoppm's spelling)\n"
       "Output:\n"
       "      --transparent         no white page background\n"
       "      --bits 8|16           bits per channel of the PNG (default 8)\n"
+      "      -gray, --gray         greyscale PNG: 0.30 R + 0.59 G + 0.11 B (grey and\n"
+      "                            alpha with --transparent where not opaque)\n"
+      "      -mono, --mono         1-bit PNG: grey dithered as pdftoppm -mono does\n"
+      "                            (a 4x4 dispersed-dot threshold matrix), over white\n"
       "      --compression 0..9    PNG deflate level: 0 none, 1 mpvg's parallel deflate\n"
       "                            (on the GPU where it renders: the CPU's work for PNGs\n"
       "                            drops ~20x), 2-9 libdeflate's on the CPU (default 2)\n"
@@ -182,6 +194,21 @@ std::vector<char*> own_options(int argc, char** argv, PdfOptions& p) {
       p.crop_w = static_cast<int>(number(1));
     else if (a == "-H")
       p.crop_h = static_cast<int>(number(1));
+    else if (a == "--box") {
+      const std::string v = value();
+      using mpvg::pdf::PageBox;
+      if (v == "media") p.box = PageBox::Media;
+      else if (v == "crop") p.box = PageBox::Crop;
+      else if (v == "bleed") p.box = PageBox::Bleed;
+      else if (v == "trim") p.box = PageBox::Trim;
+      else if (v == "art") p.box = PageBox::Art;
+      else throw mpvg::cli::UsageError{"invalid value '" + v + "' for --box (media, crop, bleed, trim or art)"};
+    } else if (a == "-cropbox")
+      p.box = mpvg::pdf::PageBox::Crop;
+    else if (a == "-gray" || a == "--gray")
+      p.gray = true;
+    else if (a == "-mono" || a == "--mono")
+      p.mono = true;
     else if (a == "--threads")
       p.threads = static_cast<int>(number(1));
     else if (a == "--repeat")
@@ -202,9 +229,10 @@ std::unique_ptr<mpvg::pipeline::Job> lower(const PdfOptions& pdf, const mpvg::cl
   job->label = "page " + std::to_string(n);
   job->out = out;
   // --scale-to: the resolution follows from the page's size.
-  pdf::PageResult page = doc.page(n - 1, [&pdf](double w, double h) {
-    return pdf.scale_to > 0 ? pdf.scale_to / std::max(w, h) : pdf.dpi / 72.0;
-  });
+  pdf::PageResult page = doc.page(
+      n - 1,
+      [&pdf](double w, double h) { return pdf.scale_to > 0 ? pdf.scale_to / std::max(w, h) : pdf.dpi / 72.0; },
+      pdf.box);
   job->prepare_ms[0] = page.interpret_ms;
   job->prepare_ms[1] = page.lower_ms;
   job->warnings = std::move(page.warnings);
@@ -237,6 +265,8 @@ int main(int argc, char** argv) {
     std::vector<char*> rest = own_options(argc, argv, pdf);
     if (rest.empty()) return 0;  // --help
     if (!cli::parse(static_cast<int>(rest.size()), rest.data(), "pdf2png", "pdf", opt)) return 0;
+    if (pdf.gray && pdf.mono) throw cli::UsageError{"-gray and -mono cannot be given together"};
+    if (pdf.mono && opt.bits == 16) throw cli::UsageError{"-mono writes 1-bit PNGs: --bits 16 cannot be given with it"};
   } catch (const cli::UsageError& e) {
     std::fprintf(stderr, "pdf2png: %s\n", e.message.c_str());
     return 2;
@@ -310,6 +340,7 @@ int main(int argc, char** argv) {
     c.quiet = opt.quiet;
     c.bits = opt.bits;
     c.compression = opt.compression;
+    c.color = pdf.mono ? png::Color::Mono : pdf.gray ? png::Color::Gray : png::Color::Rgb;
     // Small pages waiting together share a frame (core/forest.h): one tree
     // build for several pages (--compression 1: pgfmanual 196-199 pages/s
     // against 172-178 with 3 render threads).

@@ -167,10 +167,13 @@ struct State {
     const auto t0 = Clock::now();
     png::EncodeOptions options;
     if (c.compression >= 0) options.level = c.compression;
+    const bool rgb = c.color == png::Color::Rgb;
     const std::vector<uint8_t> bytes =
         !job.png.zlib.empty() ? png::wrap(job.width, job.height, 8, job.png.channels, job.png.zlib.data(), job.png.zlib.size())
-        : c.bits == 16        ? png::encode_rgba16(job.width, job.height, to_rgba16(job.image, c.gamma).data(), options)
-                              : png::encode_rgba8(job.width, job.height, job.rgba8.data(), options);
+        : c.bits == 16 && rgb ? png::encode_rgba16(job.width, job.height, to_rgba16(job.image, c.gamma).data(), options)
+        : c.bits == 16        ? png::encode_gray16(job.width, job.height, to_rgba16(job.image, c.gamma).data(), options)
+        : rgb                 ? png::encode_rgba8(job.width, job.height, job.rgba8.data(), options)
+                              : png::encode_gray8(job.width, job.height, job.rgba8.data(), c.color, options);
     const auto t1 = Clock::now();
     png::write_file(job.out, bytes);
     job.write_ms = ms_since(t1);
@@ -244,8 +247,9 @@ struct State {
   }
 
   // Is the PNG stage run where the frame renders (level 1 on the device)?
+  // Not for grey or mono: the device's PNG stage writes RGB(A) only.
   bool png_on_device(const FrameRenderer& renderer) const {
-    return renderer.backend() == Backend::Cuda && c.compression == 1;
+    return renderer.backend() == Backend::Cuda && c.compression == 1 && c.color == png::Color::Rgb;
   }
 
   // Renders one item in a frame of its own; the error message, or empty.

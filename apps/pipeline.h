@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/png_writer.h"
 #include "core/png_encode.h"
 #include "core/renderer.h"
 #include "gpu/backend.h"
@@ -63,6 +64,11 @@ struct Config {
   bool quiet = false;        // no warnings
   int bits = 8;
   int compression = -1;  // cli::Options::compression (1: compressed by CUDA render threads)
+  // The PNG's colours (pdf2png's -gray, -mono): grey and mono images are
+  // made from the rendered RGBA by the workers (png::encode_gray8/16), so
+  // --compression 1 compresses them on the CPU, never on the device.
+  // Mono takes 8 bits (bits == 8).
+  png::Color color = png::Color::Rgb;
   // Most items a render thread renders as one forest frame (core/forest.h:
   // one tree build for several small items waiting together); 1: each
   // item its own frame.

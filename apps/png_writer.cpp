@@ -175,7 +175,99 @@ std::vector<uint8_t> encode(int width, int height, const Sample* rgba, const Enc
   return wrap(width, height, 8 * bytes, channels, data.zlib.data(), data.zlib.size());
 }
 
+// The PNG of the unfiltered rows in sc.filtered's place: `raw` (height
+// rows of `row_bytes`), filtered Up (specification 9.2, type 2: the byte
+// above subtracted, bpp-free, so the same for 1-, 8- and 16-bit grey),
+// deflated at options.level as encode() does.
+std::vector<uint8_t> encode_raw(int width, int height, int bit_depth, int channels, const std::vector<uint8_t>& raw,
+                                size_t row_bytes, const EncodeOptions& options) {
+  Scratch& sc = scratch();
+  const size_t stride = row_bytes + 1;
+  sc.filtered.resize(stride * size_t(height));
+  parallel_for(size_t(height), options.threads > 0 ? options.threads : hardware_threads(), [&](size_t y) {
+    uint8_t* out = sc.filtered.data() + y * stride;
+    const uint8_t* row = raw.data() + y * row_bytes;
+    out[0] = 2;
+    if (y == 0) {
+      std::memcpy(out + 1, row, row_bytes);
+    } else {
+      const uint8_t* up = row - row_bytes;
+      for (size_t i = 0; i < row_bytes; i++) out[1 + i] = static_cast<uint8_t>(row[i] - up[i]);
+    }
+  });
+  const uint32_t bpp = static_cast<uint32_t>(std::max(1, channels * bit_depth / 8));
+  ImageData data;
+  if (options.level <= 0) {
+    store_zlib(sc.filtered.data(), sc.filtered.size(), data.zlib);
+  } else if (options.level == 1) {
+    deflate_zlib(sc.filtered.data(), sc.filtered.size(), bpp, static_cast<uint32_t>(stride), options.threads,
+                 data.zlib);
+  } else {
+    const size_t zlen = deflate_filtered(sc, height, stride, options.level, options.threads);
+    return wrap(width, height, bit_depth, channels, sc.deflated.data(), zlen);
+  }
+  return wrap(width, height, bit_depth, channels, data.zlib.data(), data.zlib.size());
+}
+
+template <class Sample>
+bool opaque(const Sample* rgba, size_t pixels) {
+  constexpr Sample full = static_cast<Sample>(~Sample(0));
+  for (size_t i = 0; i < pixels; i++)
+    if (rgba[4 * i + 3] != full) return false;
+  return true;
+}
+
 }  // namespace
+
+std::vector<uint8_t> encode_gray8(int width, int height, const uint8_t* rgba, Color color,
+                                  const EncodeOptions& options) {
+  if (width <= 0 || height <= 0) throw Error("PNG: empty image");
+  const size_t w = size_t(width);
+  if (color == Color::Mono) {
+    // Eight pixels a byte, the leftmost in the high bit (specification 7.2).
+    const size_t row_bytes = (w + 7) / 8;
+    std::vector<uint8_t> raw(row_bytes * size_t(height), 0);
+    for (int y = 0; y < height; y++) {
+      const uint8_t* p = rgba + size_t(y) * w * 4;
+      uint8_t* out = raw.data() + size_t(y) * row_bytes;
+      for (size_t x = 0; x < w; x++, p += 4) {
+        // Over white: g a + 255 (1 - a), rounded.
+        const uint32_t g = gray_of(p[0], p[1], p[2]);
+        const uint32_t over = (g * p[3] + 255 * (255 - p[3]) + 127) / 255;
+        if (mono_white(over, static_cast<int>(x), y)) out[x >> 3] |= static_cast<uint8_t>(0x80 >> (x & 7));
+      }
+    }
+    return encode_raw(width, height, 1, 1, raw, row_bytes, options);
+  }
+  const int channels = opaque(rgba, w * size_t(height)) ? 1 : 2;
+  const size_t row_bytes = w * size_t(channels);
+  std::vector<uint8_t> raw(row_bytes * size_t(height));
+  for (size_t i = 0, n = w * size_t(height); i < n; i++) {
+    const uint8_t* p = rgba + 4 * i;
+    raw[i * channels] = static_cast<uint8_t>(gray_of(p[0], p[1], p[2]));
+    if (channels == 2) raw[i * 2 + 1] = p[3];
+  }
+  return encode_raw(width, height, 8, channels, raw, row_bytes, options);
+}
+
+std::vector<uint8_t> encode_gray16(int width, int height, const uint16_t* rgba, const EncodeOptions& options) {
+  if (width <= 0 || height <= 0) throw Error("PNG: empty image");
+  const size_t w = size_t(width);
+  const int channels = opaque(rgba, w * size_t(height)) ? 1 : 2;
+  const size_t row_bytes = w * size_t(channels) * 2;
+  std::vector<uint8_t> raw(row_bytes * size_t(height));
+  // Big-endian samples (specification 7.1).
+  auto put = [&raw](size_t at, uint32_t v) {
+    raw[at] = static_cast<uint8_t>(v >> 8);
+    raw[at + 1] = static_cast<uint8_t>(v);
+  };
+  for (size_t i = 0, n = w * size_t(height); i < n; i++) {
+    const uint16_t* p = rgba + 4 * i;
+    put(i * channels * 2, gray_of(p[0], p[1], p[2]));
+    if (channels == 2) put(i * 4 + 2, p[3]);
+  }
+  return encode_raw(width, height, 16, channels, raw, row_bytes, options);
+}
 
 std::vector<uint8_t> wrap(int width, int height, int bit_depth, int channels, const uint8_t* zlib, size_t n) {
   static const uint8_t signature[8] = {137, 80, 78, 71, 13, 10, 26, 10};
@@ -184,7 +276,8 @@ std::vector<uint8_t> wrap(int width, int height, int bit_depth, int channels, co
   const uint8_t ihdr[13] = {uint8_t(width >> 24), uint8_t(width >> 16), uint8_t(width >> 8), uint8_t(width),
                             uint8_t(height >> 24), uint8_t(height >> 16), uint8_t(height >> 8), uint8_t(height),
                             uint8_t(bit_depth),
-                            uint8_t(channels == 3 ? 2 : 6),  // colour type: RGB or RGBA
+                            // colour type: grey, grey and alpha, RGB or RGBA
+                            uint8_t(channels == 1 ? 0 : channels == 2 ? 4 : channels == 3 ? 2 : 6),
                             0, 0, 0};  // deflate, adaptive filtering, not interlaced
   put_chunk(out, "IHDR", ihdr, sizeof ihdr);
   // IDAT chunks of at most 1 MiB, within every reader's limits.

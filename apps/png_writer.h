@@ -37,8 +37,47 @@ struct EncodeOptions {
 std::vector<uint8_t> encode_rgba8(int width, int height, const uint8_t* rgba, const EncodeOptions& options = {});
 std::vector<uint8_t> encode_rgba16(int width, int height, const uint16_t* rgba, const EncodeOptions& options = {});
 
+// Greyscale output (pdf2png's -gray and -mono, as pdftoppm's). Grey is
+// weighted from the rendered sRGB values with the weights of PDF 32000-1
+// §10.3.5 (DeviceRGB to DeviceGray), which MuPDF (fz_convert_color's
+// rgb_to_gray) and poppler (GfxDeviceRGBColorSpace::getGray, what
+// pdftoppm -gray and -mono draw with) both use:
+//   grey = 0.30 R + 0.59 G + 0.11 B, rounded to the nearest value.
+// Exact in integers: 100 * 65535 fits 32 bits.
+inline uint32_t gray_of(uint32_t r, uint32_t g, uint32_t b) { return (30 * r + 59 * g + 11 * b + 50) / 100; }
+
+// -mono: poppler's Splash in mono1 mode (pdftoppm -mono) dithers its grey
+// through a SplashScreen: below 300 dpi (SplashOutputDev::
+// setupScreenParams) a dispersed-dot (Bayer) threshold matrix of size 4,
+// thresholds 1 + 254 (v - 1) / 15 for SplashScreen::buildDispersedMatrix's
+// visiting order v = 1..16; a pixel is white where grey >= its threshold
+// (SplashScreen::test). So 0 is all black, 255 all white. At 300 dpi and
+// up pdftoppm switches to a stochastic clustered-dot screen built from
+// random numbers (not reproducible); this matrix serves every resolution.
+// pdftoppm 22.12 -mono at 72 dpi: every pixel of testdata/pdf/grey-ramp.pdf
+// equals this matrix applied to its own -gray output.
+inline bool mono_white(uint32_t gray8, int x, int y) {
+  static constexpr uint8_t kThreshold[4][4] = {
+      {17, 255, 34, 204}, {153, 85, 170, 102}, {51, 221, 1, 238}, {187, 119, 136, 68}};
+  return gray8 >= kThreshold[y & 3][x & 3];
+}
+
+enum class Color {
+  Rgb,   // RGB, or RGBA where any pixel is not opaque
+  Gray,  // grey (colour type 0), or grey and alpha (4) where any pixel is not opaque
+  Mono,  // 1 bit per pixel (colour type 0, depth 1), over a white page
+};
+
+// Straight-alpha RGBA of 8 or 16 bits -> a greyscale PNG of the same depth
+// (Color::Gray), or of 1 bit (Color::Mono: a pixel not opaque is first
+// composited over white).
+std::vector<uint8_t> encode_gray8(int width, int height, const uint8_t* rgba, Color color,
+                                  const EncodeOptions& options = {});
+std::vector<uint8_t> encode_gray16(int width, int height, const uint16_t* rgba, const EncodeOptions& options = {});
+
 // The PNG of an image compressed elsewhere (core/png_encode.h's ImageData):
-// bit_depth 8 or 16, channels 3 (RGB) or 4 (RGBA), the zlib stream.
+// bit_depth 1, 8 or 16, channels 1 (grey), 2 (grey, alpha), 3 (RGB) or 4
+// (RGBA), the zlib stream.
 std::vector<uint8_t> wrap(int width, int height, int bit_depth, int channels, const uint8_t* zlib, size_t n);
 
 // Writes bytes to path ("-": standard output), whole or not at all

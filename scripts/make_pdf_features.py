@@ -822,6 +822,63 @@ def error_cases():
     write(os.path.join(PDFDIR, "truncated.pdf"), data[:data.index(b"0 0 1 rg") + 4])
 
 
+# pdf2png's --box, -gray and -mono (tests/test_cli_pdf.sh).
+
+def page_boxes():
+    """page-boxes.pdf, two pages. MediaBox [0 0 300 200] and CropBox
+    [20 10 280 190] sit on the page tree (inherited); page 1 has its own
+    BleedBox [30 20 270 180], TrimBox [40 30 260 170] and ArtBox [50 40 400
+    160] (past the MediaBox: 250 x 120 once intersected). The media is
+    light grey with a 10 pt square at each box's lower-left corner: red
+    at the MediaBox's (0 0), green at the CropBox's, blue at the
+    BleedBox's, black at the TrimBox's, magenta at the ArtBox's. Page 2 is
+    the same content turned by /Rotate 90, without boxes of its own."""
+    content = lines("0.9 g 0 0 300 200 re f",
+                    "1 0 0 rg 0 0 10 10 re f",
+                    "0 1 0 rg 20 10 10 10 re f",
+                    "0 0 1 rg 30 20 10 10 re f",
+                    "0 g 40 30 10 10 re f",
+                    "1 0 1 rg 50 40 10 10 re f")
+    pdf = Pdf()
+    catalog = pdf.reserve()
+    tree = pdf.reserve()
+    p1 = pdf.reserve()
+    p2 = pdf.reserve()
+    contents = pdf.add_stream("", content)
+    pdf.set(p1, "<< /Type /Page /Parent %s /Contents %s /Resources << >> /BleedBox [30 20 270 180] "
+            "/TrimBox [40 30 260 170] /ArtBox [50 40 400 160] >>" % (ref(tree), ref(contents)))
+    pdf.set(p2, "<< /Type /Page /Parent %s /Contents %s /Resources << >> /Rotate 90 >>" % (ref(tree), ref(contents)))
+    pdf.set(tree, "<< /Type /Pages /Kids [%s %s] /Count 2 /MediaBox [0 0 300 200] /CropBox [20 10 280 190] >>"
+            % (ref(p1), ref(p2)))
+    pdf.set(catalog, "<< /Type /Catalog /Pages %s >>" % ref(tree))
+    write(os.path.join(PDFDIR, "page-boxes.pdf"), pdf.bytes(catalog))
+
+
+def grey_ramp():
+    """grey-ramp.pdf: a 256 x 40 pt page of 256 vertical bands, band i
+    1 pt wide in the grey i/255 (DeviceGray), over the top half; the
+    bottom half the colours red, green, blue, yellow, cyan, magenta in
+    bands of 40 pt (RGB, for the grey weights), then white."""
+    ops = ["%s g %d 20 1 20 re f" % (fmt(i / 255), i) for i in range(256)]
+    for k, rgb in enumerate(("1 0 0", "0 1 0", "0 0 1", "1 1 0", "0 1 1", "1 0 1")):
+        ops.append("%s rg %d 0 40 20 re f" % (rgb, 40 * k))
+    one_page_to(os.path.join(PDFDIR, "grey-ramp.pdf"), (256, 40), lines(*ops))
+
+
+def one_page_to(path, size, content):
+    """A one-page document of `content` over a MediaBox of `size`, at `path`."""
+    pdf = Pdf()
+    catalog = pdf.reserve()
+    tree = pdf.reserve()
+    page = pdf.reserve()
+    contents = pdf.add_stream("", content)
+    pdf.set(page, "<< /Type /Page /Parent %s /MediaBox [0 0 %s] /Contents %s /Resources << >> >>" %
+            (ref(tree), " ".join(fmt(v) for v in size), ref(contents)))
+    pdf.set(tree, "<< /Type /Pages /Kids [%s] /Count 1 >>" % ref(page))
+    pdf.set(catalog, "<< /Type /Catalog /Pages %s >>" % ref(tree))
+    write(path, pdf.bytes(catalog))
+
+
 def main():
     fill_rules()
     clips()
@@ -852,6 +909,8 @@ def main():
     annotations()
     optional_content()
     error_cases()
+    page_boxes()
+    grey_ramp()
 
 
 if __name__ == "__main__":

@@ -104,5 +104,165 @@ check "--devices: accepted (the CPU backend renders anyway)" test "$rc" = 0 -a -
 err=$("$bin" -q --backend cpu -r 72 --devices x "$pdf" "$tmp/dvx" 2>&1); rc=$?
 check "--devices x: exit 2" test "$rc" = 2
 
+# Page boxes (--box; scripts/make_pdf_features.py page_boxes): sizes at
+# 72 dpi and, at each box's lower-left corner, the square of its colour
+# (as pdftoppm -r 72 draws the MediaBox and, with -cropbox, the CropBox).
+# MediaBox and CropBox are inherited from the page tree; the ArtBox
+# reaches past the MediaBox (intersected: 250 x 120); page 2 is turned by
+# /Rotate 90 and has no boxes of its own (TrimBox = CropBox).
+# Reads PNGs of any colour type and depth: `pixels PNG X,Y ...` prints
+# "WxH depth type" and each pixel's samples as R-G-B (or G, or G-A).
+pixels() {
+  python3 - "$@" <<'PY'
+import struct, sys, zlib
+d = open(sys.argv[1], "rb").read()
+w, h, bd, ct = struct.unpack(">IIBB", d[16:26])
+i, z = 8, b""
+while i < len(d):
+    n = struct.unpack(">I", d[i:i + 4])[0]
+    if d[i + 4:i + 8] == b"IDAT":
+        z += d[i + 8:i + 8 + n]
+    i += 12 + n
+ch = {0: 1, 2: 3, 4: 2, 6: 4}[ct]
+raw = zlib.decompress(z)
+stride, bpp = (w * ch * bd + 7) // 8, max(1, ch * bd // 8)
+rows, prev, at = [], bytearray(stride), 0
+for y in range(h):
+    t, line = raw[at], bytearray(raw[at + 1:at + 1 + stride])
+    at += 1 + stride
+    for x in range(stride):
+        a = line[x - bpp] if x >= bpp else 0
+        b, c = prev[x], (prev[x - bpp] if x >= bpp else 0)
+        p = a + b - c
+        pred = [0, a, b, (a + b) // 2,
+                a if abs(p - a) <= abs(p - b) and abs(p - a) <= abs(p - c) else b if abs(p - b) <= abs(p - c) else c][t]
+        line[x] = (line[x] + pred) & 255
+    rows.append(line)
+    prev = line
+def px(x, y):
+    r = rows[y]
+    if bd == 1:
+        return [(r[x >> 3] >> (7 - (x & 7))) & 1]
+    if bd == 8:
+        return list(r[x * ch:(x + 1) * ch])
+    return [(r[2 * (x * ch + k)] << 8) | r[2 * (x * ch + k) + 1] for k in range(ch)]
+out = ["%dx%d %d %d" % (w, h, bd, ct)]
+for a in sys.argv[2:]:
+    if a == "all":
+        out += ["-".join(map(str, px(x, y))) for y in range(h) for x in range(w)]
+    else:
+        x, y = map(int, a.split(","))
+        out.append("-".join(map(str, px(x, y))))
+print(" ".join(out))
+PY
+}
+near() {  # the same words, numbers (split at '-' and 'x') within 2
+  python3 - "$1" "$2" <<'PY'
+import re, sys
+a, b = (re.split(r"[-x ]+", s.strip()) for s in sys.argv[1:3])
+sys.exit(len(a) != len(b) or any(abs(int(p) - int(q)) > 2 for p, q in zip(a, b)))
+PY
+}
+boxes=$src/testdata/pdf/page-boxes.pdf
+for case in "media 300x200 5,195 255-0-0" "crop 260x180 5,175 0-255-0" "bleed 240x160 5,155 0-0-255" \
+  "trim 220x140 5,135 0-0-0" "art 250x120 5,115 255-0-255"; do
+  set -- $case
+  "$bin" -q --backend cpu -r 72 -f 1 -l 1 --box "$1" "$boxes" "$tmp/box-$1"
+  got=$(pixels "$tmp/box-$1-1.png" "$3" 15,15)
+  check "--box $1: $2, its corner square at the bottom left ($got)" near "$got" "$2 8 2 $4 229-229-229"
+done
+"$bin" -q --backend cpu -r 72 "$boxes" "$tmp/box-default"
+"$bin" -q --backend cpu -r 72 -cropbox "$boxes" "$tmp/box-cropbox"
+same_crop() {
+  cmp -s "$tmp/box-default-1.png" "$tmp/box-crop-1.png" && cmp -s "$tmp/box-cropbox-1.png" "$tmp/box-crop-1.png" &&
+    cmp -s "$tmp/box-default-2.png" "$tmp/box-cropbox-2.png"
+}
+check "the default box is the CropBox, -cropbox too" same_crop
+"$bin" -q --backend cpu -r 72 -f 2 --box media "$boxes" "$tmp/rot-media"
+"$bin" -q --backend cpu -r 72 -f 2 --box trim "$boxes" "$tmp/rot-trim"
+got="$(pixels "$tmp/rot-media-2.png" 5,5) / $(pixels "$tmp/box-default-2.png" 5,5) / $(pixels "$tmp/rot-trim-2.png" 5,5)"
+check "/Rotate 90: the MediaBox 200x300 and the CropBox 180x260, their corners at the top left; TrimBox = CropBox ($got)" \
+  near "${got//\//}" "200x300 8 2 255-0-0 180x260 8 2 0-255-0 180x260 8 2 0-255-0"
+"$bin" -q --backend cpu -r 144 --box art -f 1 -l 1 "$boxes" "$tmp/art144"
+check "--box art at 144 dpi: 500x240" test "$(png_size "$tmp/art144-1.png")" = 500x240
+
+# -gray and -mono (apps/png_writer.h): colour type and depth from the
+# header, grey = round(0.30 R + 0.59 G + 0.11 B) of the RGB output of the
+# same page, mono = that grey against the thresholds of
+# poppler's SplashScreen below 300 dpi, a 4x4 dispersed-dot matrix (white
+# where grey >= its threshold; pdftoppm 22.12 -mono makes every pixel of
+# this page so from its -gray output).
+ramp=$src/testdata/pdf/grey-ramp.pdf
+"$bin" -q --backend cpu -r 72 "$ramp" "$tmp/ramp-rgb"
+"$bin" -q --backend cpu -r 72 -gray "$ramp" "$tmp/ramp-gray"
+"$bin" -q --backend cpu -r 72 --gray --bits 16 "$ramp" "$tmp/ramp-gray16"
+"$bin" -q --backend cpu -r 72 -gray --transparent "$ramp" "$tmp/ramp-grayt"
+"$bin" -q --backend cpu -r 72 -mono "$ramp" "$tmp/ramp-mono"
+"$bin" -q --backend cpu -r 72 --mono --compression 1 "$ramp" "$tmp/ramp-mono1"
+"$bin" -q --backend cpu -r 72 -gray --compression 0 "$ramp" "$tmp/ramp-gray0"
+header() { echo "$(od -An -tu1 -j24 -N2 "$1" | tr -s ' ')"; }
+check "-gray: 8-bit grey (depth 8, colour type 0)" test "$(header "$tmp/ramp-gray-1.png")" = " 8 0"
+check "-gray --bits 16: depth 16, colour type 0" test "$(header "$tmp/ramp-gray16-1.png")" = " 16 0"
+check "-gray --transparent (a page not covered): grey and alpha, colour type 4" \
+  test "$(header "$tmp/ramp-grayt-1.png")" = " 8 4"
+check "-mono: depth 1, colour type 0" test "$(header "$tmp/ramp-mono-1.png")" = " 1 0"
+pixels "$tmp/ramp-rgb-1.png" all > "$tmp/ramp-rgb.txt"
+pixels "$tmp/ramp-gray-1.png" all > "$tmp/ramp-gray.txt"
+pixels "$tmp/ramp-gray16-1.png" all > "$tmp/ramp-gray16.txt"
+pixels "$tmp/ramp-grayt-1.png" all > "$tmp/ramp-grayt.txt"
+pixels "$tmp/ramp-mono-1.png" all > "$tmp/ramp-mono.txt"
+pixels "$tmp/ramp-mono1-1.png" all > "$tmp/ramp-mono1.txt"
+pixels "$tmp/ramp-gray0-1.png" all > "$tmp/ramp-gray0.txt"
+compare_grey() {  # RGB text, grey text, scale of grey (1 or 257), "mono"|"grey"
+  python3 - "$@" <<'PY'
+import sys
+rgb = open(sys.argv[1]).read().split()
+grey = open(sys.argv[2]).read().split()
+scale, mode = int(sys.argv[3]), sys.argv[4]
+w, h = map(int, rgb[0].split("x"))
+if grey[0] != rgb[0] or len(rgb) != len(grey):
+    sys.exit("sizes differ")
+worst, bad, levels = 0, 0, set()
+for i, (a, b) in enumerate(zip(rgb[3:], grey[3:])):
+    r, g, bl = map(int, a.split("-"))
+    v = int(b.split("-")[0])
+    want = 0.30 * r + 0.59 * g + 0.11 * bl
+    if mode == "grey":
+        worst = max(worst, abs(v / scale - want))
+    else:
+        x, y = i % w, i // w
+        t = [[17, 255, 34, 204], [153, 85, 170, 102], [51, 221, 1, 238], [187, 119, 136, 68]][y & 3][x & 3]
+        bad += v != (1 if (30 * r + 59 * g + 11 * bl + 50) // 100 >= t else 0)
+        levels.add(v)
+if mode == "grey":
+    print("ok" if worst <= 1 else "off by %.2f" % worst)
+else:
+    print("ok" if bad == 0 and levels == {0, 1} else "%d pixels differ, values %s" % (bad, sorted(levels)))
+PY
+}
+got=$(compare_grey "$tmp/ramp-rgb.txt" "$tmp/ramp-gray.txt" 1 grey)
+check "-gray: each pixel the weighted grey of the RGB output within 1/255 ($got)" test "$got" = ok
+got=$(compare_grey "$tmp/ramp-rgb.txt" "$tmp/ramp-gray16.txt" 257 grey)
+check "-gray --bits 16: the same within 1/255 ($got)" test "$got" = ok
+check "-gray --compression 0: the same pixels" cmp -s "$tmp/ramp-gray.txt" "$tmp/ramp-gray0.txt"
+check "-gray --transparent: transparent where the page is empty" \
+  test "$(pixels "$tmp/ramp-grayt-1.png" 250,35 5,35 | sed -E 's/ [0-9]+-/ /g')" = "256x40 8 4 0 255"
+got=$(compare_grey "$tmp/ramp-rgb.txt" "$tmp/ramp-mono.txt" 1 mono)
+check "-mono: 0/1, the RGB output's grey dithered by the 2x2 thresholds ($got)" test "$got" = ok
+check "-mono --compression 1: the same pixels" cmp -s "$tmp/ramp-mono.txt" "$tmp/ramp-mono1.txt"
+
+err=$("$bin" -q -gray -mono "$ramp" "$tmp/u" 2>&1); rc=$?
+check "-gray with -mono: exit 2, one line ($err)" test "$rc" = 2 -a "$(echo "$err" | wc -l)" = 1
+err=$("$bin" -q -mono --bits 16 "$ramp" "$tmp/u" 2>&1); rc=$?
+check "-mono with --bits 16: exit 2, one line ($err)" test "$rc" = 2 -a "$(echo "$err" | wc -l)" = 1
+err=$("$bin" -q --box paper "$ramp" "$tmp/u" 2>&1); rc=$?
+check "--box paper: exit 2, one line ($err)" test "$rc" = 2 -a "$(echo "$err" | wc -l)" = 1 -a ! -e "$tmp/u-1.png"
+err=$("$bin" -q "$ramp" "$tmp/u" --box 2>&1); rc=$?
+check "--box without a value: exit 2" test "$rc" = 2
+out=$("$bin" --help)
+check "--help lists --box, -cropbox, -gray and -mono" \
+  test -n "$(echo "$out" | grep -e '--box B')" -a -n "$(echo "$out" | grep -e '-cropbox')" \
+  -a -n "$(echo "$out" | grep -e '-gray, --gray')" -a -n "$(echo "$out" | grep -e '-mono, --mono')"
+
 echo "$fails failure(s)"
 test "$fails" = 0

@@ -287,3 +287,46 @@ TEST_CASE("glyph cache: outlines equal MuPDF's at the text matrix", "[pdf]") {
   for (fz_font* font : fonts) fz_drop_font(ctx, font);
   fz_drop_context(ctx);
 }
+
+// Page boxes (PDF 32000-1 §14.11.2) in points, from the page tree and the
+// page (scripts/make_pdf_features.py page_boxes): the MediaBox and CropBox
+// inherited, the ArtBox cut by the MediaBox, page 2 turned by /Rotate 90
+// and without boxes of its own (Bleed, Trim, Art = CropBox).
+TEST_CASE("pdf page boxes: sizes per box, inherited, intersected, rotated") {
+  const pdf::Document doc(std::string(MPVG_SOURCE_DIR) + "/testdata/pdf/page-boxes.pdf");
+  struct Want {
+    pdf::PageBox box;
+    double w, h;
+  };
+  for (const Want& want : {Want{pdf::PageBox::Media, 300, 200}, Want{pdf::PageBox::Crop, 260, 180},
+                           Want{pdf::PageBox::Bleed, 240, 160}, Want{pdf::PageBox::Trim, 220, 140},
+                           Want{pdf::PageBox::Art, 250, 120}}) {
+    const pdf::PageResult p1 = doc.page(0, 1.0, want.box);
+    CHECK(p1.scene.width == Approx(want.w));
+    CHECK(p1.scene.height == Approx(want.h));
+  }
+  CHECK(doc.page(1, 1.0, pdf::PageBox::Media).scene.width == Approx(200));
+  CHECK(doc.page(1, 1.0, pdf::PageBox::Media).scene.height == Approx(300));
+  for (pdf::PageBox b : {pdf::PageBox::Crop, pdf::PageBox::Bleed, pdf::PageBox::Trim, pdf::PageBox::Art}) {
+    const pdf::PageResult p2 = doc.page(1, 1.0, b);
+    CHECK(p2.scene.width == Approx(180));
+    CHECK(p2.scene.height == Approx(260));
+  }
+}
+
+// /UserUnit scales every box as it scales the page (a real: MuPDF 1.21
+// reads it only as one).
+TEST_CASE("pdf page boxes: /UserUnit scales them") {
+  // The page dictionary's keys after its resources: /Dummy takes the
+  // dictionary one_page_pdf closes them with.
+  const std::string path =
+      write_temp("userunit.pdf", one_page_pdf("0 g 0 0 10 10 re f", 100, 80,
+                                              ">> /TrimBox [10 10 60 50] /UserUnit 2.0 /Dummy <<"));
+  const pdf::Document doc(path);
+  const pdf::PageResult media = doc.page(0, 1.0, pdf::PageBox::Media);
+  const pdf::PageResult trim = doc.page(0, 1.0, pdf::PageBox::Trim);
+  CHECK(media.scene.width == Approx(200));
+  CHECK(media.scene.height == Approx(160));
+  CHECK(trim.scene.width == Approx(100));
+  CHECK(trim.scene.height == Approx(80));
+}

@@ -225,13 +225,37 @@ int Document::page_count() const { return impl_->pages; }
 
 namespace {
 
+// Page box `which` of a PDF page in MuPDF's page space (y down, the
+// CropBox's corner after /Rotate at the origin, /UserUnit applied), where
+// fz_bound_page gives the CropBox. MuPDF 1.21 has no fz_bound_page_box:
+// the box is read from the page dictionary and taken through
+// pdf_page_transform's matrix, which is made from the CropBox (as
+// MuPDF's: an empty MediaBox is US Letter, an empty CropBox none).
+fz_rect page_box(fz_context* ctx, fz_page* page, PageBox which, fz_rect crop) {
+  pdf_page* pp = pdf_page_from_fz_page(ctx, page);
+  if (which == PageBox::Crop || !pp) return crop;
+  fz_rect cropped;  // MediaBox and CropBox intersected, in user space
+  fz_matrix ctm;
+  pdf_page_transform(ctx, pp, &cropped, &ctm);
+  fz_rect media = pdf_to_rect(ctx, pdf_dict_get_inheritable(ctx, pp->obj, PDF_NAME(MediaBox)));
+  if (fz_is_empty_rect(media)) media = fz_make_rect(0, 0, 612, 792);
+  fz_rect box = media;
+  if (which != PageBox::Media) {
+    pdf_obj* name = which == PageBox::Bleed ? PDF_NAME(BleedBox) : which == PageBox::Trim ? PDF_NAME(TrimBox) : PDF_NAME(ArtBox);
+    const fz_rect own = pdf_to_rect(ctx, pdf_dict_get(ctx, pp->obj, name));
+    box = fz_is_empty_rect(own) ? cropped : fz_intersect_rect(own, media);
+  }
+  if (box.x1 - box.x0 < 1 || box.y1 - box.y0 < 1) return crop;
+  return fz_transform_rect(box, ctm);
+}
+
 // Loads page `index` and its box; throws mpvg::Error with MuPDF's message.
-fz_page* load_page(fz_context* ctx, fz_document* doc, int index, fz_rect* box) {
+fz_page* load_page(fz_context* ctx, fz_document* doc, int index, PageBox which, fz_rect* box) {
   fz_page* volatile page = nullptr;
   char message[256] = "";
   fz_try(ctx) {
     page = fz_load_page(ctx, doc, index);
-    const fz_rect bounds = fz_bound_page(ctx, page);
+    const fz_rect bounds = page_box(ctx, page, which, fz_bound_page(ctx, page));
     memcpy(box, &bounds, sizeof bounds);
   }
   fz_catch(ctx) {
@@ -246,15 +270,16 @@ fz_page* load_page(fz_context* ctx, fz_document* doc, int index, fz_rect* box) {
 
 }  // namespace
 
-PageResult Document::page(int index, double pixels_per_point) const {
-  return page(index, [pixels_per_point](double, double) { return pixels_per_point; });
+PageResult Document::page(int index, double pixels_per_point, PageBox which) const {
+  return page(index, [pixels_per_point](double, double) { return pixels_per_point; }, which);
 }
 
-PageResult Document::page(int index, const std::function<double(double, double)>& pixels_per_point) const {
+PageResult Document::page(int index, const std::function<double(double, double)>& pixels_per_point,
+                          PageBox which) const {
   fz_context* ctx = impl_->ctx;
   fz_rect box{};
   const auto t_load = std::chrono::steady_clock::now();
-  fz_page* page = load_page(ctx, impl_->doc, index, &box);
+  fz_page* page = load_page(ctx, impl_->doc, index, which, &box);
   PageResult out;
   out.interpret_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_load).count();
   const double w = box.x1 - box.x0, h = box.y1 - box.y0;

@@ -18,8 +18,16 @@
 
 namespace mpvg::pdf {
 
+// The page box a page is rendered over (PDF 32000-1 §14.11.2): CropBox
+// defaults to the MediaBox, BleedBox, TrimBox and ArtBox to the CropBox;
+// each is intersected with the MediaBox (a box that leaves less than 1 pt
+// falls back to the CropBox); MediaBox and CropBox are inherited from the
+// page tree, the others are the page's own (Table 30). Crop is what MuPDF
+// and pdftoppm -cropbox render.
+enum class PageBox { Media, Crop, Bleed, Trim, Art };
+
 // A page lowered to a scene: units are PDF points, (0, 0) the top-left
-// corner of the page's box after /Rotate.
+// corner of the page's box (PageBox) after /Rotate and /UserUnit.
 struct PageResult {
   Scene scene;
   std::vector<std::string> warnings;  // one line each, deduplicated
@@ -58,8 +66,9 @@ class Document {
   // svg::ParseOptions::view is). Throws mpvg::Error when MuPDF fails on it.
   // One thread at a time per handle (its glyph outlines are cached for its
   // later pages).
-  PageResult page(int index, double pixels_per_point) const;
-  PageResult page(int index, const std::function<double(double width, double height)>& pixels_per_point) const;
+  PageResult page(int index, double pixels_per_point, PageBox box = PageBox::Crop) const;
+  PageResult page(int index, const std::function<double(double width, double height)>& pixels_per_point,
+                  PageBox box = PageBox::Crop) const;
 
  private:
   Document(const Document& other, Context context);
