@@ -91,6 +91,7 @@ struct PdfOptions {
   int scale_to = 0;         // the longer side in pixels (overrides the resolution)
   int crop_x = 0, crop_y = 0, crop_w = 0, crop_h = 0;  // -x -y -W -H, pixels at the resolution
   mpvg::pdf::PageBox box = mpvg::pdf::PageBox::Crop;   // --box, -cropbox
+  bool annotations = true;                              // -hide-annotations
   bool gray = false, mono = false;                      // -gray, -mono
   int threads = 0;          // worker threads; 0: one per core
   int repeat = 1;           // --repeat N: the pages N times over (benchmarks: later rounds run warm)
@@ -116,7 +117,10 @@ void usage() {
       "      --box B               the page box rendered: media, crop (default), bleed,\n"
       "                            trim or art (PDF 32000-1 14.11.2)\n"
       "      -cropbox              --box crop (pdftoppm's spelling)\n"
+      "      -hide-annotations     leave out annotations and form fields (drawn by\n"
+      "                            default, as printed)\n"
       "Output:\n"
+      "      -png                  accepted, as pdftoppm takes it: PNG is the format\n"
       "      --transparent         no white page background\n"
       "      --bits 8|16           bits per channel of the PNG (default 8)\n"
       "      -gray, --gray         greyscale PNG: 0.30 R + 0.59 G + 0.11 B (grey and\n"
@@ -205,6 +209,10 @@ std::vector<char*> own_options(int argc, char** argv, PdfOptions& p) {
       else throw mpvg::cli::UsageError{"invalid value '" + v + "' for --box (media, crop, bleed, trim or art)"};
     } else if (a == "-cropbox")
       p.box = mpvg::pdf::PageBox::Crop;
+    else if (a == "-hide-annotations" || a == "--hide-annotations")
+      p.annotations = false;
+    else if (a == "-png" || a == "--png")
+      ;  // pdftoppm's output format flag: PNG is what pdf2png writes
     else if (a == "-gray" || a == "--gray")
       p.gray = true;
     else if (a == "-mono" || a == "--mono")
@@ -232,7 +240,11 @@ std::unique_ptr<mpvg::pipeline::Job> lower(const PdfOptions& pdf, const mpvg::cl
   pdf::PageResult page = doc.page(
       n - 1,
       [&pdf](double w, double h) { return pdf.scale_to > 0 ? pdf.scale_to / std::max(w, h) : pdf.dpi / 72.0; },
-      pdf.box);
+      [&pdf] {
+        pdf::PageOptions o(pdf.box);
+        o.annotations = pdf.annotations;
+        return o;
+      }());
   job->prepare_ms[0] = page.interpret_ms;
   job->prepare_ms[1] = page.lower_ms;
   job->warnings = std::move(page.warnings);

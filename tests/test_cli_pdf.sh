@@ -248,7 +248,7 @@ check "-gray --compression 0: the same pixels" cmp -s "$tmp/ramp-gray.txt" "$tmp
 check "-gray --transparent: transparent where the page is empty" \
   test "$(pixels "$tmp/ramp-grayt-1.png" 250,35 5,35 | sed -E 's/ [0-9]+-/ /g')" = "256x40 8 4 0 255"
 got=$(compare_grey "$tmp/ramp-rgb.txt" "$tmp/ramp-mono.txt" 1 mono)
-check "-mono: 0/1, the RGB output's grey dithered by the 2x2 thresholds ($got)" test "$got" = ok
+check "-mono: 0/1, the RGB output's grey dithered by the 4x4 thresholds ($got)" test "$got" = ok
 check "-mono --compression 1: the same pixels" cmp -s "$tmp/ramp-mono.txt" "$tmp/ramp-mono1.txt"
 
 err=$("$bin" -q -gray -mono "$ramp" "$tmp/u" 2>&1); rc=$?
@@ -259,9 +259,25 @@ err=$("$bin" -q --box paper "$ramp" "$tmp/u" 2>&1); rc=$?
 check "--box paper: exit 2, one line ($err)" test "$rc" = 2 -a "$(echo "$err" | wc -l)" = 1 -a ! -e "$tmp/u-1.png"
 err=$("$bin" -q "$ramp" "$tmp/u" --box 2>&1); rc=$?
 check "--box without a value: exit 2" test "$rc" = 2
+# Annotations (testdata/pdf/features/annotations.pdf, 200 x 200 pt on a 0.9
+# grey page): a printable green square annotation at 20..90, a hidden red
+# one (/F 2) at 110..180, a printable blue one at the top. Drawn as printed
+# by default; -hide-annotations leaves them all out (the page's own red
+# outline at 110..180 stays).
+annots=$src/testdata/pdf/features/annotations.pdf
+"$bin" -q --backend cpu -r 72 --aa 1x32 "$annots" "$tmp/an"
+"$bin" -q --backend cpu -r 72 --aa 1x32 -hide-annotations "$annots" "$tmp/ah"
+"$bin" -q --backend cpu -r 72 --aa 1x32 -png "$annots" "$tmp/ap"
+check "annotations drawn as printed by default: green square, hidden one not drawn" \
+  test "$(pixels "$tmp/an-1.png" 30,170 145,145 100,45)" = "200x200 8 2 0-153-0 230-230-230 0-0-204"
+check "-hide-annotations: the page alone" \
+  test "$(pixels "$tmp/ah-1.png" 30,170 145,145 100,45)" = "200x200 8 2 230-230-230 230-230-230 230-230-230"
+check "-png is accepted (PNG is the format): the same bytes" cmp -s "$tmp/an-1.png" "$tmp/ap-1.png"
+
 out=$("$bin" --help)
-check "--help lists --box, -cropbox, -gray and -mono" \
+check "--help lists --box, -cropbox, -hide-annotations, -gray and -mono" \
   test -n "$(echo "$out" | grep -e '--box B')" -a -n "$(echo "$out" | grep -e '-cropbox')" \
+  -a -n "$(echo "$out" | grep -e '-hide-annotations')" \
   -a -n "$(echo "$out" | grep -e '-gray, --gray')" -a -n "$(echo "$out" | grep -e '-mono, --mono')"
 
 echo "$fails failure(s)"

@@ -661,7 +661,7 @@ void end_group(fz_context*, fz_device* dev) {
 }  // namespace
 
 Lowered lower_page(fz_context* ctx, fz_page* page, const fz_matrix& ctm, const Affine& device, double width,
-                   double height, SceneBuilder& b, GlyphCache& glyphs) {
+                   double height, SceneBuilder& b, GlyphCache& glyphs, bool annotations) {
   Lowered out;
   std::vector<std::string>& warnings = out.warnings;
   Lowering* l = fz_new_derived_device(ctx, Lowering);
@@ -714,10 +714,14 @@ Lowered lower_page(fz_context* ctx, fz_page* page, const fz_matrix& ctm, const A
   fz_try(ctx) {
     if (pdf) {
       pdf_run_page_contents_with_usage(ctx, pdf, dev, ctm, "View", nullptr);
-      pdf_run_page_annots_with_usage(ctx, pdf, dev, ctm, "Print", nullptr);
-      pdf_run_page_widgets_with_usage(ctx, pdf, dev, ctm, "Print", nullptr);
-    } else {
+      if (annotations) {
+        pdf_run_page_annots_with_usage(ctx, pdf, dev, ctm, "Print", nullptr);
+        pdf_run_page_widgets_with_usage(ctx, pdf, dev, ctm, "Print", nullptr);
+      }
+    } else if (annotations) {
       fz_run_page(ctx, page, dev, ctm, nullptr);
+    } else {
+      fz_run_page_contents(ctx, page, dev, ctm, nullptr);
     }
     fz_close_device(ctx, dev);
   }

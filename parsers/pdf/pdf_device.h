@@ -47,9 +47,10 @@ class GlyphCache {
 // device into `b`, a page of width x height scene units; `device` maps
 // scene units to output pixels (stroke tolerance, thinnest lines). The
 // page's content shows optional content as viewed; annotations and form
-// fields show as printed. Glyph outlines come from `glyphs` (of ctx).
-// Throws mpvg::Error when MuPDF or the lowering fails.
+// fields show as printed (none without `annotations`). Glyph outlines come
+// from `glyphs` (of ctx). Throws mpvg::Error when MuPDF or the lowering
+// fails.
 Lowered lower_page(fz_context* ctx, fz_page* page, const fz_matrix& ctm, const Affine& device, double width,
-                   double height, SceneBuilder& b, GlyphCache& glyphs);
+                   double height, SceneBuilder& b, GlyphCache& glyphs, bool annotations = true);
 
 }  // namespace mpvg::pdf::detail

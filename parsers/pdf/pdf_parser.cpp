@@ -270,12 +270,13 @@ fz_page* load_page(fz_context* ctx, fz_document* doc, int index, PageBox which, 
 
 }  // namespace
 
-PageResult Document::page(int index, double pixels_per_point, PageBox which) const {
-  return page(index, [pixels_per_point](double, double) { return pixels_per_point; }, which);
+PageResult Document::page(int index, double pixels_per_point, const PageOptions& options) const {
+  return page(index, [pixels_per_point](double, double) { return pixels_per_point; }, options);
 }
 
 PageResult Document::page(int index, const std::function<double(double, double)>& pixels_per_point,
-                          PageBox which) const {
+                          const PageOptions& options) const {
+  const PageBox which = options.box;
   fz_context* ctx = impl_->ctx;
   fz_rect box{};
   const auto t_load = std::chrono::steady_clock::now();
@@ -289,7 +290,7 @@ PageResult Document::page(int index, const std::function<double(double, double)>
     if (!impl_->glyphs) impl_->glyphs = std::make_unique<detail::GlyphCache>(ctx);
     detail::Lowered l = detail::lower_page(ctx, page, fz_translate(-box.x0, -box.y0),
                                            Affine::scale(out.pixels_per_point, out.pixels_per_point), w, h, b,
-                                           *impl_->glyphs);
+                                           *impl_->glyphs, options.annotations);
     out.warnings = std::move(l.warnings);
     out.interpret_ms += l.run_ms - l.lower_ms;
     out.lower_ms = l.lower_ms;

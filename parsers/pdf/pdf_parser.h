@@ -26,6 +26,16 @@ namespace mpvg::pdf {
 // and pdftoppm -cropbox render.
 enum class PageBox { Media, Crop, Bleed, Trim, Art };
 
+// How a page is lowered: over which box, and whether its annotations and
+// form fields are drawn (as printed; pdftoppm's -hide-annotations leaves
+// them out).
+struct PageOptions {
+  PageBox box = PageBox::Crop;
+  bool annotations = true;
+  PageOptions() = default;
+  PageOptions(PageBox b) : box(b) {}  // NOLINT: a box alone is the common case
+};
+
 // A page lowered to a scene: units are PDF points, (0, 0) the top-left
 // corner of the page's box (PageBox) after /Rotate and /UserUnit.
 struct PageResult {
@@ -66,9 +76,9 @@ class Document {
   // svg::ParseOptions::view is). Throws mpvg::Error when MuPDF fails on it.
   // One thread at a time per handle (its glyph outlines are cached for its
   // later pages).
-  PageResult page(int index, double pixels_per_point, PageBox box = PageBox::Crop) const;
+  PageResult page(int index, double pixels_per_point, const PageOptions& options = {}) const;
   PageResult page(int index, const std::function<double(double width, double height)>& pixels_per_point,
-                  PageBox box = PageBox::Crop) const;
+                  const PageOptions& options = {}) const;
 
  private:
   Document(const Document& other, Context context);
