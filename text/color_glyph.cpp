@@ -715,6 +715,12 @@ bool same_colr_v1_abi(FT_Face f) {
 
 std::shared_ptr<const Scene> color_glyph_scene(const FontDb& db, int face, uint32_t glyph,
                                                const ColorGlyphOptions& opts, std::vector<std::string>* warnings) {
+  // Most faces have no colour tables: answer them without setting their
+  // variation coordinates (a variable face would have them set and reset
+  // for every glyph of its text).
+  bool color = false;
+  with_ft_face(db, face, {}, [&](void* vf) { color = vf && FT_HAS_COLOR(static_cast<FT_Face>(vf)); });
+  if (!color) return nullptr;
   const Warnings warn{warnings};
   bool found = false;
   std::vector<Node> nodes;
@@ -723,7 +729,7 @@ std::shared_ptr<const Scene> color_glyph_scene(const FontDb& db, int face, uint3
   double upem = 1000;
   with_ft_face(db, face, opts.variations, [&](void* vf) {
     FT_Face f = static_cast<FT_Face>(vf);
-    if (!f || !FT_HAS_COLOR(f)) return;
+    if (!f) return;
     if (!same_colr_v1_abi(f)) {
       FT_Int major = 0, minor = 0, patch = 0;
       FT_Library_Version(f->glyph->library, &major, &minor, &patch);
