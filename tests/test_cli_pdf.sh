@@ -110,52 +110,6 @@ check "--devices x: exit 2" test "$rc" = 2
 # MediaBox and CropBox are inherited from the page tree; the ArtBox
 # reaches past the MediaBox (intersected: 250 x 120); page 2 is turned by
 # /Rotate 90 and has no boxes of its own (TrimBox = CropBox).
-# Reads PNGs of any colour type and depth: `pixels PNG X,Y ...` prints
-# "WxH depth type" and each pixel's samples as R-G-B (or G, or G-A).
-pixels() {
-  python3 - "$@" <<'PY'
-import struct, sys, zlib
-d = open(sys.argv[1], "rb").read()
-w, h, bd, ct = struct.unpack(">IIBB", d[16:26])
-i, z = 8, b""
-while i < len(d):
-    n = struct.unpack(">I", d[i:i + 4])[0]
-    if d[i + 4:i + 8] == b"IDAT":
-        z += d[i + 8:i + 8 + n]
-    i += 12 + n
-ch = {0: 1, 2: 3, 4: 2, 6: 4}[ct]
-raw = zlib.decompress(z)
-stride, bpp = (w * ch * bd + 7) // 8, max(1, ch * bd // 8)
-rows, prev, at = [], bytearray(stride), 0
-for y in range(h):
-    t, line = raw[at], bytearray(raw[at + 1:at + 1 + stride])
-    at += 1 + stride
-    for x in range(stride):
-        a = line[x - bpp] if x >= bpp else 0
-        b, c = prev[x], (prev[x - bpp] if x >= bpp else 0)
-        p = a + b - c
-        pred = [0, a, b, (a + b) // 2,
-                a if abs(p - a) <= abs(p - b) and abs(p - a) <= abs(p - c) else b if abs(p - b) <= abs(p - c) else c][t]
-        line[x] = (line[x] + pred) & 255
-    rows.append(line)
-    prev = line
-def px(x, y):
-    r = rows[y]
-    if bd == 1:
-        return [(r[x >> 3] >> (7 - (x & 7))) & 1]
-    if bd == 8:
-        return list(r[x * ch:(x + 1) * ch])
-    return [(r[2 * (x * ch + k)] << 8) | r[2 * (x * ch + k) + 1] for k in range(ch)]
-out = ["%dx%d %d %d" % (w, h, bd, ct)]
-for a in sys.argv[2:]:
-    if a == "all":
-        out += ["-".join(map(str, px(x, y))) for y in range(h) for x in range(w)]
-    else:
-        x, y = map(int, a.split(","))
-        out.append("-".join(map(str, px(x, y))))
-print(" ".join(out))
-PY
-}
 near() {  # the same words, numbers (split at '-' and 'x') within 2
   python3 - "$1" "$2" <<'PY'
 import re, sys
