@@ -879,6 +879,31 @@ def one_page_to(path, size, content):
     write(path, pdf.bytes(catalog))
 
 
+def thin_rules():
+    """thin-rules.pdf: a 300 x 170 pt page of thin black rules. Rows of
+    four horizontal strokes 7 pt apart, each 0.13 pt lower than the last
+    (so that they fall differently on the pixel grid), in the widths 0.1,
+    0.25, 0.4 (TeX's \\hline), 0.6 and 1 pt, from x 20 to 180; beside them
+    eight vertical blue strokes 0.4 pt wide, 7.13 pt apart, from x 200;
+    above, at y 155 to 167, the same horizontal widths as filled
+    rectangles 160 pt long (TeX draws its rules so), one each."""
+    ops = []
+    y = 20.0
+    for w in (0.1, 0.25, 0.4, 0.6, 1.0):
+        for k in range(4):
+            yy = fmt(y + k * 0.13)
+            ops.append("%s w 20 %s m 180 %s l S" % (fmt(w), yy, yy))
+            y += 7
+    ops.append("0 0 1 RG 0.4 w")
+    for k in range(8):
+        x = fmt(200 + k * 7.13)
+        ops.append("%s 20 m %s 140 l S" % (x, x))
+    ops.append("0 g")
+    for k, w in enumerate((0.1, 0.25, 0.4, 0.6, 1.0)):
+        ops.append("20 %s 160 %s re f" % (fmt(155 + 2.8 * k), fmt(w)))
+    one_page_to(os.path.join(PDFDIR, "thin-rules.pdf"), (300, 170), lines(*ops))
+
+
 def main():
     fill_rules()
     clips()
@@ -911,6 +936,7 @@ def main():
     error_cases()
     page_boxes()
     grey_ramp()
+    thin_rules()
 
 
 if __name__ == "__main__":

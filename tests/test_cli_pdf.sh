@@ -228,11 +228,65 @@ check "-hide-annotations: the page alone" \
   test "$(pixels "$tmp/ah-1.png" 30,170 145,145 100,45)" = "200x200 8 2 230-230-230 230-230-230 230-230-230"
 check "-png is accepted (PNG is the format): the same bytes" cmp -s "$tmp/an-1.png" "$tmp/ap-1.png"
 
+# Thin lines (testdata/pdf/thin-rules.pdf at 150 dpi, column x = 100 px,
+# which crosses every horizontal rule: 20 strokes of 0.1, 0.25, 0.4, 0.6,
+# 1 pt, four each at different offsets from the grid, and 5 filled rules
+# of the same widths above them; top first: the filled ones from 1 pt
+# down, then the strokes from 1 pt down). --thin-lines snap: every pixel black or
+# white, 25 runs, each max(1, round(width x 150/72)) pixels long (1 for
+# all but the 1 pt ones: 2); pdftoppm 22.12 draws this column the same.
+# The default (exact coverage, integrated in sRGB values): each run's ink
+# (the sum of 1 - grey) is its width in pixels within 0.06 (32 samples a
+# pixel: each edge pixel within 1/32).
+thin=$src/testdata/pdf/thin-rules.pdf
+"$bin" -q --backend cpu --aa 1x32 --thin-lines snap "$thin" "$tmp/ts"
+"$bin" -q --backend cpu --aa 1x32 "$thin" "$tmp/te"
+"$bin" -q --backend cpu --aa 1x32 --gamma linear "$thin" "$tmp/tl"
+column() { pixels "$1" $(seq -f "100,%g" 0 354); }
+runs() {  # column text -> "length:ink" per run of non-white pixels, top first
+  python3 - "$@" <<'PY'
+import sys
+vals = [int(v.split("-")[0]) for v in sys.argv[1].split()[3:]]
+runs, cur = [], []
+for v in vals + [255]:
+    if v < 255:
+        cur.append(v)
+    elif cur:
+        runs.append("%d:%.2f:%s" % (len(cur), sum(255 - c for c in cur) / 255, "crisp" if set(cur) == {0} else "soft"))
+        cur = []
+print(" ".join(runs))
+PY
+}
+snap=$(runs "$(column "$tmp/ts-1.png")")
+want="2:2.00:crisp $(printf '1:1.00:crisp %.0s' 1 2 3 4)$(printf '2:2.00:crisp %.0s' 1 2 3 4)$(printf '1:1.00:crisp %.0s' $(seq 16))"
+check "--thin-lines snap: 25 crisp rules, 1 px (2 px at 1 pt) each ($snap)" test "$snap" = "${want% }"
+ink() {  # runs text, expected ink per rule (top first) -> ok or the first miss
+  python3 - "$@" <<'PY'
+import sys
+got = [float(r.split(":")[1]) for r in sys.argv[1].split()]
+want = [float(w) for w in sys.argv[2].split()]
+if len(got) != len(want):
+    sys.exit("%d runs" % len(got))
+for g, w in zip(got, want):
+    if abs(g - w) > 0.06:
+        print("ink %.2f for %.2f" % (g, w)); sys.exit()
+print("ok")
+PY
+}
+px() { python3 -c "import sys; print(' '.join('%.4f' % (float(w) * 150 / 72) for w in sys.argv[1:]))" "$@"; }
+exact_want="$(px 1 0.6 0.4 0.25 0.1) $(px $(for w in 1 0.6 0.4 0.25 0.1; do echo $w $w $w $w; done))"
+got=$(ink "$(runs "$(column "$tmp/te-1.png")")" "$exact_want")
+check "--thin-lines exact (default): each rule's ink is its width in pixels ($got)" test "$got" = ok
+got=$(ink "$(runs "$(column "$tmp/tl-1.png")")" "$exact_want")
+check "--gamma linear loses thin rules' darkness (not the default: $got)" test "$got" != ok
+"$bin" -q --thin-lines fuzzy "$thin" "$tmp/tx" 2>/dev/null; rc=$?
+check "--thin-lines fuzzy: exit 2" test "$rc" = 2
+
 out=$("$bin" --help)
-check "--help lists --box, -cropbox, -hide-annotations, -gray and -mono" \
+check "--help lists --box, -cropbox, -hide-annotations, -gray, -mono and --thin-lines" \
   test -n "$(echo "$out" | grep -e '--box B')" -a -n "$(echo "$out" | grep -e '-cropbox')" \
   -a -n "$(echo "$out" | grep -e '-hide-annotations')" \
-  -a -n "$(echo "$out" | grep -e '-gray, --gray')" -a -n "$(echo "$out" | grep -e '-mono, --mono')"
+  -a -n "$(echo "$out" | grep -e '-gray, --gray')" -a -n "$(echo "$out" | grep -e '-mono, --mono')" -a -n "$(echo "$out" | grep -e '--thin-lines M')"
 
 echo "$fails failure(s)"
 test "$fails" = 0

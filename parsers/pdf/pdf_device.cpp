@@ -24,6 +24,7 @@
 
 #include "core/error.h"
 #include "core/mesh_build.h"
+#include "core/stroke_adjust.h"
 #include "parsers/pdf/pdf_device.h"
 
 namespace mpvg::pdf::detail {
@@ -139,6 +140,10 @@ struct Lowering {
   Affine adjust;
   Affine device;
   double page_w = 0, page_h = 0;  // scene units  // page points to output pixels (stroke tolerance, thin lines)
+  // Thin lines snapped to the pixel grid (ThinLines::Snap): page content's
+  // paths and strokes, not glyphs, clips or pattern cells (whose grid is
+  // not the page's).
+  bool snap = false;
   // What each pop_clip to come closes, innermost last.
   enum Pop : uint8_t { ClipGroup, MaskedGroup };
   std::vector<Pop> pops;
@@ -150,6 +155,9 @@ struct Lowering {
   static Lowering* of(fz_device* d) { return reinterpret_cast<Lowering*>(d); }
 
   Affine place(fz_matrix m) const { return adjust * to_affine(m); }
+  // Maps a placed path's user space (xf = place(ctm)) to output pixels.
+  Affine to_pixels(const Affine& xf) const { return device * adjust.inverted() * xf; }
+  bool snapping() const { return snap && tiles.empty(); }
 
   // Tiling patterns being captured, innermost last: each one's tile is a
   // scene of its own, then a pattern paint on the area it covers.
@@ -343,8 +351,10 @@ void fill_path(fz_context* ctx, fz_device* dev, const fz_path* path, int even_od
                const float* color, float alpha, fz_color_params cp) {
   Lowering* l = Lowering::of(dev);
   l->guarded([&] {
-    l->fill(to_path(ctx, path), l->place(ctm), even_odd ? FillRule::EvenOdd : FillRule::NonZero,
-            l->solid(ctx, cs, color, alpha, cp));
+    const Affine xf = l->place(ctm);
+    Path p = to_path(ctx, path);
+    if (l->snapping()) p = adjust_fill(p, l->to_pixels(xf));
+    l->fill(std::move(p), xf, even_odd ? FillRule::EvenOdd : FillRule::NonZero, l->solid(ctx, cs, color, alpha, cp));
   });
 }
 
@@ -353,7 +363,10 @@ void stroke_path(fz_context* ctx, fz_device* dev, const fz_path* path, const fz_
   Lowering* l = Lowering::of(dev);
   l->guarded([&] {
     const Affine xf = l->place(ctm);
-    l->stroke(to_path(ctx, path), xf, l->stroke_style(stroke, xf), l->solid(ctx, cs, color, alpha, cp));
+    StrokeStyle st = l->stroke_style(stroke, xf);
+    Path p = to_path(ctx, path);
+    if (l->snapping()) p = adjust_stroke(p, &st.width, l->to_pixels(xf));
+    l->stroke(std::move(p), xf, st, l->solid(ctx, cs, color, alpha, cp));
   });
 }
 
@@ -661,7 +674,8 @@ void end_group(fz_context*, fz_device* dev) {
 }  // namespace
 
 Lowered lower_page(fz_context* ctx, fz_page* page, const fz_matrix& ctm, const Affine& device, double width,
-                   double height, SceneBuilder& b, GlyphCache& glyphs, bool annotations) {
+                   double height, SceneBuilder& b, GlyphCache& glyphs, const PageOptions& options) {
+  const bool annotations = options.annotations;
   Lowered out;
   std::vector<std::string>& warnings = out.warnings;
   Lowering* l = fz_new_derived_device(ctx, Lowering);
@@ -673,6 +687,7 @@ Lowered lower_page(fz_context* ctx, fz_page* page, const fz_matrix& ctm, const A
   l->device = device;
   l->page_w = width;
   l->page_h = height;
+  l->snap = options.thin_lines == ThinLines::Snap;
   l->warnings = &warnings;
   l->glyph_cache = &glyphs;
   new (&l->pops) std::vector<Lowering::Pop>();

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/scene.h"
+#include "parsers/pdf/pdf_parser.h"
 
 namespace mpvg::pdf::detail {
 
@@ -47,10 +48,11 @@ class GlyphCache {
 // device into `b`, a page of width x height scene units; `device` maps
 // scene units to output pixels (stroke tolerance, thinnest lines). The
 // page's content shows optional content as viewed; annotations and form
-// fields show as printed (none without `annotations`). Glyph outlines come
-// from `glyphs` (of ctx). Throws mpvg::Error when MuPDF or the lowering
-// fails.
+// fields show as printed (none without options.annotations); thin lines as
+// options.thin_lines says (its box is the caller's business). Glyph
+// outlines come from `glyphs` (of ctx). Throws mpvg::Error when MuPDF or
+// the lowering fails.
 Lowered lower_page(fz_context* ctx, fz_page* page, const fz_matrix& ctm, const Affine& device, double width,
-                   double height, SceneBuilder& b, GlyphCache& glyphs, bool annotations = true);
+                   double height, SceneBuilder& b, GlyphCache& glyphs, const PageOptions& options = {});
 
 }  // namespace mpvg::pdf::detail

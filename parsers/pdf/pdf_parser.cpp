@@ -290,7 +290,7 @@ PageResult Document::page(int index, const std::function<double(double, double)>
     if (!impl_->glyphs) impl_->glyphs = std::make_unique<detail::GlyphCache>(ctx);
     detail::Lowered l = detail::lower_page(ctx, page, fz_translate(-box.x0, -box.y0),
                                            Affine::scale(out.pixels_per_point, out.pixels_per_point), w, h, b,
-                                           *impl_->glyphs, options.annotations);
+                                           *impl_->glyphs, options);
     out.warnings = std::move(l.warnings);
     out.interpret_ms += l.run_ms - l.lower_ms;
     out.lower_ms = l.lower_ms;

@@ -26,12 +26,19 @@ namespace mpvg::pdf {
 // and pdftoppm -cropbox render.
 enum class PageBox { Media, Crop, Bleed, Trim, Art };
 
-// How a page is lowered: over which box, and whether its annotations and
-// form fields are drawn (as printed; pdftoppm's -hide-annotations leaves
-// them out).
+// How a page is lowered: over which box, whether its annotations and form
+// fields are drawn (as printed; pdftoppm's -hide-annotations leaves them
+// out), and how thin lines are drawn.
+// How strokes and rules narrower than a pixel are drawn: at their exact
+// coverage (as MuPDF draws them), or snapped to the pixel grid and at least
+// a pixel wide (stroke adjustment, as Poppler and Acrobat draw them;
+// core/stroke_adjust.h).
+enum class ThinLines { Exact, Snap };
+
 struct PageOptions {
   PageBox box = PageBox::Crop;
   bool annotations = true;
+  ThinLines thin_lines = ThinLines::Exact;
   PageOptions() = default;
   PageOptions(PageBox b) : box(b) {}  // NOLINT: a box alone is the common case
 };
