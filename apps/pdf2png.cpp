@@ -2,6 +2,13 @@
 //
 //   pdf2png [options] IN.pdf OUT-PREFIX      writes OUT-PREFIX-1.png, ...
 //
+// or to TIFFs or JPEGs with pdftoppm's -tiff (-tiffcompression) and -jpeg
+// (-jpegopt), named .tif and .jpg as pdftoppm names them, encoded by
+// OpenImageIO in a module loaded on first need (apps/image_writer.h;
+// without it -tiff and -jpeg are refused before any page is rendered).
+// They record the page's resolution; a JPEG has no alpha (--transparent is
+// ignored) and 8 bits only.
+//
 // Page numbers are zero-padded to the digits of the page count, as
 // pdftoppm does. Options of its own: -r/--dpi N (default 150), --scale-to N
 // (the longer side in pixels), -x X -y Y -W W -H H (a crop window in
@@ -9,7 +16,7 @@
 // page only, written to OUT-PREFIX.png), --password P, --transparent (no
 // white page background), --box media|crop|bleed|trim|art (the page box
 // rendered, default crop; -cropbox is pdftoppm's spelling of --box crop),
-// -gray and -mono (a greyscale or 1-bit PNG, as pdftoppm's; apps/
+// -gray and -mono (a greyscale or 1-bit PNG or TIFF, as pdftoppm's; apps/
 // png_writer.h gives their formulas), --thin-lines exact|snap (snap:
 // core/stroke_adjust.h), --gamma srgb by default (PDF composites device
 // values), --threads N (worker threads, default one per
@@ -46,6 +53,7 @@
 #include <vector>
 
 #include "apps/cli.h"
+#include "apps/image_writer.h"
 #include "apps/pipeline.h"
 #include "core/error.h"
 #include "core/parallel.h"
@@ -89,13 +97,16 @@ struct PdfOptions {
   int first = 1, last = -1;
   std::string password;
   bool transparent = false;
-  bool singlefile = false;  // the first page only, to OUT-PREFIX.png
+  bool singlefile = false;  // the first page only, to OUT-PREFIX.png (.jpg, .tif)
   int scale_to = 0;         // the longer side in pixels (overrides the resolution)
   int crop_x = 0, crop_y = 0, crop_w = 0, crop_h = 0;  // -x -y -W -H, pixels at the resolution
   mpvg::pdf::PageBox box = mpvg::pdf::PageBox::Crop;   // --box, -cropbox
   bool annotations = true;                              // -hide-annotations
   mpvg::pdf::ThinLines thin_lines = mpvg::pdf::ThinLines::Exact;  // --thin-lines
   bool gray = false, mono = false;                      // -gray, -mono
+  mpvg::image::Format format = mpvg::image::Format::Png;  // -png, -jpeg, -tiff
+  const char* format_flag = nullptr;                      // the one given, for messages
+  mpvg::image::EncodeOptions encode;                      // -jpegopt, -tiffcompression
   int threads = 0;          // worker threads; 0: one per core
   int repeat = 1;           // --repeat N: the pages N times over (benchmarks: later rounds run warm)
   // Threads rendering, each with its own backend state: per device with
@@ -112,6 +123,7 @@ void usage() {
       "Pages:\n"
       "  -f N, -l N                first and last page (default: all)\n"
       "      --singlefile          the first page only, written to OUTPUT-PREFIX.png\n"
+      "                            (.jpg, .tif)\n"
       "      --password P          the document's password\n"
       "Size:\n"
       "  -r, --dpi N               resolution (default 150)\n"
@@ -123,13 +135,21 @@ void usage() {
       "      -hide-annotations     leave out annotations and form fields (drawn by\n"
       "                            default, as printed)\n"
       "Output:\n"
-      "      -png                  accepted, as pdftoppm takes it: PNG is the format\n"
+      "      -png                  PNG files (the default)\n"
+      "      -jpeg                 JPEG files, OUTPUT-PREFIX-N.jpg (8 bits, no alpha)\n"
+      "      -jpegopt OPTS         quality=N (1-100, default 75),progressive=y|n,\n"
+      "                            optimize=y|n (as pdftoppm's)\n"
+      "      -tiff                 TIFF files, OUTPUT-PREFIX-N.tif\n"
+      "      -tiffcompression C    none, packbits, lzw, deflate (default) or jpeg (8-bit\n"
+      "                            RGB; other TIFFs are deflated)\n"
+      "                            (-jpeg and -tiff need OpenImageIO's module; both\n"
+      "                            record the resolution; long spellings --jpeg etc.)\n"
       "      --transparent         no white page background\n"
-      "      --bits 8|16           bits per channel of the PNG (default 8)\n"
-      "      -gray, --gray         greyscale PNG: 0.30 R + 0.59 G + 0.11 B (grey and\n"
-      "                            alpha with --transparent where not opaque)\n"
-      "      -mono, --mono         1-bit PNG: grey dithered as pdftoppm -mono does\n"
-      "                            (a 4x4 dispersed-dot threshold matrix), over white\n"
+      "      --bits 8|16           bits per channel of the PNG or TIFF (default 8)\n"
+      "      -gray, --gray         greyscale: 0.30 R + 0.59 G + 0.11 B (grey and alpha\n"
+      "                            with --transparent where not opaque)\n"
+      "      -mono, --mono         1-bit PNG or TIFF: grey dithered as pdftoppm -mono\n"
+      "                            does (a 4x4 dispersed-dot threshold matrix), over white\n"
       "      --compression 0..9    PNG deflate level: 0 none, 1 mpvg's parallel deflate\n"
       "                            (on the GPU where it renders: the CPU's work for PNGs\n"
       "                            drops ~20x), 2-9 libdeflate's on the CPU (default 2)\n"
@@ -225,8 +245,41 @@ std::vector<char*> own_options(int argc, char** argv, PdfOptions& p) {
       else throw mpvg::cli::UsageError{"invalid value '" + v + "' for --thin-lines (exact or snap)"};
     } else if (a == "-hide-annotations" || a == "--hide-annotations")
       p.annotations = false;
-    else if (a == "-png" || a == "--png")
-      ;  // pdftoppm's output format flag: PNG is what pdf2png writes
+    else if (a == "-png" || a == "--png" || a == "-jpeg" || a == "--jpeg" || a == "-tiff" || a == "--tiff") {
+      // pdftoppm's output format flags: one of them.
+      using mpvg::image::Format;
+      const Format f = a.find("png") != std::string::npos ? Format::Png
+                       : a.find("jpeg") != std::string::npos ? Format::Jpeg
+                                                             : Format::Tiff;
+      if (p.format_flag && f != p.format)
+        throw mpvg::cli::UsageError{std::string(p.format_flag) + " and " + a + " cannot be given together"};
+      p.format = f;
+      p.format_flag = argv[i];
+    } else if (a == "-jpegopt" || a == "--jpegopt") {
+      // quality=N,progressive=y|n,optimize=y|n, any of them, as pdftoppm reads them.
+      const std::string v = value();
+      for (size_t at = 0; at <= v.size();) {
+        const size_t end = std::min(v.find(',', at), v.size());
+        const std::string item = v.substr(at, end - at);
+        at = end + 1;
+        const size_t eq = item.find('=');
+        const std::string key = item.substr(0, eq), val = eq == std::string::npos ? "" : item.substr(eq + 1);
+        char* stop = nullptr;
+        const long q = std::strtol(val.c_str(), &stop, 10);
+        if (key == "quality" && !val.empty() && !*stop && q >= 1 && q <= 100)
+          p.encode.jpeg_quality = static_cast<int>(q);
+        else if ((key == "progressive" || key == "optimize") && (val == "y" || val == "n"))
+          (key == "progressive" ? p.encode.progressive : p.encode.optimize) = val == "y";
+        else
+          throw mpvg::cli::UsageError{"invalid value '" + v + "' for " + a +
+                                      " (quality=1..100,progressive=y|n,optimize=y|n)"};
+      }
+    } else if (a == "-tiffcompression" || a == "--tiffcompression") {
+      const std::string v = value();
+      if (v != "none" && v != "packbits" && v != "jpeg" && v != "lzw" && v != "deflate")
+        throw mpvg::cli::UsageError{"invalid value '" + v + "' for " + a + " (none, packbits, jpeg, lzw or deflate)"};
+      p.encode.tiff_compression = v;
+    }
     else if (a == "-gray" || a == "--gray")
       p.gray = true;
     else if (a == "-mono" || a == "--mono")
@@ -264,6 +317,7 @@ std::unique_ptr<mpvg::pipeline::Job> lower(const PdfOptions& pdf, const mpvg::cl
   job->prepare_ms[1] = page.lower_ms;
   job->warnings = std::move(page.warnings);
   const double scale = page.pixels_per_point;
+  job->dpi = scale * 72;  // recorded in TIFFs and JPEGs (--scale-to: the page's own)
   int width = std::max(1, static_cast<int>(std::ceil(page.scene.width * scale - 1e-6)));
   int height = std::max(1, static_cast<int>(std::ceil(page.scene.height * scale - 1e-6)));
   // -x -y -W -H: a window of the page's pixels (the rest of the page if
@@ -298,12 +352,23 @@ int main(int argc, char** argv) {
     opt.gamma = Gamma::Srgb;
     if (!cli::parse(static_cast<int>(rest.size()), rest.data(), "pdf2png", "pdf", opt)) return 0;
     if (pdf.gray && pdf.mono) throw cli::UsageError{"-gray and -mono cannot be given together"};
-    if (pdf.mono && opt.bits == 16) throw cli::UsageError{"-mono writes 1-bit PNGs: --bits 16 cannot be given with it"};
+    if (pdf.mono && opt.bits == 16) throw cli::UsageError{"-mono writes 1-bit images: --bits 16 cannot be given with it"};
+    if (pdf.format == image::Format::Jpeg && opt.bits == 16)
+      throw cli::UsageError{"JPEG holds 8 bits: --bits 16 cannot be given with " + std::string(pdf.format_flag)};
+    if (pdf.format == image::Format::Jpeg && pdf.mono)
+      throw cli::UsageError{"JPEG has no 1-bit images: -mono cannot be given with " + std::string(pdf.format_flag)};
+    // -tiff and -jpeg without OpenImageIO's module: refused before any
+    // page is rendered.
+    std::string no;
+    if (pdf.format != image::Format::Png && !image::encoder_available(&no))
+      throw cli::UsageError{std::string(pdf.format_flag) + " needs OpenImageIO (" + no + ")"};
   } catch (const cli::UsageError& e) {
     std::fprintf(stderr, "pdf2png: %s\n", e.message.c_str());
     return 2;
   }
-  if (!pdf.transparent && opt.background.a == 0) opt.background = RGBA{1, 1, 1, 1};
+  // A JPEG has no alpha: its pages are drawn over white, --transparent or not.
+  if ((!pdf.transparent || pdf.format == image::Format::Jpeg) && opt.background.a == 0)
+    opt.background = RGBA{1, 1, 1, 1};
   // CUDA starts on a thread of its own at once (~250 ms on the GPU host),
   // while the document opens and the workers lower the first pages.
   GpuStartup startup(opt.backend, cli::render_options(opt, 64, 64, Affine{}));
@@ -373,6 +438,8 @@ int main(int argc, char** argv) {
     c.bits = opt.bits;
     c.compression = opt.compression;
     c.color = pdf.mono ? png::Color::Mono : pdf.gray ? png::Color::Gray : png::Color::Rgb;
+    c.format = pdf.format;
+    c.encode = pdf.encode;
     // Small pages waiting together share a frame (core/forest.h): one tree
     // build for several pages (--compression 1: pgfmanual 196-199 pages/s
     // against 172-178 with 3 render threads).
@@ -395,8 +462,9 @@ int main(int argc, char** argv) {
       }
       const int n = page_of(t);
       char name[32];
-      std::snprintf(name, sizeof name, "-%0*d.png", digits, n);
-      return lower(pdf, opt, *d, n, opt.output + (pdf.singlefile ? std::string(".png") : std::string(name)));
+      const char* ext = image::extension(pdf.format);  // png, jpg, tif
+      std::snprintf(name, sizeof name, "-%0*d.%s", digits, n, ext);
+      return lower(pdf, opt, *d, n, opt.output + (pdf.singlefile ? "." + std::string(ext) : std::string(name)));
     };
     c.make_renderer = [&](int r) -> std::unique_ptr<FrameRenderer> {
       if (opt.backend == Backend::Cpu) return std::make_unique<FrameRenderer>(Backend::Cpu);

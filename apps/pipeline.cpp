@@ -168,8 +168,17 @@ struct State {
     png::EncodeOptions options;
     if (c.compression >= 0) options.level = c.compression;
     const bool rgb = c.color == png::Color::Rgb;
-    const std::vector<uint8_t> bytes =
-        !job.png.zlib.empty() ? png::wrap(job.width, job.height, 8, job.png.channels, job.png.zlib.data(), job.png.zlib.size())
+    std::vector<uint8_t> bytes;
+    if (c.format != image::Format::Png) {
+      // TIFF, JPEG: the OpenImageIO module, with the page's resolution.
+      image::EncodeOptions encode = c.encode;
+      encode.dpi = job.dpi;
+      bytes = c.bits == 16 ? image::encode_rgba16(c.format, job.width, job.height,
+                                                  to_rgba16(job.image, c.gamma).data(), c.color, encode)
+                           : image::encode_rgba8(c.format, job.width, job.height, job.rgba8.data(), c.color, encode);
+    } else
+      bytes =
+          !job.png.zlib.empty() ? png::wrap(job.width, job.height, 8, job.png.channels, job.png.zlib.data(), job.png.zlib.size())
         : c.bits == 16 && rgb ? png::encode_rgba16(job.width, job.height, to_rgba16(job.image, c.gamma).data(), options)
         : c.bits == 16        ? png::encode_gray16(job.width, job.height, to_rgba16(job.image, c.gamma).data(), options)
         : rgb                 ? png::encode_rgba8(job.width, job.height, job.rgba8.data(), options)
@@ -247,9 +256,11 @@ struct State {
   }
 
   // Is the PNG stage run where the frame renders (level 1 on the device)?
-  // Not for grey or mono: the device's PNG stage writes RGB(A) only.
+  // Not for grey or mono: the device's PNG stage writes RGB(A) only; nor
+  // for TIFF or JPEG.
   bool png_on_device(const FrameRenderer& renderer) const {
-    return renderer.backend() == Backend::Cuda && c.compression == 1 && c.color == png::Color::Rgb;
+    return renderer.backend() == Backend::Cuda && c.compression == 1 && c.color == png::Color::Rgb &&
+           c.format == image::Format::Png;
   }
 
   // Renders one item in a frame of its own; the error message, or empty.

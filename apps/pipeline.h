@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/image_writer.h"
 #include "apps/png_writer.h"
 #include "core/png_encode.h"
 #include "core/renderer.h"
@@ -26,6 +27,7 @@ struct Job {
   int index = 0;       // the ticket it came from: render order, messages
   std::string label;   // "page 3", "tiger.svg": how messages name it
   std::string out;     // the PNG's path ("-": standard output)
+  double dpi = 0;      // the resolution a TIFF or JPEG records (0: none)
   int width = 0, height = 0;
   RenderOptions options;
   RenderPlan plan;
@@ -69,6 +71,12 @@ struct Config {
   // --compression 1 compresses them on the CPU, never on the device.
   // Mono takes 8 bits (bits == 8).
   png::Color color = png::Color::Rgb;
+  // The files' format (pdf2png's -png, -jpeg, -tiff) and its options; TIFF
+  // and JPEG are encoded by the workers through image::encode_rgba8/16 (the
+  // OpenImageIO module: the caller checks image::encoder_available first),
+  // with Job::dpi. compression and the device's PNG stage apply to PNG only.
+  image::Format format = image::Format::Png;
+  image::EncodeOptions encode;
   // Most items a render thread renders as one forest frame (core/forest.h:
   // one tree build for several small items waiting together); 1: each
   // item its own frame.

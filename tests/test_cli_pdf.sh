@@ -288,5 +288,155 @@ check "--help lists --box, -cropbox, -hide-annotations, -gray, -mono and --thin-
   -a -n "$(echo "$out" | grep -e '-hide-annotations')" \
   -a -n "$(echo "$out" | grep -e '-gray, --gray')" -a -n "$(echo "$out" | grep -e '-mono, --mono')" -a -n "$(echo "$out" | grep -e '--thin-lines M')"
 
+# -tiff and -jpeg (apps/image_writer.h: OpenImageIO's module). A TIFF is
+# read here (python3's zlib: none, packbits or deflate, the horizontal
+# predictor) and must hold the PNG's samples exactly; a JPEG's header its
+# size, density and scan type (tests/test_image_writer.cpp reads both back
+# through OpenImageIO). Where the module is missing (MPVG_IMAGE_IO=png):
+# one line, exit 2, nothing rendered, and the rest is skipped.
+tiff_pixels() {  # TIFF [all]: "WxH bits samples photometric" and each pixel's samples
+  python3 - "$@" <<'PY'
+import struct, sys, zlib
+d = open(sys.argv[1], "rb").read()
+e = {b"II*\0": "<", b"MM\0*": ">"}.get(d[:4])
+if not e:
+    sys.exit("not a TIFF")
+at = struct.unpack(e + "I", d[4:8])[0]
+tags = {}
+for k in range(struct.unpack(e + "H", d[at:at + 2])[0]):
+    tag, typ, n, v = struct.unpack(e + "HHI4s", d[at + 2 + 12 * k:at + 14 + 12 * k])
+    size = {3: 2, 4: 4}.get(typ, 1)
+    raw = v if n * size <= 4 else d[struct.unpack(e + "I", v)[0]:][:n * size]
+    tags[tag] = [int.from_bytes(raw[i * size:(i + 1) * size], "little" if e == "<" else "big") for i in range(n)]
+w, h, spp = tags[256][0], tags[257][0], tags.get(277, [1])[0]
+bits, comp, pred = tags.get(258, [1])[0], tags.get(259, [1])[0], tags.get(317, [1])[0]
+data = b""
+for off, n in zip(tags[273], tags[279]):
+    s = d[off:off + n]
+    if comp in (8, 32946):
+        s = zlib.decompress(s)
+    elif comp == 32773:  # packbits
+        out, i = bytearray(), 0
+        while i < len(s):
+            c = s[i] - 256 if s[i] > 127 else s[i]
+            if c >= 0:
+                out += s[i + 1:i + 2 + c]; i += 2 + c
+            elif c > -128:
+                out += s[i + 1:i + 2] * (1 - c); i += 2
+            else:
+                i += 1
+        s = bytes(out)
+    elif comp != 1:
+        sys.exit("compression %d not read here" % comp)
+    data += s
+stride = (w * spp * bits + 7) // 8
+rows = []
+for y in range(h):
+    r = data[y * stride:(y + 1) * stride]
+    if bits == 16:
+        v = list(struct.unpack(e + "%dH" % (w * spp), r))
+    elif bits == 8:
+        v = list(r)
+    else:
+        v = [(r[x >> 3] >> (7 - (x & 7))) & 1 for x in range(w)]
+    if pred == 2:
+        for i in range(spp, w * spp):
+            v[i] = (v[i] + v[i - spp]) & (0xFFFF if bits == 16 else 0xFF)
+    rows.append(v)
+out = ["%dx%d %d %d %d" % (w, h, bits, spp, tags[262][0])]
+if sys.argv[2:] == ["all"]:
+    out += ["-".join(map(str, rows[y][x * spp:(x + 1) * spp])) for y in range(h) for x in range(w)]
+print(" ".join(out))
+PY
+}
+jpeg_header() {  # JPEG: "WxH components density-unit xdensity scan" (scan: baseline or progressive)
+  python3 - "$1" <<'PY'
+import struct, sys
+d = open(sys.argv[1], "rb").read()
+if d[:3] != b"\xff\xd8\xff":
+    sys.exit("not a JPEG")
+i, unit, dens, out = 2, 0, 0, "no frame"
+while i + 4 <= len(d) and d[i] == 0xFF:
+    m, n = d[i + 1], struct.unpack(">H", d[i + 2:i + 4])[0]
+    if m == 0xE0 and d[i + 4:i + 9] == b"JFIF\0":
+        unit, dens = d[i + 11], struct.unpack(">H", d[i + 12:i + 14])[0]
+    if m in (0xC0, 0xC1, 0xC2):
+        hh, ww = struct.unpack(">HH", d[i + 5:i + 9])
+        out = "%dx%d %d" % (ww, hh, d[i + 9])
+        scan = "progressive" if m == 0xC2 else "baseline"
+        break
+    i += 2 + n
+print(out, unit, dens, scan)
+PY
+}
+err=$("$bin" -q --backend cpu -r 72 -tiff "$pdf" "$tmp/tif" 2>&1); rc=$?
+if [ "$rc" = 2 ] && echo "$err" | grep -q 'needs OpenImageIO'; then
+  check "-tiff without OpenImageIO's module: exit 2, one line, nothing written ($err)" \
+    test "$(echo "$err" | wc -l)" = 1 -a ! -e "$tmp/tif-1.tif" -a ! -e "$tmp/tif-1.png"
+  err=$("$bin" -q --backend cpu -r 72 -jpeg "$pdf" "$tmp/jpg" 2>&1); rc=$?
+  check "-jpeg without it: exit 2 ($err)" test "$rc" = 2 -a ! -e "$tmp/jpg-1.jpg"
+  echo "skip -tiff and -jpeg output: ${err#pdf2png: }"
+else
+  check "-tiff: PREFIX-1.tif, exit 0 ($err)" test "$rc" = 0 -a -f "$tmp/tif-1.tif" -a ! -e "$tmp/tif-1.png"
+  check "-tiff: TIFF magic" test "$(head -c 4 "$tmp/tif-1.tif" | od -An -c | tr -d ' ')" = 'II*\0' -o \
+    "$(head -c 4 "$tmp/tif-1.tif" | od -An -c | tr -d ' ')" = 'MM\0*'
+  got=$(tiff_pixels "$tmp/tif-1.tif")
+  check "-tiff: 100x100 RGB at 72 dpi, 8 bits ($got)" test "$got" = "100x100 8 3 2"
+  same_samples() {  # PNG, TIFF: the same pixels, sample for sample
+    test "$(pixels "$1" all | cut -d' ' -f4-)" = "$(tiff_pixels "$2" all | cut -d' ' -f5-)"
+  }
+  check "-tiff: the PNG's pixels exactly" same_samples "$tmp/r-1.png" "$tmp/tif-1.tif"
+  for c in none packbits deflate lzw jpeg; do
+    "$bin" -q --backend cpu -r 72 -tiff -tiffcompression "$c" "$pdf" "$tmp/tc-$c"; rc=$?
+    check "-tiffcompression $c: written" test "$rc" = 0 -a -f "$tmp/tc-$c-1.tif"
+  done
+  check "-tiffcompression none and packbits: the PNG's pixels" \
+    eval 'same_samples "$tmp/r-1.png" "$tmp/tc-none-1.tif" && same_samples "$tmp/r-1.png" "$tmp/tc-packbits-1.tif"'
+  # Grey, 16 bits, alpha, mono from the grey ramp: each the PNG's samples.
+  "$bin" -q --backend cpu -r 72 -tiff -gray "$ramp" "$tmp/rt-gray"
+  "$bin" -q --backend cpu -r 72 -tiff --gray --bits 16 "$ramp" "$tmp/rt-gray16"
+  "$bin" -q --backend cpu -r 72 --tiff -gray --transparent "$ramp" "$tmp/rt-grayt"
+  "$bin" -q --backend cpu -r 72 -tiff --bits 16 "$ramp" "$tmp/rt-rgb16"
+  "$bin" -q --backend cpu -r 72 -tiff -mono "$ramp" "$tmp/rt-mono"
+  "$bin" -q --backend cpu -r 72 --bits 16 "$ramp" "$tmp/ramp-rgb16"
+  check "-tiff -gray: 8-bit grey, MinIsBlack" test "$(tiff_pixels "$tmp/rt-gray-1.tif")" = "256x40 8 1 1"
+  check "-tiff -gray --bits 16: 16-bit grey" test "$(tiff_pixels "$tmp/rt-gray16-1.tif")" = "256x40 16 1 1"
+  check "-tiff -gray --transparent: grey and alpha" test "$(tiff_pixels "$tmp/rt-grayt-1.tif")" = "256x40 8 2 1"
+  check "-tiff -mono: 1 bit" test "$(tiff_pixels "$tmp/rt-mono-1.tif")" = "256x40 1 1 1"
+  for k in gray:ramp-gray gray16:ramp-gray16 grayt:ramp-grayt rgb16:ramp-rgb16 mono:ramp-mono; do
+    check "-tiff ${k%%:*}: the PNG's pixels exactly" same_samples "$tmp/${k#*:}-1.png" "$tmp/rt-${k%%:*}-1.tif"
+  done
+  "$bin" -q --backend cpu -r 72 -tiff --singlefile "$pdf" "$tmp/tone"
+  check "-tiff --singlefile writes PREFIX.tif" test -f "$tmp/tone.tif" -a ! -e "$tmp/tone.png"
+  "$bin" -q --backend cpu -tiff "$src/testdata/pdf/three-pages-count-2e9.pdf" "$tmp/tn"
+  check "-tiff: pages numbered as PNGs are" test "$(cd "$tmp" && echo tn-*)" = "tn-1.tif tn-2.tif tn-3.tif"
+
+  "$bin" -q --backend cpu -jpeg "$pdf" "$tmp/jp"; rc=$?
+  check "-jpeg: PREFIX-1.jpg, exit 0" test "$rc" = 0 -a -f "$tmp/jp-1.jpg" -a ! -e "$tmp/jp-1.png"
+  got=$(jpeg_header "$tmp/jp-1.jpg")
+  check "-jpeg: JPEG magic, 209x209 RGB, 150 dpi, baseline ($got)" test "$got" = "209x209 3 1 150 baseline"
+  "$bin" -q --backend cpu -r 72 -jpeg -gray -jpegopt quality=90,progressive=y,optimize=y "$ramp" "$tmp/jg"
+  got=$(jpeg_header "$tmp/jg-1.jpg")
+  check "-jpeg -gray -jpegopt progressive=y: grey, progressive ($got)" test "$got" = "256x40 1 1 72 progressive"
+  "$bin" -q --backend cpu -r 72 -jpeg --transparent -jpegopt optimize=y "$ramp" "$tmp/jt"; rc=$?
+  got=$(jpeg_header "$tmp/jt-1.jpg")
+  check "-jpeg --transparent: RGB over white (no alpha), optimize=y ($got)" \
+    test "$rc" = 0 -a "$got" = "256x40 3 1 72 baseline"
+  "$bin" -q --backend cpu -r 72 -jpeg -jpegopt quality=10 "$ramp" "$tmp/jq10"
+  "$bin" -q --backend cpu -r 72 -jpeg -jpegopt quality=100 "$ramp" "$tmp/jq100"
+  check "-jpegopt quality: 10 smaller than 100" \
+    test "$(wc -c < "$tmp/jq10-1.jpg")" -lt "$(wc -c < "$tmp/jq100-1.jpg")"
+fi
+for bad in "-jpeg --bits 16" "-jpeg -mono" "-tiff -jpeg" "-tiffcompression zstd" "-jpegopt quality=0" \
+  "-jpegopt progressive=maybe" "-jpegopt speed=1"; do
+  err=$("$bin" -q --backend cpu $bad "$ramp" "$tmp/ub" 2>&1); rc=$?
+  check "$bad: exit 2, one line, nothing written ($err)" \
+    test "$rc" = 2 -a "$(echo "$err" | wc -l)" = 1 -a -z "$(ls "$tmp" | grep '^ub')"
+done
+out=$("$bin" --help)
+check "--help lists -jpeg, -jpegopt, -tiff and -tiffcompression" \
+  test -n "$(echo "$out" | grep -e ' -jpeg ')" -a -n "$(echo "$out" | grep -e '-jpegopt')" \
+  -a -n "$(echo "$out" | grep -e ' -tiff ')" -a -n "$(echo "$out" | grep -e '-tiffcompression')"
+
 echo "$fails failure(s)"
 test "$fails" = 0
