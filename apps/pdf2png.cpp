@@ -103,6 +103,7 @@ struct PdfOptions {
   mpvg::pdf::PageBox box = mpvg::pdf::PageBox::Crop;   // --box, -cropbox
   bool annotations = true;                              // -hide-annotations
   mpvg::pdf::ThinLines thin_lines = mpvg::pdf::ThinLines::Exact;  // --thin-lines
+  mpvg::pdf::InkModel inks = mpvg::pdf::InkModel::Rgb;             // --colorspace cmyk, --separations
   bool gray = false, mono = false;                      // -gray, -mono
   mpvg::image::Format format = mpvg::image::Format::Png;  // -png, -jpeg, -tiff
   const char* format_flag = nullptr;                      // the one given, for messages
@@ -144,6 +145,14 @@ void usage() {
       "                            RGB; other TIFFs are deflated)\n"
       "                            (-jpeg and -tiff need OpenImageIO's module; both\n"
       "                            record the resolution; long spellings --jpeg etc.)\n"
+      "      --colorspace C        rgb (default), gray (as -gray) or cmyk: a CMYK TIFF of\n"
+      "                            the inks the page prints with, overprint (OP, op, OPM)\n"
+      "                            and blend modes composited per ink, spot colours\n"
+      "                            through their CMYK alternates\n"
+      "      --separations         print preview with spot colours as inks of their own:\n"
+      "                            OUT-N.tif (every ink, separated), OUT-N(Name).tif a\n"
+      "                            grey plate per ink as Ghostscript's tiffsep writes\n"
+      "                            them (0: full ink), OUT-N.png the press sheet in RGB\n"
       "      --transparent         no white page background\n"
       "      --bits 8|16           bits per channel of the PNG or TIFF (default 8)\n"
       "      -gray, --gray         greyscale: 0.30 R + 0.59 G + 0.11 B (grey and alpha\n"
@@ -238,6 +247,14 @@ std::vector<char*> own_options(int argc, char** argv, PdfOptions& p) {
       else throw mpvg::cli::UsageError{"invalid value '" + v + "' for --box (media, crop, bleed, trim or art)"};
     } else if (a == "-cropbox")
       p.box = mpvg::pdf::PageBox::Crop;
+    else if (a == "--colorspace") {
+      const std::string v = value();
+      if (v == "rgb") p.inks = mpvg::pdf::InkModel::Rgb;
+      else if (v == "gray") p.gray = true;
+      else if (v == "cmyk") p.inks = mpvg::pdf::InkModel::Cmyk;
+      else throw mpvg::cli::UsageError{"invalid value '" + v + "' for --colorspace (rgb, gray or cmyk)"};
+    } else if (a == "--separations")
+      p.inks = mpvg::pdf::InkModel::Separations;
     else if (a == "--thin-lines") {
       const std::string v = value();
       if (v == "exact") p.thin_lines = mpvg::pdf::ThinLines::Exact;
@@ -311,28 +328,63 @@ std::unique_ptr<mpvg::pipeline::Job> lower(const PdfOptions& pdf, const mpvg::cl
         pdf::PageOptions o(pdf.box);
         o.annotations = pdf.annotations;
         o.thin_lines = pdf.thin_lines;
+        o.inks = pdf.inks;
         return o;
       }());
+  const Scene& first = page.ink_passes.empty() ? page.scene : page.ink_passes[0];
   job->prepare_ms[0] = page.interpret_ms;
   job->prepare_ms[1] = page.lower_ms;
   job->warnings = std::move(page.warnings);
   const double scale = page.pixels_per_point;
   job->dpi = scale * 72;  // recorded in TIFFs and JPEGs (--scale-to: the page's own)
-  int width = std::max(1, static_cast<int>(std::ceil(page.scene.width * scale - 1e-6)));
-  int height = std::max(1, static_cast<int>(std::ceil(page.scene.height * scale - 1e-6)));
+  int width = std::max(1, static_cast<int>(std::ceil(first.width * scale - 1e-6)));
+  int height = std::max(1, static_cast<int>(std::ceil(first.height * scale - 1e-6)));
   // -x -y -W -H: a window of the page's pixels (the rest of the page if
   // -W or -H is absent), as pdftoppm crops.
   if (pdf.crop_x || pdf.crop_y || pdf.crop_w || pdf.crop_h) {
     width = pdf.crop_w ? pdf.crop_w : std::max(1, width - pdf.crop_x);
     height = pdf.crop_h ? pdf.crop_h : std::max(1, height - pdf.crop_y);
   }
-  cli::check_frame(opt, width, height);
-  job->width = width;
-  job->height = height;
   const Affine view = Affine::translate(-pdf.crop_x, -pdf.crop_y) * Affine::scale(scale, scale);
-  job->options = cli::render_options(opt, width, height, view);
+  if (page.ink_passes.empty()) {
+    cli::check_frame(opt, width, height);
+    job->width = width;
+    job->height = height;
+    job->options = cli::render_options(opt, width, height, view);
+    job->plan = plan_render(job->options);
+    job->scene = encode_for(page.scene, job->plan, job->options.gamma, &job->stats);
+    return job;
+  }
+  // Print preview: the passes side by side in one frame (apps/
+  // ink_output.h), each clipped to its window of the page, kGap pixels
+  // apart so that no filter reaches from one into the next.
+  constexpr int kGap = 4;
+  const int passes = static_cast<int>(page.ink_passes.size());
+  const int wide = passes * (width + kGap) - kGap;
+  cli::check_frame(opt, wide, height);
+  SceneBuilder b((pdf.crop_x + wide) / scale, first.height);
+  for (int p = 0; p < passes; p++) {
+    const double x0 = pdf.crop_x / scale, y0 = pdf.crop_y / scale, dx = p * (width + kGap) / scale;
+    b.push();
+    b.clip(b.add_geometry(Path::rectangle(x0, y0, x0 + width / scale, y0 + height / scale)),
+           Affine::translate(dx, 0), FillRule::NonZero);
+    b.activate();
+    b.append(page.ink_passes[p], Affine::translate(dx, 0));
+    b.pop();
+  }
+  const Scene scene = b.finish();
+  auto inks = std::make_shared<InkPage>();
+  inks->names = page.ink_names;
+  inks->spot_cmyk = page.spot_cmyk;
+  inks->width = width;
+  inks->gap = kGap;
+  inks->separations = pdf.inks == pdf::InkModel::Separations;
+  job->inks = std::move(inks);
+  job->width = wide;
+  job->height = height;
+  job->options = cli::render_options(opt, wide, height, view);
   job->plan = plan_render(job->options);
-  job->scene = encode_for(page.scene, job->plan, job->options.gamma, &job->stats);
+  job->scene = encode_for(scene, job->plan, job->options.gamma, &job->stats);
   return job;
 }
 
@@ -357,6 +409,21 @@ int main(int argc, char** argv) {
       throw cli::UsageError{"JPEG holds 8 bits: --bits 16 cannot be given with " + std::string(pdf.format_flag)};
     if (pdf.format == image::Format::Jpeg && pdf.mono)
       throw cli::UsageError{"JPEG has no 1-bit images: -mono cannot be given with " + std::string(pdf.format_flag)};
+    // Print preview: ink amounts in a TIFF, integrated as they are, over
+    // paper (no ink).
+    if (pdf.inks != pdf::InkModel::Rgb) {
+      const std::string flag = pdf.inks == pdf::InkModel::Cmyk ? "--colorspace cmyk" : "--separations";
+      if (pdf.format == image::Format::Jpeg || (pdf.format_flag && pdf.format == image::Format::Png))
+        throw cli::UsageError{flag + " writes TIFFs: " + pdf.format_flag + " cannot be given with it"};
+      if (pdf.gray || pdf.mono) throw cli::UsageError{flag + " cannot be given with -gray or -mono"};
+      if (opt.bits == 16) throw cli::UsageError{flag + " writes 8-bit inks: --bits 16 cannot be given with it"};
+      if (opt.gamma == Gamma::Linear)
+        throw cli::UsageError{flag + " integrates ink amounts as they are: --gamma linear cannot be given with it"};
+      if (pdf.transparent) throw cli::UsageError{flag + " draws on paper: --transparent cannot be given with it"};
+      pdf.format = image::Format::Tiff;
+      if (!pdf.format_flag) pdf.format_flag = pdf.inks == pdf::InkModel::Cmyk ? "--colorspace cmyk" : "--separations";
+      opt.background = RGBA{0, 0, 0, 1};
+    }
     // -tiff and -jpeg without OpenImageIO's module: refused before any
     // page is rendered.
     std::string no;

@@ -169,6 +169,13 @@ struct State {
     if (c.compression >= 0) options.level = c.compression;
     const bool rgb = c.color == png::Color::Rgb;
     std::vector<uint8_t> bytes;
+    if (job.inks) {
+      image::EncodeOptions encode = c.encode;
+      encode.dpi = job.dpi;
+      write_ink_page(*job.inks, job.out, job.width, job.height, job.rgba8.data(), encode);
+      job.png_ms = ms_since(t0);
+      return;
+    }
     if (c.format != image::Format::Png) {
       // TIFF, JPEG: the OpenImageIO module, with the page's resolution.
       image::EncodeOptions encode = c.encode;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "apps/image_writer.h"
+#include "apps/ink_output.h"
 #include "apps/png_writer.h"
 #include "core/png_encode.h"
 #include "core/renderer.h"
@@ -28,6 +29,9 @@ struct Job {
   std::string label;   // "page 3", "tiger.svg": how messages name it
   std::string out;     // the PNG's path ("-": standard output)
   double dpi = 0;      // the resolution a TIFF or JPEG records (0: none)
+  // Print preview: the image holds ink passes side by side, written as
+  // apps/ink_output.h writes them (8 bits).
+  std::shared_ptr<const InkPage> inks;
   int width = 0, height = 0;
   RenderOptions options;
   RenderPlan plan;

@@ -53,6 +53,20 @@ enum BlendModeCode : uint32_t {  // Scene's BlendMode (core/scene.h), same order
   BLEND_MODE_COUNT
 };
 
+// Per-channel rules of ink scenes (core/scene.h ChannelRule), two bits a
+// channel, r in the lowest: blend with the mode, take the source, keep the
+// backdrop. BLEND_SUBTRACTIVE: the channels are ink amounts, complemented
+// before and after the blend function (PDF 32000-1 §11.3.4); the
+// non-separable modes then work on the complements of three inks as RGB.
+enum : uint32_t { CHANNEL_BLEND = 0, CHANNEL_SOURCE = 1, CHANNEL_BACKDROP = 2 };
+constexpr uint32_t BLEND_SUBTRACTIVE = 1u << 6;
+
+MPVG_HD_INLINE uint32_t blend_channel_rule(uint32_t channels, int k) { return (channels >> (2 * k)) & 3u; }
+MPVG_HD_INLINE bool blend_keeps_a_channel(uint32_t channels) {
+  return blend_channel_rule(channels, 0) == CHANNEL_BACKDROP || blend_channel_rule(channels, 1) == CHANNEL_BACKDROP ||
+         blend_channel_rule(channels, 2) == CHANNEL_BACKDROP;
+}
+
 MPVG_HD_INLINE bool blend_separable(uint32_t mode) { return mode < BLEND_HUE; }
 MPVG_HD_INLINE bool blend_is_porter_duff(uint32_t mode) { return mode >= BLEND_PLUS_LIGHTER && mode < BLEND_MODE_COUNT; }
 
@@ -168,24 +182,37 @@ MPVG_HD_INLINE Rgba4 blend_porter_duff(uint32_t mode, Rgba4 b, Rgba4 s) {
 }
 
 // Source `s` over backdrop `b` with blend mode `mode`, both premultiplied
-// (a Porter-Duff operator instead of source-over for those modes).
-MPVG_HD_INLINE Rgba4 blend_over(uint32_t mode, Rgba4 b, Rgba4 s) {
+// (a Porter-Duff operator instead of source-over for those modes);
+// `channels`: ink scenes' per-channel rules and BLEND_SUBTRACTIVE (0: every
+// channel blends, additively). A channel kept as the backdrop takes
+// B = Cb: where the backdrop is opaque it is left as it was.
+MPVG_HD_INLINE Rgba4 blend_over(uint32_t mode, Rgba4 b, Rgba4 s, uint32_t channels = 0) {
   // Before the shortcut below: source-atop over nothing is nothing.
   if (blend_is_porter_duff(mode)) return blend_porter_duff(mode, b, s);
   const float as = s.a, ab = b.a;
   const float ao = as + ab * (1.0f - as);
-  if (mode == BLEND_NORMAL || as <= 0.0f || ab <= 0.0f) {
+  if ((mode == BLEND_NORMAL && !blend_keeps_a_channel(channels)) || as <= 0.0f || ab <= 0.0f) {
     // B only matters where both are present.
     return Rgba4{s.r + (1.0f - as) * b.r, s.g + (1.0f - as) * b.g, s.b + (1.0f - as) * b.b, ao};
   }
   auto unit = [](float v) { return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v); };
-  const Rgb3 cb{unit(b.r / ab), unit(b.g / ab), unit(b.b / ab)};
-  const Rgb3 cs{unit(s.r / as), unit(s.g / as), unit(s.b / as)};
+  const bool sub = (channels & BLEND_SUBTRACTIVE) != 0;
+  auto in = [sub, &unit](float v, float a) { return sub ? 1.0f - unit(v / a) : unit(v / a); };
+  const Rgb3 cb{in(b.r, ab), in(b.g, ab), in(b.b, ab)};
+  const Rgb3 cs{in(s.r, as), in(s.g, as), in(s.b, as)};
   Rgb3 m;
   if (blend_separable(mode)) {
     m = Rgb3{blend_channel(mode, cb.r, cs.r), blend_channel(mode, cb.g, cs.g), blend_channel(mode, cb.b, cs.b)};
   } else {
     m = blend_nonseparable(mode, cb, cs);
+  }
+  if (channels) {
+    auto rule = [channels, sub](int k, float mv, float bv, float sv) {
+      const uint32_t r = blend_channel_rule(channels, k);
+      const float v = r == CHANNEL_SOURCE ? sv : r == CHANNEL_BACKDROP ? bv : mv;
+      return sub ? 1.0f - v : v;
+    };
+    m = Rgb3{rule(0, m.r, cb.r, cs.r), rule(1, m.g, cb.g, cs.g), rule(2, m.b, cb.b, cs.b)};
   }
   const float both = as * ab;
   return Rgba4{(1.0f - ab) * s.r + (1.0f - as) * b.r + both * m.r, (1.0f - ab) * s.g + (1.0f - as) * b.g + both * m.g,

@@ -214,6 +214,8 @@ class Encoder {
       GroupRecord r{};
       r.opacity = clamp01(g.opacity);
       r.blend = static_cast<uint32_t>(g.blend);
+      r.channels = blend_channels(static_cast<uint32_t>(g.channels[0]), static_cast<uint32_t>(g.channels[1]),
+                                  static_cast<uint32_t>(g.channels[2]), g.subtractive);
       if (!g.isolated && g.back_to_front) r.flags |= GROUP_BACKDROP;
       if (g.mask == MaskType::Alpha) r.flags |= GROUP_MASK_ALPHA;
       if (g.mask == MaskType::Luminance) {
@@ -250,12 +252,12 @@ class Encoder {
       if (mask_value(r, Rgba4{0.0f, 0.0f, 0.0f, 0.0f}) == 0.0f) bits |= GROUP_ENTRY_EMPTY_HIDES;
     }
     if (e.kind == ElementKind::BeginGroup) r.flags |= in;
-    if (r.opacity == 1.0f && r.blend == BLEND_NORMAL && !(bits & GROUP_ENTRY_MASK) &&
+    if (r.opacity == 1.0f && group_record_normal(r) && !(bits & GROUP_ENTRY_MASK) &&
         !(r.flags & GROUP_IN_KNOCKOUT) && !g.knockout)
       bits |= GROUP_ENTRY_SOLID;
     if (r.flags & GROUP_IN_BACK_TO_FRONT) bits |= GROUP_ENTRY_IN_BACK_TO_FRONT;
     if (r.flags & GROUP_BACKDROP) bits |= GROUP_ENTRY_BACKDROP;
-    if (r.blend == BLEND_NORMAL) bits |= GROUP_ENTRY_NORMAL;
+    if (group_record_normal(r)) bits |= GROUP_ENTRY_NORMAL;
     if ((bits & GROUP_ENTRY_SOLID) && !(r.flags & GROUP_BACKDROP) &&
         g.back_to_front == ((r.flags & GROUP_IN_BACK_TO_FRONT) != 0))
       bits |= GROUP_ENTRY_DISSOLVES;

@@ -63,7 +63,8 @@ struct GroupRecord {
   uint32_t blend;      // BlendModeCode (blend.h): a blend mode or a Porter-Duff operator
   float lum[3];        // luminance masks: weights of r, g, b
   Rgba4 backdrop;      // luminance masks: premultiplied, in integration's space
-  uint32_t pad0, pad1;
+  uint32_t channels;   // ink scenes: blend_channels() of the group's ChannelRules
+  uint32_t pad1;
 };
 static_assert(sizeof(GroupRecord) == 48, "GroupRecord is a 48-byte record shared by CPU and GPU");
 
@@ -85,6 +86,17 @@ enum : uint32_t {
   GROUP_ENTRY_BACKDROP = 1u << 6,  // the group starts from its backdrop (GROUP_BACKDROP)
   GROUP_ENTRY_NORMAL = 1u << 7,    // normal blending
 };
+
+// A group's ChannelRules (core/scene.h) for blend_over: two bits a channel
+// (CHANNEL_*, core/blend.h), and BLEND_SUBTRACTIVE.
+inline uint32_t blend_channels(uint32_t r, uint32_t g, uint32_t b, bool subtractive) {
+  return r | g << 2 | b << 4 | (subtractive ? BLEND_SUBTRACTIVE : 0u);
+}
+
+// Does a record composite as plain source-over?
+MPVG_HD_INLINE bool group_record_normal(const GroupRecord& r) {
+  return r.blend == BLEND_NORMAL && !blend_keeps_a_channel(r.channels);
+}
 
 MPVG_HD_INLINE Rgba4 rgba_scale(Rgba4 c, float k) { return Rgba4{c.r * k, c.g * k, c.b * k, c.a * k}; }
 

@@ -250,10 +250,10 @@ MPVG_HD_INLINE Rgba4 group_backdrop(const SampleState<Kinds>& st, const GroupRec
 // Composites an element's colour p (premultiplied) into the innermost list:
 // under it front to back, over it with `blend` back to front; in a
 // knockout list p replaces what the list holds, composited onto the list's
-// initial backdrop.
+// initial backdrop. `channels`: a group's per-channel rules (ink scenes).
 template <uint32_t Kinds>
 MPVG_HD_INLINE void sample_composite(SampleState<Kinds>& st, const GroupRecord* groups, Rgba4 p, bool back,
-                                     bool knockout, uint32_t blend) {
+                                     bool knockout, uint32_t blend, uint32_t channels = 0) {
   if constexpr ((Kinds & SAMPLE_GROUPS) != 0) {
     st.groups.covered = true;
     if (knockout) {
@@ -264,12 +264,13 @@ MPVG_HD_INLINE void sample_composite(SampleState<Kinds>& st, const GroupRecord* 
       }
       const int32_t k = st.groups.depth - 1;
       const bool from_backdrop = (groups[st.groups.frames[k].group >> 1].flags & GROUP_BACKDROP) != 0;
-      st.color = blend_over(blend, from_backdrop ? group_backdrop(st, groups, k) : Rgba4{0.0f, 0.0f, 0.0f, 0.0f}, p);
+      st.color = blend_over(blend, from_backdrop ? group_backdrop(st, groups, k) : Rgba4{0.0f, 0.0f, 0.0f, 0.0f}, p,
+                            channels);
       st.groups.alpha_g = p.a;
       return;
     }
     if (back) {
-      st.color = blend_over(blend, st.color, p);
+      st.color = blend_over(blend, st.color, p, channels);
       st.groups.alpha_g = alpha_union(st.groups.alpha_g, p.a);
       return;
     }
@@ -322,7 +323,7 @@ MPVG_HD_INLINE void sample_group_end(SampleState<Kinds>& st, const GroupRecord* 
     }
     if (!covered) return;
     sample_composite(st, groups, rgba_scale(res, r.opacity * f.mask), (r.flags & GROUP_IN_BACK_TO_FRONT) != 0,
-                     (r.flags & GROUP_IN_KNOCKOUT) != 0, r.blend);
+                     (r.flags & GROUP_IN_KNOCKOUT) != 0, r.blend, r.channels);
   }
 }
 

@@ -393,7 +393,9 @@ void SceneBuilder::begin_group(const Group& g) {
       !std::isfinite(g.luminance[1]) || !std::isfinite(g.luminance[2]))
     throw Error("scene: group with a non-finite parameter");
   if (static_cast<unsigned>(g.blend) > static_cast<unsigned>(BlendMode::Xor) ||
-      static_cast<unsigned>(g.mask) > static_cast<unsigned>(MaskType::Alpha))
+      static_cast<unsigned>(g.mask) > static_cast<unsigned>(MaskType::Alpha) ||
+      static_cast<unsigned>(g.channels[0]) > 2 || static_cast<unsigned>(g.channels[1]) > 2 ||
+      static_cast<unsigned>(g.channels[2]) > 2)
     throw Error("scene: group with an unknown blend mode or mask type");
   Node* n = new Node{Node::Transparency, {}, {}, {}};
   pool_.push_back(n);
@@ -431,7 +433,7 @@ struct GroupAnalysis {
   // non-isolated content that blends)?
   bool needs_backdrop(const Node* n) const {
     const Group& g = groups[n->group];
-    return g.blend != BlendMode::Normal || (!g.isolated && g.back_to_front);
+    return !composites_normally(g) || (!g.isolated && g.back_to_front);
   }
   // Does anything in a fill list (clip groups' content included) meet its
   // backdrop?
@@ -453,7 +455,7 @@ struct GroupAnalysis {
   }
   bool no_op(const Node* n) const {
     const Group& g = groups[n->group];
-    return g.opacity == 1 && g.blend == BlendMode::Normal && !n->mask && !g.knockout &&
+    return g.opacity == 1 && composites_normally(g) && !n->mask && !g.knockout &&
            (!g.isolated || !g.back_to_front);
   }
   // Settles every group below the list (children first), then dissolves the
@@ -1039,6 +1041,13 @@ void dump_groups(std::string& s, const Scene& scene, const std::string& indent) 
     appendf(s, "%sgroup %zu opacity %g %s%s%s", indent.c_str(), i, g.opacity, blend_mode_name(g.blend),
             g.isolated ? "" : " non-isolated", g.knockout ? " knockout" : "");
     if (g.mask == MaskType::Alpha) s += " mask alpha";
+    if (!(g.channels[0] == ChannelRule::Blend && g.channels[1] == ChannelRule::Blend &&
+          g.channels[2] == ChannelRule::Blend)) {
+      s += " channels";
+      for (ChannelRule r : g.channels)
+        s += r == ChannelRule::Blend ? " blend" : r == ChannelRule::Source ? " source" : " backdrop";
+    }
+    if (g.subtractive) s += " subtractive";
     if (g.mask == MaskType::Luminance) {
       appendf(s, " mask luminance %g %g %g %s", g.luminance[0], g.luminance[1], g.luminance[2],
               g.luminance_space == ColorSpace::Srgb ? "srgb" : "linearrgb");

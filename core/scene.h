@@ -328,6 +328,15 @@ const char* blend_mode_name(BlendMode m);
 
 enum class MaskType : uint8_t { None, Luminance, Alpha };
 
+// How one colour channel of a group's result meets its backdrop, where the
+// channels are inks (print preview: core/inks.h): through the group's
+// blend function (Blend), as the source whatever the mode (Source), or
+// kept as the backdrop has it (Backdrop: the channel is not painted, PDF
+// 32000-1 §11.7.4.3's compatible overprint, B = Cb). PDF's non-separable
+// modes in CMYK give K the backdrop's (hue, saturation, color) or the
+// source's (luminosity) value and spot colorants Normal (§11.3.5.3).
+enum class ChannelRule : uint8_t { Blend, Source, Backdrop };
+
 // A transparency group (PDF 32000-1 §11.4; SVG's group opacity, masks,
 // mix-blend-mode and isolation). Every sample's shape is 0 or 1, so a
 // group covers a sample where one of its fills does (a mask that is 0
@@ -352,11 +361,27 @@ struct Group {
   float luminance[3] = {0.2125f, 0.7154f, 0.0721f};
   RGBA backdrop{0, 0, 0, 0};
   ColorSpace luminance_space = ColorSpace::Srgb;
+  // Ink scenes (core/inks.h): per channel (r, g, b carry three inks), how
+  // it meets the backdrop; and whether the channels are subtractive (ink
+  // amounts), which blend modes complement before and after blending
+  // (PDF 32000-1 §11.3.4). A Backdrop channel makes the group blend even
+  // with the Normal mode.
+  ChannelRule channels[3] = {ChannelRule::Blend, ChannelRule::Blend, ChannelRule::Blend};
+  bool subtractive = false;
   // Set by SceneBuilder::finish: the group's fill list is stored (and
   // evaluated) back to front, because a blend mode in it needs its
   // backdrop. Ignored on input.
   bool back_to_front = false;
 };
+
+// Does the group composite as plain source-over (Normal, no channel kept
+// as the backdrop)?
+inline bool composites_normally(const Group& g) {
+  if (g.blend != BlendMode::Normal) return false;
+  for (ChannelRule r : g.channels)
+    if (r == ChannelRule::Backdrop) return false;
+  return true;
+}
 
 enum class ElementKind : uint8_t { Push, Activate, Pop, Fill, Clip, BeginGroup, EndGroup };
 

@@ -865,15 +865,18 @@ def grey_ramp():
     one_page_to(os.path.join(PDFDIR, "grey-ramp.pdf"), (256, 40), lines(*ops))
 
 
-def one_page_to(path, size, content):
-    """A one-page document of `content` over a MediaBox of `size`, at `path`."""
+def one_page_to(path, size, content, resources="", objects=None):
+    """A one-page document of `content` over a MediaBox of `size`, at `path`;
+    `objects` and `resources` as one_page's."""
     pdf = Pdf()
     catalog = pdf.reserve()
     tree = pdf.reserve()
     page = pdf.reserve()
+    numbers = objects(pdf) if objects else {}
     contents = pdf.add_stream("", content)
-    pdf.set(page, "<< /Type /Page /Parent %s /MediaBox [0 0 %s] /Contents %s /Resources << >> >>" %
-            (ref(tree), " ".join(fmt(v) for v in size), ref(contents)))
+    res = "<< %s >>" % (resources % numbers) if resources else "<< >>"
+    pdf.set(page, "<< /Type /Page /Parent %s /MediaBox [0 0 %s] /Contents %s /Resources %s >>" %
+            (ref(tree), " ".join(fmt(v) for v in size), ref(contents), res))
     pdf.set(tree, "<< /Type /Pages /Kids [%s] /Count 1 >>" % ref(page))
     pdf.set(catalog, "<< /Type /Catalog /Pages %s >>" % ref(tree))
     write(path, pdf.bytes(catalog))
@@ -902,6 +905,47 @@ def thin_rules():
     for k, w in enumerate((0.1, 0.25, 0.4, 0.6, 1.0)):
         ops.append("20 %s 160 %s re f" % (fmt(155 + 2.8 * k), fmt(w)))
     one_page_to(os.path.join(PDFDIR, "thin-rules.pdf"), (300, 170), lines(*ops))
+
+
+def print_preview():
+    """print-preview.pdf: overprint and spot colours on a 200 x 100 pt page
+    (pdf2png --colorspace cmyk, --separations), one 40 pt square a case:
+    top row (y 50..90), each over a cyan (1 0 0 0 k) square:
+      x 0..40:    yellow (0 0 1 0 k) overprinting, OPM 1 (x 10..30): cyan
+                  stays under it (C 1, Y 1);
+      x 40..80:   the same yellow without overprint: it knocks out (C 0);
+      x 80..120:  the spot Varnish (Separation, alternate 0 0 0 0.25 at full
+                  tint) at tint 1, overprinting: C 1 and Varnish 1;
+      x 120..160: yellow overprinting with OPM 0: every process ink is
+                  painted (C 0, Y 1);
+      x 160..200: over 0.5 cyan, 0.5 cyan with /BM /Multiply: C 0.75 (ink
+                  multiplies as complements: 1 - 0.5 x 0.5).
+    bottom row (y 0..40):
+      x 0..40:    over Varnish at tint 0.6, black (0 g) overprinting: K 1,
+                  Varnish 0.6 kept (a DeviceGray colour paints the process
+                  inks only);
+      x 40..80:   over magenta (0 1 0 0 k), DeviceN [Cyan Varnish] at 0.4,
+                  0.8 overprinting: M 1, C 0.4, Varnish 0.8."""
+    ops = ["1 0 0 0 k 0 50 40 40 re f 40 50 40 40 re f 80 50 40 40 re f 120 50 40 40 re f",
+           "0.5 0 0 0 k 160 50 40 40 re f",
+           "/OPon gs 0 0 1 0 k 10 60 20 20 re f",
+           "/Off gs 0 0 1 0 k 50 60 20 20 re f",
+           "/OPon gs /Var cs 1 scn 90 60 20 20 re f",
+           "/OPm0 gs 0 0 1 0 k 130 60 20 20 re f",
+           "/Off gs /Mul gs 0.5 0 0 0 k 170 60 20 20 re f /Nor gs",
+           "/Off gs /Var cs 0.6 scn 0 0 40 40 re f",
+           "/OPon gs 0 g 10 10 20 20 re f",
+           "/Off gs 0 1 0 0 k 40 0 40 40 re f",
+           "/OPon gs /CV cs 0.4 0.8 scn 50 10 20 20 re f"]
+    varnish = "[/Separation /Varnish /DeviceCMYK << /FunctionType 2 /Domain [0 1] /C0 [0 0 0 0] /C1 [0 0 0 0.25] /N 1 >>]"
+    def objects(pdf):
+        fn = pdf.add_stream("/FunctionType 4 /Domain [0 1 0 1] /Range [0 1 0 1 0 1 0 1]", "{ 0.25 mul 0 0 3 -1 roll }")
+        return {"cv": "[/DeviceN [/Cyan /Varnish] /DeviceCMYK %s]" % ref(fn)}
+    one_page_to(os.path.join(PDFDIR, "print-preview.pdf"), (200, 100), lines(*ops),
+                resources="/ColorSpace << /Var " + varnish + " /CV %(cv)s >> "
+                "/ExtGState << /OPon << /OP true /op true /OPM 1 >> /OPm0 << /OP true /op true /OPM 0 >> "
+                "/Off << /OP false /op false >> /Mul << /BM /Multiply >> /Nor << /BM /Normal >> >>",
+                objects=objects)
 
 
 def main():
@@ -937,6 +981,7 @@ def main():
     page_boxes()
     grey_ramp()
     thin_rules()
+    print_preview()
 
 
 if __name__ == "__main__":

@@ -426,6 +426,45 @@ else
   "$bin" -q --backend cpu -r 72 -jpeg -jpegopt quality=100 "$ramp" "$tmp/jq100"
   check "-jpegopt quality: 10 smaller than 100" \
     test "$(wc -c < "$tmp/jq10-1.jpg")" -lt "$(wc -c < "$tmp/jq100-1.jpg")"
+
+  # Print preview (testdata/pdf/print-preview.pdf, whose docstring in
+  # scripts/make_pdf_features.py gives each case; 72 dpi, one pixel a
+  # point, image y = 100 - page y): the inks at the middle of each case,
+  # as PDF 32000-1 §11.7.4 gives them (Ghostscript 10's tiff32nc with
+  # -sOverprint=simulate and tiffsep give the same values).
+  pp=$src/testdata/pdf/print-preview.pdf
+  at() {  # TIFF X,Y ... -> the samples there
+    tiff_pixels "$1" all > "$tmp/at.txt"
+    python3 - "$tmp/at.txt" "${@:2}" <<'PY'
+import sys
+v = open(sys.argv[1]).read().split()
+w = int(v[0].split("x")[0])
+print(" ".join(v[4 + int(y) * w + int(x)] for x, y in (a.split(",") for a in sys.argv[2:])))
+PY
+  }
+  cases="20,30 60,30 100,30 140,30 180,30 20,80 60,80"
+  "$bin" -q --backend cpu -r 72 --aa 1x32 --colorspace cmyk "$pp" "$tmp/cmyk"
+  check "--colorspace cmyk: an 8-bit CMYK TIFF (photometric separated, 4 samples)" \
+    test "$(tiff_pixels "$tmp/cmyk-1.tif")" = "200x100 8 4 5"
+  got=$(at "$tmp/cmyk-1.tif" $cases)
+  check "--colorspace cmyk: overprint OPM 1 keeps cyan under yellow, knockout and OPM 0 do not; a spot through its alternate paints only its non-zero inks; multiply 0.75 ($got)" \
+    test "$got" = "255-0-255-0 0-0-255-0 255-0-0-64 0-0-255-0 191-0-0-0 0-0-0-255 102-255-0-51"
+  "$bin" -q --backend cpu -r 72 --aa 1x32 --separations "$pp" "$tmp/sep"
+  check "--separations: every ink in one TIFF (5 samples)" test "$(tiff_pixels "$tmp/sep-1.tif")" = "200x100 8 5 5"
+  got=$(at "$tmp/sep-1.tif" $cases)
+  check "--separations: the spot Varnish an ink of its own, overprinted and kept under black ($got)" \
+    test "$got" = "255-0-255-0-0 0-0-255-0-0 255-0-0-0-255 0-0-255-0-0 191-0-0-0-0 0-0-0-255-153 102-255-0-0-204"
+  got=$(for n in Cyan Magenta Yellow Black Varnish; do at "$tmp/sep-1($n).tif" 60,80; done | tr '\n' ' ')
+  check "--separations: a grey plate per ink, 255 - ink, as tiffsep writes them ($got)" \
+    test "$got" = "153 0 255 255 51 "
+  got=$(pixels "$tmp/sep-1.png" 20,30 60,30 180,30)
+  check "--separations: the press sheet in RGB, cyan and yellow overprinted green ($got)" \
+    test "$got" = "200x100 8 2 0-255-0 255-255-0 64-255-255"
+  for bad in "--colorspace cmyk -jpeg" "--separations -gray" "--colorspace cmyk --bits 16" \
+    "--colorspace cmyk --gamma linear" "--separations --transparent" "--colorspace lab"; do
+    err=$("$bin" -q --backend cpu $bad "$pp" "$tmp/ib" 2>&1); rc=$?
+    check "$bad: exit 2, one line ($err)" test "$rc" = 2 -a "$(echo "$err" | wc -l)" = 1 -a -z "$(ls "$tmp" | grep '^ib')"
+  done
 fi
 for bad in "-jpeg --bits 16" "-jpeg -mono" "-tiff -jpeg" "-tiffcompression zstd" "-jpegopt quality=0" \
   "-jpegopt progressive=maybe" "-jpegopt speed=1"; do

@@ -95,9 +95,11 @@ bool run_t3_glyph(fz_context* ctx, fz_font* font, int gid, fz_matrix trm, fz_dev
   return ok;
 }
 
-bool convert_color(fz_context* ctx, fz_colorspace* cs, const float* color, float* rgb, fz_color_params cp) {
+// cs's colour into RGB (or into `to`: DeviceCMYK for print preview).
+bool convert_color(fz_context* ctx, fz_colorspace* cs, const float* color, float* rgb, fz_color_params cp,
+                   fz_colorspace* to = nullptr) {
   volatile bool ok = true;
-  fz_try(ctx) { fz_convert_color(ctx, cs, color, fz_device_rgb(ctx), rgb, nullptr, cp); }
+  fz_try(ctx) { fz_convert_color(ctx, cs, color, to ? to : fz_device_rgb(ctx), rgb, nullptr, cp); }
   fz_catch(ctx) { ok = false; }
   return ok;
 }
@@ -108,13 +110,15 @@ bool convert_color(fz_context* ctx, fz_colorspace* cs, const float* color, float
 // unit square to output pixels: MuPDF subsamples by a power of two while
 // decoding, keeping at least a texel per pixel (a 20000 x 20000 image on a
 // page 1250 pixels wide is decoded at 2500 x 2500, never held whole).
-fz_pixmap* rgb_pixmap(fz_context* ctx, fz_image* image, fz_color_params cp, fz_matrix pixels) {
+// (`to`: DeviceCMYK instead of RGB, for print preview.)
+fz_pixmap* rgb_pixmap(fz_context* ctx, fz_image* image, fz_color_params cp, fz_matrix pixels,
+                      fz_colorspace* to = nullptr) {
   fz_pixmap* volatile decoded = nullptr;
   fz_pixmap* volatile rgb = nullptr;
   fz_try(ctx) {
     decoded = fz_get_pixmap_from_image(ctx, image, nullptr, &pixels, nullptr, nullptr);
     rgb = fz_pixmap_colorspace(ctx, decoded)
-              ? fz_convert_pixmap(ctx, decoded, fz_device_rgb(ctx), nullptr, nullptr, cp, 1)
+              ? fz_convert_pixmap(ctx, decoded, to ? to : fz_device_rgb(ctx), nullptr, nullptr, cp, 1)
               : fz_keep_pixmap(ctx, decoded);
   }
   fz_always(ctx) { fz_drop_pixmap(ctx, decoded); }
@@ -197,12 +201,114 @@ struct Lowering {
   }
 
   Paint solid(fz_context* ctx, fz_colorspace* cs, const float* color, float alpha, fz_color_params cp) {
+    Paint p;
+    p.opacity = alpha;
+    if (ink_mode()) {
+      to_inks(ctx, cs, color, cp);
+      p.color = RGBA{pass_ink(0), pass_ink(1), pass_ink(2), 1};
+      return p;
+    }
     float rgb[3] = {0, 0, 0};
     if (cs && !convert_color(ctx, cs, color, rgb, cp)) warn("a colour could not be converted: black used");
-    Paint p;
     p.color = RGBA{rgb[0], rgb[1], rgb[2], 1};
-    p.opacity = alpha;
     return p;
+  }
+
+  // Print preview (core/inks.h): the page's inks and the pass drawn; null
+  // for RGB. Inside a soft mask's content (rgb_depth > 0) colours stay RGB:
+  // its luminosity is the mask.
+  const InkTarget* inks = nullptr;
+  int rgb_depth = 0;
+  bool ink_mode() const { return inks && rgb_depth == 0; }
+  // The last colour solid() converted, as ink amounts, which inks it paints
+  // (all but where it overprints) and whether it overprints at all.
+  std::vector<float> ink_values;
+  std::vector<bool> painted;
+  bool overprints = false;
+  float pass_ink(int k) const { return inks->pass.inks[k] >= 0 ? ink_values[inks->pass.inks[k]] : 0.0f; }
+
+  // (cs, color) as ink amounts (PDF 32000-1 §8.6.6, §11.7.4): a Separation
+  // or DeviceN colour puts its tints on the inks it names (process names
+  // on C, M, Y, K; All on every ink; None on none); a colorant the page's
+  // inks lack sends the whole colour through its alternate to CMYK, as do
+  // other spaces (DeviceCMYK as it is). With overprint on (cp.op), a
+  // colour paints only its own inks (other spaces: the process inks), and
+  // with OPM 1 a DeviceCMYK colour only its non-zero components;
+  // otherwise it paints every ink (knockout).
+  void to_inks(fz_context* ctx, fz_colorspace* cs, const float* color, fz_color_params cp) {
+    const size_t n = kProcessInks + inks->spots.size();
+    ink_values.assign(n, 0.0f);
+    painted.assign(n, true);
+    overprints = false;
+    if (!cs) return;
+    auto process_only = [&] {
+      if (cp.op)
+        for (size_t i = kProcessInks; i < n; i++) painted[i] = false;
+    };
+    if (fz_colorspace_is_device_n(ctx, cs)) {
+      const int m = fz_colorspace_n(ctx, cs);
+      std::vector<int> target(m, -2);  // -1: None
+      bool all_known = true;
+      for (int i = 0; i < m && all_known; i++) {
+        const char* name = fz_colorspace_colorant(ctx, cs, i);
+        const std::string s = name ? name : "";
+        static const char* process[] = {"Cyan", "Magenta", "Yellow", "Black"};
+        for (int k = 0; k < kProcessInks; k++)
+          if (s == process[k]) target[i] = k;
+        for (size_t k = 0; k < inks->spots.size(); k++)
+          if (s == inks->spots[k]) target[i] = static_cast<int>(kProcessInks + k);
+        if (s == "All") target[i] = static_cast<int>(n);
+        if (s == "None") target[i] = -1;
+        all_known = target[i] != -2;
+      }
+      if (all_known) {
+        std::vector<bool> named(n, false);
+        for (int i = 0; i < m; i++) {
+          const float v = std::clamp(color[i], 0.0f, 1.0f);
+          if (target[i] == static_cast<int>(n)) {
+            std::fill(ink_values.begin(), ink_values.end(), v);
+            std::fill(named.begin(), named.end(), true);
+          } else if (target[i] >= 0) {
+            ink_values[target[i]] = v;
+            named[target[i]] = true;
+          }
+        }
+        if (cp.op) painted = named;
+        overprints = cp.op != 0;
+        return;
+      }
+    }
+    float cmyk[4] = {0, 0, 0, 0};
+    const bool direct = fz_colorspace_type(ctx, cs) == FZ_COLORSPACE_CMYK && !fz_colorspace_is_indexed(ctx, cs);
+    if (direct) {
+      for (int k = 0; k < 4; k++) cmyk[k] = std::clamp(color[k], 0.0f, 1.0f);
+    } else if (!convert_color(ctx, cs, color, cmyk, cp, fz_device_cmyk(ctx))) {
+      warn("a colour could not be converted: black used");
+      cmyk[3] = 1;
+    }
+    for (int k = 0; k < 4; k++) ink_values[k] = cmyk[k];
+    process_only();
+    // A DeviceCMYK colour under OPM 1, and a Separation or DeviceN colour
+    // drawn through its alternate (colorants the page's inks lack), paint
+    // only their non-zero process inks, as Ghostscript simulates them.
+    if (cp.op && ((cp.opm && direct) || fz_colorspace_is_device_n(ctx, cs)))
+      for (int k = 0; k < 4; k++) painted[k] = cmyk[k] != 0.0f;
+    overprints = cp.op != 0;
+  }
+
+  // Draws what draw() adds with the colour solid() converted last: where
+  // it overprints inks of this pass, inside a group that keeps those
+  // channels as the backdrop has them (core/inks.h).
+  template <class F>
+  void painting(F&& draw) {
+    Group g;
+    if (ink_mode() && overprints && overprint_group(inks->pass, painted, &g)) {
+      b->begin_group(g);
+      draw();
+      b->end_group();
+    } else {
+      draw();
+    }
   }
 
   // The style of a stroke, placed by ctm. Width 0 is the thinnest visible
@@ -286,8 +392,10 @@ struct Lowering {
   std::optional<Paint> image_paint(fz_context* ctx, fz_image* img, fz_matrix ctm, float alpha, fz_color_params cp,
                                    RGBA tint, Affine* xf_out) {
     const Affine px = device * to_affine(ctm);
+    const bool in_inks = ink_mode();
     fz_pixmap* pix = rgb_pixmap(ctx, img, cp, fz_matrix{float(px.a), float(px.b), float(px.c), float(px.d),
-                                                       float(px.e), float(px.f)});
+                                                       float(px.e), float(px.f)},
+                                in_inks ? fz_device_cmyk(ctx) : nullptr);
     if (!pix) {
       warn("an image could not be decoded: skipped");
       return std::nullopt;
@@ -304,8 +412,14 @@ struct Lowering {
         const unsigned char* s = samples + size_t(y) * stride + size_t(x) * n;
         const int a = has_alpha ? s[n - 1] : 255;
         uint8_t* d = &im->rgba8[(size_t(y) * im->width + x) * 4];
-        for (int k = 0; k < 3; k++)
-          d[k] = n < 3 ? 255 : static_cast<uint8_t>(a ? std::min(255, (s[k] * 255 + a / 2) / a) : 0);
+        for (int k = 0; k < 3; k++) {
+          // Print preview: the pass's inks out of C, M, Y, K (spots: none).
+          const int c = in_inks ? inks->pass.inks[k] : k;
+          d[k] = n < 3 ? 255
+                 : c < 0 || c >= (in_inks ? 4 : 3)
+                     ? 0
+                     : static_cast<uint8_t>(a ? std::min(255, (s[c] * 255 + a / 2) / a) : 0);
+        }
         d[3] = static_cast<uint8_t>(a);
       }
     fz_drop_pixmap(ctx, pix);
@@ -354,7 +468,8 @@ void fill_path(fz_context* ctx, fz_device* dev, const fz_path* path, int even_od
     const Affine xf = l->place(ctm);
     Path p = to_path(ctx, path);
     if (l->snapping()) p = adjust_fill(p, l->to_pixels(xf));
-    l->fill(std::move(p), xf, even_odd ? FillRule::EvenOdd : FillRule::NonZero, l->solid(ctx, cs, color, alpha, cp));
+    const Paint paint = l->solid(ctx, cs, color, alpha, cp);
+    l->painting([&] { l->fill(std::move(p), xf, even_odd ? FillRule::EvenOdd : FillRule::NonZero, paint); });
   });
 }
 
@@ -366,7 +481,8 @@ void stroke_path(fz_context* ctx, fz_device* dev, const fz_path* path, const fz_
     StrokeStyle st = l->stroke_style(stroke, xf);
     Path p = to_path(ctx, path);
     if (l->snapping()) p = adjust_stroke(p, &st.width, l->to_pixels(xf));
-    l->stroke(std::move(p), xf, st, l->solid(ctx, cs, color, alpha, cp));
+    const Paint paint = l->solid(ctx, cs, color, alpha, cp);
+    l->painting([&] { l->stroke(std::move(p), xf, st, paint); });
   });
 }
 
@@ -393,6 +509,7 @@ void clip_stroke_path(fz_context* ctx, fz_device* dev, const fz_path* path, cons
 struct MeshCapture {
   fz_shade* shade;
   fz_color_params cp;
+  Lowering* lowering;  // print preview: its inks
   Mesh mesh;
   bool bad_color = false;
 };
@@ -403,6 +520,11 @@ void mesh_prepare(fz_context* ctx, void* arg, fz_vertex* v, const float* c) {
     v->c[0] = c[0];
     v->c[1] = v->c[2] = 0;  // unused, but mesh_triangle copies them into the vertex's colour
   } else {
+    if (m->lowering->ink_mode()) {
+      m->lowering->to_inks(ctx, m->shade->colorspace, c, m->cp);
+      for (int k = 0; k < 3; k++) v->c[k] = m->lowering->pass_ink(k);
+      return;
+    }
     float rgb[3] = {0, 0, 0};
     if (!convert_color(ctx, m->shade->colorspace, c, rgb, m->cp)) m->bad_color = true;
     for (int k = 0; k < 3; k++) v->c[k] = rgb[k];
@@ -472,7 +594,7 @@ void fill_shade(fz_context* ctx, fz_device* dev, fz_shade* shade, fz_matrix ctm,
     }
     // Vertices come out in device space; the shading's box is in shading
     // space and clips them.
-    MeshCapture capture{shade, cp, {}, false};
+    MeshCapture capture{shade, cp, l, {}, false};
     if (!process_shade(ctx, shade, to_device, &capture) || capture.mesh.vertices.empty()) {
       l->warn("a shading could not be read: skipped");
       return;
@@ -516,7 +638,9 @@ void fill_text(fz_context* ctx, fz_device* dev, const fz_text* text, fz_matrix c
   l->guarded([&] {
     const Paint paint = l->solid(ctx, cs, color, alpha, cp);
     const Affine xf = l->place(ctm);
-    l->glyphs(ctx, text, ctm, [&](Path p) { l->fill(std::move(p), xf, FillRule::NonZero, paint); });
+    l->painting([&] {
+      l->glyphs(ctx, text, ctm, [&](Path p) { l->fill(std::move(p), xf, FillRule::NonZero, paint); });
+    });
   });
 }
 
@@ -527,7 +651,7 @@ void stroke_text(fz_context* ctx, fz_device* dev, const fz_text* text, const fz_
     const Paint paint = l->solid(ctx, cs, color, alpha, cp);
     const Affine xf = l->place(ctm);
     const StrokeStyle st = l->stroke_style(stroke, xf);
-    l->glyphs(ctx, text, ctm, [&](Path p) { l->stroke(std::move(p), xf, st, paint); });
+    l->painting([&] { l->glyphs(ctx, text, ctm, [&](Path p) { l->stroke(std::move(p), xf, st, paint); }); });
   });
 }
 
@@ -633,6 +757,7 @@ void begin_mask(fz_context* ctx, fz_device* dev, fz_rect, int luminosity, fz_col
   Lowering* l = Lowering::of(dev);
   l->guarded([&] {
     l->b->begin_group(Group{});
+    l->rgb_depth++;  // the mask's content and backdrop colour: RGB luminosity
     Group m;
     m.mask = luminosity ? MaskType::Luminance : MaskType::Alpha;
     // PDF's luminosity (Lum of the non-separable blend modes).
@@ -650,7 +775,10 @@ void begin_mask(fz_context* ctx, fz_device* dev, fz_rect, int luminosity, fz_col
 
 void end_mask(fz_context*, fz_device* dev) {
   Lowering* l = Lowering::of(dev);
-  l->guarded([&] { l->b->end_group(); });
+  l->guarded([&] {
+    l->b->end_group();
+    l->rgb_depth--;
+  });
 }
 
 void begin_group(fz_context*, fz_device* dev, fz_rect, fz_colorspace*, int isolated, int knockout, int blendmode,
@@ -662,6 +790,7 @@ void begin_group(fz_context*, fz_device* dev, fz_rect, fz_colorspace*, int isola
     g.blend = static_cast<BlendMode>(blendmode & FZ_BLEND_MODEMASK);
     g.isolated = isolated != 0;
     g.knockout = knockout != 0;
+    if (l->ink_mode()) set_ink_blend(g, l->inks->pass);
     l->b->begin_group(g);
   });
 }
@@ -674,7 +803,8 @@ void end_group(fz_context*, fz_device* dev) {
 }  // namespace
 
 Lowered lower_page(fz_context* ctx, fz_page* page, const fz_matrix& ctm, const Affine& device, double width,
-                   double height, SceneBuilder& b, GlyphCache& glyphs, const PageOptions& options) {
+                   double height, SceneBuilder& b, GlyphCache& glyphs, const PageOptions& options,
+                   const InkTarget* inks) {
   const bool annotations = options.annotations;
   Lowered out;
   std::vector<std::string>& warnings = out.warnings;
@@ -688,12 +818,16 @@ Lowered lower_page(fz_context* ctx, fz_page* page, const fz_matrix& ctm, const A
   l->page_w = width;
   l->page_h = height;
   l->snap = options.thin_lines == ThinLines::Snap;
+  l->inks = inks;
+  l->rgb_depth = 0;
   l->warnings = &warnings;
   l->glyph_cache = &glyphs;
   new (&l->pops) std::vector<Lowering::Pop>();
   new (&l->tiles) std::vector<Lowering::Tile>();
   new (&l->warned) std::set<std::string>();
   new (&l->error) std::string();
+  new (&l->ink_values) std::vector<float>();
+  new (&l->painted) std::vector<bool>();
   dev->fill_path = fill_path;
   dev->stroke_path = stroke_path;
   dev->clip_path = clip_path;
@@ -717,7 +851,10 @@ Lowered lower_page(fz_context* ctx, fz_page* page, const fz_matrix& ctm, const A
   dev->fill_image_mask = [](fz_context* c, fz_device* d, fz_image* img, fz_matrix m, fz_colorspace* cs,
                             const float* color, float alpha, fz_color_params cp) {
     Lowering* low = Lowering::of(d);
-    low->guarded([&] { low->image(c, img, m, alpha, cp, low->solid(c, cs, color, 1, cp).color); });
+    low->guarded([&] {
+      const RGBA tint = low->solid(c, cs, color, 1, cp).color;
+      low->painting([&] { low->image(c, img, m, alpha, cp, tint); });
+    });
   };
   dev->clip_image_mask = [](fz_context* c, fz_device* d, fz_image* img, fz_matrix m, fz_rect) {
     Lowering* low = Lowering::of(d);
@@ -755,6 +892,8 @@ Lowered lower_page(fz_context* ctx, fz_page* page, const fz_matrix& ctm, const A
     }
   }
   l->error.~basic_string();
+  l->ink_values.~vector();
+  l->painted.~vector();
   l->warned.~set();
   l->pops.~vector();
   l->tiles.~vector();

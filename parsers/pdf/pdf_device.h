@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/inks.h"
 #include "core/scene.h"
 #include "parsers/pdf/pdf_parser.h"
 
@@ -44,15 +45,24 @@ class GlyphCache {
   std::vector<fz_font*> fonts_;  // kept
 };
 
+// Print preview: a page drawn in inks (core/inks.h), one pass at a time:
+// the spot inks after C, M, Y, K (empty for InkModel::Cmyk), and the pass.
+struct InkTarget {
+  std::vector<std::string> spots;
+  InkPass pass;
+};
+
 // Runs `page` with `ctm` (page space to scene units) through the lowering
 // device into `b`, a page of width x height scene units; `device` maps
 // scene units to output pixels (stroke tolerance, thinnest lines). The
 // page's content shows optional content as viewed; annotations and form
 // fields show as printed (none without options.annotations); thin lines as
 // options.thin_lines says (its box is the caller's business). Glyph
-// outlines come from `glyphs` (of ctx). Throws mpvg::Error when MuPDF or
-// the lowering fails.
+// outlines come from `glyphs` (of ctx); colours are RGB, or with `inks`
+// the ink amounts of its pass. Throws mpvg::Error when MuPDF or the
+// lowering fails.
 Lowered lower_page(fz_context* ctx, fz_page* page, const fz_matrix& ctm, const Affine& device, double width,
-                   double height, SceneBuilder& b, GlyphCache& glyphs, const PageOptions& options = {});
+                   double height, SceneBuilder& b, GlyphCache& glyphs, const PageOptions& options = {},
+                   const InkTarget* inks = nullptr);
 
 }  // namespace mpvg::pdf::detail

@@ -6,6 +6,7 @@
 #include <mupdf/fitz.h>
 #include <mupdf/pdf.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -270,6 +271,34 @@ fz_page* load_page(fz_context* ctx, fz_document* doc, int index, PageBox which, 
 
 }  // namespace
 
+namespace {
+
+// The page's spot colours (its Separation and DeviceN colorants other than
+// the process ones, All and None), in MuPDF's order, and each one's CMYK
+// equivalent.
+void page_spots(fz_context* ctx, fz_page* page, std::vector<std::string>* names, std::vector<float>* cmyk) {
+  fz_separations* volatile seps = nullptr;
+  fz_try(ctx) { seps = fz_page_separations(ctx, page); }
+  fz_catch(ctx) { seps = nullptr; }
+  if (!seps) return;
+  const int n = fz_count_separations(ctx, seps);
+  for (int i = 0; i < n; i++) {
+    const char* name = fz_separation_name(ctx, seps, i);
+    const std::string s = name ? name : "";
+    if (s.empty() || s == "Cyan" || s == "Magenta" || s == "Yellow" || s == "Black" || s == "All" || s == "None" ||
+        std::find(names->begin(), names->end(), s) != names->end())
+      continue;
+    float c[4] = {0, 0, 0, 0};
+    fz_try(ctx) { fz_separation_equivalent(ctx, seps, i, fz_device_cmyk(ctx), c, nullptr, fz_default_color_params); }
+    fz_catch(ctx) { c[3] = 1; }
+    names->push_back(s);
+    cmyk->insert(cmyk->end(), c, c + 4);
+  }
+  fz_drop_separations(ctx, seps);
+}
+
+}  // namespace
+
 PageResult Document::page(int index, double pixels_per_point, const PageOptions& options) const {
   return page(index, [pixels_per_point](double, double) { return pixels_per_point; }, options);
 }
@@ -288,19 +317,42 @@ PageResult Document::page(int index, const std::function<double(double, double)>
   SceneBuilder b(w, h);
   try {
     if (!impl_->glyphs) impl_->glyphs = std::make_unique<detail::GlyphCache>(ctx);
-    detail::Lowered l = detail::lower_page(ctx, page, fz_translate(-box.x0, -box.y0),
-                                           Affine::scale(out.pixels_per_point, out.pixels_per_point), w, h, b,
-                                           *impl_->glyphs, options);
-    out.warnings = std::move(l.warnings);
-    out.interpret_ms += l.run_ms - l.lower_ms;
-    out.lower_ms = l.lower_ms;
+    const Affine device = Affine::scale(out.pixels_per_point, out.pixels_per_point);
+    if (options.inks == InkModel::Rgb) {
+      detail::Lowered l =
+          detail::lower_page(ctx, page, fz_translate(-box.x0, -box.y0), device, w, h, b, *impl_->glyphs, options);
+      out.warnings = std::move(l.warnings);
+      out.interpret_ms += l.run_ms - l.lower_ms;
+      out.lower_ms = l.lower_ms;
+    } else {
+      // Print preview: the page once per pass of its inks (core/inks.h).
+      detail::InkTarget target;
+      out.ink_names = {"Cyan", "Magenta", "Yellow", "Black"};
+      if (options.inks == InkModel::Separations) page_spots(ctx, page, &target.spots, &out.spot_cmyk);
+      out.ink_names.insert(out.ink_names.end(), target.spots.begin(), target.spots.end());
+      for (const InkPass& pass : ink_passes(static_cast<int>(out.ink_names.size()))) {
+        target.pass = pass;
+        SceneBuilder bp(w, h);
+        detail::Lowered l = detail::lower_page(ctx, page, fz_translate(-box.x0, -box.y0), device, w, h, bp,
+                                               *impl_->glyphs, options, &target);
+        for (std::string& warning : l.warnings)
+          if (std::find(out.warnings.begin(), out.warnings.end(), warning) == out.warnings.end())
+            out.warnings.push_back(std::move(warning));
+        out.interpret_ms += l.run_ms - l.lower_ms;
+        out.lower_ms += l.lower_ms;
+        const auto t0 = std::chrono::steady_clock::now();
+        out.ink_passes.push_back(bp.finish());
+        if (bp.flattened_groups()) out.warnings.push_back(flattened_groups_warning(bp.flattened_groups()));
+        out.lower_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      }
+    }
   } catch (const Error& e) {
     fz_drop_page(ctx, page);
     throw Error("page " + std::to_string(index + 1) + ": " + e.what());
   }
   fz_drop_page(ctx, page);
   const auto t0 = std::chrono::steady_clock::now();
-  out.scene = b.finish();
+  if (options.inks == InkModel::Rgb) out.scene = b.finish();
   if (b.flattened_groups()) out.warnings.push_back(flattened_groups_warning(b.flattened_groups()));
   out.lower_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return out;

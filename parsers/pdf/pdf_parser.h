@@ -35,10 +35,18 @@ enum class PageBox { Media, Crop, Bleed, Trim, Art };
 // core/stroke_adjust.h).
 enum class ThinLines { Exact, Snap };
 
+// The colour model a page is drawn in: RGB, or inks for print preview
+// (core/inks.h): CMYK (spot colours converted to their CMYK alternates, as
+// a CMYK proof shows them) or Separations (CMYK and the page's spot
+// colours as inks of their own). Overprint (OP, op, OPM) and blend modes
+// then composite per ink (PDF 32000-1 §11.7.4, §11.3.5).
+enum class InkModel { Rgb, Cmyk, Separations };
+
 struct PageOptions {
   PageBox box = PageBox::Crop;
   bool annotations = true;
   ThinLines thin_lines = ThinLines::Exact;
+  InkModel inks = InkModel::Rgb;
   PageOptions() = default;
   PageOptions(PageBox b) : box(b) {}  // NOLINT: a box alone is the common case
 };
@@ -49,6 +57,13 @@ struct PageResult {
   Scene scene;
   std::vector<std::string> warnings;  // one line each, deduplicated
   double pixels_per_point = 1;        // the output resolution it was lowered for
+  // With PageOptions::inks: scene is empty, and the page is ink_passes
+  // (core/inks.h: pass p draws inks 3p .. 3p + 2 in r, g, b, over no ink),
+  // inks named by ink_names ("Cyan", "Magenta", "Yellow", "Black", then
+  // the spots'), each spot's CMYK equivalent in spot_cmyk (four a spot).
+  std::vector<Scene> ink_passes;
+  std::vector<std::string> ink_names;
+  std::vector<float> spot_cmyk;
   // Wall time of MuPDF interpreting the page (parsing, fonts, images) and
   // of lowering what it draws into the scene (glyph outlines, strokes, the
   // builder's finish), in ms.
