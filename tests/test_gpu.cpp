@@ -967,3 +967,65 @@ TEST_CASE("filter effects render alike through the CPU and the CUDA backends", "
     }
   }
 }
+
+// Ink pages (print preview, core/inks.h): the passes of random pages of 4,
+// 5 and 7 inks (tests/random_inks.h: subtractive blend modes, the channel
+// rules of set_ink_blend, overprint groups, knockout and non-isolated
+// groups) give identical trees on both executors, and images over the
+// paper (no ink, alpha 1) within 1/255, the GPU's identical run to run.
+// test_inks holds the CPU's samples to the N-ink reference compositor.
+#include "core/inks.h"
+#include "tests/random_inks.h"
+
+TEST_CASE("ink passes: CPU and GPU build identical trees and agree within 1/255", "[gpu][inks]") {
+  gpu::Context ctx;
+  const PaintRecord paper = background_paint(RGBA{0, 0, 0, 1}, Gamma::Srgb);
+  size_t passes = 0, channel_groups = 0;
+  for (uint32_t seed = 1; seed <= 18; seed++) {
+    const int n = std::vector<int>{4, 5, 7}[seed % 3];
+    const random_inks::InkScene page = random_inks::ink_scene(seed, n, 4, 100);
+    for (const InkPass& pass : ink_passes(n)) {
+      const Scene s = random_inks::pass_scene(page, pass);
+      for (const Group& g : s.groups) channel_groups += g.subtractive || !composites_normally(g);
+      const EncodedScene enc = encode(s, Affine{}, Gamma::Srgb);
+      INFO("seed " << seed << ", " << n << " inks, pass of inks " << pass.inks[0] << " " << pass.inks[1] << " "
+                   << pass.inks[2]);
+      TreeParams params = resolve_stop_rule(TreeParams{}, 8);
+      params.keep_levels = true;
+      const ShortcutTree cpu_tree = build_tree_cpu(enc, 100, 100, params);
+      ctx.build(enc, 100, 100, params);
+      const ShortcutTree gpu_tree = ctx.download_tree();
+      REQUIRE(same_bytes(cpu_tree.segments, gpu_tree.segments));
+      REQUIRE(cpu_tree.levels.size() == gpu_tree.levels.size());
+      for (size_t l = 0; l < cpu_tree.levels.size(); l++) {
+        REQUIRE(same_bytes(cpu_tree.levels[l].cells, gpu_tree.levels[l].cells));
+        REQUIRE(same_bytes(cpu_tree.levels[l].entries, gpu_tree.levels[l].entries));
+      }
+      REQUIRE(same_bytes(cpu_tree.nodes, gpu_tree.nodes));
+      REQUIRE(same_bytes(cpu_tree.leaves, gpu_tree.leaves));
+      REQUIRE(same_bytes(cpu_tree.leaf_entries, gpu_tree.leaf_entries));
+      for (int samples : {8, 32}) {
+        INFO("samples " << samples);
+        const std::vector<SampleOffset> pattern = stratified_pattern(samples, 3);
+        const TreeParams render_params = resolve_stop_rule(TreeParams{}, samples);
+        const ImageF cpu = render_tree_cpu(build_tree_cpu(enc, 100, 100, render_params), 100, 100, pattern, paper, 0);
+        ctx.build(enc, 100, 100, render_params);
+        const ImageF a = ctx.render(pattern, paper);
+        const ImageF b = ctx.render(pattern, paper);
+        REQUIRE(same_bytes(a.rgba, b.rgba));  // run to run
+        REQUIRE(a.rgba.size() == cpu.rgba.size());
+        float worst = 0, alpha = 1;
+        for (size_t i = 0; i < a.rgba.size(); i++) {
+          worst = std::max(worst, std::fabs(a.rgba[i] - cpu.rgba[i]));
+          if (i % 4 == 3) alpha = std::min(alpha, a.rgba[i]);
+        }
+        INFO("largest CPU/GPU difference " << worst * 255 << "/255");
+        CHECK(worst <= 1.0f / 255.0f);
+        CHECK(alpha == Approx(1.0f).margin(1e-6));  // over the paper everywhere
+      }
+      passes++;
+    }
+  }
+  CHECK(passes == 6 * (2 + 2 + 3));
+  CHECK(channel_groups > 50);
+}
