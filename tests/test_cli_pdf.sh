@@ -282,6 +282,17 @@ check "--gamma linear loses thin rules' darkness (not the default: $got)" test "
 "$bin" -q --thin-lines fuzzy "$thin" "$tmp/tx" 2>/dev/null; rc=$?
 check "--thin-lines fuzzy: exit 2" test "$rc" = 2
 
+# ICC colour management: a build of MuPDF without it (Debian 12's: mutool
+# says "ICC support is not available") draws ICC-based colours through
+# their alternates, with one warning on such a page and none on others.
+err=$("$bin" --backend cpu -r 36 "$src/testdata/pdf/features/colorspace-iccbased.pdf" "$tmp/icc" 2>&1)
+plain=$("$bin" --backend cpu -r 36 "$src/testdata/pdf/red-square.pdf" "$tmp/noicc" 2>&1)
+check "no ICC warning on a page without ICC colours ($plain)" test -z "$(echo "$plain" | grep ICC)"
+if command -v mutool > /dev/null && mutool draw -o "$tmp/mu.png" "$src/testdata/pdf/red-square.pdf" 2>&1 | grep -q "ICC support is not available"; then
+  check "ICC-based colours without ICC support: one warning ($err)" test "$(echo "$err" | grep -c 'no ICC colour management')" = 1
+else
+  echo "skip the ICC warning check: MuPDF's ICC support unknown (no mutool) or present"
+fi
 out=$("$bin" --help)
 check "--help lists --box, -cropbox, -hide-annotations, -gray, -mono and --thin-lines" \
   test -n "$(echo "$out" | grep -e '--box B')" -a -n "$(echo "$out" | grep -e '-cropbox')" \

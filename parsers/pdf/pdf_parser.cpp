@@ -170,6 +170,49 @@ void silence(fz_context* ctx) {
   fz_set_warning_callback(ctx, [](void*, const char*) {}, nullptr);
 }
 
+// Does this MuPDF build manage colour with ICC profiles (lcms2)? Without it
+// (Debian 12's libmupdf) fz_enable_icc warns, and ICC-based colour spaces
+// fall back to their alternates. Asked once a process.
+bool icc_available(fz_context* ctx) {
+  static const bool available = [ctx] {
+    bool warned = false;
+    fz_set_warning_callback(
+        ctx, [](void* user, const char* message) {
+          if (std::strstr(message, "ICC")) *static_cast<bool*>(user) = true;
+        },
+        &warned);
+    fz_enable_icc(ctx);
+    fz_flush_warnings(ctx);
+    silence(ctx);
+    return !warned;
+  }();
+  return available;
+}
+
+// Does the page ask for ICC colour management: an output intent in the
+// catalog, or an ICCBased colour space among its resources' colour spaces
+// and images (their first level)?
+bool page_uses_icc(fz_context* ctx, fz_page* page) {
+  pdf_page* pp = pdf_page_from_fz_page(ctx, page);
+  if (!pp) return false;
+  volatile bool found = false;
+  fz_try(ctx) {
+    pdf_document* doc = pp->doc;
+    if (pdf_dict_getp(ctx, pdf_trailer(ctx, doc), "Root/OutputIntents")) found = true;
+    pdf_obj* res = pdf_page_resources(ctx, pp);
+    auto icc = [&](pdf_obj* cs) {
+      return pdf_is_array(ctx, cs) && pdf_name_eq(ctx, pdf_array_get(ctx, cs, 0), PDF_NAME(ICCBased));
+    };
+    pdf_obj* spaces = pdf_dict_get(ctx, res, PDF_NAME(ColorSpace));
+    for (int i = 0; !found && i < pdf_dict_len(ctx, spaces); i++) found = icc(pdf_dict_get_val(ctx, spaces, i));
+    pdf_obj* xobjects = pdf_dict_get(ctx, res, PDF_NAME(XObject));
+    for (int i = 0; !found && i < pdf_dict_len(ctx, xobjects); i++)
+      found = icc(pdf_dict_get(ctx, pdf_dict_get_val(ctx, xobjects, i), PDF_NAME(ColorSpace)));
+  }
+  fz_catch(ctx) {}
+  return found;
+}
+
 }  // namespace
 
 Document::Document(const std::string& path, const std::string& password, size_t max_input)
@@ -318,10 +361,14 @@ PageResult Document::page(int index, const std::function<double(double, double)>
   try {
     if (!impl_->glyphs) impl_->glyphs = std::make_unique<detail::GlyphCache>(ctx);
     const Affine device = Affine::scale(out.pixels_per_point, out.pixels_per_point);
+    if (!icc_available(ctx) && page_uses_icc(ctx, page))
+      out.warnings.push_back(
+          "this MuPDF has no ICC colour management: ICC-based colours and the output intent were drawn through "
+          "their alternate spaces");
     if (options.inks == InkModel::Rgb) {
       detail::Lowered l =
           detail::lower_page(ctx, page, fz_translate(-box.x0, -box.y0), device, w, h, b, *impl_->glyphs, options);
-      out.warnings = std::move(l.warnings);
+      out.warnings.insert(out.warnings.end(), l.warnings.begin(), l.warnings.end());
       out.interpret_ms += l.run_ms - l.lower_ms;
       out.lower_ms = l.lower_ms;
     } else {
