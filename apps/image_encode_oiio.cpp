@@ -151,6 +151,7 @@ bool encode(const std::string& format, const Raster& r, const EncodeOptions& o, 
     const std::string& c = o.tiff_compression;
     spec.attribute("Compression",
                    c == "deflate" ? std::string("zip") : c == "jpeg" ? "jpeg:" + std::to_string(o.jpeg_quality) : c);
+    if (c == "deflate") spec.attribute("tiff:zipquality", o.deflate_level);
     if (r.cmyk) spec.attribute("tiff:ColorSpace", "CMYK");
     if (r.bits == 1) spec.attribute("oiio:BitsPerSample", 1);
     // No DateTime tag (the writer stamps the current time where the spec

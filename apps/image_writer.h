@@ -26,6 +26,10 @@ struct EncodeOptions {
   // TIFF (pdftoppm's -tiffcompression): none, packbits, lzw, deflate or
   // jpeg (8-bit RGB only: OpenImageIO 2.4 deflates anything else).
   std::string tiff_compression = "deflate";
+  // deflate's level, 1 (fastest, the default: as the PNGs' default level
+  // 2 of libdeflate, files a few percent larger than level 6 for pages)
+  // to 9 (pdf2png's --compression N).
+  int deflate_level = 1;
   // Resolution written into the file (TIFF's XResolution and YResolution
   // per inch, JPEG's JFIF density); 0: none.
   double dpi = 0;

@@ -159,7 +159,7 @@ void usage() {
       "                            with --transparent where not opaque)\n"
       "      -mono, --mono         1-bit PNG or TIFF: grey dithered as pdftoppm -mono\n"
       "                            does (a 4x4 dispersed-dot threshold matrix), over white\n"
-      "      --compression 0..9    PNG deflate level: 0 none, 1 mpvg's parallel deflate\n"
+      "      --compression 0..9    PNG deflate level (TIFF's, 1-9: default 1): 0 none, 1 mpvg's parallel deflate\n"
       "                            (on the GPU where it renders: the CPU's work for PNGs\n"
       "                            drops ~20x), 2-9 libdeflate's on the CPU (default 2)\n"
       "Antialiasing (the paper's modes):\n"
@@ -424,6 +424,9 @@ int main(int argc, char** argv) {
       if (!pdf.format_flag) pdf.format_flag = pdf.inks == pdf::InkModel::Cmyk ? "--colorspace cmyk" : "--separations";
       opt.background = RGBA{0, 0, 0, 1};
     }
+    // A TIFF's deflate level: --compression N (1-9), as a PNG's.
+    if (pdf.format == image::Format::Tiff && opt.compression >= 1)
+      pdf.encode.deflate_level = std::min(9, opt.compression);
     // -tiff and -jpeg without OpenImageIO's module: refused before any
     // page is rendered.
     std::string no;

@@ -27,7 +27,6 @@ import re
 import subprocess
 import sys
 import tempfile
-import threading
 
 import numpy as np
 from PIL import Image
@@ -53,15 +52,17 @@ def blocks(a, k):
     return a.reshape(h // k, k, w // k, k, -1).mean(axis=(1, 3))
 
 
-LOCK = threading.Lock()
-
-
 def load(path):
-    with LOCK, open(path, "rb") as f:  # PIL's libtiff reader is not thread-safe
+    with open(path, "rb") as f:
         im = Image.open(f)
         im.load()
         a = np.array(im)
     return a[..., None] if a.ndim == 2 else a
+
+
+def to_rgb(cmyk):
+    c = cmyk / 255.0
+    return 255.0 * (1.0 - np.minimum(1.0, c[..., :3] + c[..., 3:4]))
 
 
 def compare(ours, ref):
@@ -83,7 +84,7 @@ def one(args, pdf, page, work):
         return {"pdf": pdf, "page": page, "status": "error"}
     dev = ["-sDEVICE=tiff32nc", "-sOverprint=simulate"] if args.mode == "cmyk" else ["-sDEVICE=tiffsep"]
     subprocess.run(["gs", "-q", "-dNOPAUSE", "-dBATCH", "-dSAFER", "-r%d" % r4, "-dFirstPage=%d" % page,
-                    "-dLastPage=%d" % page] + dev + ["-sOutputFile=" + os.path.join(base, "gs.tif"), pdf],
+                    "-dLastPage=%d" % page] + dev + args.gs_arg + ["-sOutputFile=" + os.path.join(base, "gs.tif"), pdf],
                    capture_output=True, timeout=600)
     pairs = []
     if args.mode == "cmyk":
@@ -99,7 +100,10 @@ def one(args, pdf, page, work):
             missing.append(name)
             continue
         g = blocks(load(ref), 4)
-        f = compare(load(mine).astype(np.float64), g)
+        m = load(mine).astype(np.float64)
+        if args.as_rgb:
+            m, g = to_rgb(m), to_rgb(g)
+        f = compare(m, g)
         if f is None:
             return {"pdf": pdf, "page": page, "status": "size"}
         worst = max(worst, f)
@@ -116,13 +120,22 @@ def main():
     ap.add_argument("--jobs", type=int, default=os.cpu_count())
     ap.add_argument("--mode", choices=["cmyk", "separations"], default="cmyk")
     ap.add_argument("--json")
+    ap.add_argument("--as-rgb", action="store_true",
+                    help="cmyk: compare both as RGB (r = 1 - min(1, c + k), ...), which sets aside how each "
+                         "converts RGB and grey to CMYK (colour management: Ghostscript's ICC profiles give "
+                         "RGB black as rich black, MuPDF without ICC as K alone)")
+    ap.add_argument("--gs-arg", action="append", default=[],
+                    help="more Ghostscript options (e.g. -dUseFastColor=true: no ICC, PDF's default conversions)")
     ap.add_argument("extra", nargs="*")
     args = ap.parse_args()
     work = tempfile.mkdtemp(prefix="inksuite-")
     tasks = [(pdf, p) for pdf in sorted(glob.glob(os.path.join(args.pdf_dir, "*.pdf")))
              for p in pick(page_count(pdf), args.pages_per_doc)]
-    with concurrent.futures.ThreadPoolExecutor(args.jobs) as ex:
-        results = list(ex.map(lambda t: one(args, t[0], t[1], work), tasks))
+    # Processes, not threads: PIL's libtiff reader closes file descriptors
+    # that other threads' pipes may have reused.
+    with concurrent.futures.ProcessPoolExecutor(args.jobs) as ex:
+        results = list(ex.map(one, [args] * len(tasks), [t[0] for t in tasks], [t[1] for t in tasks],
+                              [work] * len(tasks)))
     for r in results:
         print("%-28s p%-4d %s %s" % (os.path.basename(r["pdf"]), r["page"], r["status"],
                                      "%.4f" % r["bad"] if "bad" in r else ""))
