@@ -58,6 +58,7 @@
 #include "core/error.h"
 #include "core/parallel.h"
 #include "gpu/backend.h"
+#include "parsers/pdf/output_intent.h"
 #include "parsers/pdf/pdf_parser.h"
 
 namespace {
@@ -104,6 +105,7 @@ struct PdfOptions {
   bool annotations = true;                              // -hide-annotations
   mpvg::pdf::ThinLines thin_lines = mpvg::pdf::ThinLines::Exact;  // --thin-lines
   mpvg::pdf::InkModel inks = mpvg::pdf::InkModel::Rgb;             // --colorspace cmyk, --separations
+  std::string cmyk_profile;                                         // --cmyk-profile FILE
   bool gray = false, mono = false;                      // -gray, -mono
   mpvg::image::Format format = mpvg::image::Format::Png;  // -png, -jpeg, -tiff
   const char* format_flag = nullptr;                      // the one given, for messages
@@ -149,6 +151,10 @@ void usage() {
       "                            the inks the page prints with, overprint (OP, op, OPM)\n"
       "                            and blend modes composited per ink, spot colours\n"
       "                            through their CMYK alternates\n"
+      "      --cmyk-profile FILE   the press's ICC profile RGB colours and images are\n"
+      "                            converted into for --colorspace cmyk and --separations\n"
+      "                            (default: the document's output intent; without\n"
+      "                            either, PDF's device formulas)\n"
       "      --separations         print preview with spot colours as inks of their own:\n"
       "                            OUT-N.tif (every ink, separated), OUT-N(Name).tif a\n"
       "                            grey plate per ink as Ghostscript's tiffsep writes\n"
@@ -253,7 +259,9 @@ std::vector<char*> own_options(int argc, char** argv, PdfOptions& p) {
       else if (v == "gray") p.gray = true;
       else if (v == "cmyk") p.inks = mpvg::pdf::InkModel::Cmyk;
       else throw mpvg::cli::UsageError{"invalid value '" + v + "' for --colorspace (rgb, gray or cmyk)"};
-    } else if (a == "--separations")
+    } else if (a == "--cmyk-profile")
+      p.cmyk_profile = value();
+    else if (a == "--separations")
       p.inks = mpvg::pdf::InkModel::Separations;
     else if (a == "--thin-lines") {
       const std::string v = value();
@@ -314,6 +322,9 @@ std::vector<char*> own_options(int argc, char** argv, PdfOptions& p) {
 }
 
 // Page n (1-based) of `doc` interpreted, lowered and encoded: a pipeline job.
+// The press profile --cmyk-profile names (loaded once, in main).
+std::shared_ptr<const mpvg::pdf::OutputProfile> cmyk_profile;
+
 std::unique_ptr<mpvg::pipeline::Job> lower(const PdfOptions& pdf, const mpvg::cli::Options& opt,
                                            const mpvg::pdf::Document& doc, int n, const std::string& out) {
   using namespace mpvg;
@@ -329,6 +340,7 @@ std::unique_ptr<mpvg::pipeline::Job> lower(const PdfOptions& pdf, const mpvg::cl
         o.annotations = pdf.annotations;
         o.thin_lines = pdf.thin_lines;
         o.inks = pdf.inks;
+        o.cmyk_profile = cmyk_profile;
         return o;
       }());
   const Scene& first = page.ink_passes.empty() ? page.scene : page.ink_passes[0];
@@ -423,6 +435,15 @@ int main(int argc, char** argv) {
       pdf.format = image::Format::Tiff;
       if (!pdf.format_flag) pdf.format_flag = pdf.inks == pdf::InkModel::Cmyk ? "--colorspace cmyk" : "--separations";
       opt.background = RGBA{0, 0, 0, 1};
+    } else if (!pdf.cmyk_profile.empty()) {
+      throw cli::UsageError{"--cmyk-profile is for --colorspace cmyk or --separations"};
+    }
+    if (!pdf.cmyk_profile.empty()) {
+      try {
+        cmyk_profile = pdf::OutputProfile::from_file(pdf.cmyk_profile);
+      } catch (const Error& e) {
+        throw cli::UsageError{std::string("--cmyk-profile: ") + e.what()};
+      }
     }
     // A TIFF's deflate level: --compression N (1-9), as a PNG's.
     if (pdf.format == image::Format::Tiff && opt.compression >= 1)
@@ -445,6 +466,11 @@ int main(int argc, char** argv) {
   try {
     const pdf::Document doc(opt.positional[0], pdf.password, opt.max_input);
     const int count = doc.page_count();
+    // Print preview without a press profile: said once for the document.
+    if (pdf.inks != pdf::InkModel::Rgb && !cmyk_profile && !opt.quiet && count > 0 && !doc.has_output_intent())
+      std::fprintf(stderr,
+                   "pdf2png: warning: no CMYK output profile (the document has no output intent; --cmyk-profile "
+                   "names one): RGB colours converted by PDF's device formulas, RGB black as black ink alone\n");
     const int first = pdf.first;
     const int last = pdf.singlefile ? std::min(pdf.first, count) : pdf.last < 0 ? count : std::min(pdf.last, count);
     const int digits = static_cast<int>(std::to_string(count).size());

@@ -948,6 +948,39 @@ def print_preview():
                 objects=objects)
 
 
+def rgb_inks():
+    """rgb-inks.pdf and rgb-inks-intent.pdf: a 60 x 20 pt page of 10 pt
+    squares, RGB black (0 0 0 rg), RGB red, DeviceGray black (0 g) and
+    DeviceCMYK black (0 0 0 1 k), then a 2 x 1 RGB image (black, red) over
+    x 40..60. The second has an output intent whose DestOutputProfile is
+    testdata/icc/cmy-press.icc (scripts/make_test_cmyk_profile.cpp: a press
+    printing RGB black as C, M, Y without K), for print preview's colour
+    management: RGB colours and images go through it, grey and CMYK stay
+    black ink."""
+    content = lines("0 0 0 rg 0 0 10 20 re f", "1 0 0 rg 10 0 10 20 re f", "0 g 20 0 10 20 re f",
+                    "0 0 0 1 k 30 0 10 20 re f", "q 20 0 0 20 40 0 cm /Im Do Q")
+    with open(os.path.join(ROOT, "testdata", "icc", "cmy-press.icc"), "rb") as f:
+        icc = f.read()
+    for name, intent in (("rgb-inks.pdf", False), ("rgb-inks-intent.pdf", True)):
+        pdf = Pdf()
+        catalog = pdf.reserve()
+        tree = pdf.reserve()
+        page = pdf.reserve()
+        image = pdf.add_hex_stream("/Type /XObject /Subtype /Image /Width 2 /Height 1 /ColorSpace /DeviceRGB "
+                                   "/BitsPerComponent 8", bytes([0, 0, 0, 255, 0, 0]))
+        contents = pdf.add_stream("", content)
+        pdf.set(page, "<< /Type /Page /Parent %s /MediaBox [0 0 60 20] /Contents %s "
+                "/Resources << /XObject << /Im %s >> >> >>" % (ref(tree), ref(contents), ref(image)))
+        pdf.set(tree, "<< /Type /Pages /Kids [%s] /Count 1 >>" % ref(page))
+        extra = ""
+        if intent:
+            profile = pdf.add_hex_stream("/N 4", icc)
+            extra = ("/OutputIntents [<< /Type /OutputIntent /S /GTS_PDFX /OutputConditionIdentifier "
+                     "(mpvg test press) /DestOutputProfile %s >>] " % ref(profile))
+        pdf.set(catalog, "<< /Type /Catalog /Pages %s %s>>" % (ref(tree), extra))
+        write(os.path.join(PDFDIR, name), pdf.bytes(catalog))
+
+
 def main():
     fill_rules()
     clips()
@@ -982,6 +1015,7 @@ def main():
     grey_ramp()
     thin_rules()
     print_preview()
+    rgb_inks()
 
 
 if __name__ == "__main__":

@@ -14,7 +14,7 @@ PACKAGES=(
   libfontconfig-dev fonts-dejavu-core fonts-lohit-deva fonts-wqy-microhei
   fonts-liberation fonts-urw-base35
   catch2
-  libpng-dev libdeflate-dev
+  libpng-dev libdeflate-dev liblcms2-dev
   python3-dev python3-numpy pybind11-dev
   time util-linux
 )

@@ -471,6 +471,38 @@ PY
   got=$(pixels "$tmp/sep-1.png" 20,30 60,30 180,30)
   check "--separations: the press sheet in RGB, cyan and yellow overprinted green ($got)" \
     test "$got" = "200x100 8 2 0-255-0 255-255-0 64-255-255"
+  # Colour management (parsers/pdf/output_intent.h; testdata/pdf/rgb-inks*.pdf):
+  # RGB black, red, grey black, CMYK black, then an RGB image of black and
+  # red. Without a press profile, PDF's device formulas (RGB black as K
+  # alone, one warning); with the output intent (testdata/icc/cmy-press.icc,
+  # a press of C, M, Y alone) or --cmyk-profile naming it, RGB colours and
+  # images go through the profile (black as C, M, Y), grey and CMYK stay K.
+  ri=$src/testdata/pdf/rgb-inks.pdf
+  err=$("$bin" --backend cpu -r 72 --aa 1x32 --colorspace cmyk "$ri" "$tmp/ri" 2>&1)
+  got=$(at "$tmp/ri-1.tif" 5,10 15,10 25,10 35,10 45,10 55,10)
+  check "no press profile: PDF's formulas, RGB black as K ($got)" \
+    test "$got" = "0-0-0-255 0-255-255-0 0-0-0-255 0-0-0-255 0-0-0-255 0-255-255-0"
+  check "no press profile: one warning ($err)" test "$(echo "$err" | grep -c 'no CMYK output profile')" = 1
+  profiled() {  # TIFF: ok if RGB colours went through cmy-press.icc (C, M, Y up, no K) and grey, CMYK did not
+    python3 - "$(at "$1" 5,10 15,10 25,10 35,10 45,10 55,10)" <<'PY'
+import sys
+p = [list(map(int, v.split("-"))) for v in sys.argv[1].split()]
+rich = all(c >= 240 for c in p[0][:3]) and p[0][3] == 0 and p[4] == p[0]
+red = p[1][0] < 30 and p[1][1] > 200 and p[1][2] > 200 and p[1][3] == 0 and p[5] == p[1]
+print("ok" if rich and red and p[2] == p[3] == [0, 0, 0, 255] else " ".join(sys.argv[1:]))
+PY
+  }
+  err=$("$bin" --backend cpu -r 72 --aa 1x32 --colorspace cmyk "$src/testdata/pdf/rgb-inks-intent.pdf" "$tmp/rii" 2>&1)
+  got=$(profiled "$tmp/rii-1.tif")
+  check "the output intent's profile converts RGB colours and images ($got)" test "$got" = ok
+  check "the output intent: no warning about a missing profile ($err)" test -z "$(echo "$err" | grep 'no CMYK output')"
+  "$bin" -q --backend cpu -r 72 --aa 1x32 --colorspace cmyk --cmyk-profile "$src/testdata/icc/cmy-press.icc" "$ri" "$tmp/rip"
+  got=$(profiled "$tmp/rip-1.tif")
+  check "--cmyk-profile converts RGB colours and images through it ($got)" test "$got" = ok
+  for bad in "--cmyk-profile $src/testdata/pdf/rgb-inks.pdf --colorspace cmyk" "--cmyk-profile $ri"; do
+    err=$("$bin" -q --backend cpu $bad "$ri" "$tmp/cb" 2>&1); rc=$?
+    check "$bad: exit 2, one line ($err)" test "$rc" = 2 -a "$(echo "$err" | wc -l)" = 1
+  done
   for bad in "--colorspace cmyk -jpeg" "--separations -gray" "--colorspace cmyk --bits 16" \
     "--colorspace cmyk --gamma linear" "--separations --transparent" "--colorspace lab"; do
     err=$("$bin" -q --backend cpu $bad "$pp" "$tmp/ib" 2>&1); rc=$?

@@ -39,10 +39,17 @@ const std::map<std::string, std::string> kPending = {
 std::vector<uint8_t> render_page(const fs::path& pdf_path, int* w, int* h) {
   const pdf::Document doc(pdf_path.string());
   const pdf::PageResult page = doc.page(0, 1.0);
+  // No warning, but the one a MuPDF without ICC support gives pages with
+  // ICC-based colours (drawn through their alternates: what the goldens
+  // show).
   std::ostringstream warnings;
-  for (const std::string& s : page.warnings) warnings << "\n  " << s;
+  size_t others = 0;
+  for (const std::string& s : page.warnings) {
+    warnings << "\n  " << s;
+    others += s.rfind("this MuPDF has no ICC colour management", 0) != 0;
+  }
   INFO("warnings:" << warnings.str());
-  CHECK(page.warnings.empty());
+  CHECK(others == 0);
   RenderOptions o;
   o.width = *w = std::max(1, static_cast<int>(std::ceil(page.scene.width - 1e-6)));
   o.height = *h = std::max(1, static_cast<int>(std::ceil(page.scene.height - 1e-6)));

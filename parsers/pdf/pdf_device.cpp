@@ -126,6 +126,22 @@ fz_pixmap* rgb_pixmap(fz_context* ctx, fz_image* image, fz_color_params cp, fz_m
   return rgb;
 }
 
+// Is cs RGB-based: RGB, BGR or Lab, or an indexed or Separation/DeviceN
+// space over one (colours an output profile converts)?
+bool rgb_based(fz_context* ctx, fz_colorspace* cs) {
+  for (int depth = 0; cs && depth < 4; depth++) {
+    switch (fz_colorspace_type(ctx, cs)) {
+      case FZ_COLORSPACE_RGB:
+      case FZ_COLORSPACE_BGR:
+      case FZ_COLORSPACE_LAB: return true;
+      case FZ_COLORSPACE_INDEXED: cs = cs->u.indexed.base; break;
+      case FZ_COLORSPACE_SEPARATION: cs = cs->u.separation.base; break;
+      default: return false;
+    }
+  }
+  return false;
+}
+
 LineCap to_cap(fz_linecap c) {
   switch (c) {
     case FZ_LINECAP_ROUND: return LineCap::Round;
@@ -280,8 +296,11 @@ struct Lowering {
     }
     float cmyk[4] = {0, 0, 0, 0};
     const bool direct = fz_colorspace_type(ctx, cs) == FZ_COLORSPACE_CMYK && !fz_colorspace_is_indexed(ctx, cs);
+    float rgb[3];
     if (direct) {
       for (int k = 0; k < 4; k++) cmyk[k] = std::clamp(color[k], 0.0f, 1.0f);
+    } else if (inks->profile && rgb_based(ctx, cs) && convert_color(ctx, cs, color, rgb, cp)) {
+      inks->profile->rgb_to_cmyk(rgb, cmyk, 1, cp.ri);  // through the press's profile
     } else if (!convert_color(ctx, cs, color, cmyk, cp, fz_device_cmyk(ctx))) {
       warn("a colour could not be converted: black used");
       cmyk[3] = 1;
@@ -393,9 +412,12 @@ struct Lowering {
                                    RGBA tint, Affine* xf_out) {
     const Affine px = device * to_affine(ctm);
     const bool in_inks = ink_mode();
+    // Print preview: CMYK samples, RGB-based images through the press's
+    // profile (decoded as RGB, converted a row at a time below).
+    const bool profiled = in_inks && inks->profile && rgb_based(ctx, img->colorspace);
     fz_pixmap* pix = rgb_pixmap(ctx, img, cp, fz_matrix{float(px.a), float(px.b), float(px.c), float(px.d),
                                                        float(px.e), float(px.f)},
-                                in_inks ? fz_device_cmyk(ctx) : nullptr);
+                                in_inks && !profiled ? fz_device_cmyk(ctx) : nullptr);
     if (!pix) {
       warn("an image could not be decoded: skipped");
       return std::nullopt;
@@ -407,9 +429,35 @@ struct Lowering {
     const bool has_alpha = fz_pixmap_alpha(ctx, pix) != 0;
     const unsigned char* samples = fz_pixmap_samples(ctx, pix);
     im->rgba8.resize(size_t(im->width) * im->height * 4);
-    for (int y = 0; y < im->height; y++)
+    std::vector<float> row_rgb, row_cmyk;
+    std::vector<unsigned char> row;
+    for (int y = 0; y < im->height; y++) {
+      const unsigned char* line = samples + size_t(y) * stride;
+      int m = n;
+      if (profiled && n >= 3) {
+        // This row's straight RGB through the profile, into CMYK samples
+        // premultiplied again (as the loop below reads MuPDF's).
+        row_rgb.resize(size_t(im->width) * 3);
+        row_cmyk.resize(size_t(im->width) * 4);
+        row.resize(size_t(im->width) * 5);
+        for (int x = 0; x < im->width; x++) {
+          const unsigned char* s = line + size_t(x) * n;
+          const int a = has_alpha ? s[n - 1] : 255;
+          for (int k = 0; k < 3; k++) row_rgb[size_t(x) * 3 + k] = a ? std::min(1.0f, s[k] / float(a)) : 0.0f;
+        }
+        inks->profile->rgb_to_cmyk(row_rgb.data(), row_cmyk.data(), im->width, cp.ri);
+        for (int x = 0; x < im->width; x++) {
+          const int a = has_alpha ? line[size_t(x) * n + n - 1] : 255;
+          for (int k = 0; k < 4; k++)
+            row[size_t(x) * 5 + k] = static_cast<unsigned char>(std::lround(row_cmyk[size_t(x) * 4 + k] * a));
+          row[size_t(x) * 5 + 4] = static_cast<unsigned char>(a);
+        }
+        line = row.data();
+        m = 5;
+      }
       for (int x = 0; x < im->width; x++) {
-        const unsigned char* s = samples + size_t(y) * stride + size_t(x) * n;
+        const unsigned char* s = line + size_t(x) * m;
+        const int n = m;
         const int a = has_alpha ? s[n - 1] : 255;
         uint8_t* d = &im->rgba8[(size_t(y) * im->width + x) * 4];
         for (int k = 0; k < 3; k++) {
@@ -422,6 +470,7 @@ struct Lowering {
         }
         d[3] = static_cast<uint8_t>(a);
       }
+    }
     fz_drop_pixmap(ctx, pix);
     const Affine xf = place(ctm);
     Texture t;

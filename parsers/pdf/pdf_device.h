@@ -11,6 +11,7 @@
 
 #include "core/inks.h"
 #include "core/scene.h"
+#include "parsers/pdf/output_intent.h"
 #include "parsers/pdf/pdf_parser.h"
 
 namespace mpvg::pdf::detail {
@@ -50,6 +51,9 @@ class GlyphCache {
 struct InkTarget {
   std::vector<std::string> spots;
   InkPass pass;
+  // The press's CMYK profile RGB-based colours and images are converted
+  // through (output_intent.h); null: MuPDF's device formulas.
+  const OutputProfile* profile = nullptr;
 };
 
 // Runs `page` with `ctm` (page space to scene units) through the lowering

@@ -113,6 +113,11 @@ struct Document::Impl {
   // with the clones.
   std::shared_ptr<const std::vector<unsigned char>> input;
   std::unique_ptr<detail::GlyphCache> glyphs;  // this context's, made on first use
+  // The document's output intent as a press profile (print preview), read
+  // on first need; why it could not be used, if so.
+  bool intent_read = false;
+  std::shared_ptr<const OutputProfile> intent;
+  std::string intent_problem;
   ~Impl() {
     if (ctx) {
       glyphs.reset();
@@ -190,15 +195,15 @@ bool icc_available(fz_context* ctx) {
 }
 
 // Does the page ask for ICC colour management: an output intent in the
-// catalog, or an ICCBased colour space among its resources' colour spaces
-// and images (their first level)?
-bool page_uses_icc(fz_context* ctx, fz_page* page) {
+// catalog (with `intents`), or an ICCBased colour space among its
+// resources' colour spaces and images (their first level)?
+bool page_uses_icc(fz_context* ctx, fz_page* page, bool intents) {
   pdf_page* pp = pdf_page_from_fz_page(ctx, page);
   if (!pp) return false;
   volatile bool found = false;
   fz_try(ctx) {
     pdf_document* doc = pp->doc;
-    if (pdf_dict_getp(ctx, pdf_trailer(ctx, doc), "Root/OutputIntents")) found = true;
+    if (intents && pdf_dict_getp(ctx, pdf_trailer(ctx, doc), "Root/OutputIntents")) found = true;
     pdf_obj* res = pdf_page_resources(ctx, pp);
     auto icc = [&](pdf_obj* cs) {
       return pdf_is_array(ctx, cs) && pdf_name_eq(ctx, pdf_array_get(ctx, cs, 0), PDF_NAME(ICCBased));
@@ -266,6 +271,24 @@ std::unique_ptr<Document> Document::clone(Context context) const {
 Document::~Document() = default;
 
 int Document::page_count() const { return impl_->pages; }
+
+namespace {
+std::shared_ptr<const OutputProfile> output_intent(fz_context* ctx, fz_page* page, std::string* problem);
+}  // namespace
+
+bool Document::has_output_intent() const {
+  if (!impl_->intent_read && impl_->pages > 0) {
+    fz_context* ctx = impl_->ctx;
+    fz_page* volatile page = nullptr;
+    fz_try(ctx) { page = fz_load_page(ctx, impl_->doc, 0); }
+    fz_catch(ctx) { page = nullptr; }
+    if (!page) return false;
+    impl_->intent_read = true;
+    impl_->intent = output_intent(ctx, page, &impl_->intent_problem);
+    fz_drop_page(ctx, page);
+  }
+  return impl_->intent != nullptr;
+}
 
 namespace {
 
@@ -342,6 +365,45 @@ void page_spots(fz_context* ctx, fz_page* page, std::vector<std::string>* names,
 
 }  // namespace
 
+namespace {
+
+// The document's output intent (PDF 32000-1 §14.11.5): the first
+// /OutputIntents entry whose DestOutputProfile is a CMYK profile; null if
+// none, with *problem set when one is there but cannot be used.
+std::shared_ptr<const OutputProfile> output_intent(fz_context* ctx, fz_page* page, std::string* problem) {
+  pdf_page* pp = pdf_page_from_fz_page(ctx, page);
+  if (!pp) return nullptr;
+  std::vector<std::vector<uint8_t>> profiles;
+  fz_buffer* volatile buf = nullptr;
+  fz_try(ctx) {
+    pdf_obj* intents = pdf_dict_getp(ctx, pdf_trailer(ctx, pp->doc), "Root/OutputIntents");
+    for (int i = 0; i < pdf_array_len(ctx, intents); i++) {
+      pdf_obj* dest = pdf_dict_gets(ctx, pdf_array_get(ctx, intents, i), "DestOutputProfile");
+      if (!pdf_is_stream(ctx, dest)) continue;
+      buf = pdf_load_stream(ctx, dest);
+      unsigned char* data = nullptr;
+      const size_t n = fz_buffer_storage(ctx, buf, &data);
+      profiles.emplace_back(data, data + n);
+      fz_drop_buffer(ctx, buf);
+      buf = nullptr;
+    }
+  }
+  fz_catch(ctx) {
+    fz_drop_buffer(ctx, buf);
+    *problem = "the output intent could not be read: no press profile from it";
+  }
+  for (const std::vector<uint8_t>& icc : profiles) {
+    try {
+      return std::make_shared<const OutputProfile>(icc, "the output intent's profile");
+    } catch (const Error& e) {
+      *problem = std::string(e.what()) + ": not used";
+    }
+  }
+  return nullptr;
+}
+
+}  // namespace
+
 PageResult Document::page(int index, double pixels_per_point, const PageOptions& options) const {
   return page(index, [pixels_per_point](double, double) { return pixels_per_point; }, options);
 }
@@ -361,10 +423,13 @@ PageResult Document::page(int index, const std::function<double(double, double)>
   try {
     if (!impl_->glyphs) impl_->glyphs = std::make_unique<detail::GlyphCache>(ctx);
     const Affine device = Affine::scale(out.pixels_per_point, out.pixels_per_point);
-    if (!icc_available(ctx) && page_uses_icc(ctx, page))
-      out.warnings.push_back(
-          "this MuPDF has no ICC colour management: ICC-based colours and the output intent were drawn through "
-          "their alternate spaces");
+    // (Print preview applies the output intent itself: output_intent.h.)
+    if (!icc_available(ctx) && page_uses_icc(ctx, page, options.inks == InkModel::Rgb))
+      out.warnings.push_back(options.inks == InkModel::Rgb
+                                 ? "this MuPDF has no ICC colour management: ICC-based colours and the output "
+                                   "intent were drawn through their alternate spaces"
+                                 : "this MuPDF has no ICC colour management: ICC-based colours were drawn "
+                                   "through their alternate spaces");
     if (options.inks == InkModel::Rgb) {
       detail::Lowered l =
           detail::lower_page(ctx, page, fz_translate(-box.x0, -box.y0), device, w, h, b, *impl_->glyphs, options);
@@ -374,6 +439,13 @@ PageResult Document::page(int index, const std::function<double(double, double)>
     } else {
       // Print preview: the page once per pass of its inks (core/inks.h).
       detail::InkTarget target;
+      if (!impl_->intent_read) {
+        impl_->intent_read = true;
+        impl_->intent = output_intent(ctx, page, &impl_->intent_problem);
+      }
+      if (!impl_->intent_problem.empty()) out.warnings.push_back(impl_->intent_problem);
+      // (Without either profile: MuPDF's formulas; the caller says so once.)
+      target.profile = options.cmyk_profile ? options.cmyk_profile.get() : impl_->intent.get();
       out.ink_names = {"Cyan", "Magenta", "Yellow", "Black"};
       if (options.inks == InkModel::Separations) page_spots(ctx, page, &target.spots, &out.spot_cmyk);
       out.ink_names.insert(out.ink_names.end(), target.spots.begin(), target.spots.end());

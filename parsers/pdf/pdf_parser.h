@@ -18,6 +18,8 @@
 
 namespace mpvg::pdf {
 
+class OutputProfile;  // output_intent.h
+
 // The page box a page is rendered over (PDF 32000-1 §14.11.2): CropBox
 // defaults to the MediaBox, BleedBox, TrimBox and ArtBox to the CropBox;
 // each is intersected with the MediaBox (a box that leaves less than 1 pt
@@ -47,6 +49,9 @@ struct PageOptions {
   bool annotations = true;
   ThinLines thin_lines = ThinLines::Exact;
   InkModel inks = InkModel::Rgb;
+  // Print preview's press profile (output_intent.h) where the document has
+  // no output intent, or over it; null: the output intent's, or none.
+  std::shared_ptr<const OutputProfile> cmyk_profile;
   PageOptions() = default;
   PageOptions(PageBox b) : box(b) {}  // NOLINT: a box alone is the common case
 };
@@ -92,6 +97,9 @@ class Document {
   std::unique_ptr<Document> clone(Context context = Context::Independent) const;
 
   int page_count() const;
+  // Does the document name its press: an output intent whose profile
+  // print preview can use (output_intent.h)?
+  bool has_output_intent() const;
   // Page `index` (0-based); `pixels_per_point` is the output resolution
   // the page will be rendered at (stroke tolerance, thinnest lines), given
   // or chosen from the page's width and height in points (as
