@@ -4,86 +4,28 @@
 // converters start without loading OpenImageIO's ~260 libraries.
 #include "apps/image_writer.h"
 
-#include <dlfcn.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <filesystem>
-#include <mutex>
 
 #include "core/error.h"
+#include "parsers/oiio_module.h"
 
 namespace mpvg::image {
 
 namespace {
 
 using EncodeFn = bool (*)(const char*, const Raster*, const EncodeOptions*, std::vector<uint8_t>*, std::string*);
-using VersionFn = const char* (*)();
 
-struct OiioModule {
+// The encoder module, opened on first need.
+struct Encoder {
   EncodeFn encode = nullptr;
-  std::string version;  // "OpenImageIO 2.4.7"
-  std::string error;    // why there is none
+  std::string version, error;
 };
 
-// Where the module may be: MPVG_OIIO_MODULE_DIRS (CMake, ':'-separated: the build folder,
-// then the installed lib/mpvg, where the decoder's module is), lib/mpvg
-// beside the executable's bin/, and mpvg/ beside the shared library this
-// code is in. Fixed places only: no search path the environment names.
-#ifdef MPVG_OIIO_MODULE_DIRS
-std::vector<std::string> module_candidates() {
-  std::vector<std::string> dirs;
-  std::string list = MPVG_OIIO_MODULE_DIRS;
-  for (size_t pos = 0; pos <= list.size();) {
-    const size_t end = std::min(list.find(':', pos), list.size());
-    if (end > pos) dirs.push_back(list.substr(pos, end - pos));
-    pos = end + 1;
-  }
-  std::error_code ec;
-  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (!ec) dirs.push_back((exe.parent_path().parent_path() / "lib" / "mpvg").string());
-  Dl_info info{};
-  if (dladdr(reinterpret_cast<void*>(&module_candidates), &info) && info.dli_fname)
-    dirs.push_back((std::filesystem::path(info.dli_fname).parent_path() / "mpvg").string());
-  std::vector<std::string> files;
-  for (const std::string& d : dirs) files.push_back(d + "/mpvg_oiio_encoder.so");
-  return files;
-}
-#endif
-
-const OiioModule& oiio_module() {
-  static OiioModule module;
-  static std::once_flag once;
-  std::call_once(once, [] {
-#ifndef MPVG_OIIO_MODULE_DIRS
-    module.error = "built with MPVG_IMAGE_IO=png";
-#else
-    std::string tried;
-    for (const std::string& file : module_candidates()) {
-      if (access(file.c_str(), R_OK) != 0) {
-        tried += (tried.empty() ? "" : ", ") + file;
-        continue;
-      }
-      // Never closed: the encoder's state lives until the process ends.
-      void* handle = dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
-      if (!handle) {
-        const char* e = dlerror();
-        module.error = "cannot load " + file + ": " + (e ? e : "unknown error");
-        return;
-      }
-      auto encode = reinterpret_cast<EncodeFn>(dlsym(handle, "mpvg_oiio_encode"));
-      auto version = reinterpret_cast<VersionFn>(dlsym(handle, "mpvg_oiio_version"));
-      if (!encode || !version) {
-        module.error = file + " is not mpvg's encoder module";
-        return;
-      }
-      module.encode = encode;
-      module.version = version();
-      return;
-    }
-    module.error = "its encoder module is not installed (looked for " + tried + ")";
-#endif
-  });
+const Encoder& oiio_module() {
+  static const Encoder module = [] {
+    const OiioModule m = open_oiio_module("mpvg_oiio_encoder.so", "mpvg_oiio_encode", "encoder");
+    return Encoder{reinterpret_cast<EncodeFn>(m.entry), m.version, m.error};
+  }();
   return module;
 }
 
@@ -171,7 +113,7 @@ std::vector<uint8_t> encode_rgba(Format f, int width, int height, const T* rgba,
 }  // namespace
 
 bool encoder_available(std::string* why) {
-  const OiioModule& m = oiio_module();
+  const Encoder& m = oiio_module();
   if (!m.encode && why) *why = m.error;
   return m.encode != nullptr;
 }
