@@ -13,6 +13,7 @@
 #include "core/renderer.h"
 #include "tests/catch.h"
 #include "tests/oracle.h"
+#include "tests/probe_points.h"
 #include "tests/random_groups.h"
 
 using namespace mpvg;
@@ -21,37 +22,11 @@ namespace {
 
 constexpr int kSize = 48;
 
-// Inside tests from brute-force winding numbers at a set of points.
-struct BruteInside : reference::Inside {
-  std::vector<std::vector<int>> windings;  // per point, per path
-  std::map<uint32_t, uint32_t> path_of;    // geometry -> path id
-  bool operator()(size_t point, uint32_t geometry, FillRule rule) const override {
-    const int w = windings[point][path_of.at(geometry)];
-    return rule == FillRule::EvenOdd ? (w & 1) != 0 : w != 0;
-  }
-};
+using probe_points::BruteInside;
+using probe_points::Probe;
 
-struct Probe {
-  std::vector<std::pair<float, float>> points;
-  BruteInside inside;
-};
-
-// Random points away from every curve (within 1e-3 a point's side is not
-// decided in double, let alone in float), with their windings.
 Probe probe(const Scene& scene, const EncodedScene& enc, uint32_t seed, int count) {
-  const oracle::Windings brute(enc.segments, scene.paths.size());
-  Probe p;
-  for (uint32_t id = 0; id < scene.paths.size(); id++) p.inside.path_of[scene.paths[id].geometry] = id;
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> coord(0.0f, float(kSize));
-  for (int n = 0; n < count; n++) {
-    const float px = coord(rng), py = coord(rng);
-    auto w = brute.at(px, py, 1e-3);
-    if (!w) continue;
-    p.points.push_back({px, py});
-    p.inside.windings.push_back(std::move(*w));
-  }
-  return p;
+  return probe_points::probe(scene, enc, seed, count, kSize);
 }
 
 TreeParams params(bool prune) {

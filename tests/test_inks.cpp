@@ -14,6 +14,7 @@
 #include "core/inks.h"
 #include "tests/catch.h"
 #include "tests/oracle.h"
+#include "tests/probe_points.h"
 #include "tests/random_inks.h"
 
 using namespace mpvg;
@@ -24,37 +25,11 @@ namespace {
 
 constexpr int kSize = 48;
 
-// Inside tests from brute-force winding numbers, by geometry.
-struct BruteInside : reference::Inside {
-  std::vector<std::vector<int>> windings;  // per point, per path
-  std::map<uint32_t, uint32_t> path_of;    // geometry -> path id
-  bool operator()(size_t point, uint32_t geometry, FillRule rule) const override {
-    const int w = windings[point][path_of.at(geometry)];
-    return rule == FillRule::EvenOdd ? (w & 1) != 0 : w != 0;
-  }
-};
+using probe_points::BruteInside;
+using probe_points::Probe;
 
-struct Probe {
-  std::vector<std::pair<float, float>> points;
-  BruteInside inside;
-};
-
-// Random points away from every curve, with their windings (every pass
-// holds every geometry of the page: one probe serves them all).
 Probe probe(const Scene& scene, const EncodedScene& enc, uint32_t seed, int count) {
-  const oracle::Windings brute(enc.segments, scene.paths.size());
-  Probe p;
-  for (uint32_t id = 0; id < scene.paths.size(); id++) p.inside.path_of[scene.paths[id].geometry] = id;
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> coord(0.0f, float(kSize));
-  for (int n = 0; n < count; n++) {
-    const float px = coord(rng), py = coord(rng);
-    auto w = brute.at(px, py, 1e-3);
-    if (!w) continue;
-    p.points.push_back({px, py});
-    p.inside.windings.push_back(std::move(*w));
-  }
-  return p;
+  return probe_points::probe(scene, enc, seed, count, kSize);
 }
 
 ShortcutTree tree_of(const EncodedScene& enc) {
