@@ -1,4 +1,4 @@
-// The Python module `mpvg`: SVG to numpy arrays through libmpvg's public
+// The extension of the Python package `mpvg` (python/mpvg/): SVG to numpy arrays through libmpvg's public
 // API (include/mpvg/mpvg.h), the pixels svg2png writes for the same
 // options.
 //
@@ -127,7 +127,7 @@ class PyRenderer {
 
 }  // namespace
 
-PYBIND11_MODULE(mpvg, m) {
+PYBIND11_MODULE(_mpvg, m) {
   m.doc() =
       "mpvg: SVG documents rendered by the massively-parallel vector graphics pipeline (CPU or CUDA),\n"
       "as numpy arrays of straight-alpha sRGB RGBA pixels, the same values svg2png writes.";

@@ -1,0 +1,13 @@
+"""mpvg: SVG documents rendered by the massively-parallel vector graphics
+pipeline (CPU or CUDA), as NumPy arrays of straight-alpha sRGB RGBA pixels,
+the same values svg2png writes.
+
+    import mpvg
+    r = mpvg.Renderer()                            # "auto", "cpu" or "cuda"
+    img = r.render_svg("drawing.svg", width=512)   # H x W x 4 uint8
+
+`python -m mpvg IN.svg OUT.png [-w W]` renders one file from a shell.
+"""
+from ._mpvg import Error, Renderer, __version__
+
+__all__ = ["Error", "Renderer", "__version__"]

@@ -1,0 +1,82 @@
+"""python -m mpvg IN.svg OUT.png: svg2png's quick use from Python.
+
+Options (svg2png's spelling): -w/--width W, -h/--height H, -z/--zoom Z,
+-a/--keep-aspect-ratio, --aa 4x4x32|1x32|1x8, --gamma linear|srgb,
+-b/--background COLOUR, --bits 8|16, --backend auto|cpu|cuda,
+--allow-read DIR (repeatable). OUT.png '-' writes to standard output.
+"""
+import argparse
+import os
+import struct
+import sys
+import tempfile
+import zlib
+
+import mpvg
+
+
+def png_bytes(image):
+    """A PNG of an H x W x 4 uint8 or uint16 array (RGBA, straight alpha)."""
+    h, w, _ = image.shape
+    depth = 16 if image.dtype.itemsize == 2 else 8
+    rows = image.astype(">u2").tobytes() if depth == 16 else image.tobytes()
+    stride = w * 4 * depth // 8
+    raw = b"".join(b"\0" + rows[y * stride:(y + 1) * stride] for y in range(h))
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+
+    header = struct.pack(">IIBBBBB", w, h, depth, 6, 0, 0, 0)
+    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b"")
+
+
+def write_whole(path, data):
+    """Writes `data` to `path` whole or not at all (a temporary file renamed)."""
+    if path == "-":
+        sys.stdout.buffer.write(data)
+        return
+    folder = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", suffix=".part", dir=folder)
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+        os.replace(tmp, path)
+    except BaseException:
+        os.unlink(tmp)
+        raise
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="python -m mpvg", add_help=False,
+                                 description="Renders an SVG document to a PNG with mpvg (as svg2png does).")
+    ap.add_argument("input")
+    ap.add_argument("output")
+    ap.add_argument("-w", "--width", type=float)
+    ap.add_argument("-h", "--height", type=float)
+    ap.add_argument("-z", "--zoom", type=float)
+    ap.add_argument("-a", "--keep-aspect-ratio", action="store_true")
+    ap.add_argument("--aa", default="4x4x32", choices=["4x4x32", "1x32", "1x8"])
+    ap.add_argument("--gamma", default="linear", choices=["linear", "srgb"])
+    ap.add_argument("-b", "--background")
+    ap.add_argument("--bits", type=int, default=8, choices=[8, 16])
+    ap.add_argument("--backend", default="auto", choices=["auto", "cpu", "cuda"])
+    ap.add_argument("--allow-read", action="append", default=[])
+    ap.add_argument("--help", action="help")
+    args = ap.parse_args(argv)
+    try:
+        r = mpvg.Renderer(args.backend)
+        svg = sys.stdin.buffer.read() if args.input == "-" else args.input
+        image = r.render_svg(svg, width=args.width, height=args.height, zoom=args.zoom,
+                             keep_aspect_ratio=args.keep_aspect_ratio, aa=args.aa, gamma=args.gamma,
+                             background=args.background, bits=args.bits, allow_read=args.allow_read)
+        for w in r.warnings:
+            print("mpvg: warning: %s" % w, file=sys.stderr)
+        write_whole(args.output, png_bytes(image))
+    except (mpvg.Error, OSError, ValueError) as e:
+        print("mpvg: %s" % e, file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,41 @@
+"""Type stubs of mpvg's extension (python/_mpvg.cpp)."""
+import os
+from typing import Literal, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+class Error(RuntimeError):
+    """Unreadable files, malformed documents, bad sizes, no CUDA device."""
+
+Background = Union[None, str, Tuple[float, float, float], Tuple[float, float, float, float]]
+
+class Renderer:
+    """Renders SVG documents on one backend, keeping its state (the CUDA
+    context and device buffers) from call to call."""
+
+    def __init__(self, backend: Literal["auto", "cpu", "cuda"] = "auto") -> None: ...
+    @property
+    def backend(self) -> Literal["cpu", "cuda"]: ...
+    @property
+    def note(self) -> str: ...
+    @property
+    def warnings(self) -> list[str]: ...
+    def render_svg(
+        self,
+        svg: Union[str, os.PathLike[str], bytes, bytearray, memoryview],
+        *,
+        width: Optional[float] = None,
+        height: Optional[float] = None,
+        zoom: Optional[float] = None,
+        keep_aspect_ratio: bool = False,
+        aa: Literal["4x4x32", "1x32", "1x8"] = "4x4x32",
+        gamma: Literal["linear", "srgb"] = "linear",
+        background: Background = None,
+        bits: Literal[8, 16] = 8,
+        seed: int = 0,
+        base_dir: str = ".",
+        allow_read: Sequence[str] = (),
+    ) -> npt.NDArray[Union[np.uint8, np.uint16]]: ...
