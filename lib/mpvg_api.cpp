@@ -21,6 +21,9 @@
 #include "gpu/backend.h"
 #include "parsers/svg/svg_parser.h"
 #include "parsers/svg/svg_values.h"
+#ifdef MPVG_HAVE_PDF
+#include "parsers/pdf/pdf_parser.h"
+#endif
 
 #define MPVG_HIDDEN __attribute__((visibility("hidden")))
 
@@ -206,6 +209,129 @@ std::vector<std::string> SvgDocument::warnings() const {
   return guarded([&] { return impl_->any_parse()->warnings; });
 }
 
+// ------------------------------------------------------------ PdfDocument
+
+#ifdef MPVG_HAVE_PDF
+struct MPVG_HIDDEN PdfDocument::Impl {
+  std::unique_ptr<pdf::Document> doc;
+  std::mutex mutex;  // MuPDF: one thread at a time per document handle
+  std::vector<std::string> warnings;
+};
+#else
+struct MPVG_HIDDEN PdfDocument::Impl {};
+#endif
+
+namespace {
+
+[[noreturn]] void no_pdf() { throw Error("this build of mpvg has no PDF support (MuPDF was not found)"); }
+
+#ifdef MPVG_HAVE_PDF
+pdf::PageBox to_box(PageBox b) {
+  switch (b) {
+    case PageBox::Media: return pdf::PageBox::Media;
+    case PageBox::Crop: return pdf::PageBox::Crop;
+    case PageBox::Bleed: return pdf::PageBox::Bleed;
+    case PageBox::Trim: return pdf::PageBox::Trim;
+    case PageBox::Art: return pdf::PageBox::Art;
+  }
+  throw Error("unknown page box");
+}
+
+// pdf2png's options for these settings (its defaults where they agree).
+cli::Options to_cli(const PdfRenderSettings& s) {
+  if (!(std::isfinite(s.dpi) && s.dpi > 0)) throw Error("the resolution must be positive");
+  RenderSettings r;
+  r.antialiasing = s.antialiasing;
+  r.seed = s.seed;
+  r.gamma = s.gamma;
+  r.background = s.background;
+  r.bits = s.bits;
+  return to_cli(r);
+}
+
+// Page pixels at `scale` pixels per point, as pdf2png sizes them.
+OutputSize page_pixels(double w, double h, double scale) {
+  return {std::max(1, static_cast<int>(std::ceil(w * scale - 1e-6))),
+          std::max(1, static_cast<int>(std::ceil(h * scale - 1e-6)))};
+}
+#endif
+
+}  // namespace
+
+PdfDocument::PdfDocument(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+PdfDocument::~PdfDocument() = default;
+PdfDocument::PdfDocument(PdfDocument&&) noexcept = default;
+PdfDocument& PdfDocument::operator=(PdfDocument&&) noexcept = default;
+
+PdfDocument PdfDocument::from_file(const std::string& path, const std::string& password) {
+#ifdef MPVG_HAVE_PDF
+  return guarded([&] {
+    auto impl = std::make_unique<Impl>();
+    impl->doc = std::make_unique<pdf::Document>(path, password);
+    return PdfDocument(std::move(impl));
+  });
+#else
+  (void)path, (void)password;
+  no_pdf();
+#endif
+}
+
+PdfDocument PdfDocument::from_data(std::string_view pdf, const std::string& password) {
+#ifdef MPVG_HAVE_PDF
+  return guarded([&] {
+    auto impl = std::make_unique<Impl>();
+    auto bytes = std::make_shared<const std::vector<unsigned char>>(pdf.begin(), pdf.end());
+    impl->doc = std::make_unique<pdf::Document>(std::move(bytes), "<bytes>", password);
+    return PdfDocument(std::move(impl));
+  });
+#else
+  (void)pdf, (void)password;
+  no_pdf();
+#endif
+}
+
+int PdfDocument::page_count() const {
+#ifdef MPVG_HAVE_PDF
+  return impl_->doc->page_count();
+#else
+  no_pdf();
+#endif
+}
+
+std::pair<double, double> PdfDocument::page_size(int index, PageBox box) const {
+#ifdef MPVG_HAVE_PDF
+  return guarded([&] {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    return impl_->doc->page_size(index, to_box(box));
+  });
+#else
+  (void)index, (void)box;
+  no_pdf();
+#endif
+}
+
+OutputSize PdfDocument::output_size(int index, const PdfRenderSettings& settings) const {
+#ifdef MPVG_HAVE_PDF
+  return guarded([&] {
+    to_cli(settings);  // the same checks
+    const auto [w, h] = page_size(index, settings.box);
+    return page_pixels(w, h, settings.dpi / 72.0);
+  });
+#else
+  (void)index, (void)settings;
+  no_pdf();
+#endif
+}
+
+std::vector<std::string> PdfDocument::warnings() const {
+#ifdef MPVG_HAVE_PDF
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  return impl_->warnings;
+#else
+  return {};
+#endif
+}
+
 // --------------------------------------------------------------- Renderer
 
 struct MPVG_HIDDEN Renderer::Impl {
@@ -254,6 +380,45 @@ Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 Device Renderer::device() const { return impl_->frames->backend() == Backend::Cuda ? Device::Cuda : Device::Cpu; }
 
 std::string Renderer::note() const { return impl_->frames->note(); }
+
+Bitmap Renderer::render(const PdfDocument& doc, int index, const PdfRenderSettings& settings) {
+#ifdef MPVG_HAVE_PDF
+  return guarded([&] {
+    // pdf2png's steps (apps/pdf2png.cpp lower(), pipeline render): the page
+    // lowered for its resolution, sized, encoded and rendered.
+    const cli::Options o = to_cli(settings);
+    const double scale = settings.dpi / 72.0;
+    pdf::PageOptions po(to_box(settings.box));
+    po.annotations = settings.annotations;
+    po.thin_lines = settings.snap_thin_lines ? pdf::ThinLines::Snap : pdf::ThinLines::Exact;
+    if (index < 0 || index >= doc.impl_->doc->page_count())
+      throw Error("page " + std::to_string(index + 1) + " is past the last page (" +
+                  std::to_string(doc.impl_->doc->page_count()) + ")");
+    pdf::PageResult page;
+    {
+      std::lock_guard<std::mutex> lock(doc.impl_->mutex);
+      page = doc.impl_->doc->page(index, scale, po);
+      doc.impl_->warnings = page.warnings;
+    }
+    const OutputSize size = page_pixels(page.scene.width, page.scene.height, scale);
+    const RenderOptions ro = cli::render_options(o, size.width, size.height, Affine::scale(scale, scale));
+    Bitmap out;
+    out.width = size.width;
+    out.height = size.height;
+    out.bits = o.bits;
+    const RenderPlan plan = plan_render(ro);
+    const EncodedScene enc = encode_for(page.scene, plan, ro.gamma);
+    if (o.bits == 16)
+      out.pixels16 = to_rgba16(impl_->frames->render(enc, ro), ro.gamma);
+    else
+      out.pixels8 = impl_->frames->render_rgba8(enc, plan, ro);
+    return out;
+  });
+#else
+  (void)doc, (void)index, (void)settings;
+  no_pdf();
+#endif
+}
 
 Bitmap Renderer::render(const SvgDocument& doc, const RenderSettings& settings) {
   return guarded([&] { return impl_->render(*doc.impl_, settings, nullptr); });

@@ -125,6 +125,102 @@ class PyRenderer {
   std::vector<std::string> warnings_;
 };
 
+mpvg::PageBox box_named(const std::string& s) {
+  if (s == "media") return mpvg::PageBox::Media;
+  if (s == "crop") return mpvg::PageBox::Crop;
+  if (s == "bleed") return mpvg::PageBox::Bleed;
+  if (s == "trim") return mpvg::PageBox::Trim;
+  if (s == "art") return mpvg::PageBox::Art;
+  throw py::value_error("unknown page box '" + s + "' (media, crop, bleed, trim or art)");
+}
+
+// A path (str or path-like) or the document's bytes.
+struct Input {
+  std::optional<std::string> path, data;
+};
+Input input_from(const py::object& input, const char* what) {
+  Input in;
+  if (py::isinstance<py::str>(input)) {
+    in.path = input.cast<std::string>();
+  } else if (py::isinstance<py::bytes>(input)) {
+    in.data = input.cast<std::string>();
+  } else if (PyObject_CheckBuffer(input.ptr())) {
+    const py::buffer_info b = py::reinterpret_borrow<py::buffer>(input).request();
+    if (b.ndim != 1 || b.itemsize != 1) throw py::type_error(std::string(what) + " data must be a one-dimensional buffer of bytes");
+    in.data = std::string(static_cast<const char*>(b.ptr), static_cast<size_t>(b.size));
+  } else if (py::hasattr(input, "__fspath__")) {
+    in.path = py::str(py::module_::import("os").attr("fspath")(input)).cast<std::string>();
+  } else {
+    throw py::type_error(std::string(what) + " takes a path (str or path-like) or the document itself (bytes)");
+  }
+  return in;
+}
+
+// mpvg.Document: a PDF document and the renderer its pages are drawn with
+// (made on the first render, on `backend`). Calls from several Python
+// threads take turns.
+class PyDocument {
+ public:
+  PyDocument(const py::object& input, const std::optional<std::string>& password, const std::string& backend)
+      : backend_(device_named(backend)) {
+    const Input in = input_from(input, "Document");
+    const std::string pw = password.value_or("");
+    py::gil_scoped_release release;
+    doc_ = std::make_unique<mpvg::PdfDocument>(in.path ? mpvg::PdfDocument::from_file(*in.path, pw)
+                                                       : mpvg::PdfDocument::from_data(*in.data, pw));
+  }
+
+  int len() const { return doc_->page_count(); }
+
+  int index(int page) const {
+    const int n = doc_->page_count();
+    if (page < 0) page += n;  // -1: the last page, as Python indexes
+    if (page < 0 || page >= n) throw py::index_error("page " + std::to_string(page) + " out of range (" + std::to_string(n) + " pages)");
+    return page;
+  }
+
+  std::pair<double, double> page_size(int page, const std::string& box) const {
+    return doc_->page_size(index(page), box_named(box));
+  }
+
+  std::vector<std::string> warnings() const { return doc_->warnings(); }
+
+  py::array render(int page, double dpi, const std::string& aa, const std::string& gamma, const py::object& background,
+                   int bits, uint32_t seed, const std::string& box, bool annotations, const std::string& thin_lines,
+                   const std::string& colorspace) {
+    if (colorspace != "rgb")
+      throw py::value_error("colorspace '" + colorspace + "': only 'rgb' for now (pdf2png has gray and cmyk)");
+    if (thin_lines != "exact" && thin_lines != "snap")
+      throw py::value_error("unknown thin_lines '" + thin_lines + "' (exact or snap)");
+    mpvg::PdfRenderSettings s;
+    s.dpi = dpi;
+    s.antialiasing = antialiasing_named(aa);
+    s.gamma = gamma_named(gamma);
+    s.background = background.is_none() ? mpvg::Color{} : color_from(background);
+    s.bits = bits;
+    s.seed = seed;
+    s.box = box_named(box);
+    s.annotations = annotations;
+    s.snap_thin_lines = thin_lines == "snap";
+    const int i = index(page);
+    mpvg::Bitmap image;
+    {
+      py::gil_scoped_release release;
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!renderer_) renderer_ = std::make_unique<mpvg::Renderer>(backend_);
+      image = renderer_->render(*doc_, i, s);
+    }
+    return image.bits == 16 ? as_array(std::move(image.pixels16), image.width, image.height)
+                            : as_array(std::move(image.pixels8), image.width, image.height);
+  }
+
+ private:
+  mpvg::Device backend_;
+  std::unique_ptr<mpvg::PdfDocument> doc_;
+  std::mutex mutex_;
+  std::unique_ptr<mpvg::Renderer> renderer_;
+};
+
 }  // namespace
 
 PYBIND11_MODULE(_mpvg, m) {
@@ -159,4 +255,29 @@ PYBIND11_MODULE(_mpvg, m) {
            "base_dir: where relative image references of a document given as bytes resolve.\n"
            "allow_read: folders whose images the document may read besides its own folder's tree.\n"
            "The GIL is released while parsing and rendering. Raises mpvg.Error on failure.");
+
+  py::class_<PyDocument>(m, "Document",
+                         "A PDF document (MuPDF interprets it), whose pages render to arrays: the pixels pdf2png\n"
+                         "writes for the same options.")
+      .def(py::init<const py::object&, const std::optional<std::string>&, const std::string&>(), py::arg("document"),
+           py::arg("password") = py::none(), py::arg("backend") = "auto",
+           "document: a path (str or path-like) or the document's bytes. password: for an encrypted one.\n"
+           "backend: 'auto', 'cpu' or 'cuda', for the renderer its pages are drawn with.\n"
+           "Raises mpvg.Error for an unreadable, broken or locked document.")
+      .def("__len__", &PyDocument::len, "The number of pages.")
+      .def("page_size", &PyDocument::page_size, py::arg("page"), py::arg("box") = "crop",
+           "Width and height in points (1/72 inch) of page `page` (0-based; -1 the last) over `box`\n"
+           "('media', 'crop', 'bleed', 'trim' or 'art'), after /Rotate.")
+      .def_property_readonly("warnings", &PyDocument::warnings,
+                             "Features of the last page rendered drawn approximately or not at all.")
+      .def("render", &PyDocument::render, py::arg("page"), py::kw_only(), py::arg("dpi") = 150.0,
+           py::arg("aa") = "4x4x32", py::arg("gamma") = "srgb", py::arg("background") = "white",
+           py::arg("bits") = 8, py::arg("seed") = 0, py::arg("box") = "crop", py::arg("annotations") = true,
+           py::arg("thin_lines") = "exact", py::arg("colorspace") = "rgb",
+           "Renders page `page` (0-based; -1 the last) to an H x W x 4 array (uint8, or uint16 for bits=16)\n"
+           "of straight-alpha sRGB RGBA pixels, as pdf2png -r DPI does.\n\n"
+           "aa: '4x4x32', '1x32' or '1x8'. gamma: 'srgb' (PDF's) or 'linear'. background: a CSS colour,\n"
+           "(r, g, b[, a]) or None (transparent). box: the page box. annotations: draw them as printed.\n"
+           "thin_lines: 'exact' or 'snap' (pdf2png --thin-lines). colorspace: 'rgb'.\n"
+           "The GIL is released while the page is interpreted and rendered. Raises mpvg.Error.");
 }

@@ -2,8 +2,9 @@
 returns are the pixels svg2png writes into its PNGs for the same options,
 exactly; bytes input, 16 bits, errors, warnings and the GIL are checked too.
 
-usage: PYTHONPATH=BUILD/python python3 test_python.py SVG2PNG SOURCE_DIR
-Exits 77 (skipped) where numpy is missing.
+usage: PYTHONPATH=BUILD/python python3 test_python.py SVG2PNG SOURCE_DIR [PDF2PNG]
+Exits 77 (skipped) where numpy is missing. With PDF2PNG, mpvg.Document's
+pages are checked against pdf2png's PNGs the same way.
 """
 import os
 import struct
@@ -23,6 +24,7 @@ except ImportError:
 import mpvg
 
 SVG2PNG, SRC = sys.argv[1], sys.argv[2]
+PDF2PNG = sys.argv[3] if len(sys.argv) > 3 else None
 failures = 0
 
 
@@ -204,6 +206,48 @@ while worker.is_alive():
 worker.join()
 check(alone > 0.05 and longest < alone / 2,
       "the GIL is released while rendering (render %.0f ms, longest pause %.0f ms)" % (alone * 1e3, longest * 1e3))
+
+# ---- PDF: mpvg.Document against pdf2png's PNGs, byte for byte.
+if PDF2PNG:
+    features = os.path.join(SRC, "testdata", "pdf", "features")
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, args, kw in [
+                ("blend-modes", [], {}),
+                ("shading-axial", ["--aa", "1x32", "-r", "72"], dict(aa="1x32", dpi=72)),
+                ("image-smask", ["-r", "100", "--transparent"], dict(dpi=100, background=None)),
+                ("clips", ["--bits", "16", "-r", "50"], dict(bits=16, dpi=50)),
+                ("annotations", ["-hide-annotations", "--thin-lines", "snap", "--box", "media"],
+                 dict(annotations=False, thin_lines="snap", box="media"))]:
+            pdf = os.path.join(features, name + ".pdf")
+            out = os.path.join(tmp, name)
+            subprocess.run([PDF2PNG, "-q", "--backend", "cpu", "--singlefile"] + args + [pdf, out], check=True)
+            want = read_png(out + ".png")
+            doc = mpvg.Document(pdf, backend="cpu")
+            got = doc.render(0, **kw)
+            check(got.shape == want.shape and got.dtype == want.dtype and (got == want).all(),
+                  "Document('%s').render(0, %s) is pdf2png %s's pixels" % (name, kw, " ".join(args)))
+    doc = mpvg.Document(os.path.join(SRC, "testdata", "pdf", "three-pages.pdf"), backend="cpu")
+    check(len(doc) == 3, "len(Document) is the page count (%d)" % len(doc))
+    check(doc.page_size(0) == (100.0, 100.0) and doc.page_size(-1) == doc.page_size(2),
+          "page_size in points, -1 the last page")
+    data = open(os.path.join(features, "blend-modes.pdf"), "rb").read()
+    check((mpvg.Document(data, backend="cpu").render(0, dpi=40) ==
+           mpvg.Document(os.path.join(features, "blend-modes.pdf"), backend="cpu").render(0, dpi=40)).all(),
+          "a Document of bytes renders as the file does")
+    for bad, exc in [(lambda: mpvg.Document(os.path.join(SRC, "testdata", "pdf", "encrypted-password-secret.pdf")),
+                      mpvg.Error),
+                     (lambda: mpvg.Document(b"not a pdf"), mpvg.Error),
+                     (lambda: doc.render(3), IndexError),
+                     (lambda: doc.render(0, box="paper"), ValueError),
+                     (lambda: doc.render(0, dpi=0), mpvg.Error)]:
+        try:
+            bad()
+            check(False, "%s raised" % exc.__name__)
+        except exc as e:
+            check(True, "%s: %s" % (exc.__name__, e))
+    locked = mpvg.Document(os.path.join(SRC, "testdata", "pdf", "encrypted-password-secret.pdf"), password="secret",
+                           backend="cpu")
+    check(len(locked) >= 1, "an encrypted document opens with its password")
 
 print("%d failure(s)" % failures)
 sys.exit(1 if failures else 0)

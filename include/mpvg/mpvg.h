@@ -26,6 +26,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #if defined(__GNUC__) || defined(__clang__)
@@ -155,6 +156,56 @@ class MPVG_API SvgDocument {
   std::unique_ptr<Impl> impl_;
 };
 
+// The page box a PDF page is rendered over (PDF 32000-1 §14.11.2; the
+// CropBox by default, as MuPDF and pdf2png render).
+enum class PageBox { Media, Crop, Bleed, Trim, Art };
+
+// How a PDF page becomes pixels; the defaults are pdf2png's.
+struct PdfRenderSettings {
+  double dpi = 150;  // output pixels per inch (72 points); > 0
+  Antialiasing antialiasing = Antialiasing::Cardinal4x4x32;
+  std::uint32_t seed = 0;
+  GammaMode gamma = GammaMode::Srgb;  // PDF composites device values
+  Color background{1, 1, 1, 1};       // white paper; {0, 0, 0, 0}: transparent
+  int bits = 8;                       // per channel: 8 or 16
+  PageBox box = PageBox::Crop;
+  bool annotations = true;            // annotations and form fields, as printed
+  bool snap_thin_lines = false;       // pdf2png --thin-lines snap
+};
+
+// A PDF document, interpreted by MuPDF (where the library was built with
+// it; elsewhere from_file and from_data throw mpvg::Error saying so).
+// Pages are interpreted when rendered, for the resolution of the render.
+// Safe to share between threads (one page is interpreted at a time).
+class MPVG_API PdfDocument {
+ public:
+  // Throws mpvg::Error: unreadable, broken, encrypted without the
+  // password, or a wrong password.
+  static PdfDocument from_file(const std::string& path, const std::string& password = "");
+  // The document's bytes (copied).
+  static PdfDocument from_data(std::string_view pdf, const std::string& password = "");
+
+  ~PdfDocument();
+  PdfDocument(PdfDocument&&) noexcept;
+  PdfDocument& operator=(PdfDocument&&) noexcept;
+
+  int page_count() const;
+  // Width and height in points of page `index`'s (0-based) box, after
+  // /Rotate and /UserUnit. Throws mpvg::Error for a page past the last.
+  std::pair<double, double> page_size(int index, PageBox box = PageBox::Crop) const;
+  // The pixel size of page `index` rendered with `settings`.
+  OutputSize output_size(int index, const PdfRenderSettings& settings = {}) const;
+  // One line per feature of the last page rendered that was drawn
+  // approximately or not at all.
+  std::vector<std::string> warnings() const;
+
+ private:
+  friend class Renderer;
+  struct Impl;
+  explicit PdfDocument(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
 // Renders documents one after another on one backend, keeping its state
 // between them: with CUDA the context, the kernels and the device buffers
 // (which grow to the largest frame) live as long as the Renderer. Not
@@ -181,6 +232,9 @@ class MPVG_API Renderer {
   // bytes between rows are left alone.
   void render(const SvgDocument& doc, const RenderSettings& settings, void* pixels, std::size_t stride, int width,
               int height);
+  // Renders page `index` (0-based) of a PDF document: the pixels pdf2png
+  // writes for the same settings on the same backend.
+  Bitmap render(const PdfDocument& doc, int index, const PdfRenderSettings& settings = {});
 
  private:
   struct Impl;

@@ -248,6 +248,20 @@ Document::Document(const std::string& path, const std::string& password, size_t 
   impl_->open();
 }
 
+Document::Document(std::shared_ptr<const std::vector<unsigned char>> bytes, const std::string& name,
+                   const std::string& password)
+    : impl_(std::make_unique<Impl>()) {
+  if (!bytes) throw Error("no document given");
+  impl_->locks = std::make_shared<Locks>();
+  impl_->ctx = fz_new_context(nullptr, &impl_->locks->ctx, FZ_STORE_DEFAULT);
+  if (!impl_->ctx) throw Error("cannot start MuPDF");
+  silence(impl_->ctx);
+  impl_->path = name;
+  impl_->password = password;
+  impl_->input = std::move(bytes);
+  impl_->open();
+}
+
 Document::Document(const Document& other, Context context) : impl_(std::make_unique<Impl>()) {
   if (context == Context::Shared) {
     impl_->locks = other.impl_->locks;
@@ -288,6 +302,19 @@ bool Document::has_output_intent() const {
     fz_drop_page(ctx, page);
   }
   return impl_->intent != nullptr;
+}
+
+namespace {
+fz_page* load_page(fz_context* ctx, fz_document* doc, int index, PageBox which, fz_rect* box);
+}  // namespace
+
+std::pair<double, double> Document::page_size(int index, PageBox which) const {
+  if (index < 0 || index >= impl_->pages)
+    throw Error("page " + std::to_string(index + 1) + " is past the last page (" + std::to_string(impl_->pages) + ")");
+  fz_rect box{};
+  fz_page* page = load_page(impl_->ctx, impl_->doc, index, which, &box);
+  fz_drop_page(impl_->ctx, page);
+  return {box.x1 - box.x0, box.y1 - box.y0};
 }
 
 namespace {

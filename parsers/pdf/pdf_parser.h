@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -81,6 +82,10 @@ class Document {
  public:
   // Files (and standard input) larger than max_input bytes are refused.
   explicit Document(const std::string& path, const std::string& password = "", size_t max_input = SIZE_MAX);
+  // The document's bytes (shared with the clones, not copied); `name` says
+  // what it is in messages ("<bytes>").
+  Document(std::shared_ptr<const std::vector<unsigned char>> bytes, const std::string& name,
+           const std::string& password = "");
   ~Document();
   Document(const Document&) = delete;
   Document& operator=(const Document&) = delete;
@@ -100,6 +105,9 @@ class Document {
   // Does the document name its press: an output intent whose profile
   // print preview can use (output_intent.h)?
   bool has_output_intent() const;
+  // Page `index`'s box `which` (after /Rotate and /UserUnit), width and
+  // height in points, without interpreting the page. Throws mpvg::Error.
+  std::pair<double, double> page_size(int index, PageBox which = PageBox::Crop) const;
   // Page `index` (0-based); `pixels_per_point` is the output resolution
   // the page will be rendered at (stroke tolerance, thinnest lines), given
   // or chosen from the page's width and height in points (as

@@ -5,9 +5,11 @@ the same values svg2png writes.
     import mpvg
     r = mpvg.Renderer()                            # "auto", "cpu" or "cuda"
     img = r.render_svg("drawing.svg", width=512)   # H x W x 4 uint8
+    doc = mpvg.Document("paper.pdf")               # or its bytes
+    page = doc.render(0, dpi=150)                  # pdf2png -r 150's pixels
 
 `python -m mpvg IN.svg OUT.png [-w W]` renders one file from a shell.
 """
-from ._mpvg import Error, Renderer, __version__
+from ._mpvg import Document, Error, Renderer, __version__
 
-__all__ = ["Error", "Renderer", "__version__"]
+__all__ = ["Document", "Error", "Renderer", "__version__"]

@@ -39,3 +39,35 @@ class Renderer:
         base_dir: str = ".",
         allow_read: Sequence[str] = (),
     ) -> npt.NDArray[Union[np.uint8, np.uint16]]: ...
+
+PageBox = Literal["media", "crop", "bleed", "trim", "art"]
+
+class Document:
+    """A PDF document (MuPDF interprets it), whose pages render to arrays:
+    the pixels pdf2png writes for the same options."""
+
+    def __init__(
+        self,
+        document: Union[str, os.PathLike[str], bytes, bytearray, memoryview],
+        password: Optional[str] = None,
+        backend: Literal["auto", "cpu", "cuda"] = "auto",
+    ) -> None: ...
+    def __len__(self) -> int: ...
+    def page_size(self, page: int, box: PageBox = "crop") -> Tuple[float, float]: ...
+    @property
+    def warnings(self) -> list[str]: ...
+    def render(
+        self,
+        page: int,
+        *,
+        dpi: float = 150.0,
+        aa: Literal["4x4x32", "1x32", "1x8"] = "4x4x32",
+        gamma: Literal["linear", "srgb"] = "srgb",
+        background: Background = "white",
+        bits: Literal[8, 16] = 8,
+        seed: int = 0,
+        box: PageBox = "crop",
+        annotations: bool = True,
+        thin_lines: Literal["exact", "snap"] = "exact",
+        colorspace: Literal["rgb"] = "rgb",
+    ) -> npt.NDArray[Union[np.uint8, np.uint16]]: ...
