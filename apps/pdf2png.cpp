@@ -54,6 +54,7 @@
 
 #include "apps/cli.h"
 #include "apps/image_writer.h"
+#include "apps/pdf_page_job.h"
 #include "apps/pipeline.h"
 #include "core/error.h"
 #include "core/parallel.h"
@@ -321,83 +322,25 @@ std::vector<char*> own_options(int argc, char** argv, PdfOptions& p) {
   return rest;
 }
 
-// Page n (1-based) of `doc` interpreted, lowered and encoded: a pipeline job.
 // The press profile --cmyk-profile names (loaded once, in main).
 std::shared_ptr<const mpvg::pdf::OutputProfile> cmyk_profile;
 
+// Page n (1-based) of `doc` interpreted, lowered and encoded: a pipeline job.
 std::unique_ptr<mpvg::pipeline::Job> lower(const PdfOptions& pdf, const mpvg::cli::Options& opt,
                                            const mpvg::pdf::Document& doc, int n, const std::string& out) {
-  using namespace mpvg;
-  auto job = std::make_unique<pipeline::Job>();
-  job->label = "page " + std::to_string(n);
-  job->out = out;
-  // --scale-to: the resolution follows from the page's size.
-  pdf::PageResult page = doc.page(
-      n - 1,
-      [&pdf](double w, double h) { return pdf.scale_to > 0 ? pdf.scale_to / std::max(w, h) : pdf.dpi / 72.0; },
-      [&pdf] {
-        pdf::PageOptions o(pdf.box);
-        o.annotations = pdf.annotations;
-        o.thin_lines = pdf.thin_lines;
-        o.inks = pdf.inks;
-        o.cmyk_profile = cmyk_profile;
-        return o;
-      }());
-  const Scene& first = page.ink_passes.empty() ? page.scene : page.ink_passes[0];
-  job->prepare_ms[0] = page.interpret_ms;
-  job->prepare_ms[1] = page.lower_ms;
-  job->warnings = std::move(page.warnings);
-  const double scale = page.pixels_per_point;
-  job->dpi = scale * 72;  // recorded in TIFFs and JPEGs (--scale-to: the page's own)
-  int width = std::max(1, static_cast<int>(std::ceil(first.width * scale - 1e-6)));
-  int height = std::max(1, static_cast<int>(std::ceil(first.height * scale - 1e-6)));
-  // -x -y -W -H: a window of the page's pixels (the rest of the page if
-  // -W or -H is absent), as pdftoppm crops.
-  if (pdf.crop_x || pdf.crop_y || pdf.crop_w || pdf.crop_h) {
-    width = pdf.crop_w ? pdf.crop_w : std::max(1, width - pdf.crop_x);
-    height = pdf.crop_h ? pdf.crop_h : std::max(1, height - pdf.crop_y);
-  }
-  const Affine view = Affine::translate(-pdf.crop_x, -pdf.crop_y) * Affine::scale(scale, scale);
-  if (page.ink_passes.empty()) {
-    cli::check_frame(opt, width, height);
-    job->width = width;
-    job->height = height;
-    job->options = cli::render_options(opt, width, height, view);
-    job->plan = plan_render(job->options);
-    job->scene = encode_for(page.scene, job->plan, job->options.gamma, &job->stats);
-    return job;
-  }
-  // Print preview: the passes side by side in one frame (apps/
-  // ink_output.h), each clipped to its window of the page, kGap pixels
-  // apart so that no filter reaches from one into the next.
-  constexpr int kGap = 4;
-  const int passes = static_cast<int>(page.ink_passes.size());
-  const int wide = passes * (width + kGap) - kGap;
-  cli::check_frame(opt, wide, height);
-  SceneBuilder b((pdf.crop_x + wide) / scale, first.height);
-  for (int p = 0; p < passes; p++) {
-    const double x0 = pdf.crop_x / scale, y0 = pdf.crop_y / scale, dx = p * (width + kGap) / scale;
-    b.push();
-    b.clip(b.add_geometry(Path::rectangle(x0, y0, x0 + width / scale, y0 + height / scale)),
-           Affine::translate(dx, 0), FillRule::NonZero);
-    b.activate();
-    b.append(page.ink_passes[p], Affine::translate(dx, 0));
-    b.pop();
-  }
-  const Scene scene = b.finish();
-  auto inks = std::make_shared<InkPage>();
-  inks->names = page.ink_names;
-  inks->spot_cmyk = page.spot_cmyk;
-  inks->width = width;
-  inks->gap = kGap;
-  inks->separations = pdf.inks == pdf::InkModel::Separations;
-  job->inks = std::move(inks);
-  job->width = wide;
-  job->height = height;
-  job->options = cli::render_options(opt, wide, height, view);
-  job->plan = plan_render(job->options);
-  job->scene = encode_for(scene, job->plan, job->options.gamma, &job->stats);
-  return job;
+  mpvg::PdfPageRequest r;
+  r.dpi = pdf.dpi;
+  r.scale_to = pdf.scale_to;
+  r.crop_x = pdf.crop_x;
+  r.crop_y = pdf.crop_y;
+  r.crop_w = pdf.crop_w;
+  r.crop_h = pdf.crop_h;
+  r.page = mpvg::pdf::PageOptions(pdf.box);
+  r.page.annotations = pdf.annotations;
+  r.page.thin_lines = pdf.thin_lines;
+  r.page.inks = pdf.inks;
+  r.page.cmyk_profile = cmyk_profile;
+  return mpvg::pdf_page_job(r, opt, doc, n, out);
 }
 
 }  // namespace

@@ -116,22 +116,23 @@ struct State {
         result.timed_out++;
         char why[64];
         std::snprintf(why, sizeof why, ": timed out after %g s", c.timeout_s);
-        finish(nullptr, c.label(t) + why);
+        finish(nullptr, c.label(t) + why, false, t);
       }
     }
   }
 
   // Reports an item's end (under m): its error if any, its warnings and
   // stats, the progress line.
-  void finish(const Job* job, const std::string& error, bool unrendered = false) {
+  void finish(const Job* job, const std::string& error, bool unrendered = false, int ticket = -1) {
     Result& r = result;
     r.finished++;
     in_flight--;
     if (!error.empty()) r.failed++;
     const char* nl = c.progress ? "\r\033[K" : "";
+    if (!error.empty() && c.failed) c.failed(job ? job->index : ticket, error);
     // Items no renderer could take are counted, and reported once at the end.
     if (unrendered) r.unrendered++;
-    else if (!error.empty()) std::fprintf(stderr, "%s%s: %s\n", nl, c.program, error.c_str());
+    else if (!error.empty() && !c.failed) std::fprintf(stderr, "%s%s: %s\n", nl, c.program, error.c_str());
     if (job && !c.quiet)
       for (const std::string& w : job->warnings)
         std::fprintf(stderr, "%s%s: %s: warning: %s\n", nl, c.program, job->label.c_str(), w.c_str());
@@ -165,6 +166,11 @@ struct State {
 
   void write(Job& job) {
     const auto t0 = Clock::now();
+    if (c.deliver) {
+      c.deliver(job);
+      job.png_ms = ms_since(t0);
+      return;
+    }
     png::EncodeOptions options;
     if (c.compression >= 0) options.level = c.compression;
     const bool rgb = c.color == png::Color::Rgb;
@@ -256,7 +262,7 @@ struct State {
       if (job && renderers > 0) {
         to_render.push(std::move(job));
       } else {
-        finish(job.get(), job ? job->label + ": not rendered" : error, job != nullptr);
+        finish(job.get(), job ? job->label + ": not rendered" : error, job != nullptr, t);
       }
       cv.notify_all();
     }
@@ -457,11 +463,13 @@ Result run(const Config& config) {
   if (watchdog.joinable()) watchdog.join();
   for (std::thread& t : threads) t.detach();  // each has returned or is abandoned
   const char* nl = config.progress ? "\r\033[K" : "";
-  if (result.unrendered)
+  if (result.unrendered && !config.failed)
     std::fprintf(stderr, "%s%s: %d %ss not rendered: no renderer could start\n", nl, config.program, result.unrendered,
                  config.unit);
   // The summary line of a job of several items, on a terminal or not.
-  if (config.tickets > 1 && (!config.quiet || result.failed))
+  if (config.failed) {
+    // (the caller heard of every failure)
+  } else if (config.tickets > 1 && (!config.quiet || result.failed))
     std::fprintf(stderr, "%s%s: %d %ss, %d written, %d failed%s\n", nl, config.program, config.tickets, config.unit,
                  result.finished - result.failed, result.failed,
                  result.timed_out ? (" (" + std::to_string(result.timed_out) + " timed out)").c_str() : "");

@@ -102,6 +102,13 @@ struct Config {
   // nullptr means the thread is not needed. Items left when no render
   // thread remains fail, counted in one line.
   std::function<std::unique_ptr<FrameRenderer>(int r)> make_renderer;
+  // Library use (libmpvg's PdfDocument::render_pages): `deliver` takes
+  // each rendered item instead of a file being written (called by the
+  // workers, several at once, in no set order), `failed` hears of each
+  // item that fails (its ticket and message); with `failed` set nothing is
+  // printed.
+  std::function<void(Job& job)> deliver;
+  std::function<void(int ticket, const std::string& error)> failed;
 };
 
 // What went through; totals in ms over the items that succeeded.

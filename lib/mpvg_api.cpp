@@ -22,6 +22,10 @@
 #include "parsers/svg/svg_parser.h"
 #include "parsers/svg/svg_values.h"
 #ifdef MPVG_HAVE_PDF
+#include <thread>
+
+#include "apps/pdf_page_job.h"
+#include "apps/pipeline.h"
 #include "parsers/pdf/pdf_parser.h"
 #endif
 
@@ -249,10 +253,37 @@ cli::Options to_cli(const PdfRenderSettings& s) {
   return to_cli(r);
 }
 
+// pdf2png's page request for these settings.
+PdfPageRequest to_request(const PdfRenderSettings& s) {
+  PdfPageRequest r;
+  r.dpi = s.dpi;
+  r.page = pdf::PageOptions(to_box(s.box));
+  r.page.annotations = s.annotations;
+  r.page.thin_lines = s.snap_thin_lines ? pdf::ThinLines::Snap : pdf::ThinLines::Exact;
+  return r;
+}
+
 // Page pixels at `scale` pixels per point, as pdf2png sizes them.
 OutputSize page_pixels(double w, double h, double scale) {
   return {std::max(1, static_cast<int>(std::ceil(w * scale - 1e-6))),
           std::max(1, static_cast<int>(std::ceil(h * scale - 1e-6)))};
+}
+
+void check_page(const pdf::Document& doc, int index) {
+  if (index < 0 || index >= doc.page_count())
+    throw Error("page " + std::to_string(index + 1) + " is past the last page (" + std::to_string(doc.page_count()) +
+                ")");
+}
+
+// A rendered job's pixels as a Bitmap (pipeline.h: rgba8, or image for 16 bits).
+Bitmap bitmap_of(pipeline::Job& job, int bits, Gamma gamma) {
+  Bitmap out;
+  out.width = job.width;
+  out.height = job.height;
+  out.bits = bits;
+  if (bits == 16) out.pixels16 = to_rgba16(job.image, gamma);
+  else out.pixels8 = std::move(job.rgba8);
+  return out;
 }
 #endif
 
@@ -323,6 +354,58 @@ OutputSize PdfDocument::output_size(int index, const PdfRenderSettings& settings
 #endif
 }
 
+void PdfDocument::render_pages(const std::vector<int>& pages, const PdfRenderSettings& settings, const PageSink& sink,
+                               const PageFailure& failed, Device device, int threads,
+                               const std::function<bool()>& cancelled) const {
+#ifdef MPVG_HAVE_PDF
+  guarded([&] {
+    const cli::Options o = to_cli(settings);
+    const PdfPageRequest request = to_request(settings);
+    for (int p : pages) check_page(*impl_->doc, p);
+    if (pages.empty()) return;
+    const Backend backend = device == Device::Cpu ? Backend::Cpu : device == Device::Cuda ? Backend::Cuda : Backend::Auto;
+    // The first render thread's renderer, made here: it tells whether CUDA
+    // is there (and Device::Cuda without it throws before any page).
+    auto first = std::make_unique<FrameRenderer>(backend);
+    const bool cuda = first->backend() == Backend::Cuda;
+    const int count = static_cast<int>(pages.size());
+    const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    pipeline::Config c;
+    c.program = "mpvg";
+    c.unit = "page";
+    c.tickets = count;
+    c.render_threads = std::min(count, cuda ? 3 : 1);
+    c.workers = std::min(count, threads > 0 ? threads : cuda ? std::max(1, cores - c.render_threads) : cores);
+    c.quiet = true;
+    c.bits = o.bits;
+    c.gamma = o.gamma;
+    c.forest_scenes = 1;
+    // A document handle per worker (MuPDF: one thread per context).
+    std::vector<std::unique_ptr<pdf::Document>> clones(c.workers);
+    c.label = [&](int t) { return "page " + std::to_string(pages[t] + 1); };
+    c.prepare = [&](int t, int w) {
+      if (cancelled && cancelled()) throw Error("cancelled");
+      if (!clones[w]) clones[w] = impl_->doc->clone();
+      return pdf_page_job(request, o, *clones[w], pages[t] + 1, "");
+    };
+    std::mutex first_lock;
+    c.make_renderer = [&](int) -> std::unique_ptr<FrameRenderer> {
+      std::lock_guard<std::mutex> lock(first_lock);
+      if (first) return std::move(first);
+      return std::make_unique<FrameRenderer>(cuda ? Backend::Cuda : Backend::Cpu);
+    };
+    c.deliver = [&](pipeline::Job& job) {
+      sink(static_cast<size_t>(job.index), bitmap_of(job, o.bits, o.gamma), std::move(job.warnings));
+    };
+    c.failed = [&](int t, const std::string& message) { failed(static_cast<size_t>(t), message); };
+    pipeline::run(c);
+  });
+#else
+  (void)pages, (void)settings, (void)sink, (void)failed, (void)device, (void)threads, (void)cancelled;
+  no_pdf();
+#endif
+}
+
 std::vector<std::string> PdfDocument::warnings() const {
 #ifdef MPVG_HAVE_PDF
   std::lock_guard<std::mutex> lock(impl_->mutex);
@@ -384,34 +467,19 @@ std::string Renderer::note() const { return impl_->frames->note(); }
 Bitmap Renderer::render(const PdfDocument& doc, int index, const PdfRenderSettings& settings) {
 #ifdef MPVG_HAVE_PDF
   return guarded([&] {
-    // pdf2png's steps (apps/pdf2png.cpp lower(), pipeline render): the page
-    // lowered for its resolution, sized, encoded and rendered.
+    // pdf2png's steps: the page as its pipeline job (apps/pdf_page_job.h),
+    // rendered as its render threads render it.
     const cli::Options o = to_cli(settings);
-    const double scale = settings.dpi / 72.0;
-    pdf::PageOptions po(to_box(settings.box));
-    po.annotations = settings.annotations;
-    po.thin_lines = settings.snap_thin_lines ? pdf::ThinLines::Snap : pdf::ThinLines::Exact;
-    if (index < 0 || index >= doc.impl_->doc->page_count())
-      throw Error("page " + std::to_string(index + 1) + " is past the last page (" +
-                  std::to_string(doc.impl_->doc->page_count()) + ")");
-    pdf::PageResult page;
+    check_page(*doc.impl_->doc, index);
+    std::unique_ptr<pipeline::Job> job;
     {
       std::lock_guard<std::mutex> lock(doc.impl_->mutex);
-      page = doc.impl_->doc->page(index, scale, po);
-      doc.impl_->warnings = page.warnings;
+      job = pdf_page_job(to_request(settings), o, *doc.impl_->doc, index + 1, "");
+      doc.impl_->warnings = job->warnings;
     }
-    const OutputSize size = page_pixels(page.scene.width, page.scene.height, scale);
-    const RenderOptions ro = cli::render_options(o, size.width, size.height, Affine::scale(scale, scale));
-    Bitmap out;
-    out.width = size.width;
-    out.height = size.height;
-    out.bits = o.bits;
-    const RenderPlan plan = plan_render(ro);
-    const EncodedScene enc = encode_for(page.scene, plan, ro.gamma);
-    if (o.bits == 16)
-      out.pixels16 = to_rgba16(impl_->frames->render(enc, ro), ro.gamma);
-    else
-      out.pixels8 = impl_->frames->render_rgba8(enc, plan, ro);
+    if (o.bits == 16) job->image = impl_->frames->render(job->scene, job->options);
+    else job->rgba8 = impl_->frames->render_rgba8(job->scene, job->plan, job->options);
+    Bitmap out = bitmap_of(*job, o.bits, job->options.gamma);
     return out;
   });
 #else

@@ -10,8 +10,13 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <map>
 #include <memory>
 #include <mutex>
+#include <thread>
 #include <optional>
 #include <string>
 #include <vector>
@@ -185,9 +190,10 @@ class PyDocument {
 
   std::vector<std::string> warnings() const { return doc_->warnings(); }
 
-  py::array render(int page, double dpi, const std::string& aa, const std::string& gamma, const py::object& background,
-                   int bits, uint32_t seed, const std::string& box, bool annotations, const std::string& thin_lines,
-                   const std::string& colorspace) {
+  static mpvg::PdfRenderSettings settings(double dpi, const std::string& aa, const std::string& gamma,
+                                          const py::object& background, int bits, uint32_t seed, const std::string& box,
+                                          bool annotations, const std::string& thin_lines,
+                                          const std::string& colorspace) {
     if (colorspace != "rgb")
       throw py::value_error("colorspace '" + colorspace + "': only 'rgb' for now (pdf2png has gray and cmyk)");
     if (thin_lines != "exact" && thin_lines != "snap")
@@ -202,6 +208,14 @@ class PyDocument {
     s.box = box_named(box);
     s.annotations = annotations;
     s.snap_thin_lines = thin_lines == "snap";
+    return s;
+  }
+
+  py::array render(int page, double dpi, const std::string& aa, const std::string& gamma, const py::object& background,
+                   int bits, uint32_t seed, const std::string& box, bool annotations, const std::string& thin_lines,
+                   const std::string& colorspace) {
+    const mpvg::PdfRenderSettings s =
+        settings(dpi, aa, gamma, background, bits, seed, box, annotations, thin_lines, colorspace);
     const int i = index(page);
     mpvg::Bitmap image;
     {
@@ -214,12 +228,153 @@ class PyDocument {
                             : as_array(std::move(image.pixels8), image.width, image.height);
   }
 
- private:
+  class PageStream;
+  std::unique_ptr<PageStream> render_pages(const std::optional<std::vector<int>>& pages, double dpi,
+                                           const std::string& aa, const std::string& gamma,
+                                           const py::object& background, int bits, uint32_t seed,
+                                           const std::string& box, bool annotations, const std::string& thin_lines,
+                                           const std::string& colorspace, int threads);
+
   mpvg::Device backend_;
   std::unique_ptr<mpvg::PdfDocument> doc_;
+
+ private:
   std::mutex mutex_;
   std::unique_ptr<mpvg::Renderer> renderer_;
 };
+
+// doc.render_pages(...): an iterator over the pages' arrays, in the order
+// asked, while mpvg::PdfDocument::render_pages runs them through pdf2png's
+// pipeline on a thread of its own. At most kWindow pages past the one the
+// iterator waits for are held; the pipeline's threads wait for the rest.
+// Ctrl-C (or dropping the iterator) cancels the pages not yet started.
+// The window is wider than the pipeline has pages in flight (workers + 4 +
+// render threads), so that the page waited for is never behind a worker
+// that waits for the window.
+class PyDocument::PageStream {
+ public:
+  const size_t kWindow = 64 + 2 * size_t(std::max(1u, std::thread::hardware_concurrency()));
+
+  PageStream(const PyDocument& doc, std::vector<int> pages, mpvg::PdfRenderSettings settings, int threads)
+      : pages_(std::move(pages)) {
+    worker_ = std::thread([this, &doc, settings, threads] {
+      try {
+        doc.doc_->render_pages(
+            pages_, settings,
+            [this](size_t k, mpvg::Bitmap&& b, std::vector<std::string>&& warnings) {
+              std::unique_lock<std::mutex> lock(m_);
+              cv_.wait(lock, [&] { return cancel_ || k < next_ + kWindow; });
+              if (cancel_) return;
+              done_[k] = Result{std::move(b), std::move(warnings), {}};
+              cv_.notify_all();
+            },
+            [this](size_t k, const std::string& message) {
+              std::lock_guard<std::mutex> lock(m_);
+              done_[k] = Result{{}, {}, message.empty() ? "failed" : message};
+              cv_.notify_all();
+            },
+            doc.backend_, threads, [this] { return cancel_.load(); });
+      } catch (const std::exception& e) {
+        std::lock_guard<std::mutex> lock(m_);
+        error_ = e.what();
+      }
+      std::lock_guard<std::mutex> lock(m_);
+      finished_ = true;
+      cv_.notify_all();
+    });
+  }
+
+  ~PageStream() { stop(); }
+
+  void stop() {
+    {
+      std::lock_guard<std::mutex> lock(m_);
+      cancel_ = true;
+      cv_.notify_all();
+    }
+    if (worker_.joinable()) {
+      py::gil_scoped_release release;
+      worker_.join();
+    }
+  }
+
+  // The next page's array; its warnings through Python's warnings module.
+  py::array next() {
+    if (next_ >= pages_.size()) throw py::stop_iteration();
+    Result r;
+    for (;;) {
+      bool ready = false;
+      {
+        py::gil_scoped_release release;
+        std::unique_lock<std::mutex> lock(m_);
+        cv_.wait_for(lock, std::chrono::milliseconds(100),
+                     [&] { return done_.count(next_) || finished_ || !error_.empty(); });
+        if (done_.count(next_)) {
+          r = std::move(done_[next_]);
+          done_.erase(next_);
+          next_++;
+          cv_.notify_all();
+          ready = true;
+        } else if (!error_.empty() || finished_) {
+          ready = false;
+        } else {
+          lock.unlock();
+          py::gil_scoped_acquire acquire;
+          if (PyErr_CheckSignals() != 0) {  // Ctrl-C: cancel, then raise it
+            stop();
+            throw py::error_already_set();
+          }
+          continue;
+        }
+      }
+      if (ready) break;
+      std::string why;
+      {
+        std::lock_guard<std::mutex> lock(m_);
+        why = error_.empty() ? "page " + std::to_string(pages_[next_] + 1) + " was not rendered" : error_;
+      }
+      throw mpvg::Error(why);
+    }
+    if (!r.error.empty()) throw mpvg::Error(r.error);
+    if (!r.warnings.empty()) {
+      py::object warn = py::module_::import("warnings").attr("warn");
+      for (const std::string& w : r.warnings) warn("page " + std::to_string(pages_[next_ - 1] + 1) + ": " + w);
+    }
+    return r.bitmap.bits == 16 ? as_array(std::move(r.bitmap.pixels16), r.bitmap.width, r.bitmap.height)
+                               : as_array(std::move(r.bitmap.pixels8), r.bitmap.width, r.bitmap.height);
+  }
+
+ private:
+  struct Result {
+    mpvg::Bitmap bitmap;
+    std::vector<std::string> warnings;
+    std::string error;
+  };
+  std::vector<int> pages_;
+  std::mutex m_;
+  std::condition_variable cv_;
+  std::map<size_t, Result> done_;
+  size_t next_ = 0;
+  std::atomic<bool> cancel_{false};
+  bool finished_ = false;
+  std::string error_;
+  std::thread worker_;
+};
+
+std::unique_ptr<PyDocument::PageStream> PyDocument::render_pages(
+    const std::optional<std::vector<int>>& pages, double dpi, const std::string& aa, const std::string& gamma,
+    const py::object& background, int bits, uint32_t seed, const std::string& box, bool annotations,
+    const std::string& thin_lines, const std::string& colorspace, int threads) {
+  const mpvg::PdfRenderSettings s =
+      settings(dpi, aa, gamma, background, bits, seed, box, annotations, thin_lines, colorspace);
+  std::vector<int> list;
+  if (pages) {
+    for (int p : *pages) list.push_back(index(p));
+  } else {
+    for (int p = 0; p < len(); p++) list.push_back(p);
+  }
+  return std::make_unique<PageStream>(*this, std::move(list), s, threads);
+}
 
 }  // namespace
 
@@ -279,5 +434,21 @@ PYBIND11_MODULE(_mpvg, m) {
            "aa: '4x4x32', '1x32' or '1x8'. gamma: 'srgb' (PDF's) or 'linear'. background: a CSS colour,\n"
            "(r, g, b[, a]) or None (transparent). box: the page box. annotations: draw them as printed.\n"
            "thin_lines: 'exact' or 'snap' (pdf2png --thin-lines). colorspace: 'rgb'.\n"
-           "The GIL is released while the page is interpreted and rendered. Raises mpvg.Error.");
+           "The GIL is released while the page is interpreted and rendered. Raises mpvg.Error.")
+      .def("render_pages", &PyDocument::render_pages, py::arg("pages") = py::none(), py::kw_only(),
+           py::arg("dpi") = 150.0, py::arg("aa") = "4x4x32", py::arg("gamma") = "srgb",
+           py::arg("background") = "white", py::arg("bits") = 8, py::arg("seed") = 0, py::arg("box") = "crop",
+           py::arg("annotations") = true, py::arg("thin_lines") = "exact", py::arg("colorspace") = "rgb",
+           py::arg("threads") = 0, py::keep_alive<0, 1>(),
+           "Renders `pages` (0-based; None: every page) through pdf2png's page pipeline (worker threads\n"
+           "interpreting pages while render threads render others, with CUDA on several streams) and\n"
+           "returns an iterator over their arrays in the order asked, each what render() gives. A page\n"
+           "that fails raises mpvg.Error when its turn comes; warnings go to Python's warnings module.\n"
+           "threads: worker threads (0: one per core). The GIL is released while it waits; Ctrl-C or\n"
+           "dropping the iterator cancels the pages not yet started.");
+
+  py::class_<PyDocument::PageStream>(m, "PageStream", "The pages of Document.render_pages, in the order asked.")
+      .def("__iter__", [](py::object self) { return self; })
+      .def("__next__", &PyDocument::PageStream::next)
+      .def("close", &PyDocument::PageStream::stop, "Cancels the pages not yet started and waits for the rest.");
 }

@@ -33,7 +33,7 @@ check "the header is installed" test -f "$prefix/include/mpvg/mpvg.h"
 check "the package files are installed" test -n "$(find "$prefix" -name mpvgConfig.cmake)" -a \
   -n "$(find "$prefix" -name mpvgConfigVersion.cmake)" -a -n "$(find "$prefix" -name 'mpvgTargets*.cmake')"
 check "the header includes standard headers only" \
-  test -z "$(grep -E '^\s*#\s*include' "$prefix/include/mpvg/mpvg.h" | grep -vE '<(cstddef|cstdint|memory|optional|stdexcept|string|string_view|vector)>')"
+  test -z "$(grep -E '^\s*#\s*include' "$prefix/include/mpvg/mpvg.h" | grep -vE '<(cstddef|cstdint|functional|memory|optional|stdexcept|string|string_view|utility|vector)>')"
 check "the package asks for no dependency" test -z "$(grep -rl find_dependency "$prefix" --include='*.cmake')"
 
 # Only the public API is exported: every defined dynamic symbol that names
@@ -44,9 +44,9 @@ if [ -n "$lib" ]; then
   check "the library exports the public API" grep -q '^mpvg::Renderer::render(mpvg::SvgDocument const&' "$work/exports.txt"
   check "the library exports nothing internal" \
     test -z "$(grep -iE 'mpvg|tinyxml|cuda|svg::|stroke' "$work/exports.txt" |
-               grep -vE '^(mpvg::(Renderer|SvgDocument|Color)::|(typeinfo|typeinfo name|vtable) for mpvg::(Renderer|SvgDocument|Color)$)')"
+               grep -vE '^(mpvg::(Renderer|SvgDocument|PdfDocument|Color)::|(typeinfo|typeinfo name|vtable) for mpvg::(Renderer|SvgDocument|PdfDocument|Color)$)')"
   grep -iE 'mpvg|tinyxml|cuda|svg::|stroke' "$work/exports.txt" |
-    grep -vE '^(mpvg::(Renderer|SvgDocument|Color)::|(typeinfo|typeinfo name|vtable) for mpvg::(Renderer|SvgDocument|Color)$)'
+    grep -vE '^(mpvg::(Renderer|SvgDocument|PdfDocument|Color)::|(typeinfo|typeinfo name|vtable) for mpvg::(Renderer|SvgDocument|PdfDocument|Color)$)'
 fi
 
 if "$cmake" -S "$src/tests/consumer" -B "$work/build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER="$cxx" \

@@ -245,6 +245,34 @@ if PDF2PNG:
             check(False, "%s raised" % exc.__name__)
         except exc as e:
             check(True, "%s: %s" % (exc.__name__, e))
+    # render_pages: pdf2png's pipeline, arrays in the order asked, each
+    # what render() gives; a page that fails raises at its turn.
+    three = mpvg.Document(os.path.join(SRC, "testdata", "pdf", "three-pages.pdf"), backend="cpu")
+    order = [2, 0, 1, 2, -1]
+    got = list(three.render_pages(order, dpi=36, aa="1x8", threads=2))
+    want = [three.render(p, dpi=36, aa="1x8") for p in order]
+    check(len(got) == 5 and all(g.shape == w.shape and (g == w).all() for g, w in zip(got, want)),
+          "render_pages yields render()'s arrays in the order asked (%s)" % order)
+    bad = mpvg.Document(os.path.join(SRC, "testdata", "pdf", "three-pages-bad-page2.pdf"), backend="cpu")
+    stream = bad.render_pages(dpi=20)
+    results = []
+    for k in range(3):
+        try:
+            results.append(next(stream).shape)
+        except mpvg.Error as e:
+            results.append("Error: " + str(e))
+    check(isinstance(results[0], tuple) and str(results[1]).startswith("Error: page 2") and
+          isinstance(results[2], tuple), "a page that fails raises mpvg.Error at its turn, the others render (%s)"
+          % results)
+    try:
+        next(stream)
+        check(False, "the stream ends after the last page")
+    except StopIteration:
+        check(True, "the stream ends after the last page")
+    stream = three.render_pages(dpi=20)
+    first = next(stream)
+    stream.close()
+    check(first.shape[2] == 4, "close() stops a stream early")
     locked = mpvg.Document(os.path.join(SRC, "testdata", "pdf", "encrypted-password-secret.pdf"), password="secret",
                            backend="cpu")
     check(len(locked) >= 1, "an encrypted document opens with its password")

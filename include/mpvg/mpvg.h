@@ -21,6 +21,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -198,6 +199,24 @@ class MPVG_API PdfDocument {
   // One line per feature of the last page rendered that was drawn
   // approximately or not at all.
   std::vector<std::string> warnings() const;
+
+  // Renders `pages` (0-based; any order, repeats allowed) through
+  // pdf2png's page pipeline: worker threads (`threads`, 0: one per core,
+  // less the render threads with CUDA), each with a document handle of its
+  // own, interpret and lower pages while render threads (with CUDA three,
+  // each with its own stream; on the CPU one) render others. Each page's
+  // bitmap, the pixels Renderer::render gives, goes to sink(position in
+  // `pages`, bitmap, warnings), and each failure to failed(position,
+  // message), from the pipeline's threads: several at once, in no set
+  // order. Returns when every page is through. A sink that throws fails
+  // that page. `cancelled`, when given, is asked before each page is
+  // interpreted: once it says true the pages left fail at once
+  // ("cancelled").
+  using PageSink = std::function<void(std::size_t position, Bitmap&& bitmap, std::vector<std::string>&& warnings)>;
+  using PageFailure = std::function<void(std::size_t position, const std::string& message)>;
+  void render_pages(const std::vector<int>& pages, const PdfRenderSettings& settings, const PageSink& sink,
+                    const PageFailure& failed, Device device = Device::Auto, int threads = 0,
+                    const std::function<bool()>& cancelled = nullptr) const;
 
  private:
   friend class Renderer;

@@ -71,3 +71,26 @@ class Document:
         thin_lines: Literal["exact", "snap"] = "exact",
         colorspace: Literal["rgb"] = "rgb",
     ) -> npt.NDArray[Union[np.uint8, np.uint16]]: ...
+    def render_pages(
+        self,
+        pages: Optional[Sequence[int]] = None,
+        *,
+        dpi: float = 150.0,
+        aa: Literal["4x4x32", "1x32", "1x8"] = "4x4x32",
+        gamma: Literal["linear", "srgb"] = "srgb",
+        background: Background = "white",
+        bits: Literal[8, 16] = 8,
+        seed: int = 0,
+        box: PageBox = "crop",
+        annotations: bool = True,
+        thin_lines: Literal["exact", "snap"] = "exact",
+        colorspace: Literal["rgb"] = "rgb",
+        threads: int = 0,
+    ) -> "PageStream": ...
+
+class PageStream:
+    """The pages of Document.render_pages, in the order asked."""
+
+    def __iter__(self) -> "PageStream": ...
+    def __next__(self) -> npt.NDArray[Union[np.uint8, np.uint16]]: ...
+    def close(self) -> None: ...

@@ -1,0 +1,30 @@
+// A PDF page as a job of the batch pipeline (apps/pipeline.h): interpreted
+// and lowered for its resolution, sized (with pdftoppm's crop window),
+// encoded; print preview's ink passes side by side in one frame
+// (apps/ink_output.h). pdf2png's pages and libmpvg's PdfDocument renders
+// are made here, so that both give the same pixels.
+#pragma once
+#include <memory>
+#include <string>
+
+#include "apps/cli.h"
+#include "apps/pipeline.h"
+#include "parsers/pdf/pdf_parser.h"
+
+namespace mpvg {
+
+struct PdfPageRequest {
+  double dpi = 150;  // output pixels per inch
+  int scale_to = 0;  // > 0: the longer side in pixels instead of dpi
+  // A window of the page's pixels (pdftoppm's -x -y -W -H; 0: the rest).
+  int crop_x = 0, crop_y = 0, crop_w = 0, crop_h = 0;
+  pdf::PageOptions page;  // box, annotations, thin lines, inks, press profile
+};
+
+// Page n (1-based) of `doc` as a job for `out`, rendered with opt's
+// rendering options. Throws mpvg::Error (the page's failure, or a frame
+// too large for opt's limits).
+std::unique_ptr<pipeline::Job> pdf_page_job(const PdfPageRequest& request, const cli::Options& opt,
+                                            const pdf::Document& doc, int n, const std::string& out);
+
+}  // namespace mpvg
