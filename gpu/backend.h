@@ -55,6 +55,19 @@ class FrameRenderer {
   std::vector<uint8_t> render_rgba8(const EncodedScene& scene, const RenderPlan& plan, const RenderOptions& options,
                                     RenderStats* stats = nullptr, std::vector<uint8_t> storage = {});
 
+  // As render_rgba8(), the bytes left on the device (CUDA backend only;
+  // mpvg::Error on the CPU) in memory of their own, freed with the last
+  // copy of `data`; the render and the copy into it are finished.
+  struct DeviceImage {
+    std::shared_ptr<uint8_t> data;  // width x height RGBA rows, 4 bytes a pixel
+    int width = 0, height = 0;
+    int device = 0;  // the CUDA device it is on
+  };
+  DeviceImage render_rgba8_device(const EncodedScene& scene, const RenderPlan& plan, const RenderOptions& options,
+                                  RenderStats* stats = nullptr);
+  // A device image's bytes copied to the host (its consumers' check).
+  static std::vector<uint8_t> download(const DeviceImage& image);
+
   // As render_rgba8(), the image filtered and deflated for a PNG by
   // core/png_encode.h's stages (compression level 1): with CUDA on the
   // device, so that only the compressed data is copied back; on the CPU by

@@ -41,6 +41,15 @@ ImageF FrameRenderer::render(const EncodedScene& scene, const RenderOptions& opt
   return img;
 }
 
+FrameRenderer::DeviceImage FrameRenderer::render_rgba8_device(const EncodedScene&, const RenderPlan&,
+                                                              const RenderOptions&, RenderStats*) {
+  throw Error("device output needs the CUDA backend (this build has none)");
+}
+
+std::vector<uint8_t> FrameRenderer::download(const DeviceImage&) {
+  throw Error("device output needs the CUDA backend (this build has none)");
+}
+
 std::vector<uint8_t> FrameRenderer::render_rgba8(const EncodedScene& scene, const RenderPlan& plan,
                                                 const RenderOptions& options, RenderStats* stats,
                                                 std::vector<uint8_t> /*storage*/) {

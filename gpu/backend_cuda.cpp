@@ -299,6 +299,34 @@ std::vector<uint8_t> FrameRenderer::render_rgba8(const EncodedScene& scene, cons
   });
 }
 
+FrameRenderer::DeviceImage FrameRenderer::render_rgba8_device(const EncodedScene& scene, const RenderPlan& plan,
+                                                              const RenderOptions& options, RenderStats* stats) {
+  if (impl_->backend == Backend::Cpu) throw Error("device output needs the CUDA backend (rendering on the CPU)");
+  RenderStats local;
+  RenderStats& st = stats ? *stats : local;
+  st.note = impl_->note;
+  cudaSetDevice(impl_->device);
+  gpu::Context& ctx = *impl_->ctx;
+  DeviceImage out;
+  out.data = render_cuda(ctx, scene, plan, options, st, [&](const PaintRecord& bg, gpu::GpuTimes* gt) {
+    return ctx.render_rgba8_device(plan.integ, plan.frame, bg, options.gamma == Gamma::Linear, gt);
+  });
+  out.width = options.width;
+  out.height = options.height;
+  out.device = impl_->device;
+  return out;
+}
+
+std::vector<uint8_t> FrameRenderer::download(const DeviceImage& image) {
+  std::vector<uint8_t> out(size_t(image.width) * image.height * 4);
+  if (!out.empty()) {
+    cudaSetDevice(image.device);
+    if (cudaMemcpy(out.data(), image.data.get(), out.size(), cudaMemcpyDeviceToHost) != cudaSuccess)
+      throw Error("cannot copy a device image to the host");
+  }
+  return out;
+}
+
 png::ImageData FrameRenderer::render_png(const EncodedScene& scene, const RenderPlan& plan, const RenderOptions& options,
                                          RenderStats* stats) {
   RenderStats local;

@@ -108,6 +108,13 @@ std::vector<uint8_t> Context::render_rgba8(const Integration& integ, const Integ
   return impl_->download_rgba8(linear, std::move(storage));
 }
 
+std::shared_ptr<uint8_t> Context::render_rgba8_device(const Integration& integ, const IntegrationFrame& frame,
+                                                      const PaintRecord& background, bool linear, GpuTimes* times,
+                                                      uint32_t root) {
+  impl_->render(integ, frame, background, times, root);
+  return impl_->device_rgba8(linear);
+}
+
 png::ImageData Context::render_png(const Integration& integ, const IntegrationFrame& frame,
                                   const PaintRecord& background, bool linear, GpuTimes* times, uint32_t root) {
   impl_->render(integ, frame, background, times, root);

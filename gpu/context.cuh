@@ -303,6 +303,8 @@ struct Context::Impl {
   DeviceBuffer<unsigned long long> acc;  // fixed-point accumulators, 4 per pixel
   DeviceBuffer<SrgbCodeTable> srgb_table;  // core/rgba8.h's, uploaded on first use
   DeviceBuffer<uint32_t> rgba8;            // the image as 8-bit codes (rgba8.cu)
+  // The codes in memory of their own, handed out (rgba8.cu).
+  std::shared_ptr<uint8_t> device_rgba8(bool linear);
   std::unique_ptr<PngStage> png_stage;     // made for the first render_png
   int out_width = 0, out_height = 0;
   SamplerShape shape;

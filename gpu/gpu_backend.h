@@ -82,6 +82,14 @@ class Context {
                                     const PaintRecord& background, bool linear, GpuTimes* times = nullptr,
                                     std::vector<uint8_t> storage = {}, uint32_t root = 0);
 
+  // As render_rgba8(), the codes left on the device in memory of their own
+  // (cudaMalloc'd, freed with the last copy of the returned pointer), the
+  // copy into it finished: for callers that hand the image on without a
+  // round trip through the host (libmpvg's device bitmaps, DLPack).
+  std::shared_ptr<uint8_t> render_rgba8_device(const Integration& integ, const IntegrationFrame& frame,
+                                               const PaintRecord& background, bool linear, GpuTimes* times = nullptr,
+                                               uint32_t root = 0);
+
   // As render_rgba8(), the image filtered and deflated on the device
   // (core/png_encode.h's stages, gpu/png_encode.cu): only the PNG's
   // compressed data is copied back; the same bytes as the CPU executor's

@@ -29,6 +29,17 @@ void Context::Impl::convert_rgba8(bool linear) {
   }
 }
 
+std::shared_ptr<uint8_t> Context::Impl::device_rgba8(bool linear) {
+  convert_rgba8(linear);
+  const size_t bytes = 4 * size_t(out_width) * out_height;
+  void* p = nullptr;
+  MPVG_CUDA(cudaMalloc(&p, bytes ? bytes : 4));
+  std::shared_ptr<uint8_t> out(static_cast<uint8_t*>(p), [](uint8_t* q) { cudaFree(q); });
+  if (bytes) MPVG_CUDA(cudaMemcpyAsync(p, rgba8.data(), bytes, cudaMemcpyDeviceToDevice, cudaStreamPerThread));
+  MPVG_CUDA(cudaStreamSynchronize(cudaStreamPerThread));
+  return out;
+}
+
 std::vector<uint8_t> Context::Impl::download_rgba8(bool linear, std::vector<uint8_t> out) {
   convert_rgba8(linear);
   const size_t n = size_t(out_width) * out_height;

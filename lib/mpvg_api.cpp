@@ -488,6 +488,65 @@ Bitmap Renderer::render(const PdfDocument& doc, int index, const PdfRenderSettin
 #endif
 }
 
+namespace {
+
+DeviceBitmap device_bitmap(FrameRenderer::DeviceImage&& d) {
+  DeviceBitmap out;
+  out.width = d.width;
+  out.height = d.height;
+  out.device = d.device;
+  out.pixels = std::move(d.data);
+  return out;
+}
+
+}  // namespace
+
+std::vector<uint8_t> download(const DeviceBitmap& bitmap) {
+  return guarded([&] {
+    FrameRenderer::DeviceImage d;
+    d.data = bitmap.pixels;
+    d.width = bitmap.width;
+    d.height = bitmap.height;
+    d.device = bitmap.device;
+    return FrameRenderer::download(d);
+  });
+}
+
+DeviceBitmap Renderer::render_device(const SvgDocument& doc, const RenderSettings& settings) {
+  return guarded([&] {
+    if (settings.bits != 8) throw Error("device bitmaps hold 8 bits a channel");
+    const cli::Options o = to_cli(settings);
+    int width, height;
+    Affine view;
+    const std::shared_ptr<const svg::ParseResult> parsed = doc.impl_->parse_for(o, &width, &height, &view);
+    RenderOptions ro = cli::render_options(o, width, height, view);
+    ro.aliased_paths = has_aliased_paths(parsed->scene);
+    const RenderPlan plan = plan_render(ro);
+    const EncodedScene enc = encode_for(parsed->scene, plan, ro.gamma);
+    return device_bitmap(impl_->frames->render_rgba8_device(enc, plan, ro));
+  });
+}
+
+DeviceBitmap Renderer::render_device(const PdfDocument& doc, int index, const PdfRenderSettings& settings) {
+#ifdef MPVG_HAVE_PDF
+  return guarded([&] {
+    if (settings.bits != 8) throw Error("device bitmaps hold 8 bits a channel");
+    const cli::Options o = to_cli(settings);
+    check_page(*doc.impl_->doc, index);
+    std::unique_ptr<pipeline::Job> job;
+    {
+      std::lock_guard<std::mutex> lock(doc.impl_->mutex);
+      job = pdf_page_job(to_request(settings), o, *doc.impl_->doc, index + 1, "");
+      doc.impl_->warnings = job->warnings;
+    }
+    return device_bitmap(impl_->frames->render_rgba8_device(job->scene, job->plan, job->options));
+  });
+#else
+  (void)doc, (void)index, (void)settings;
+  no_pdf();
+#endif
+}
+
 Bitmap Renderer::render(const SvgDocument& doc, const RenderSettings& settings) {
   return guarded([&] { return impl_->render(*doc.impl_, settings, nullptr); });
 }

@@ -69,6 +69,114 @@ py::array as_array(std::vector<T>&& pixels, int width, int height) {
   return py::array_t<T>({h, w, py::ssize_t(4)}, {w * 4 * s, 4 * s, s}, data, owner);
 }
 
+// DLPack's C ABI (dmlc/dlpack's dlpack.h, 0.8), its three structs spelled
+// out as the protocol fixes them: the header is not among the build's
+// dependencies.
+struct DLDevice {
+  int32_t device_type;  // kDLCUDA
+  int32_t device_id;
+};
+struct DLDataType {
+  uint8_t code;  // kDLUInt
+  uint8_t bits;
+  uint16_t lanes;
+};
+struct DLTensor {
+  void* data;
+  DLDevice device;
+  int32_t ndim;
+  DLDataType dtype;
+  int64_t* shape;
+  int64_t* strides;  // null: row-major, compact
+  uint64_t byte_offset;
+};
+struct DLManagedTensor {
+  DLTensor dl_tensor;
+  void* manager_ctx;
+  void (*deleter)(DLManagedTensor* self);
+};
+constexpr int32_t kDLCUDA = 2;
+constexpr uint8_t kDLUInt = 1;
+
+// mpvg.DeviceArray: an H x W x 4 uint8 image in CUDA memory owned by mpvg
+// (render(..., device="cuda")), handed to torch.from_dlpack, cupy.asarray
+// or numba without a copy: __dlpack__ / __dlpack_device__ and
+// __cuda_array_interface__ (version 3). The render and the copy into its
+// memory are finished before it is returned, so no stream needs to wait;
+// the memory lives as long as this object or a tensor made from it.
+class PyDeviceArray {
+ public:
+  explicit PyDeviceArray(mpvg::DeviceBitmap b) : b_(std::move(b)) {}
+
+  py::tuple shape() const { return py::make_tuple(b_.height, b_.width, 4); }
+  int device() const { return b_.device; }
+
+  py::dict cuda_array_interface() const {
+    py::dict d;
+    d["shape"] = shape();
+    d["typestr"] = "|u1";
+    d["data"] = py::make_tuple(reinterpret_cast<uintptr_t>(b_.pixels.get()), false);
+    d["version"] = 3;
+    d["strides"] = py::none();
+    d["stream"] = py::none();  // nothing to wait for
+    return d;
+  }
+
+  py::tuple dlpack_device() const { return py::make_tuple(kDLCUDA, b_.device); }
+
+  py::object dlpack(const py::object& /*stream: the data is ready on every stream*/) const {
+    struct Holder {
+      std::shared_ptr<uint8_t> pixels;  // keeps the memory alive
+      int64_t shape[3];
+      DLManagedTensor tensor;
+    };
+    auto* h = new Holder{b_.pixels, {b_.height, b_.width, 4}, {}};
+    DLTensor& t = h->tensor.dl_tensor;
+    t.data = h->pixels.get();
+    t.device = DLDevice{kDLCUDA, b_.device};
+    t.ndim = 3;
+    t.dtype = DLDataType{kDLUInt, 8, 1};
+    t.shape = h->shape;
+    t.strides = nullptr;
+    t.byte_offset = 0;
+    h->tensor.manager_ctx = h;
+    h->tensor.deleter = [](DLManagedTensor* self) { delete static_cast<Holder*>(self->manager_ctx); };
+    // A capsule not consumed (still named "dltensor") frees the tensor.
+    PyObject* capsule = PyCapsule_New(&h->tensor, "dltensor", [](PyObject* c) {
+      if (PyCapsule_IsValid(c, "dltensor")) {
+        auto* m = static_cast<DLManagedTensor*>(PyCapsule_GetPointer(c, "dltensor"));
+        if (m && m->deleter) m->deleter(m);
+      }
+    });
+    if (!capsule) {
+      delete h;
+      throw py::error_already_set();
+    }
+    return py::reinterpret_steal<py::object>(capsule);
+  }
+
+  // A host copy, as NumPy (what render() with device="cpu" gives).
+  py::array to_host() const {
+    std::vector<uint8_t> pixels;
+    {
+      py::gil_scoped_release release;
+      pixels = mpvg::download(b_);
+    }
+    return as_array(std::move(pixels), b_.width, b_.height);
+  }
+
+ private:
+  mpvg::DeviceBitmap b_;
+};
+
+// Where a render's pixels go: "cpu" (a NumPy array) or "cuda" (a
+// DeviceArray, the CUDA backend only).
+bool on_device(const std::string& device) {
+  if (device == "cpu") return false;
+  if (device == "cuda") return true;
+  throw py::value_error("unknown output device '" + device + "' (cpu or cuda)");
+}
+
 // mpvg.Renderer: one mpvg::Renderer (with CUDA, one context and its device
 // buffers) kept across calls. Calls from several Python threads take turns.
 class PyRenderer {
@@ -211,19 +319,23 @@ class PyDocument {
     return s;
   }
 
-  py::array render(int page, double dpi, const std::string& aa, const std::string& gamma, const py::object& background,
-                   int bits, uint32_t seed, const std::string& box, bool annotations, const std::string& thin_lines,
-                   const std::string& colorspace) {
+  py::object render(int page, double dpi, const std::string& aa, const std::string& gamma, const py::object& background,
+                    int bits, uint32_t seed, const std::string& box, bool annotations, const std::string& thin_lines,
+                    const std::string& colorspace, const std::string& device) {
     const mpvg::PdfRenderSettings s =
         settings(dpi, aa, gamma, background, bits, seed, box, annotations, thin_lines, colorspace);
     const int i = index(page);
+    const bool gpu = on_device(device);
     mpvg::Bitmap image;
+    mpvg::DeviceBitmap on_gpu;
     {
       py::gil_scoped_release release;
       std::lock_guard<std::mutex> lock(mutex_);
       if (!renderer_) renderer_ = std::make_unique<mpvg::Renderer>(backend_);
-      image = renderer_->render(*doc_, i, s);
+      if (gpu) on_gpu = renderer_->render_device(*doc_, i, s);
+      else image = renderer_->render(*doc_, i, s);
     }
+    if (gpu) return py::cast(PyDeviceArray(std::move(on_gpu)));
     return image.bits == 16 ? as_array(std::move(image.pixels16), image.width, image.height)
                             : as_array(std::move(image.pixels8), image.width, image.height);
   }
@@ -428,12 +540,14 @@ PYBIND11_MODULE(_mpvg, m) {
       .def("render", &PyDocument::render, py::arg("page"), py::kw_only(), py::arg("dpi") = 150.0,
            py::arg("aa") = "4x4x32", py::arg("gamma") = "srgb", py::arg("background") = "white",
            py::arg("bits") = 8, py::arg("seed") = 0, py::arg("box") = "crop", py::arg("annotations") = true,
-           py::arg("thin_lines") = "exact", py::arg("colorspace") = "rgb",
+           py::arg("thin_lines") = "exact", py::arg("colorspace") = "rgb", py::arg("device") = "cpu",
            "Renders page `page` (0-based; -1 the last) to an H x W x 4 array (uint8, or uint16 for bits=16)\n"
            "of straight-alpha sRGB RGBA pixels, as pdf2png -r DPI does.\n\n"
            "aa: '4x4x32', '1x32' or '1x8'. gamma: 'srgb' (PDF's) or 'linear'. background: a CSS colour,\n"
            "(r, g, b[, a]) or None (transparent). box: the page box. annotations: draw them as printed.\n"
            "thin_lines: 'exact' or 'snap' (pdf2png --thin-lines). colorspace: 'rgb'.\n"
+           "device: 'cpu' (a NumPy array) or 'cuda' (an mpvg.DeviceArray in CUDA memory, 8 bits, with\n"
+           "the CUDA backend: torch.from_dlpack / cupy.asarray take it without a copy).\n"
            "The GIL is released while the page is interpreted and rendered. Raises mpvg.Error.")
       .def("render_pages", &PyDocument::render_pages, py::arg("pages") = py::none(), py::kw_only(),
            py::arg("dpi") = 150.0, py::arg("aa") = "4x4x32", py::arg("gamma") = "srgb",
@@ -446,6 +560,18 @@ PYBIND11_MODULE(_mpvg, m) {
            "that fails raises mpvg.Error when its turn comes; warnings go to Python's warnings module.\n"
            "threads: worker threads (0: one per core). The GIL is released while it waits; Ctrl-C or\n"
            "dropping the iterator cancels the pages not yet started.");
+
+  py::class_<PyDeviceArray>(m, "DeviceArray",
+                            "An H x W x 4 uint8 image in CUDA memory owned by mpvg (render(..., device='cuda')),\n"
+                            "exposed through DLPack and __cuda_array_interface__: torch.from_dlpack(a) or\n"
+                            "cupy.asarray(a) take it without a copy. Ready on every stream when returned.")
+      .def_property_readonly("shape", &PyDeviceArray::shape)
+      .def_property_readonly("dtype", [](const PyDeviceArray&) { return py::dtype::of<uint8_t>(); })
+      .def_property_readonly("device", &PyDeviceArray::device, "The CUDA device it is on.")
+      .def_property_readonly("__cuda_array_interface__", &PyDeviceArray::cuda_array_interface)
+      .def("__dlpack__", &PyDeviceArray::dlpack, py::arg("stream") = py::none())
+      .def("__dlpack_device__", &PyDeviceArray::dlpack_device)
+      .def("to_host", &PyDeviceArray::to_host, "A NumPy copy (what device='cpu' renders).");
 
   py::class_<PyDocument::PageStream>(m, "PageStream", "The pages of Document.render_pages, in the order asked.")
       .def("__iter__", [](py::object self) { return self; })

@@ -14,6 +14,7 @@
 #include <filesystem>
 
 #include "core/cpu/cpu_stages.h"
+#include "core/error.h"
 #include "core/forest.h"
 #include "core/mesh_build.h"
 #include "core/renderer.h"
@@ -1028,4 +1029,38 @@ TEST_CASE("ink passes: CPU and GPU build identical trees and agree within 1/255"
   }
   CHECK(passes == 6 * (2 + 2 + 3));
   CHECK(channel_groups > 50);
+}
+
+// Device output (FrameRenderer::render_rgba8_device, behind libmpvg's
+// device bitmaps and DLPack): the bytes left on the device are
+// render_rgba8's, each image in memory of its own that outlives the next
+// frame; the CPU backend refuses.
+TEST_CASE("device output: render_rgba8's bytes, kept on the device", "[gpu][device_output]") {
+  FrameRenderer r(Backend::Cuda);
+  std::vector<FrameRenderer::DeviceImage> kept;
+  std::vector<std::vector<uint8_t>> want;
+  for (const Case& c : cases()) {
+    INFO(c.name);
+    RenderOptions o;
+    o.width = c.width;
+    o.height = c.height;
+    o.backend = Backend::Cuda;
+    const RenderPlan plan = plan_render(o);
+    want.push_back(r.render_rgba8(c.enc, plan, o));
+    kept.push_back(r.render_rgba8_device(c.enc, plan, o));
+    CHECK(kept.back().width == c.width);
+    CHECK(kept.back().height == c.height);
+  }
+  // After every frame: each image is still its own.
+  for (size_t k = 0; k < kept.size(); k++) {
+    std::vector<uint8_t> back(want[k].size());
+    REQUIRE(cudaMemcpy(back.data(), kept[k].data.get(), back.size(), cudaMemcpyDeviceToHost) == cudaSuccess);
+    CHECK(back == want[k]);
+  }
+  FrameRenderer cpu(Backend::Cpu);
+  const Case& c = cases().front();
+  RenderOptions o;
+  o.width = c.width;
+  o.height = c.height;
+  CHECK_THROWS_AS(cpu.render_rgba8_device(c.enc, plan_render(o), o), mpvg::Error);
 }

@@ -113,6 +113,21 @@ struct Bitmap {
   std::size_t stride() const { return static_cast<std::size_t>(width) * 4 * (bits / 8); }
 };
 
+// A rendered 8-bit image left in CUDA device memory (Renderer::
+// render_device): rows top to bottom, 4 bytes a pixel (RGBA, straight
+// alpha, the bytes Bitmap::pixels8 would hold), width * 4 bytes a row. The
+// memory is mpvg's, freed when the last copy of `pixels` goes; the render
+// and the copy into it are finished when it is returned (no stream to wait
+// on).
+struct DeviceBitmap {
+  int width = 0, height = 0;
+  int device = 0;  // the CUDA device (cudaSetDevice's number)
+  std::shared_ptr<std::uint8_t> pixels;
+};
+
+// A device bitmap's pixels copied to the host (as Bitmap::pixels8).
+MPVG_API std::vector<std::uint8_t> download(const DeviceBitmap& bitmap);
+
 // An SVG document. It is parsed when first needed, for the output size of
 // that need, and again only when a render asks for another size (strokes
 // are converted to fills for the output's pixels, so the parsed scene
@@ -254,6 +269,10 @@ class MPVG_API Renderer {
   // Renders page `index` (0-based) of a PDF document: the pixels pdf2png
   // writes for the same settings on the same backend.
   Bitmap render(const PdfDocument& doc, int index, const PdfRenderSettings& settings = {});
+  // As render(), 8 bits only, the pixels left on the device (the CUDA
+  // backend only: mpvg::Error on the CPU), never copied through the host.
+  DeviceBitmap render_device(const SvgDocument& doc, const RenderSettings& settings = {});
+  DeviceBitmap render_device(const PdfDocument& doc, int index, const PdfRenderSettings& settings = {});
 
  private:
   struct Impl;
