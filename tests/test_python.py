@@ -273,6 +273,14 @@ if PDF2PNG:
     first = next(stream)
     stream.close()
     check(first.shape[2] == 4, "close() stops a stream early")
+    cpu_doc = mpvg.Document(os.path.join(features, "blend-modes.pdf"), backend="cpu")
+    for bad, exc in [(lambda: cpu_doc.render(0, device="cuda"), mpvg.Error),
+                     (lambda: cpu_doc.render(0, device="tpu"), ValueError)]:
+        try:
+            bad()
+            check(False, "%s raised" % exc.__name__)
+        except exc as e:
+            check(True, "device output: %s: %s" % (exc.__name__, e))
     locked = mpvg.Document(os.path.join(SRC, "testdata", "pdf", "encrypted-password-secret.pdf"), password="secret",
                            backend="cpu")
     check(len(locked) >= 1, "an encrypted document opens with its password")

@@ -1,0 +1,80 @@
+#!/usr/bin/env bash
+# The Python package's device output on the GPU host (issue 31), where
+# pip cannot fetch anything: the extension is compiled there against that
+# host's Python and the pybind11 headers PyTorch ships, linked with
+# libmpvg.so built here with CUDA; then DeviceArray is checked against
+# host arrays through __cuda_array_interface__ (ctypes and cudart) and
+# torch.from_dlpack, and render_pages is timed on asymptote.
+#
+# Here:   mkdir -p .gpu/lm/lib .gpu/lm/deps && cp -L build/lib/libmpvg.so.0 .gpu/lm/lib/ &&
+#         scripts/carry-libs.sh .gpu/lm/lib .gpu/lm/deps && mv .gpu/lm/deps/* .gpu/lm/lib/ &&
+#         rmdir .gpu/lm/deps && tar -C .gpu -cf - lm | xz -T8 -3 > .gpu/lm.tar.xz &&
+#         cp ../shared/pdf-corpus/asymptote.pdf .gpu/asym.pdf
+# There:  scripts/gpu-python-check.sh   (carry .gpu/lm.tar.xz and .gpu/asym.pdf)
+set -u
+tar -C /tmp -xJf .gpu/lm.tar.xz
+ln -sf libmpvg.so.0 /tmp/lm/lib/libmpvg.so
+PY=$(which python3)
+PYBIND=$($PY -c "import torch, os; print(os.path.join(os.path.dirname(torch.__file__), 'include'))" 2>/dev/null)
+[ -d "$PYBIND/pybind11" ] || PYBIND=$($PY -c "import pybind11; print(pybind11.get_include())" 2>/dev/null)
+echo "python $($PY --version), pybind11 headers: $PYBIND"
+mkdir -p /tmp/pkg/mpvg && cp python/mpvg/*.py /tmp/pkg/mpvg/
+t0=$(date +%s)
+g++ -O2 -shared -fPIC -std=c++17 -DMPVG_VERSION='"0.1"' python/_mpvg.cpp -Iinclude -I"$PYBIND" \
+  $($PY -c "import sysconfig; print('-I' + sysconfig.get_paths()['include'])") -L/tmp/lm/lib -lmpvg \
+  -Wl,-rpath,/tmp/lm/lib -o /tmp/pkg/mpvg/_mpvg$($PY -c "import sysconfig; print(sysconfig.get_config_var('EXT_SUFFIX'))") || exit 1
+echo "extension compiled in $(( $(date +%s) - t0 )) s"
+export LD_LIBRARY_PATH=/tmp/lm/lib
+PYTHONPATH=/tmp/pkg $PY - <<'PYEOF'
+import ctypes, time, os
+import numpy as np
+import mpvg
+print("mpvg", mpvg.__version__)
+cudart = ctypes.CDLL("libcudart.so")
+def from_interface(a):
+    ai = a.__cuda_array_interface__
+    h, w, c = ai["shape"]
+    out = np.empty((h, w, c), np.uint8)
+    rc = cudart.cudaMemcpy(out.ctypes.data_as(ctypes.c_void_p), ctypes.c_void_p(ai["data"][0]), ctypes.c_size_t(out.nbytes), 2)
+    assert rc == 0, rc
+    return out
+fails = 0
+for name in ["blend-modes", "shading-axial", "image-smask", "knockout-group", "mesh-type4"]:
+    doc = mpvg.Document("testdata/pdf/features/%s.pdf" % name, backend="cuda")
+    host = doc.render(0, dpi=100)
+    dev = doc.render(0, dpi=100, device="cuda")
+    ok1 = dev.shape == host.shape and (dev.to_host() == host).all()
+    ok2 = (from_interface(dev) == host).all()
+    try:
+        import torch
+        t = torch.from_dlpack(dev)
+        ok3 = t.is_cuda and tuple(t.shape) == host.shape and (t.cpu().numpy() == host).all()
+        del t
+    except ImportError:
+        ok3 = "no torch"
+    print(name, "to_host", ok1, "cuda_array_interface", ok2, "torch.from_dlpack", ok3, "dlpack_device", dev.__dlpack_device__())
+    fails += not (ok1 and ok2 and ok3 in (True, "no torch"))
+# The device memory outlives the DeviceArray when a tensor holds it.
+try:
+    import torch
+    doc = mpvg.Document("testdata/pdf/features/blend-modes.pdf", backend="cuda")
+    t = torch.from_dlpack(doc.render(0, dpi=100, device="cuda"))
+    for _ in range(3): doc.render(0, dpi=50, device="cuda")
+    ok = (t.cpu().numpy() == doc.render(0, dpi=100)).all()
+    print("a tensor from DLPack keeps the image alive:", ok); fails += not ok
+except ImportError:
+    pass
+doc = mpvg.Document(".gpu/asym.pdf", backend="cuda")
+for rnd in range(2):
+    t0 = time.time(); n = 0
+    for a in doc.render_pages(dpi=150):
+        n += 1
+    dt = time.time() - t0
+    print("render_pages asymptote 150 dpi: %d pages in %.2f s, %.1f pages/s (round %d)" % (n, dt, n / dt, rnd + 1))
+t0 = time.time()
+for p in range(len(doc)):
+    doc.render(p, dpi=150, device="cuda")
+dt = time.time() - t0
+print("render(device='cuda') one page at a time: %.1f pages/s" % (len(doc) / dt))
+print("FAILURES", fails)
+PYEOF
