@@ -335,6 +335,12 @@ class PyDocument {
       if (gpu) on_gpu = renderer_->render_device(*doc_, i, s);
       else image = renderer_->render(*doc_, i, s);
     }
+    // The page's warnings through Python's warnings module (also in .warnings).
+    const std::vector<std::string> warnings = doc_->warnings();
+    if (!warnings.empty()) {
+      py::object warn = py::module_::import("warnings").attr("warn");
+      for (const std::string& w : warnings) warn("page " + std::to_string(i + 1) + ": " + w);
+    }
     if (gpu) return py::cast(PyDeviceArray(std::move(on_gpu)));
     return image.bits == 16 ? as_array(std::move(image.pixels16), image.width, image.height)
                             : as_array(std::move(image.pixels8), image.width, image.height);

@@ -273,6 +273,20 @@ if PDF2PNG:
     first = next(stream)
     stream.close()
     check(first.shape[2] == 4, "close() stops a stream early")
+    import warnings as pywarnings
+    # (colorspace-iccbased warns where MuPDF has no ICC support, as Debian's.)
+    ann = mpvg.Document(os.path.join(features, "colorspace-iccbased.pdf"), backend="cpu")
+    with pywarnings.catch_warnings(record=True) as caught:
+        pywarnings.simplefilter("always")
+        ann.render(0, dpi=20)
+    texts = [str(w.message) for w in caught]
+    check(texts == ["page 1: " + w for w in ann.warnings],
+          "render's warnings go to Python's warnings module as well (%s)" % texts)
+    quiet = mpvg.Document(os.path.join(features, "blend-modes.pdf"), backend="cpu")
+    with pywarnings.catch_warnings(record=True) as caught:
+        pywarnings.simplefilter("always")
+        quiet.render(0, dpi=20)
+    check(not caught and not quiet.warnings, "a page without warnings warns nothing")
     cpu_doc = mpvg.Document(os.path.join(features, "blend-modes.pdf"), backend="cpu")
     for bad, exc in [(lambda: cpu_doc.render(0, device="cuda"), mpvg.Error),
                      (lambda: cpu_doc.render(0, device="tpu"), ValueError)]:
