@@ -286,6 +286,8 @@ struct State {
       }
       if (c.bits == 16)
         job.image = renderer.render(job.scene, job.options, &job.stats);
+      else if (c.device_output)
+        job.device_image = renderer.render_rgba8_device(job.scene, job.plan, job.options, &job.stats);
       else if (png_on_device(renderer)) {
         // Level 1 only, asked for: the default (level 2 on the workers)
         // gives the same bytes whichever backend renders, and on the H100

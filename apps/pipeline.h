@@ -42,6 +42,7 @@ struct Job {
   std::shared_ptr<const Scene> filtered;
   ImageF image;               // --bits 16
   std::vector<uint8_t> rgba8; // --bits 8 (converted where it was rendered)
+  FrameRenderer::DeviceImage device_image;  // Config::device_output: the 8 bits left on the device
   png::ImageData png;         // --bits 8, compressed where it was rendered (level 1 on the GPU)
   RenderStats stats;
   double prepare_ms[2] = {0, 0};  // the front end's two stages (Config::prepare_names)
@@ -108,6 +109,10 @@ struct Config {
   // item that fails (its ticket and message); with `failed` set nothing is
   // printed.
   std::function<void(Job& job)> deliver;
+  // With CUDA render threads, 8 bits: items render into device memory
+  // (Job::device_image, FrameRenderer::render_rgba8_device) for `deliver`,
+  // one frame each.
+  bool device_output = false;
   std::function<void(int ticket, const std::string& error)> failed;
 };
 

@@ -67,6 +67,11 @@ class FrameRenderer {
                                   RenderStats* stats = nullptr);
   // A device image's bytes copied to the host (its consumers' check).
   static std::vector<uint8_t> download(const DeviceImage& image);
+  // Device memory of `bytes` on `device` (cudaMalloc, freed with the last
+  // copy), and a device image's bytes copied into device memory at `to`
+  // (finished on return): a batch of images in one allocation.
+  static std::shared_ptr<uint8_t> device_alloc(size_t bytes, int device);
+  static void copy_on_device(const DeviceImage& image, uint8_t* to);
 
   // As render_rgba8(), the image filtered and deflated for a PNG by
   // core/png_encode.h's stages (compression level 1): with CUDA on the

@@ -46,6 +46,14 @@ FrameRenderer::DeviceImage FrameRenderer::render_rgba8_device(const EncodedScene
   throw Error("device output needs the CUDA backend (this build has none)");
 }
 
+std::shared_ptr<uint8_t> FrameRenderer::device_alloc(size_t, int) {
+  throw Error("device output needs the CUDA backend (this build has none)");
+}
+
+void FrameRenderer::copy_on_device(const DeviceImage&, uint8_t*) {
+  throw Error("device output needs the CUDA backend (this build has none)");
+}
+
 std::vector<uint8_t> FrameRenderer::download(const DeviceImage&) {
   throw Error("device output needs the CUDA backend (this build has none)");
 }

@@ -317,6 +317,21 @@ FrameRenderer::DeviceImage FrameRenderer::render_rgba8_device(const EncodedScene
   return out;
 }
 
+std::shared_ptr<uint8_t> FrameRenderer::device_alloc(size_t bytes, int device) {
+  cudaSetDevice(device);
+  void* p = nullptr;
+  if (cudaMalloc(&p, bytes ? bytes : 4) != cudaSuccess) throw Error("out of device memory for a batch of images");
+  return std::shared_ptr<uint8_t>(static_cast<uint8_t*>(p), [](uint8_t* q) { cudaFree(q); });
+}
+
+void FrameRenderer::copy_on_device(const DeviceImage& image, uint8_t* to) {
+  const size_t bytes = size_t(image.width) * image.height * 4;
+  cudaSetDevice(image.device);
+  if (bytes && (cudaMemcpyAsync(to, image.data.get(), bytes, cudaMemcpyDeviceToDevice, cudaStreamPerThread) != cudaSuccess ||
+                cudaStreamSynchronize(cudaStreamPerThread) != cudaSuccess))
+    throw Error("cannot copy a device image");
+}
+
 std::vector<uint8_t> FrameRenderer::download(const DeviceImage& image) {
   std::vector<uint8_t> out(size_t(image.width) * image.height * 4);
   if (!out.empty()) {

@@ -406,6 +406,76 @@ void PdfDocument::render_pages(const std::vector<int>& pages, const PdfRenderSet
 #endif
 }
 
+DeviceBitmap PdfDocument::render_batch(const std::vector<int>& pages, const PdfRenderSettings& settings,
+                                       int threads) const {
+#ifdef MPVG_HAVE_PDF
+  return guarded([&] {
+    if (settings.bits != 8) throw Error("device bitmaps hold 8 bits a channel");
+    const cli::Options o = to_cli(settings);
+    const PdfPageRequest request = to_request(settings);
+    if (pages.empty()) throw Error("no pages to render");
+    OutputSize size{};
+    for (size_t k = 0; k < pages.size(); k++) {
+      check_page(*impl_->doc, pages[k]);
+      const OutputSize s = output_size(pages[k], settings);
+      if (k == 0) size = s;
+      if (s.width != size.width || s.height != size.height)
+        throw Error("page " + std::to_string(pages[k] + 1) + " is " + std::to_string(s.width) + "x" +
+                    std::to_string(s.height) + " pixels, page " + std::to_string(pages[0] + 1) + " " +
+                    std::to_string(size.width) + "x" + std::to_string(size.height) + ": a batch takes one size");
+    }
+    auto first = std::make_unique<FrameRenderer>(Backend::Cuda);
+    const int device = first->device();
+    const size_t image = size_t(size.width) * size.height * 4;
+    DeviceBitmap out;
+    out.width = size.width;
+    out.height = size.height * static_cast<int>(pages.size());
+    out.device = device;
+    out.pixels = FrameRenderer::device_alloc(image * pages.size(), device);
+    const int count = static_cast<int>(pages.size());
+    const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    pipeline::Config c;
+    c.program = "mpvg";
+    c.unit = "page";
+    c.tickets = count;
+    c.render_threads = std::min(count, 3);
+    c.workers = std::min(count, threads > 0 ? threads : std::max(1, cores - c.render_threads));
+    c.quiet = true;
+    c.bits = 8;
+    c.gamma = o.gamma;
+    c.forest_scenes = 1;
+    c.device_output = true;
+    std::vector<std::unique_ptr<pdf::Document>> clones(c.workers);
+    c.label = [&](int t) { return "page " + std::to_string(pages[t] + 1); };
+    c.prepare = [&](int t, int w) {
+      if (!clones[w]) clones[w] = impl_->doc->clone();
+      return pdf_page_job(request, o, *clones[w], pages[t] + 1, "");
+    };
+    std::mutex lock;
+    c.make_renderer = [&](int) -> std::unique_ptr<FrameRenderer> {
+      std::lock_guard<std::mutex> g(lock);
+      if (first) return std::move(first);
+      return std::make_unique<FrameRenderer>(Backend::Cuda, device);
+    };
+    c.deliver = [&](pipeline::Job& job) {
+      FrameRenderer::copy_on_device(job.device_image, out.pixels.get() + image * static_cast<size_t>(job.index));
+      job.device_image = {};
+    };
+    std::string failure;
+    c.failed = [&](int, const std::string& message) {
+      std::lock_guard<std::mutex> g(lock);
+      if (failure.empty()) failure = message;
+    };
+    pipeline::run(c);
+    if (!failure.empty()) throw Error(failure);
+    return out;
+  });
+#else
+  (void)pages, (void)settings, (void)threads;
+  no_pdf();
+#endif
+}
+
 std::vector<std::string> PdfDocument::warnings() const {
 #ifdef MPVG_HAVE_PDF
   std::lock_guard<std::mutex> lock(impl_->mutex);

@@ -106,9 +106,14 @@ constexpr uint8_t kDLUInt = 1;
 // the memory lives as long as this object or a tensor made from it.
 class PyDeviceArray {
  public:
-  explicit PyDeviceArray(mpvg::DeviceBitmap b) : b_(std::move(b)) {}
+  // count > 0: a batch of `count` images stacked in b's rows (N x H x W x 4).
+  explicit PyDeviceArray(mpvg::DeviceBitmap b, int count = 0) : b_(std::move(b)), count_(count) {}
 
-  py::tuple shape() const { return py::make_tuple(b_.height, b_.width, 4); }
+  std::vector<int64_t> dims() const {
+    if (count_ > 0) return {count_, b_.height / count_, b_.width, 4};
+    return {b_.height, b_.width, 4};
+  }
+  py::tuple shape() const { return py::cast(dims()); }
   int device() const { return b_.device; }
 
   py::dict cuda_array_interface() const {
@@ -127,16 +132,16 @@ class PyDeviceArray {
   py::object dlpack(const py::object& /*stream: the data is ready on every stream*/) const {
     struct Holder {
       std::shared_ptr<uint8_t> pixels;  // keeps the memory alive
-      int64_t shape[3];
+      std::vector<int64_t> shape;
       DLManagedTensor tensor;
     };
-    auto* h = new Holder{b_.pixels, {b_.height, b_.width, 4}, {}};
+    auto* h = new Holder{b_.pixels, dims(), {}};
     DLTensor& t = h->tensor.dl_tensor;
     t.data = h->pixels.get();
     t.device = DLDevice{kDLCUDA, b_.device};
-    t.ndim = 3;
+    t.ndim = static_cast<int32_t>(h->shape.size());
     t.dtype = DLDataType{kDLUInt, 8, 1};
-    t.shape = h->shape;
+    t.shape = h->shape.data();
     t.strides = nullptr;
     t.byte_offset = 0;
     h->tensor.manager_ctx = h;
@@ -162,11 +167,13 @@ class PyDeviceArray {
       py::gil_scoped_release release;
       pixels = mpvg::download(b_);
     }
-    return as_array(std::move(pixels), b_.width, b_.height);
+    py::array a = as_array(std::move(pixels), b_.width, b_.height);
+    return count_ > 0 ? a.reshape(dims()) : a;
   }
 
  private:
   mpvg::DeviceBitmap b_;
+  int count_ = 0;
 };
 
 // Where a render's pixels go: "cpu" (a NumPy array) or "cuda" (a
@@ -344,6 +351,25 @@ class PyDocument {
     if (gpu) return py::cast(PyDeviceArray(std::move(on_gpu)));
     return image.bits == 16 ? as_array(std::move(image.pixels16), image.width, image.height)
                             : as_array(std::move(image.pixels8), image.width, image.height);
+  }
+
+  py::object render_batch(const std::optional<std::vector<int>>& pages, double dpi, const std::string& aa,
+                          const std::string& gamma, const py::object& background, uint32_t seed,
+                          const std::string& box, bool annotations, const std::string& thin_lines, int threads) {
+    const mpvg::PdfRenderSettings s =
+        settings(dpi, aa, gamma, background, 8, seed, box, annotations, thin_lines, "rgb");
+    std::vector<int> list;
+    if (pages) {
+      for (int p : *pages) list.push_back(index(p));
+    } else {
+      for (int p = 0; p < len(); p++) list.push_back(p);
+    }
+    mpvg::DeviceBitmap b;
+    {
+      py::gil_scoped_release release;
+      b = doc_->render_batch(list, s, threads);
+    }
+    return py::cast(PyDeviceArray(std::move(b), static_cast<int>(list.size())));
   }
 
   class PageStream;
@@ -555,6 +581,14 @@ PYBIND11_MODULE(_mpvg, m) {
            "device: 'cpu' (a NumPy array) or 'cuda' (an mpvg.DeviceArray in CUDA memory, 8 bits, with\n"
            "the CUDA backend: torch.from_dlpack / cupy.asarray take it without a copy).\n"
            "The GIL is released while the page is interpreted and rendered. Raises mpvg.Error.")
+      .def("render_batch", &PyDocument::render_batch, py::arg("pages") = py::none(), py::kw_only(),
+           py::arg("dpi") = 150.0, py::arg("aa") = "4x4x32", py::arg("gamma") = "srgb",
+           py::arg("background") = "white", py::arg("seed") = 0, py::arg("box") = "crop",
+           py::arg("annotations") = true, py::arg("thin_lines") = "exact", py::arg("threads") = 0,
+           "Renders `pages` (0-based; None: every page) through pdf2png's page pipeline on the CUDA\n"
+           "backend into one mpvg.DeviceArray of shape N x H x W x 4 (uint8), page k of `pages` at [k]:\n"
+           "one tensor for a model, never through the host. Every page must have the same pixel size.\n"
+           "Raises mpvg.Error without a CUDA device, for pages of other sizes, or when a page fails.")
       .def("render_pages", &PyDocument::render_pages, py::arg("pages") = py::none(), py::kw_only(),
            py::arg("dpi") = 150.0, py::arg("aa") = "4x4x32", py::arg("gamma") = "srgb",
            py::arg("background") = "white", py::arg("bits") = 8, py::arg("seed") = 0, py::arg("box") = "crop",

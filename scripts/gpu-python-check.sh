@@ -64,7 +64,26 @@ try:
     print("a tensor from DLPack keeps the image alive:", ok); fails += not ok
 except ImportError:
     pass
+# render_batch: one N x H x W x 4 device tensor, page k at [k].
+doc = mpvg.Document("testdata/pdf/three-pages.pdf", backend="cuda")
+batch = doc.render_batch([2, 0, 1], dpi=72)
+want = np.stack([doc.render(p, dpi=72) for p in (2, 0, 1)])
+ok = batch.shape == want.shape and (batch.to_host() == want).all()
+try:
+    import torch
+    t = torch.from_dlpack(batch)
+    ok = ok and tuple(t.shape) == want.shape and (t.cpu().numpy() == want).all()
+except ImportError:
+    pass
+print("render_batch: N x H x W x 4 equal to the pages rendered alone:", ok, batch.shape); fails += not ok
 doc = mpvg.Document(".gpu/asym.pdf", backend="cuda")
+for rnd in range(2):
+    t0 = time.time()
+    b = doc.render_batch(dpi=150)
+    dt = time.time() - t0
+    print("render_batch asymptote 150 dpi: %d pages in %.2f s, %.1f pages/s into one device tensor %s (round %d)"
+          % (b.shape[0], dt, b.shape[0] / dt, b.shape, rnd + 1))
+    del b
 for rnd in range(2):
     t0 = time.time(); n = 0
     for a in doc.render_pages(dpi=150):

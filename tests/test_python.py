@@ -273,6 +273,13 @@ if PDF2PNG:
     first = next(stream)
     stream.close()
     check(first.shape[2] == 4, "close() stops a stream early")
+    if mpvg.Renderer("auto").backend == "cpu":  # (the GPU host checks batches: scripts/gpu-python-check.sh)
+        try:
+            cpu_doc0 = mpvg.Document(os.path.join(features, "blend-modes.pdf"), backend="cpu")
+            cpu_doc0.render_batch([0])
+            check(False, "render_batch without a CUDA device raises mpvg.Error")
+        except mpvg.Error as e:
+            check(True, "render_batch without a CUDA device raises mpvg.Error: %s" % e)
     import warnings as pywarnings
     # (colorspace-iccbased warns where MuPDF has no ICC support, as Debian's.)
     ann = mpvg.Document(os.path.join(features, "colorspace-iccbased.pdf"), backend="cpu")

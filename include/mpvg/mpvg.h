@@ -233,6 +233,15 @@ class MPVG_API PdfDocument {
                     const PageFailure& failed, Device device = Device::Auto, int threads = 0,
                     const std::function<bool()>& cancelled = nullptr) const;
 
+  // `pages` through the same pipeline on the CUDA backend, straight into
+  // one device allocation: a DeviceBitmap `pages.size()` images tall,
+  // image k (page pages[k]) at rows k * h .. (k + 1) * h - 1, 8 bits.
+  // Every page must have the same pixel size (checked before any page
+  // renders); a page that fails fails the batch. Throws mpvg::Error
+  // (no CUDA device, sizes, a page's failure).
+  DeviceBitmap render_batch(const std::vector<int>& pages, const PdfRenderSettings& settings = {},
+                            int threads = 0) const;
+
  private:
   friend class Renderer;
   struct Impl;

@@ -72,6 +72,20 @@ class Document:
         colorspace: Literal["rgb"] = "rgb",
         device: Literal["cpu", "cuda"] = "cpu",
     ) -> Union[npt.NDArray[Union[np.uint8, np.uint16]], "DeviceArray"]: ...
+    def render_batch(
+        self,
+        pages: Optional[Sequence[int]] = None,
+        *,
+        dpi: float = 150.0,
+        aa: Literal["4x4x32", "1x32", "1x8"] = "4x4x32",
+        gamma: Literal["linear", "srgb"] = "srgb",
+        background: Background = "white",
+        seed: int = 0,
+        box: PageBox = "crop",
+        annotations: bool = True,
+        thin_lines: Literal["exact", "snap"] = "exact",
+        threads: int = 0,
+    ) -> "DeviceArray": ...
     def render_pages(
         self,
         pages: Optional[Sequence[int]] = None,
