@@ -302,6 +302,18 @@ if PDF2PNG:
             check(False, "%s raised" % exc.__name__)
         except exc as e:
             check(True, "device output: %s: %s" % (exc.__name__, e))
+    # python -m mpvg IN.pdf PREFIX: pdf2png's files and pixels.
+    three_pdf = os.path.join(SRC, "testdata", "pdf", "three-pages.pdf")
+    with tempfile.TemporaryDirectory() as tmp:
+        subprocess.run([PDF2PNG, "-q", "--backend", "cpu", "-r", "40", "-f", "2", three_pdf, os.path.join(tmp, "cli")],
+                       check=True)
+        rc = subprocess.run([sys.executable, "-m", "mpvg", "--backend", "cpu", "-r", "40", "-f", "2", three_pdf,
+                             os.path.join(tmp, "mod")]).returncode
+        names = sorted(f for f in os.listdir(tmp))
+        same = rc == 0 and all((read_png(os.path.join(tmp, "cli-%d.png" % k)) ==
+                                read_png(os.path.join(tmp, "mod-%d.png" % k))).all() for k in (2, 3))
+        check(same and names == ["cli-2.png", "cli-3.png", "mod-2.png", "mod-3.png"],
+              "python -m mpvg IN.pdf PREFIX writes pdf2png's files and pixels (%s)" % names)
     locked = mpvg.Document(os.path.join(SRC, "testdata", "pdf", "encrypted-password-secret.pdf"), password="secret",
                            backend="cpu")
     check(len(locked) >= 1, "an encrypted document opens with its password")
