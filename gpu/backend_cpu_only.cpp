@@ -10,7 +10,7 @@ bool cuda_available(std::string* why) {
 }
 
 ImageF render(const Scene& scene, const RenderOptions& options, RenderStats* stats) {
-  if (options.backend == Backend::Cuda) throw Error("CUDA backend unavailable: mpvg was built without CUDA");
+  if (options.backend == Backend::Cuda) throw UnsupportedError("CUDA backend unavailable: mpvg was built without CUDA");
   ImageF img = render_cpu(scene, options, stats);
   if (stats && options.backend == Backend::Auto) stats->note = "no CUDA backend in this build; rendered on the CPU";
   return img;
@@ -23,7 +23,7 @@ struct FrameRenderer::Impl {
 };
 
 FrameRenderer::FrameRenderer(Backend backend, int) : impl_(std::make_unique<Impl>()) {
-  if (backend == Backend::Cuda) throw Error("CUDA backend unavailable: mpvg was built without CUDA");
+  if (backend == Backend::Cuda) throw UnsupportedError("CUDA backend unavailable: mpvg was built without CUDA");
   if (backend == Backend::Auto) impl_->note = "no CUDA backend in this build; rendered on the CPU";
 }
 FrameRenderer::~FrameRenderer() = default;
@@ -43,19 +43,19 @@ ImageF FrameRenderer::render(const EncodedScene& scene, const RenderOptions& opt
 
 FrameRenderer::DeviceImage FrameRenderer::render_rgba8_device(const EncodedScene&, const RenderPlan&,
                                                               const RenderOptions&, RenderStats*) {
-  throw Error("device output needs the CUDA backend (this build has none)");
+  throw UnsupportedError("device output needs the CUDA backend (this build has none)");
 }
 
 std::shared_ptr<uint8_t> FrameRenderer::device_alloc(size_t, int) {
-  throw Error("device output needs the CUDA backend (this build has none)");
+  throw UnsupportedError("device output needs the CUDA backend (this build has none)");
 }
 
 void FrameRenderer::copy_on_device(const DeviceImage&, uint8_t*) {
-  throw Error("device output needs the CUDA backend (this build has none)");
+  throw UnsupportedError("device output needs the CUDA backend (this build has none)");
 }
 
 std::vector<uint8_t> FrameRenderer::download(const DeviceImage&) {
-  throw Error("device output needs the CUDA backend (this build has none)");
+  throw UnsupportedError("device output needs the CUDA backend (this build has none)");
 }
 
 std::vector<uint8_t> FrameRenderer::render_rgba8(const EncodedScene& scene, const RenderPlan& plan,

@@ -205,7 +205,7 @@ ImageF render(const Scene& scene, const RenderOptions& options, RenderStats* sta
   if (options.backend == Backend::Cpu) return render_cpu(scene, options, &st);
   std::string why;
   if (!cuda_available(&why)) {
-    if (options.backend == Backend::Cuda) throw Error("CUDA backend unavailable: " + why);
+    if (options.backend == Backend::Cuda) throw ResourceError("CUDA backend unavailable: " + why);
     ImageF img = render_cpu(scene, options, &st);
     st.note = why + "; rendered on the CPU";
     return img;
@@ -233,7 +233,7 @@ FrameRenderer::FrameRenderer(Backend backend, int device) : impl_(std::make_uniq
   if (backend == Backend::Cpu) return;
   std::string why;
   if (!cuda_available(&why)) {
-    if (backend == Backend::Cuda) throw Error("CUDA backend unavailable: " + why);
+    if (backend == Backend::Cuda) throw ResourceError("CUDA backend unavailable: " + why);
     impl_->note = why + "; rendered on the CPU";
     return;
   }
@@ -301,7 +301,7 @@ std::vector<uint8_t> FrameRenderer::render_rgba8(const EncodedScene& scene, cons
 
 FrameRenderer::DeviceImage FrameRenderer::render_rgba8_device(const EncodedScene& scene, const RenderPlan& plan,
                                                               const RenderOptions& options, RenderStats* stats) {
-  if (impl_->backend == Backend::Cpu) throw Error("device output needs the CUDA backend (rendering on the CPU)");
+  if (impl_->backend == Backend::Cpu) throw UnsupportedError("device output needs the CUDA backend (rendering on the CPU)");
   RenderStats local;
   RenderStats& st = stats ? *stats : local;
   st.note = impl_->note;
@@ -320,7 +320,7 @@ FrameRenderer::DeviceImage FrameRenderer::render_rgba8_device(const EncodedScene
 std::shared_ptr<uint8_t> FrameRenderer::device_alloc(size_t bytes, int device) {
   cudaSetDevice(device);
   void* p = nullptr;
-  if (cudaMalloc(&p, bytes ? bytes : 4) != cudaSuccess) throw Error("out of device memory for a batch of images");
+  if (cudaMalloc(&p, bytes ? bytes : 4) != cudaSuccess) throw ResourceError("out of device memory for a batch of images");
   return std::shared_ptr<uint8_t>(static_cast<uint8_t*>(p), [](uint8_t* q) { cudaFree(q); });
 }
 

@@ -227,7 +227,7 @@ struct MPVG_HIDDEN PdfDocument::Impl {};
 
 namespace {
 
-[[noreturn]] void no_pdf() { throw Error("this build of mpvg has no PDF support (MuPDF was not found)"); }
+[[noreturn]] void no_pdf() { throw UnsupportedError("this build of mpvg has no PDF support (MuPDF was not found)"); }
 
 #ifdef MPVG_HAVE_PDF
 pdf::PageBox to_box(PageBox b) {

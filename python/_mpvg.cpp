@@ -528,7 +528,11 @@ PYBIND11_MODULE(_mpvg, m) {
       "as numpy arrays of straight-alpha sRGB RGBA pixels, the same values svg2png writes.";
   m.attr("__version__") = MPVG_VERSION;
   // mpvg.Error is a RuntimeError: unreadable files, malformed SVG, bad sizes, no CUDA device.
-  py::register_exception<mpvg::Error>(m, "Error", PyExc_RuntimeError);
+  auto error = py::register_exception<mpvg::Error>(m, "Error", PyExc_RuntimeError);
+  // Its kinds (core/error.h), registered after it so that they are tried first.
+  py::register_exception<mpvg::ParseError>(m, "ParseError", error.ptr());
+  py::register_exception<mpvg::UnsupportedError>(m, "UnsupportedError", error.ptr());
+  py::register_exception<mpvg::ResourceError>(m, "ResourceError", error.ptr());
 
   py::class_<PyRenderer>(m, "Renderer",
                          "Renders SVG documents on one backend, keeping its state (the CUDA context and device\n"

@@ -116,7 +116,12 @@ TEST_CASE("pdf: clips, strokes and constant alpha", "[pdf]") {
 
 TEST_CASE("pdf: broken and encrypted documents give one clear error", "[pdf]") {
   CHECK_THROWS_WITH(pdf::Document(write_temp("garbage.pdf", "this is not a PDF")), Catch::Contains("cannot open"));
-  CHECK_THROWS_WITH(pdf::Document("/nonexistent/mpvg.pdf"), Catch::Contains("cannot open '/nonexistent/mpvg.pdf'"));
+  CHECK_THROWS_AS(pdf::Document(write_temp("garbage.pdf", "this is not a PDF")), ParseError);
+  // A file that cannot be read is said so as the SVG parser says it, a
+  // resource error rather than a malformed document.
+  CHECK_THROWS_WITH(pdf::Document("/nonexistent/mpvg.pdf"),
+                    Catch::Contains("cannot read '/nonexistent/mpvg.pdf': No such file or directory"));
+  CHECK_THROWS_AS(pdf::Document("/nonexistent/mpvg.pdf"), ResourceError);
   // A page whose content stream fails to parse still yields what came before.
   const std::string truncated = one_page_pdf("1 0 0 rg 0 0 40 40 re f\n0 0 1 rg 50 50 50");
   const pdf::Document doc(write_temp("truncated.pdf", truncated));

@@ -314,6 +314,18 @@ if PDF2PNG:
                                 read_png(os.path.join(tmp, "mod-%d.png" % k))).all() for k in (2, 3))
         check(same and names == ["cli-2.png", "cli-3.png", "mod-2.png", "mod-3.png"],
               "python -m mpvg IN.pdf PREFIX writes pdf2png's files and pixels (%s)" % names)
+    # The kinds of mpvg.Error.
+    for what, bad, kind in [
+            ("malformed XML", lambda: mpvg.Renderer("cpu").render_svg(b"<svg"), mpvg.ParseError),
+            ("a broken PDF", lambda: mpvg.Document(b"%PDF-1.7 not really"), mpvg.ParseError),
+            ("a missing SVG file", lambda: mpvg.Renderer("cpu").render_svg("/nonexistent/x.svg"), mpvg.ResourceError),
+            ("a missing PDF file", lambda: mpvg.Document("/nonexistent/x.pdf"), mpvg.ResourceError),
+            ("device output on the CPU", lambda: cpu_doc.render(0, device="cuda"), mpvg.UnsupportedError)]:
+        try:
+            bad()
+            check(False, "%s raises %s" % (what, kind.__name__))
+        except mpvg.Error as e:
+            check(type(e) is kind, "%s raises %s, an mpvg.Error (%s: %s)" % (what, kind.__name__, type(e).__name__, e))
     locked = mpvg.Document(os.path.join(SRC, "testdata", "pdf", "encrypted-password-secret.pdf"), password="secret",
                            backend="cpu")
     check(len(locked) >= 1, "an encrypted document opens with its password")

@@ -48,6 +48,23 @@ class Error : public std::runtime_error {
  public:
   explicit Error(const std::string& what) : std::runtime_error(what) {}
 };
+// Kinds of failure a caller may treat apart (Python: mpvg.ParseError, ...):
+// the document is malformed (XML, PDF syntax, an invalid root or page);
+// the work is valid but beyond this build or backend (no PDF support,
+// device output without CUDA); the input or the machine's resources fall
+// short (an unreadable file, --max-input, --max-memory, no CUDA device).
+class ParseError : public Error {
+ public:
+  using Error::Error;
+};
+class UnsupportedError : public Error {
+ public:
+  using Error::Error;
+};
+class ResourceError : public Error {
+ public:
+  using Error::Error;
+};
 #endif
 
 // Where frames are rendered. Auto takes CUDA when a device can be used and

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cerrno>
 #include <cstring>
 #include <memory>
 #include <mutex>
@@ -160,7 +161,7 @@ struct Document::Impl {
     }
     doc = d;
     pages = n;
-    if (message[0]) throw Error("cannot open '" + path + "': " + message);
+    if (message[0]) throw ParseError("cannot open '" + path + "': " + message);
     if (failure) throw Error("cannot open '" + path + "': " + failure);
   }
 };
@@ -223,11 +224,12 @@ bool page_uses_icc(fz_context* ctx, fz_page* page, bool intents) {
 Document::Document(const std::string& path, const std::string& password, size_t max_input)
     : impl_(std::make_unique<Impl>()) {
   auto too_large = [&] {
-    return Error("'" + path + "' is larger than the input limit of " + byte_size(max_input) + " (--max-input)");
+    return ResourceError("'" + path + "' is larger than the input limit of " + byte_size(max_input) + " (--max-input)");
   };
   struct stat st {};
-  if (path != "-" && stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) && uint64_t(st.st_size) > max_input)
-    throw too_large();
+  if (path != "-" && stat(path.c_str(), &st) != 0)
+    throw ResourceError("cannot read '" + path + "': " + std::strerror(errno));
+  if (path != "-" && S_ISREG(st.st_mode) && uint64_t(st.st_size) > max_input) throw too_large();
   impl_->locks = std::make_shared<Locks>();
   fz_context* ctx = fz_new_context(nullptr, &impl_->locks->ctx, FZ_STORE_DEFAULT);
   if (!ctx) throw Error("cannot start MuPDF");
@@ -357,7 +359,7 @@ fz_page* load_page(fz_context* ctx, fz_document* doc, int index, PageBox which, 
   }
   if (message[0]) {
     fz_drop_page(ctx, page);
-    throw Error("page " + std::to_string(index + 1) + ": " + message);
+    throw ParseError("page " + std::to_string(index + 1) + ": " + message);
   }
   return page;
 }

@@ -298,7 +298,7 @@ Document parse_document(std::string_view raw,
       std::replace(d.begin(), d.end(), '\n', ' ');
       if (!d.empty()) msg += " (" + d + ")";
     }
-    throw Error(msg);
+    throw ParseError(msg);
   }
   const tinyxml2::XMLElement* root = xml.RootElement();
   if (!root) throw Error("not an SVG document: no root element");

@@ -60,7 +60,7 @@ Scene Converter::run() {
     const double base = vb ? vb_size : 100;
     const double v = l ? length_to_px(*l, base) : base;
     if (v < 0)
-      throw Error(std::string("invalid root <svg>: negative ") + name + " '" + *root.attribute(name) + "'");
+      throw ParseError(std::string("invalid root <svg>: negative ") + name + " '" + *root.attribute(name) + "'");
     return v;
   };
   const double width = side("width", vb ? vb->w : 0);
@@ -731,7 +731,7 @@ ParseResult parse_svg_string(std::string_view text, const std::string& base_dir,
   if (text.size() >= 2 && static_cast<unsigned char>(text[0]) == 0x1f && static_cast<unsigned char>(text[1]) == 0x8b) {
     std::string why;
     auto out = detail::gunzip(std::vector<uint8_t>(text.begin(), text.end()), &why);
-    if (!out) throw Error("cannot inflate the gzip-compressed (svgz) input: " + why);
+    if (!out) throw ParseError("cannot inflate the gzip-compressed (svgz) input: " + why);
     inflated = std::move(*out);
     text = inflated;
   }
@@ -762,12 +762,12 @@ ParseResult parse_svg_string(std::string_view text, const std::string& base_dir,
 }
 
 std::string read_svg_file(const std::string& path, size_t max_bytes) {
-  auto fail = [&](int err) { return Error("cannot read '" + path + "': " + std::strerror(err)); };
+  auto fail = [&](int err) { return ResourceError("cannot read '" + path + "': " + std::strerror(err)); };
   FILE* f = path == "-" ? stdin : std::fopen(path.c_str(), "rb");
   if (!f) throw fail(errno);
   const auto too_large = [&] {
     if (f != stdin) std::fclose(f);
-    return Error("'" + path + "' is larger than the input limit of " + byte_size(max_bytes) + " (--max-input)");
+    return ResourceError("'" + path + "' is larger than the input limit of " + byte_size(max_bytes) + " (--max-input)");
   };
   struct stat st {};
   if (fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode) && uint64_t(st.st_size) > max_bytes) throw too_large();

@@ -10,6 +10,8 @@ the same values svg2png writes.
 
 `python -m mpvg IN.svg OUT.png [-w W]` renders one file from a shell.
 """
-from ._mpvg import DeviceArray, Document, Error, PageStream, Renderer, __version__
+from ._mpvg import (DeviceArray, Document, Error, PageStream, ParseError, Renderer, ResourceError,
+                    UnsupportedError, __version__)
 
-__all__ = ["DeviceArray", "Document", "Error", "PageStream", "Renderer", "__version__"]
+__all__ = ["DeviceArray", "Document", "Error", "PageStream", "ParseError", "Renderer", "ResourceError",
+           "UnsupportedError", "__version__"]

@@ -10,6 +10,15 @@ __version__: str
 class Error(RuntimeError):
     """Unreadable files, malformed documents, bad sizes, no CUDA device."""
 
+class ParseError(Error):
+    """The document is malformed (XML, PDF syntax, an invalid root or page)."""
+
+class UnsupportedError(Error):
+    """Valid, but beyond this build or backend (no PDF support, device output without CUDA)."""
+
+class ResourceError(Error):
+    """The input or the machine falls short (unreadable file, input or memory limits, no CUDA device)."""
+
 Background = Union[None, str, Tuple[float, float, float], Tuple[float, float, float, float]]
 
 class Renderer:
