@@ -220,6 +220,10 @@ struct MPVG_HIDDEN PdfDocument::Impl {
   std::unique_ptr<pdf::Document> doc;
   std::mutex mutex;  // MuPDF: one thread at a time per document handle
   std::vector<std::string> warnings;
+
+  // Page `index` as pdf2png's pipeline job (apps/pdf_page_job.h), its
+  // warnings kept as the latest.
+  std::unique_ptr<pipeline::Job> job(int index, const PdfPageRequest& request, const cli::Options& o);
 };
 #else
 struct MPVG_HIDDEN PdfDocument::Impl {};
@@ -275,6 +279,49 @@ void check_page(const pdf::Document& doc, int index) {
                 ")");
 }
 
+// pdf2png's pipeline over `pages` of `doc`, a document handle per worker
+// (MuPDF: one thread per context), rendered by `first` and, on more render
+// threads with CUDA, renderers like it; cancelled() is asked before each
+// page; deliver and failed as pipeline::Config's.
+void run_pages(const pdf::Document& doc, const std::vector<int>& pages, const PdfPageRequest& request,
+               const cli::Options& o, std::unique_ptr<FrameRenderer> first, int threads, bool device_output,
+               const std::function<bool()>& cancelled, const std::function<void(pipeline::Job&)>& deliver,
+               const std::function<void(int, const std::string&)>& failed) {
+  const bool cuda = first->backend() == Backend::Cuda;
+  const int device = first->device();
+  const int count = static_cast<int>(pages.size());
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  pipeline::Config c;
+  c.program = "mpvg";
+  c.unit = "page";
+  c.tickets = count;
+  c.render_threads = std::min(count, cuda ? 3 : 1);
+  c.workers = std::min(count, threads > 0 ? threads : cuda ? std::max(1, cores - c.render_threads) : cores);
+  c.quiet = true;
+  c.bits = o.bits;
+  c.gamma = o.gamma;
+  c.forest_scenes = 1;
+  c.device_output = device_output;
+  std::vector<std::unique_ptr<pdf::Document>> clones(c.workers);
+  c.label = [&](int t) { return "page " + std::to_string(pages[t] + 1); };
+  c.prepare = [&](int t, int w) {
+    if (cancelled && cancelled()) throw Error("cancelled");
+    if (!clones[w]) clones[w] = doc.clone();
+    return pdf_page_job(request, o, *clones[w], pages[t] + 1, "");
+  };
+  std::mutex first_lock;
+  c.make_renderer = [&](int) -> std::unique_ptr<FrameRenderer> {
+    std::lock_guard<std::mutex> lock(first_lock);
+    if (first) return std::move(first);
+    return std::make_unique<FrameRenderer>(cuda ? Backend::Cuda : Backend::Cpu, device);
+  };
+  c.deliver = deliver;
+  c.failed = failed;
+  pipeline::run(c);
+}
+
+void check_page(const pdf::Document& doc, int index);
+
 // A rendered job's pixels as a Bitmap (pipeline.h: rgba8, or image for 16 bits).
 Bitmap bitmap_of(pipeline::Job& job, int bits, Gamma gamma) {
   Bitmap out;
@@ -288,6 +335,17 @@ Bitmap bitmap_of(pipeline::Job& job, int bits, Gamma gamma) {
 #endif
 
 }  // namespace
+
+#ifdef MPVG_HAVE_PDF
+std::unique_ptr<pipeline::Job> PdfDocument::Impl::job(int index, const PdfPageRequest& request,
+                                                      const cli::Options& o) {
+  check_page(*doc, index);
+  std::lock_guard<std::mutex> lock(mutex);
+  std::unique_ptr<pipeline::Job> j = pdf_page_job(request, o, *doc, index + 1, "");
+  warnings = j->warnings;
+  return j;
+}
+#endif
 
 PdfDocument::PdfDocument(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 PdfDocument::~PdfDocument() = default;
@@ -366,39 +424,11 @@ void PdfDocument::render_pages(const std::vector<int>& pages, const PdfRenderSet
     const Backend backend = device == Device::Cpu ? Backend::Cpu : device == Device::Cuda ? Backend::Cuda : Backend::Auto;
     // The first render thread's renderer, made here: it tells whether CUDA
     // is there (and Device::Cuda without it throws before any page).
-    auto first = std::make_unique<FrameRenderer>(backend);
-    const bool cuda = first->backend() == Backend::Cuda;
-    const int count = static_cast<int>(pages.size());
-    const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    pipeline::Config c;
-    c.program = "mpvg";
-    c.unit = "page";
-    c.tickets = count;
-    c.render_threads = std::min(count, cuda ? 3 : 1);
-    c.workers = std::min(count, threads > 0 ? threads : cuda ? std::max(1, cores - c.render_threads) : cores);
-    c.quiet = true;
-    c.bits = o.bits;
-    c.gamma = o.gamma;
-    c.forest_scenes = 1;
-    // A document handle per worker (MuPDF: one thread per context).
-    std::vector<std::unique_ptr<pdf::Document>> clones(c.workers);
-    c.label = [&](int t) { return "page " + std::to_string(pages[t] + 1); };
-    c.prepare = [&](int t, int w) {
-      if (cancelled && cancelled()) throw Error("cancelled");
-      if (!clones[w]) clones[w] = impl_->doc->clone();
-      return pdf_page_job(request, o, *clones[w], pages[t] + 1, "");
-    };
-    std::mutex first_lock;
-    c.make_renderer = [&](int) -> std::unique_ptr<FrameRenderer> {
-      std::lock_guard<std::mutex> lock(first_lock);
-      if (first) return std::move(first);
-      return std::make_unique<FrameRenderer>(cuda ? Backend::Cuda : Backend::Cpu);
-    };
-    c.deliver = [&](pipeline::Job& job) {
-      sink(static_cast<size_t>(job.index), bitmap_of(job, o.bits, o.gamma), std::move(job.warnings));
-    };
-    c.failed = [&](int t, const std::string& message) { failed(static_cast<size_t>(t), message); };
-    pipeline::run(c);
+    run_pages(*impl_->doc, pages, request, o, std::make_unique<FrameRenderer>(backend), threads, false, cancelled,
+              [&](pipeline::Job& job) {
+                sink(static_cast<size_t>(job.index), bitmap_of(job, o.bits, o.gamma), std::move(job.warnings));
+              },
+              [&](int t, const std::string& message) { failed(static_cast<size_t>(t), message); });
   });
 #else
   (void)pages, (void)settings, (void)sink, (void)failed, (void)device, (void)threads, (void)cancelled;
@@ -432,41 +462,18 @@ DeviceBitmap PdfDocument::render_batch(const std::vector<int>& pages, const PdfR
     out.height = size.height * static_cast<int>(pages.size());
     out.device = device;
     out.pixels = FrameRenderer::device_alloc(image * pages.size(), device);
-    const int count = static_cast<int>(pages.size());
-    const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    pipeline::Config c;
-    c.program = "mpvg";
-    c.unit = "page";
-    c.tickets = count;
-    c.render_threads = std::min(count, 3);
-    c.workers = std::min(count, threads > 0 ? threads : std::max(1, cores - c.render_threads));
-    c.quiet = true;
-    c.bits = 8;
-    c.gamma = o.gamma;
-    c.forest_scenes = 1;
-    c.device_output = true;
-    std::vector<std::unique_ptr<pdf::Document>> clones(c.workers);
-    c.label = [&](int t) { return "page " + std::to_string(pages[t] + 1); };
-    c.prepare = [&](int t, int w) {
-      if (!clones[w]) clones[w] = impl_->doc->clone();
-      return pdf_page_job(request, o, *clones[w], pages[t] + 1, "");
-    };
     std::mutex lock;
-    c.make_renderer = [&](int) -> std::unique_ptr<FrameRenderer> {
-      std::lock_guard<std::mutex> g(lock);
-      if (first) return std::move(first);
-      return std::make_unique<FrameRenderer>(Backend::Cuda, device);
-    };
-    c.deliver = [&](pipeline::Job& job) {
-      FrameRenderer::copy_on_device(job.device_image, out.pixels.get() + image * static_cast<size_t>(job.index));
-      job.device_image = {};
-    };
     std::string failure;
-    c.failed = [&](int, const std::string& message) {
-      std::lock_guard<std::mutex> g(lock);
-      if (failure.empty()) failure = message;
-    };
-    pipeline::run(c);
+    run_pages(*impl_->doc, pages, request, o, std::move(first), threads, true, nullptr,
+              [&](pipeline::Job& job) {
+                FrameRenderer::copy_on_device(job.device_image,
+                                              out.pixels.get() + image * static_cast<size_t>(job.index));
+                job.device_image = {};
+              },
+              [&](int, const std::string& message) {
+                std::lock_guard<std::mutex> g(lock);
+                if (failure.empty()) failure = message;
+              });
     if (!failure.empty()) throw Error(failure);
     return out;
   });
@@ -540,13 +547,7 @@ Bitmap Renderer::render(const PdfDocument& doc, int index, const PdfRenderSettin
     // pdf2png's steps: the page as its pipeline job (apps/pdf_page_job.h),
     // rendered as its render threads render it.
     const cli::Options o = to_cli(settings);
-    check_page(*doc.impl_->doc, index);
-    std::unique_ptr<pipeline::Job> job;
-    {
-      std::lock_guard<std::mutex> lock(doc.impl_->mutex);
-      job = pdf_page_job(to_request(settings), o, *doc.impl_->doc, index + 1, "");
-      doc.impl_->warnings = job->warnings;
-    }
+    const std::unique_ptr<pipeline::Job> job = doc.impl_->job(index, to_request(settings), o);
     if (o.bits == 16) job->image = impl_->frames->render(job->scene, job->options);
     else job->rgba8 = impl_->frames->render_rgba8(job->scene, job->plan, job->options);
     Bitmap out = bitmap_of(*job, o.bits, job->options.gamma);
@@ -602,13 +603,7 @@ DeviceBitmap Renderer::render_device(const PdfDocument& doc, int index, const Pd
   return guarded([&] {
     if (settings.bits != 8) throw Error("device bitmaps hold 8 bits a channel");
     const cli::Options o = to_cli(settings);
-    check_page(*doc.impl_->doc, index);
-    std::unique_ptr<pipeline::Job> job;
-    {
-      std::lock_guard<std::mutex> lock(doc.impl_->mutex);
-      job = pdf_page_job(to_request(settings), o, *doc.impl_->doc, index + 1, "");
-      doc.impl_->warnings = job->warnings;
-    }
+    const std::unique_ptr<pipeline::Job> job = doc.impl_->job(index, to_request(settings), o);
     return device_bitmap(impl_->frames->render_rgba8_device(job->scene, job->plan, job->options));
   });
 #else
