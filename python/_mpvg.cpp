@@ -184,6 +184,43 @@ bool on_device(const std::string& device) {
   throw py::value_error("unknown output device '" + device + "' (cpu or cuda)");
 }
 
+// A path (str or path-like) or the document's bytes (bytes, bytearray,
+// memoryview). `data` names the bytes and `usage` says what is taken, in
+// the TypeErrors.
+struct Input {
+  std::optional<std::string> path, data;
+};
+Input input_from(const py::object& input, const char* data, const char* usage) {
+  Input in;
+  if (py::isinstance<py::str>(input)) {
+    in.path = input.cast<std::string>();
+  } else if (py::isinstance<py::bytes>(input)) {
+    in.data = input.cast<std::string>();
+  } else if (PyObject_CheckBuffer(input.ptr())) {
+    const py::buffer_info b = py::reinterpret_borrow<py::buffer>(input).request();
+    if (b.ndim != 1 || b.itemsize != 1) throw py::type_error(std::string(data) + " must be a one-dimensional buffer of bytes");
+    in.data = std::string(static_cast<const char*>(b.ptr), static_cast<size_t>(b.size));
+  } else if (py::hasattr(input, "__fspath__")) {
+    in.path = py::str(py::module_::import("os").attr("fspath")(input)).cast<std::string>();
+  } else {
+    throw py::type_error(usage);
+  }
+  return in;
+}
+
+// A rendered bitmap as an H x W x 4 array (uint8, or uint16 for 16 bits).
+py::array array_of(mpvg::Bitmap&& b) {
+  return b.bits == 16 ? as_array(std::move(b.pixels16), b.width, b.height)
+                      : as_array(std::move(b.pixels8), b.width, b.height);
+}
+
+// A page's warnings through Python's warnings module, "page N: ...".
+void warn_page(int page, const std::vector<std::string>& warnings) {
+  if (warnings.empty()) return;
+  py::object warn = py::module_::import("warnings").attr("warn");
+  for (const std::string& w : warnings) warn("page " + std::to_string(page + 1) + ": " + w);
+}
+
 // mpvg.Renderer: one mpvg::Renderer (with CUDA, one context and its device
 // buffers) kept across calls. Calls from several Python threads take turns.
 class PyRenderer {
@@ -199,20 +236,9 @@ class PyRenderer {
                        const std::string& gamma, const py::object& background, int bits, uint32_t seed,
                        const std::string& base_dir, const std::vector<std::string>& allow_read) {
     // A str (or path-like) names a file; bytes-like objects are the document.
-    std::optional<std::string> path, data;
-    if (py::isinstance<py::str>(input)) {
-      path = input.cast<std::string>();
-    } else if (py::isinstance<py::bytes>(input)) {
-      data = input.cast<std::string>();
-    } else if (PyObject_CheckBuffer(input.ptr())) {
-      const py::buffer_info b = py::reinterpret_borrow<py::buffer>(input).request();
-      if (b.ndim != 1 || b.itemsize != 1) throw py::type_error("SVG data must be a one-dimensional buffer of bytes");
-      data = std::string(static_cast<const char*>(b.ptr), static_cast<size_t>(b.size));
-    } else if (py::hasattr(input, "__fspath__")) {
-      path = py::str(py::module_::import("os").attr("fspath")(input)).cast<std::string>();
-    } else {
-      throw py::type_error("render_svg takes a path (str) or the SVG document (bytes)");
-    }
+    const Input in = input_from(input, "SVG data", "render_svg takes a path (str) or the SVG document (bytes)");
+    const std::optional<std::string>& path = in.path;
+    const std::optional<std::string>& data = in.data;
     mpvg::RenderSettings s;
     s.width = width;
     s.height = height;
@@ -235,8 +261,7 @@ class PyRenderer {
       warnings = doc.warnings();
     }
     warnings_ = std::move(warnings);
-    return image.bits == 16 ? as_array(std::move(image.pixels16), image.width, image.height)
-                            : as_array(std::move(image.pixels8), image.width, image.height);
+    return array_of(std::move(image));
   }
 
  private:
@@ -254,27 +279,6 @@ mpvg::PageBox box_named(const std::string& s) {
   throw py::value_error("unknown page box '" + s + "' (media, crop, bleed, trim or art)");
 }
 
-// A path (str or path-like) or the document's bytes.
-struct Input {
-  std::optional<std::string> path, data;
-};
-Input input_from(const py::object& input, const char* what) {
-  Input in;
-  if (py::isinstance<py::str>(input)) {
-    in.path = input.cast<std::string>();
-  } else if (py::isinstance<py::bytes>(input)) {
-    in.data = input.cast<std::string>();
-  } else if (PyObject_CheckBuffer(input.ptr())) {
-    const py::buffer_info b = py::reinterpret_borrow<py::buffer>(input).request();
-    if (b.ndim != 1 || b.itemsize != 1) throw py::type_error(std::string(what) + " data must be a one-dimensional buffer of bytes");
-    in.data = std::string(static_cast<const char*>(b.ptr), static_cast<size_t>(b.size));
-  } else if (py::hasattr(input, "__fspath__")) {
-    in.path = py::str(py::module_::import("os").attr("fspath")(input)).cast<std::string>();
-  } else {
-    throw py::type_error(std::string(what) + " takes a path (str or path-like) or the document itself (bytes)");
-  }
-  return in;
-}
 
 // mpvg.Document: a PDF document and the renderer its pages are drawn with
 // (made on the first render, on `backend`). Calls from several Python
@@ -283,7 +287,8 @@ class PyDocument {
  public:
   PyDocument(const py::object& input, const std::optional<std::string>& password, const std::string& backend)
       : backend_(device_named(backend)) {
-    const Input in = input_from(input, "Document");
+    const Input in = input_from(input, "Document data",
+                                "Document takes a path (str or path-like) or the document itself (bytes)");
     const std::string pw = password.value_or("");
     py::gil_scoped_release release;
     doc_ = std::make_unique<mpvg::PdfDocument>(in.path ? mpvg::PdfDocument::from_file(*in.path, pw)
@@ -342,15 +347,9 @@ class PyDocument {
       if (gpu) on_gpu = renderer_->render_device(*doc_, i, s);
       else image = renderer_->render(*doc_, i, s);
     }
-    // The page's warnings through Python's warnings module (also in .warnings).
-    const std::vector<std::string> warnings = doc_->warnings();
-    if (!warnings.empty()) {
-      py::object warn = py::module_::import("warnings").attr("warn");
-      for (const std::string& w : warnings) warn("page " + std::to_string(i + 1) + ": " + w);
-    }
+    warn_page(i, doc_->warnings());  // (also in .warnings)
     if (gpu) return py::cast(PyDeviceArray(std::move(on_gpu)));
-    return image.bits == 16 ? as_array(std::move(image.pixels16), image.width, image.height)
-                            : as_array(std::move(image.pixels8), image.width, image.height);
+    return array_of(std::move(image));
   }
 
   py::object render_batch(const std::optional<std::vector<int>>& pages, double dpi, const std::string& aa,
@@ -480,12 +479,8 @@ class PyDocument::PageStream {
       throw mpvg::Error(why);
     }
     if (!r.error.empty()) throw mpvg::Error(r.error);
-    if (!r.warnings.empty()) {
-      py::object warn = py::module_::import("warnings").attr("warn");
-      for (const std::string& w : r.warnings) warn("page " + std::to_string(pages_[next_ - 1] + 1) + ": " + w);
-    }
-    return r.bitmap.bits == 16 ? as_array(std::move(r.bitmap.pixels16), r.bitmap.width, r.bitmap.height)
-                               : as_array(std::move(r.bitmap.pixels8), r.bitmap.width, r.bitmap.height);
+    warn_page(pages_[next_ - 1], r.warnings);
+    return array_of(std::move(r.bitmap));
   }
 
  private:
