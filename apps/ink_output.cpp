@@ -23,19 +23,21 @@ std::vector<uint8_t> gather_inks(const InkPage& page, int width_all, int height,
 
 namespace {
 
+// Where the extension of a path's file name starts (its size if none).
+size_t extension_at(const std::string& path) {
+  const size_t dot = path.rfind('.');
+  const size_t slash = path.rfind('/');
+  return dot != std::string::npos && (slash == std::string::npos || dot > slash) ? dot : path.size();
+}
+
 // "out-1.tif" with "(Cyan)" before its extension.
 std::string plane_path(const std::string& out, const std::string& name) {
-  const size_t dot = out.rfind('.');
-  const size_t slash = out.rfind('/');
-  const bool ext = dot != std::string::npos && (slash == std::string::npos || dot > slash);
-  return ext ? out.substr(0, dot) + "(" + name + ")" + out.substr(dot) : out + "(" + name + ")";
+  const size_t at = extension_at(out);
+  return out.substr(0, at) + "(" + name + ")" + out.substr(at);
 }
 
 std::string with_extension(const std::string& out, const char* extension) {
-  const size_t dot = out.rfind('.');
-  const size_t slash = out.rfind('/');
-  const bool ext = dot != std::string::npos && (slash == std::string::npos || dot > slash);
-  return (ext ? out.substr(0, dot) : out) + "." + extension;
+  return out.substr(0, extension_at(out)) + "." + extension;
 }
 
 }  // namespace

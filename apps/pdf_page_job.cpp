@@ -26,8 +26,8 @@ std::unique_ptr<pipeline::Job> pdf_page_job(const PdfPageRequest& request, const
   job->warnings = std::move(page.warnings);
   const double scale = page.pixels_per_point;
   job->dpi = scale * 72;  // recorded in TIFFs and JPEGs (--scale-to: the page's own)
-  int width = std::max(1, static_cast<int>(std::ceil(first.width * scale - 1e-6)));
-  int height = std::max(1, static_cast<int>(std::ceil(first.height * scale - 1e-6)));
+  int width = page_pixels(first.width, scale);
+  int height = page_pixels(first.height, scale);
   // -x -y -W -H: a window of the page's pixels (the rest of the page if
   // -W or -H is absent), as pdftoppm crops.
   if (pdf.crop_x || pdf.crop_y || pdf.crop_w || pdf.crop_h) {

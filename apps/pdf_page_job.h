@@ -4,6 +4,8 @@
 // (apps/ink_output.h). pdf2png's pages and libmpvg's PdfDocument renders
 // are made here, so that both give the same pixels.
 #pragma once
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <string>
 
@@ -20,6 +22,13 @@ struct PdfPageRequest {
   int crop_x = 0, crop_y = 0, crop_w = 0, crop_h = 0;
   pdf::PageOptions page;  // box, annotations, thin lines, inks, press profile
 };
+
+// Pixels along a page side of `points` points at `scale` pixels a point,
+// as pdf2png sizes pages (at least 1; a side a hair over a whole pixel
+// stays that pixel).
+inline int page_pixels(double points, double scale) {
+  return std::max(1, static_cast<int>(std::ceil(points * scale - 1e-6)));
+}
 
 // Page n (1-based) of `doc` as a job for `out`, rendered with opt's
 // rendering options. Throws mpvg::Error (the page's failure, or a frame

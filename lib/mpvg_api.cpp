@@ -267,12 +267,6 @@ PdfPageRequest to_request(const PdfRenderSettings& s) {
   return r;
 }
 
-// Page pixels at `scale` pixels per point, as pdf2png sizes them.
-OutputSize page_pixels(double w, double h, double scale) {
-  return {std::max(1, static_cast<int>(std::ceil(w * scale - 1e-6))),
-          std::max(1, static_cast<int>(std::ceil(h * scale - 1e-6)))};
-}
-
 void check_page(const pdf::Document& doc, int index) {
   if (index < 0 || index >= doc.page_count())
     throw Error("page " + std::to_string(index + 1) + " is past the last page (" + std::to_string(doc.page_count()) +
@@ -319,8 +313,6 @@ void run_pages(const pdf::Document& doc, const std::vector<int>& pages, const Pd
   c.failed = failed;
   pipeline::run(c);
 }
-
-void check_page(const pdf::Document& doc, int index);
 
 // A rendered job's pixels as a Bitmap (pipeline.h: rgba8, or image for 16 bits).
 Bitmap bitmap_of(pipeline::Job& job, int bits, Gamma gamma) {
@@ -404,7 +396,7 @@ OutputSize PdfDocument::output_size(int index, const PdfRenderSettings& settings
   return guarded([&] {
     to_cli(settings);  // the same checks
     const auto [w, h] = page_size(index, settings.box);
-    return page_pixels(w, h, settings.dpi / 72.0);
+    return OutputSize{page_pixels(w, settings.dpi / 72.0), page_pixels(h, settings.dpi / 72.0)};
   });
 #else
   (void)index, (void)settings;

@@ -335,7 +335,7 @@ struct Lowering {
   // page is rendered.
   StrokeStyle stroke_style(const fz_stroke_state* s, const Affine& ctm) {
     StrokeStyle st;
-    const Affine to_device = device * adjust.inverted() * ctm;
+    const Affine to_device = to_pixels(ctm);
     const double scale = std::sqrt(std::fabs(to_device.a * to_device.d - to_device.b * to_device.c));
     st.width = s->linewidth > 0 ? s->linewidth : (scale > 0 ? 1.0 / scale : 1.0);
     st.cap = to_cap(s->start_cap);
