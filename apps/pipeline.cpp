@@ -175,17 +175,16 @@ struct State {
     if (c.compression >= 0) options.level = c.compression;
     const bool rgb = c.color == png::Color::Rgb;
     std::vector<uint8_t> bytes;
+    // TIFF, JPEG (print preview's TIFFs too): the OpenImageIO module, with
+    // the page's resolution.
+    image::EncodeOptions encode = c.encode;
+    encode.dpi = job.dpi;
     if (job.inks) {
-      image::EncodeOptions encode = c.encode;
-      encode.dpi = job.dpi;
       write_ink_page(*job.inks, job.out, job.width, job.height, job.rgba8.data(), encode);
       job.png_ms = ms_since(t0);
       return;
     }
     if (c.format != image::Format::Png) {
-      // TIFF, JPEG: the OpenImageIO module, with the page's resolution.
-      image::EncodeOptions encode = c.encode;
-      encode.dpi = job.dpi;
       bytes = c.bits == 16 ? image::encode_rgba16(c.format, job.width, job.height,
                                                   to_rgba16(job.image, c.gamma).data(), c.color, encode)
                            : image::encode_rgba8(c.format, job.width, job.height, job.rgba8.data(), c.color, encode);
