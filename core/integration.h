@@ -208,14 +208,19 @@ MPVG_HD_INLINE float fixed_to_float(long long v, double norm) {
 //   anticausal  a[k] = z (a[k+1] - c[k]),      a[n-1] = z / (z^2 - 1) (c[n-1] + z c[n-2])
 //   output      y[k] = 6 a[k]
 //
-// The CPU runs the recursions along each line; the GPU cuts lines into
-// blocks, runs them on every block from a zero carry, propagates the carries
-// between blocks and corrects each block by the carry times powers of z
-// (Nehab et al. 2011). Both use the pieces below. On a padded image the
+// Both executors cut each line into kPrefilterBlocks blocks, run the
+// recursions on every block from a zero carry, propagate the carries from
+// block to block and correct each block by its carry times powers of z
+// (Nehab et al. 2011, first-order case): the GPU runs the blocks in
+// parallel, the CPU one after another, with the same operations in the same
+// order, so that both round alike and give the same bits. (The plain
+// recursion along the line rounds differently: images then differed by one
+// level in 8 bits here and there; issue 32.) On a padded image the
 // boundaries are kCardinalPad pixels away from anything visible.
 constexpr float kCardinalPole = -0.267949192431122706f;  // sqrt(3) - 2
 constexpr float kCardinalGain = 6.0f;
 constexpr int kCardinalHorizon = 13;  // |z|^13 < 1e-7
+constexpr int kPrefilterBlocks = 64;
 
 // c[-1] of a line of n >= 2 samples (x[k] at data[k * stride]), truncated
 // at the horizon.
@@ -230,27 +235,116 @@ MPVG_HD_INLINE float cardinal_causal_carry(const float* data, int n, int stride)
   return sum;
 }
 
+// The prefilter's values: one channel (float, the CPU) or four (float4,
+// the GPU), each channel with the same operations, rounded twice (the
+// build keeps compilers from contracting a x + y).
+MPVG_HD_INLINE float lane_axpy(float a, float x, float y) { return a * x + y; }
+MPVG_HD_INLINE float lane_scale(float a, float x) { return a * x; }
+MPVG_HD_INLINE float lane_sub(float x, float y) { return x - y; }
+#if defined(__CUDACC__)
+MPVG_HD_INLINE float4 lane_axpy(float a, float4 x, float4 y) {
+  return make_float4(a * x.x + y.x, a * x.y + y.y, a * x.z + y.z, a * x.w + y.w);
+}
+MPVG_HD_INLINE float4 lane_scale(float a, float4 x) { return make_float4(a * x.x, a * x.y, a * x.z, a * x.w); }
+MPVG_HD_INLINE float4 lane_sub(float4 x, float4 y) { return make_float4(x.x - y.x, x.y - y.y, x.z - y.z, x.w - y.w); }
+#endif
+
 // a[n-1] from the causal outputs c[n-1], c[n-2].
-MPVG_HD_INLINE float cardinal_anticausal_start(float c_last, float c_before) {
+template <class V>
+MPVG_HD_INLINE V cardinal_anticausal_start(V c_last, V c_before) {
   const float z = kCardinalPole;
-  return (z / (z * z - 1.0f)) * (c_last + z * c_before);
+  return lane_scale(z / (z * z - 1.0f), lane_axpy(z, c_before, c_last));
+}
+
+// Block j of a line of n samples: [start, end), and z^(end - start).
+struct PrefilterBlock {
+  int start, end;
+  float zpow;
+};
+MPVG_HD_INLINE PrefilterBlock prefilter_block(int n, int j) {
+  const int L = (n + kPrefilterBlocks - 1) / kPrefilterBlocks;
+  PrefilterBlock b;
+  b.start = j * L < n ? j * L : n;
+  b.end = b.start + L < n ? b.start + L : n;
+  b.zpow = 1.0f;
+  for (int k = b.start; k < b.end; k++) b.zpow *= kCardinalPole;
+  return b;
+}
+
+// 1. The causal recursion over a block from a zero carry (d[k * s] is
+// sample k); returns its last value.
+template <class V>
+MPVG_HD_INLINE V prefilter_causal_block(V* d, size_t s, PrefilterBlock b, V y) {
+  for (int k = b.start; k < b.end; k++) d[k * s] = y = lane_axpy(kCardinalPole, y, d[k * s]);
+  return y;
+}
+
+// 2. and 5. The carries from block to block: carry(j) holds block j's own
+// last value (causal) or first value (anticausal) and becomes the carry
+// into it; `in` is the line's boundary carry. Causal carries go up from
+// block 0, anticausal ones down from the last block.
+template <class V, class Carry, class Block>
+MPVG_HD_INLINE void prefilter_carries(Carry carry, Block block, V in, bool anticausal) {
+  for (int i = 0; i < kPrefilterBlocks; i++) {
+    const int j = anticausal ? kPrefilterBlocks - 1 - i : i;
+    const V own = carry(j);
+    carry(j) = in;
+    in = lane_axpy(block(j).zpow, in, own);
+  }
+}
+
+// 3. c[k] += z^(k - start + 1) carry.
+template <class V>
+MPVG_HD_INLINE void prefilter_causal_correct(V* d, size_t s, PrefilterBlock b, V f) {
+  for (int k = b.start; k < b.end; k++) {
+    f = lane_scale(kCardinalPole, f);
+    d[k * s] = lane_axpy(1.0f, f, d[k * s]);
+  }
+}
+
+// 4. The anticausal recursion over a block from a zero carry, or, for the
+// block ending the line (tail), from the boundary value a (read before any
+// block changed the causal outputs); returns its first value.
+template <class V>
+MPVG_HD_INLINE V prefilter_anticausal_block(V* d, size_t s, PrefilterBlock b, bool tail, V a) {
+  int k = b.end - 1;
+  if (tail) d[size_t(k--) * s] = a;
+  for (; k >= b.start; k--) d[k * s] = a = lane_scale(kCardinalPole, lane_sub(a, d[k * s]));
+  return a;
+}
+
+// 6. a[k] += z^(end - k) carry, and the gain.
+template <class V>
+MPVG_HD_INLINE void prefilter_anticausal_correct(V* d, size_t s, PrefilterBlock b, V f) {
+  for (int k = b.end - 1; k >= b.start; k--) {
+    f = lane_scale(kCardinalPole, f);
+    d[k * s] = lane_scale(kCardinalGain, lane_axpy(1.0f, f, d[k * s]));
+  }
 }
 
 // The whole prefilter on one line of n samples of 4 channels, `stride`
-// floats apart (the CPU's executor).
-MPVG_HD_INLINE void cardinal_prefilter_line(float* data, int n, int stride) {
-  const float z = kCardinalPole;
+// floats apart: the blocks one after another (the CPU's executor).
+inline void cardinal_prefilter_line(float* data, int n, int stride) {
   if (n < 2) return;
+  PrefilterBlock blocks[kPrefilterBlocks];
+  for (int j = 0; j < kPrefilterBlocks; j++) blocks[j] = prefilter_block(n, j);
+  const size_t s = static_cast<size_t>(stride);
+  float carry[kPrefilterBlocks];
+  auto carry_of = [&](int j) -> float& { return carry[j]; };
+  auto block_of = [&](int j) { return blocks[j]; };
   for (int c = 0; c < 4; c++) {
     float* d = data + c;
-    float carry = cardinal_causal_carry(d, n, stride);
-    for (int k = 0; k < n; k++) carry = d[k * stride] += z * carry;
-    float next = cardinal_anticausal_start(d[(n - 1) * stride], d[(n - 2) * stride]);
-    d[(n - 1) * stride] = kCardinalGain * next;
-    for (int k = n - 2; k >= 0; k--) {
-      next = z * (next - d[k * stride]);
-      d[k * stride] = kCardinalGain * next;
+    const float c0 = cardinal_causal_carry(d, n, stride);
+    for (int j = 0; j < kPrefilterBlocks; j++) carry[j] = prefilter_causal_block(d, s, blocks[j], 0.0f);
+    prefilter_carries(carry_of, block_of, c0, false);
+    for (int j = 0; j < kPrefilterBlocks; j++) prefilter_causal_correct(d, s, blocks[j], carry[j]);
+    const float a0 = cardinal_anticausal_start(d[(n - 1) * s], d[(n - 2) * s]);
+    for (int j = 0; j < kPrefilterBlocks; j++) {
+      const bool tail = blocks[j].end > blocks[j].start && blocks[j].end == n;
+      carry[j] = prefilter_anticausal_block(d, s, blocks[j], tail, tail ? a0 : 0.0f);
     }
+    prefilter_carries(carry_of, block_of, 0.0f, true);
+    for (int j = 0; j < kPrefilterBlocks; j++) prefilter_anticausal_correct(d, s, blocks[j], carry[j]);
   }
 }
 

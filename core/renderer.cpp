@@ -312,6 +312,7 @@ std::vector<uint16_t> to_rgba16(const ImageF& image, Gamma gamma) {
     float v[4];
     to_straight_srgb(&image.rgba[i], gamma, v);
     for (int c = 0; c < 4; c++) out[i + c] = static_cast<uint16_t>(std::lround(v[c] * 65535.0f));
+    if (out[i + 3] == 0) out[i] = out[i + 1] = out[i + 2] = 0;  // as rgba8_pixel: no colour without alpha
   }
   return out;
 }

@@ -139,7 +139,8 @@ std::vector<FrameOutput> render_forest_cpu_8bit(const std::vector<FrameScene>& s
 PaintRecord background_paint(const RGBA& c, Gamma gamma);
 
 // Final image: unpremultiplied, sRGB-encoded, rounded to 8 or 16 bits,
-// RGBA interleaved, row-major.
+// RGBA interleaved, row-major. Canonical: a pixel whose alpha rounds to 0
+// is all zeros.
 std::vector<uint8_t> to_rgba8(const ImageF& image, Gamma gamma);
 std::vector<uint16_t> to_rgba16(const ImageF& image, Gamma gamma);
 

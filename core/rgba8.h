@@ -42,12 +42,17 @@ MPVG_HD_INLINE uint8_t srgb_code(const SrgbCodeTable& t, float v) {
 }
 
 // One premultiplied pixel p (r, g, b, a) to straight 8-bit codes, packed
-// r | g << 8 | b << 16 | a << 24 (the bytes r, g, b, a in memory).
+// r | g << 8 | b << 16 | a << 24 (the bytes r, g, b, a in memory). A
+// pixel whose alpha code is 0 is (0, 0, 0, 0), whatever colour the faint
+// coverage under it had: equal images are equal bytes (issue 32; colour
+// divided by an alpha of 1e-6 is noise that differed between executors).
 MPVG_HD_INLINE uint32_t rgba8_pixel(float r, float g, float b, float a, bool linear, const SrgbCodeTable& t) {
   a = a > 0.0f ? a : 0.0f;  // NaN to 0
   a = a < 1.0f ? a : 1.0f;
   const float c[3] = {r, g, b};
-  uint32_t out = static_cast<uint32_t>(round_nonnegative(a * 255.0f)) << 24;
+  const uint32_t alpha = static_cast<uint32_t>(round_nonnegative(a * 255.0f));
+  if (alpha == 0) return 0;
+  uint32_t out = alpha << 24;
   for (int i = 0; i < 3; i++) {
     float v = a > 0.0f ? c[i] / a : 0.0f;
     v = v > 0.0f ? v : 0.0f;

@@ -277,25 +277,12 @@ __global__ void k_normalize(const unsigned long long* acc, const float4* ua_colo
                        fixed_to_float(sum[3], norm));
 }
 
-// The cardinal prefilter on `lines` lines of n float4 pixels: pixel k of
-// line l at data[l * line_stride + k * elem_stride]. A block takes
-// kPrefilterLines lines (threadIdx.x) cut into kPrefilterBlocks blocks
-// (threadIdx.y) of L = ceil(n / kPrefilterBlocks) pixels (Nehab et al. 2011,
-// first-order case):
-//   1. every block runs the causal recursion from a zero carry;
-//   2. the carries go from block to block: the carry into block j + 1 is
-//      block j's last value plus z^L times the carry into block j, starting
-//      from the mirror boundary's c[-1];
-//   3. block j adds z^(k+1) times its carry to its k-th value;
-//   4-6. the same from the other end for the anticausal recursion, whose
-//      last block starts from the boundary value a[n-1].
-constexpr int kPrefilterLines = 8, kPrefilterBlocks = 64;
-
-// a x + y, rounded twice like the CPU's recursion (the build keeps nvcc from
-// contracting it into an FMA).
-__device__ __forceinline__ float4 axpy4(float a, float4 x, float4 y) {
-  return make_float4(a * x.x + y.x, a * x.y + y.y, a * x.z + y.z, a * x.w + y.w);
-}
+// The cardinal prefilter (core/integration.h) on `lines` lines of n float4
+// pixels: pixel k of line l at data[l * line_stride + k * elem_stride]. A
+// block takes kPrefilterLines lines (threadIdx.x), each cut into the
+// prefilter's kPrefilterBlocks blocks (threadIdx.y): the steps of
+// cardinal_prefilter_line, each block's on its own thread.
+constexpr int kPrefilterLines = 8;
 
 // by_root: each pass slot's accumulation image (blockIdx.y), its rows
 // (columns: false) or its columns.
@@ -310,22 +297,16 @@ __global__ void k_prefilter_lines(float4* data, int lines, int n, size_t line_st
     elem_stride = rows ? 1 : size_t(p.acc_w);
   }
   __shared__ float4 carry[kPrefilterBlocks][kPrefilterLines];
-  __shared__ float zpow[kPrefilterBlocks];  // z^(length of block j)
-  const float z = kCardinalPole;
+  __shared__ PrefilterBlock blocks[kPrefilterBlocks];
   const int tx = threadIdx.x, j = threadIdx.y;
   const int line = blockIdx.x * kPrefilterLines + tx;
   const bool live = line < lines && n >= 2;
   float4* d = data + (live ? size_t(line) * line_stride : 0);
-  const int L = (n + kPrefilterBlocks - 1) / kPrefilterBlocks;
-  const int start = min(n, j * L), end = min(n, start + L), len = end - start;
-  auto at = [&](int k) -> float4& { return d[size_t(k) * elem_stride]; };
-  if (tx == 0) {
-    float p = 1.0f;
-    for (int k = 0; k < len; k++) p *= z;
-    zpow[j] = p;
-  }
+  const size_t s = elem_stride;
+  if (tx == 0) blocks[j] = prefilter_block(n, j);
+  const float4 zero = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
   // The boundary carry c[-1], from the input before any block overwrites it.
-  float4 c0 = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
+  float4 c0 = zero;
   if (live && j == 0) {
     const float* f = reinterpret_cast<const float*>(d);
     const int s4 = static_cast<int>(elem_stride * 4);
@@ -333,72 +314,26 @@ __global__ void k_prefilter_lines(float4* data, int lines, int n, size_t line_st
                      cardinal_causal_carry(f + 2, n, s4), cardinal_causal_carry(f + 3, n, s4));
   }
   __syncthreads();
-  // 1. Causal, zero carry.
-  float4 y = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
-  if (live)
-    for (int k = start; k < end; k++) at(k) = y = axpy4(z, y, at(k));
-  carry[j][tx] = y;
+  const PrefilterBlock b = blocks[j];
+  auto carry_of = [&](int k) -> float4& { return carry[k][tx]; };
+  auto block_of = [&](int k) { return blocks[k]; };
+  // 1-3. Causal.
+  carry[j][tx] = live ? prefilter_causal_block(d, s, b, zero) : zero;
   __syncthreads();
-  // 2. Carries, block to block.
-  if (j == 0) {
-    float4 in = c0;
-    for (int b = 0; b < kPrefilterBlocks; b++) {
-      const float4 last = carry[b][tx];
-      carry[b][tx] = in;
-      in = axpy4(zpow[b], in, last);
-    }
-  }
+  if (j == 0) prefilter_carries(carry_of, block_of, c0, false);
   __syncthreads();
-  // 3. Correction: c[k] += z^(k - start + 1) carry.
-  if (live) {
-    float4 f = carry[j][tx];
-    for (int k = start; k < end; k++) {
-      f = make_float4(z * f.x, z * f.y, z * f.z, z * f.w);
-      at(k) = axpy4(1.0f, f, at(k));
-    }
-  }
+  if (live) prefilter_causal_correct(d, s, b, carry[j][tx]);
   __syncthreads();
-  // 4. Anticausal, zero carry; the block holding a[n-1] starts from the
-  // boundary value, read before other blocks overwrite c[n-2].
-  const bool tail = live && len > 0 && end == n;
-  float4 a = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
-  if (tail) {
-    const float4 cl = at(n - 1), cb = at(n - 2);
-    a = make_float4(cardinal_anticausal_start(cl.x, cb.x), cardinal_anticausal_start(cl.y, cb.y),
-                    cardinal_anticausal_start(cl.z, cb.z), cardinal_anticausal_start(cl.w, cb.w));
-  }
+  // 4-6. Anticausal; the block ending the line starts from the boundary
+  // value, read before other blocks overwrite c[n-2].
+  const bool tail = live && b.end > b.start && b.end == n;
+  const float4 a0 = tail ? cardinal_anticausal_start(d[(n - 1) * s], d[(n - 2) * s]) : zero;
   __syncthreads();
-  if (live && len > 0) {
-    int k = end - 1;
-    if (tail) at(k--) = a;
-    for (; k >= start; k--) {
-      const float4 c = at(k);
-      a = make_float4(z * (a.x - c.x), z * (a.y - c.y), z * (a.z - c.z), z * (a.w - c.w));
-      at(k) = a;
-    }
-  }
-  carry[j][tx] = a;
+  carry[j][tx] = live ? prefilter_anticausal_block(d, s, b, tail, a0) : zero;
   __syncthreads();
-  // 5. Carries from the last block down: the carry into block j is a at
-  // its end, block j + 1's first value plus z^len(j+1) times its carry.
-  if (j == 0) {
-    float4 in = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
-    for (int b = kPrefilterBlocks - 1; b >= 0; b--) {
-      const float4 first = carry[b][tx];
-      carry[b][tx] = in;
-      in = axpy4(zpow[b], in, first);
-    }
-  }
+  if (j == 0) prefilter_carries(carry_of, block_of, zero, true);
   __syncthreads();
-  // 6. Correction a[k] += z^(end - k) carry, and the gain.
-  if (live) {
-    float4 f = carry[j][tx];
-    for (int k = end - 1; k >= start; k--) {
-      f = make_float4(z * f.x, z * f.y, z * f.z, z * f.w);
-      const float4 v = axpy4(1.0f, f, at(k));
-      at(k) = make_float4(kCardinalGain * v.x, kCardinalGain * v.y, kCardinalGain * v.z, kCardinalGain * v.w);
-    }
-  }
+  if (live) prefilter_anticausal_correct(d, s, b, carry[j][tx]);
 }
 
 __global__ void k_output(const float* buf, int acc_w, int pad, int width, int height, PaintRecord bg, float4* image,
