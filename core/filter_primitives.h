@@ -15,6 +15,7 @@
 
 #include "core/blend.h"
 #include "core/hd.h"
+#include "core/hd_math.h"
 #include "core/paint.h"
 #include "core/srgb.h"
 
@@ -173,7 +174,7 @@ MPVG_HD_INLINE float filter_transfer(const FilterOp& op, int ch, float c, const 
       return v[k];
     }
     case FTRANSFER_LINEAR: return op.fparam[ch][0] * c + op.fparam[ch][1];
-    case FTRANSFER_GAMMA: return op.fparam[ch][0] * powf(c, op.fparam[ch][1]) + op.fparam[ch][2];
+    case FTRANSFER_GAMMA: return op.fparam[ch][0] * hd_powf(c, op.fparam[ch][1]) + op.fparam[ch][2];
     default: return c;
   }
 }
@@ -247,7 +248,7 @@ MPVG_HD_INLINE Rgba4 filter_gauss_pass(const float* in, int width, const FilterB
   Rgba4 acc{0, 0, 0, 0};
   float wsum = 0;
   for (int k = -r; k <= r; k++) {
-    const float w = expf(-0.5f * static_cast<float>(k * k) / (std_dev * std_dev));
+    const float w = hd_expf(-0.5f * static_cast<float>(k * k) / (std_dev * std_dev));
     wsum += w;
     int sx = x, sy = y;
     if (horizontal) sx = filter_edge_index(x + k, box.x0, box.x1, edge);
@@ -428,7 +429,7 @@ MPVG_HD_INLINE Rgba4 filter_lighting(const FilterOp& op, const float* in, int wi
       if (sl > 0) S[0] /= sl, S[1] /= sl, S[2] /= sl;
       const float minus_ls = -(L[0] * S[0] + L[1] * S[1] + L[2] * S[2]);
       float f = 0;
-      if (minus_ls > 0 && minus_ls >= op.cone_cos) f = powf(minus_ls, op.spot_exponent);
+      if (minus_ls > 0 && minus_ls >= op.cone_cos) f = hd_powf(minus_ls, op.spot_exponent);
       lc[0] *= f, lc[1] *= f, lc[2] *= f;
     }
   } else if (op.light == 0) {
@@ -442,7 +443,7 @@ MPVG_HD_INLINE Rgba4 filter_lighting(const FilterOp& op, const float* in, int wi
     float h[3] = {L[0], L[1], L[2] + 1.0f};
     const float hl = sqrtf(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
     const float nh = hl > 0 ? (n[0] * h[0] + n[1] * h[1] + n[2] * h[2]) / hl : 0.0f;
-    k = op.ks * powf(nh > 0 ? nh : 0.0f, op.specular_exponent);
+    k = op.ks * hd_powf(nh > 0 ? nh : 0.0f, op.specular_exponent);
   }
   float c[3];
   for (int i = 0; i < 3; i++) c[i] = filter_clamp01(k * lc[i]);

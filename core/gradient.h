@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "core/hd.h"
+#include "core/hd_math.h"
 #include "core/paint.h"
 
 namespace mpvg {
@@ -54,7 +55,7 @@ MPVG_HD_INLINE bool radial_t(const GradientRecord& g, float u, float v, float& t
 // make a step at the start angle: t = -1 before it, 2 from it on, which
 // the pad spread turns into the first or the last stop.
 MPVG_HD_INLINE float sweep_t(const GradientRecord& g, float u, float v) {
-  float theta = (u == 0.0f && v == 0.0f) ? 0.0f : atan2f(v, u) * 57.2957795f;
+  float theta = (u == 0.0f && v == 0.0f) ? 0.0f : hd_atan2f(v, u) * 57.2957795f;
   if (theta < 0.0f) theta += 360.0f;
   if (g.dr == 0.0f) return theta < g.r0 ? -1.0f : 2.0f;
   return (theta - g.r0) * g.dr;

@@ -11,21 +11,28 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <mutex>
 #include <new>
 #include <type_traits>
 #include <utility>
 
 #include "apps/cli.h"
+#include "apps/image_compare.h"
+#include "apps/png_writer.h"
 #include "core/renderer.h"
 #include "gpu/backend.h"
 #include "parsers/svg/svg_parser.h"
+#include "parsers/svg/svg_resources.h"
 #include "parsers/svg/svg_values.h"
 #ifdef MPVG_HAVE_PDF
 #include <thread>
 
+#include "apps/ink_output.h"
 #include "apps/pdf_page_job.h"
 #include "apps/pipeline.h"
+#include "apps/png_writer.h"
 #include "parsers/pdf/pdf_parser.h"
 #endif
 
@@ -231,7 +238,18 @@ struct MPVG_HIDDEN PdfDocument::Impl {};
 
 namespace {
 
+#ifndef MPVG_HAVE_PDF
 [[noreturn]] void no_pdf() { throw UnsupportedError("this build of mpvg has no PDF support (MuPDF was not found)"); }
+#endif
+
+DeviceBitmap device_bitmap(FrameRenderer::DeviceImage&& d) {
+  DeviceBitmap out;
+  out.width = d.width;
+  out.height = d.height;
+  out.device = d.device;
+  out.pixels = std::move(d.data);
+  return out;
+}
 
 #ifdef MPVG_HAVE_PDF
 pdf::PageBox to_box(PageBox b) {
@@ -253,6 +271,13 @@ cli::Options to_cli(const PdfRenderSettings& s) {
   r.seed = s.seed;
   r.gamma = s.gamma;
   r.background = s.background;
+  // Print preview (pdf2png --colorspace cmyk): ink amounts integrated as
+  // they are, over paper (no ink).
+  if (s.colorspace == OutputColorSpace::Cmyk) {
+    if (s.bits != 8) throw Error("CMYK pages are rendered with 8 bits a channel");
+    if (s.gamma == GammaMode::Linear) throw Error("CMYK integrates ink amounts as they are: not with linear gamma");
+    r.background = Color{0, 0, 0, 1};
+  }
   r.bits = s.bits;
   return to_cli(r);
 }
@@ -264,7 +289,14 @@ PdfPageRequest to_request(const PdfRenderSettings& s) {
   r.page = pdf::PageOptions(to_box(s.box));
   r.page.annotations = s.annotations;
   r.page.thin_lines = s.snap_thin_lines ? pdf::ThinLines::Snap : pdf::ThinLines::Exact;
+  if (s.colorspace == OutputColorSpace::Cmyk) r.page.inks = pdf::InkModel::Cmyk;
   return r;
+}
+
+// Device bitmaps hold what render_rgba8_device leaves: 8-bit RGBA.
+void check_device_output(const PdfRenderSettings& s) {
+  if (s.bits != 8) throw Error("device bitmaps hold 8 bits a channel");
+  if (s.colorspace != OutputColorSpace::Rgb) throw Error("device bitmaps hold RGBA pixels: render gray or CMYK to the host");
 }
 
 void check_page(const pdf::Document& doc, int index) {
@@ -314,14 +346,42 @@ void run_pages(const pdf::Document& doc, const std::vector<int>& pages, const Pd
   pipeline::run(c);
 }
 
-// A rendered job's pixels as a Bitmap (pipeline.h: rgba8, or image for 16 bits).
-Bitmap bitmap_of(pipeline::Job& job, int bits, Gamma gamma) {
+// Grey of RGBA pixels as pdf2png -gray writes it (png::gray_of), with
+// alpha where `alpha`.
+template <class T>
+std::vector<T> gray_pixels(const std::vector<T>& rgba, bool alpha) {
+  const size_t n = rgba.size() / 4, channels = alpha ? 2 : 1;
+  std::vector<T> out(n * channels);
+  for (size_t i = 0; i < n; i++) {
+    const T* p = rgba.data() + 4 * i;
+    out[i * channels] = static_cast<T>(png::gray_of(p[0], p[1], p[2]));
+    if (alpha) out[i * 2 + 1] = p[3];
+  }
+  return out;
+}
+
+// A rendered job's pixels as a Bitmap (pipeline.h: rgba8, or image for 16
+// bits; print preview's passes side by side for CMYK), in the settings'
+// colour space.
+Bitmap bitmap_of(pipeline::Job& job, const PdfRenderSettings& settings, Gamma gamma) {
   Bitmap out;
   out.width = job.width;
   out.height = job.height;
-  out.bits = bits;
-  if (bits == 16) out.pixels16 = to_rgba16(job.image, gamma);
+  out.bits = settings.bits;
+  if (job.inks) {
+    out.width = job.inks->width;
+    out.channels = static_cast<int>(job.inks->names.size());
+    out.pixels8 = gather_inks(*job.inks, job.width, job.height, job.rgba8.data());
+    return out;
+  }
+  if (settings.bits == 16) out.pixels16 = to_rgba16(job.image, gamma);
   else out.pixels8 = std::move(job.rgba8);
+  if (settings.colorspace == OutputColorSpace::Gray) {
+    const bool alpha = settings.background.a < 1;
+    out.channels = alpha ? 2 : 1;
+    if (settings.bits == 16) out.pixels16 = gray_pixels(out.pixels16, alpha);
+    else out.pixels8 = gray_pixels(out.pixels8, alpha);
+  }
   return out;
 }
 #endif
@@ -418,7 +478,7 @@ void PdfDocument::render_pages(const std::vector<int>& pages, const PdfRenderSet
     // is there (and Device::Cuda without it throws before any page).
     run_pages(*impl_->doc, pages, request, o, std::make_unique<FrameRenderer>(backend), threads, false, cancelled,
               [&](pipeline::Job& job) {
-                sink(static_cast<size_t>(job.index), bitmap_of(job, o.bits, o.gamma), std::move(job.warnings));
+                sink(static_cast<size_t>(job.index), bitmap_of(job, settings, o.gamma), std::move(job.warnings));
               },
               [&](int t, const std::string& message) { failed(static_cast<size_t>(t), message); });
   });
@@ -428,11 +488,37 @@ void PdfDocument::render_pages(const std::vector<int>& pages, const PdfRenderSet
 #endif
 }
 
+void PdfDocument::render_pages_device(const std::vector<int>& pages, const PdfRenderSettings& settings,
+                                      const DevicePageSink& sink, const PageFailure& failed, int threads,
+                                      const std::function<bool()>& cancelled) const {
+#ifdef MPVG_HAVE_PDF
+  guarded([&] {
+    check_device_output(settings);
+    const cli::Options o = to_cli(settings);
+    const PdfPageRequest request = to_request(settings);
+    for (int p : pages) check_page(*impl_->doc, p);
+    if (pages.empty()) return;
+    // The page's own device image (FrameRenderer::render_rgba8_device),
+    // handed on as it is.
+    run_pages(*impl_->doc, pages, request, o, std::make_unique<FrameRenderer>(Backend::Cuda), threads, true,
+              cancelled,
+              [&](pipeline::Job& job) {
+                sink(static_cast<size_t>(job.index), device_bitmap(std::move(job.device_image)),
+                     std::move(job.warnings));
+              },
+              [&](int t, const std::string& message) { failed(static_cast<size_t>(t), message); });
+  });
+#else
+  (void)pages, (void)settings, (void)sink, (void)failed, (void)threads, (void)cancelled;
+  no_pdf();
+#endif
+}
+
 DeviceBitmap PdfDocument::render_batch(const std::vector<int>& pages, const PdfRenderSettings& settings,
                                        int threads) const {
 #ifdef MPVG_HAVE_PDF
   return guarded([&] {
-    if (settings.bits != 8) throw Error("device bitmaps hold 8 bits a channel");
+    check_device_output(settings);
     const cli::Options o = to_cli(settings);
     const PdfPageRequest request = to_request(settings);
     if (pages.empty()) throw Error("no pages to render");
@@ -542,8 +628,7 @@ Bitmap Renderer::render(const PdfDocument& doc, int index, const PdfRenderSettin
     const std::unique_ptr<pipeline::Job> job = doc.impl_->job(index, to_request(settings), o);
     if (o.bits == 16) job->image = impl_->frames->render(job->scene, job->options);
     else job->rgba8 = impl_->frames->render_rgba8(job->scene, job->plan, job->options);
-    Bitmap out = bitmap_of(*job, o.bits, job->options.gamma);
-    return out;
+    return bitmap_of(*job, settings, job->options.gamma);
   });
 #else
   (void)doc, (void)index, (void)settings;
@@ -553,16 +638,94 @@ Bitmap Renderer::render(const PdfDocument& doc, int index, const PdfRenderSettin
 
 namespace {
 
-DeviceBitmap device_bitmap(FrameRenderer::DeviceImage&& d) {
-  DeviceBitmap out;
-  out.width = d.width;
-  out.height = d.height;
-  out.device = d.device;
-  out.pixels = std::move(d.data);
-  return out;
+image_compare::Picture picture_of(const Bitmap& b, const char* which) {
+  const size_t n = size_t(std::max(b.width, 0)) * size_t(std::max(b.height, 0)) * size_t(b.channels);
+  if (b.width <= 0 || b.height <= 0 || b.channels < 1 || b.channels > 4)
+    throw Error(std::string("compare: image ") + which + " is empty or has " + std::to_string(b.channels) +
+                " channels");
+  if (b.bits == 16) {
+    if (b.pixels16.size() != n) throw Error(std::string("compare: image ") + which + " has the wrong pixel count");
+    return image_compare::from_straight16(b.pixels16.data(), b.width, b.height, b.channels);
+  }
+  if (b.bits != 8 || b.pixels8.size() != n)
+    throw Error(std::string("compare: image ") + which + " has the wrong pixel count or bits");
+  return image_compare::from_straight8(b.pixels8.data(), b.width, b.height, b.channels);
 }
 
 }  // namespace
+
+Bitmap read_png(const std::string& path) {
+  return guarded([&] {
+    std::ifstream file(path, std::ios::binary);
+    if (!file) throw ResourceError(path + ": " + std::strerror(errno));
+    const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    std::string why;
+    const std::shared_ptr<Image> image = svg::detail::decode_raster(bytes, &why);
+    if (!image) throw Error(path + ": " + (why.empty() ? "not a PNG" : why));
+    Bitmap out;
+    out.width = image->width;
+    out.height = image->height;
+    out.bits = image->bits;
+    out.pixels8 = image->rgba8;
+    out.pixels16 = image->rgba16;
+    return out;
+  });
+}
+
+void write_png(const std::string& path, const Bitmap& b) {
+  guarded([&] {
+    const size_t n = size_t(std::max(b.width, 0)) * size_t(std::max(b.height, 0)) * size_t(b.channels);
+    if (b.width <= 0 || b.height <= 0 || b.channels < 1 || b.channels > 4 || (b.bits != 8 && b.bits != 16) ||
+        (b.bits == 8 ? b.pixels8.size() : b.pixels16.size()) != n)
+      throw Error("write_png: the bitmap's size, channels or bits are inconsistent");
+    // As RGBA (grey expanded; opaque images are written as RGB).
+    auto rgba = [&](const auto& px) {
+      using T = typename std::decay_t<decltype(px)>::value_type;
+      const T full = b.bits == 8 ? T(255) : T(65535);
+      std::vector<T> out(size_t(b.width) * b.height * 4);
+      const int c = b.channels;
+      for (size_t i = 0, m = size_t(b.width) * b.height; i < m; i++) {
+        const T* p = &px[i * c];
+        T* q = &out[i * 4];
+        q[0] = p[0], q[1] = c >= 3 ? p[1] : p[0], q[2] = c >= 3 ? p[2] : p[0];
+        q[3] = c == 2 ? p[1] : c == 4 ? p[3] : full;
+      }
+      return out;
+    };
+    png::write_file(path, b.bits == 8 ? png::encode_rgba8(b.width, b.height, rgba(b.pixels8).data())
+                                      : png::encode_rgba16(b.width, b.height, rgba(b.pixels16).data()));
+  });
+}
+
+CompareResult compare(const Bitmap& a, const Bitmap& b, const CompareSettings& s, bool diff_image) {
+  return guarded([&] {
+    image_compare::Options o;
+    o.fail = s.fail, o.failpercent = s.failpercent, o.warn = s.warn, o.warnpercent = s.warnpercent;
+    if (s.hardfail >= 0) o.hardfail = s.hardfail;
+    if (s.hardwarn >= 0) o.hardwarn = s.hardwarn;
+    o.antialiasing = s.antialiasing;
+    o.aa_ring = s.aa_ring;
+    std::vector<uint8_t> diff;
+    const image_compare::Result r = image_compare::compare(picture_of(a, "a"), picture_of(b, "b"), o, diff_image ? &diff : nullptr);
+    CompareResult out;
+    out.verdict = r.verdict == image_compare::Verdict::Pass   ? CompareVerdict::Pass
+                  : r.verdict == image_compare::Verdict::Warn ? CompareVerdict::Warn
+                                                        : CompareVerdict::Fail;
+    out.same_size = r.same_size;
+    out.width = r.width, out.height = r.height;
+    out.pixels = r.pixels, out.differing = r.differing, out.failed = r.failed, out.warned = r.warned;
+    out.antialiased = r.antialiased;
+    out.max_difference = r.max_difference, out.max_x = r.max_x, out.max_y = r.max_y;
+    out.mean_difference = r.mean_difference, out.rms_difference = r.rms_difference, out.psnr = r.psnr;
+    if (diff_image && r.same_size) {
+      out.diff.width = a.width;
+      out.diff.height = a.height;
+      out.diff.pixels8 = std::move(diff);
+    }
+    out.json = image_compare::to_json(r, o);
+    return out;
+  });
+}
 
 std::vector<uint8_t> download(const DeviceBitmap& bitmap) {
   return guarded([&] {
@@ -593,7 +756,7 @@ DeviceBitmap Renderer::render_device(const SvgDocument& doc, const RenderSetting
 DeviceBitmap Renderer::render_device(const PdfDocument& doc, int index, const PdfRenderSettings& settings) {
 #ifdef MPVG_HAVE_PDF
   return guarded([&] {
-    if (settings.bits != 8) throw Error("device bitmaps hold 8 bits a channel");
+    check_device_output(settings);
     const cli::Options o = to_cli(settings);
     const std::unique_ptr<pipeline::Job> job = doc.impl_->job(index, to_request(settings), o);
     return device_bitmap(impl_->frames->render_rgba8_device(job->scene, job->plan, job->options));

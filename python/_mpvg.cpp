@@ -11,6 +11,7 @@
 #include <pybind11/stl.h>
 
 #include <atomic>
+#include <cstdio>
 #include <chrono>
 #include <condition_variable>
 #include <map>
@@ -59,14 +60,14 @@ mpvg::Color color_from(const py::object& bg) {
 
 // An H x W x 4 array that owns the bitmap's pixels (no copy).
 template <class T>
-py::array as_array(std::vector<T>&& pixels, int width, int height) {
+py::array as_array(std::vector<T>&& pixels, int width, int height, int channels = 4) {
   auto owned = std::make_unique<std::vector<T>>(std::move(pixels));
   T* data = owned->data();
   py::capsule owner(owned.get(), [](void* p) { delete static_cast<std::vector<T>*>(p); });
   owned.release();
   const auto w = static_cast<py::ssize_t>(width), h = static_cast<py::ssize_t>(height);
-  const auto s = static_cast<py::ssize_t>(sizeof(T));
-  return py::array_t<T>({h, w, py::ssize_t(4)}, {w * 4 * s, 4 * s, s}, data, owner);
+  const auto s = static_cast<py::ssize_t>(sizeof(T)), c = static_cast<py::ssize_t>(channels);
+  return py::array_t<T>({h, w, c}, {w * c * s, c * s, s}, data, owner);
 }
 
 // DLPack's C ABI (dmlc/dlpack's dlpack.h, 0.8), its three structs spelled
@@ -210,8 +211,86 @@ Input input_from(const py::object& input, const char* data, const char* usage) {
 
 // A rendered bitmap as an H x W x 4 array (uint8, or uint16 for 16 bits).
 py::array array_of(mpvg::Bitmap&& b) {
-  return b.bits == 16 ? as_array(std::move(b.pixels16), b.width, b.height)
-                      : as_array(std::move(b.pixels8), b.width, b.height);
+  return b.bits == 16 ? as_array(std::move(b.pixels16), b.width, b.height, b.channels)
+                      : as_array(std::move(b.pixels8), b.width, b.height, b.channels);
+}
+
+// An array (H x W, or H x W x C with C 1 to 4; uint8 or uint16) as a
+// Bitmap: grey, grey and alpha, RGB or RGBA, straight alpha.
+mpvg::Bitmap bitmap_from_array(const py::object& object, const char* what) {
+  const py::array a = py::array::ensure(object, py::array::c_style);
+  if (!a) throw py::type_error(std::string(what) + " must be an array or a path");
+  if (a.ndim() != 2 && a.ndim() != 3)
+    throw py::value_error(std::string(what) + " must be H x W or H x W x C (C 1 to 4)");
+  mpvg::Bitmap b;
+  b.height = static_cast<int>(a.shape(0));
+  b.width = static_cast<int>(a.shape(1));
+  b.channels = a.ndim() == 3 ? static_cast<int>(a.shape(2)) : 1;
+  if (b.channels < 1 || b.channels > 4) throw py::value_error(std::string(what) + " must have 1 to 4 channels");
+  const size_t n = static_cast<size_t>(a.size());
+  if (a.dtype().is(py::dtype::of<uint8_t>())) {
+    b.bits = 8;
+    b.pixels8.assign(static_cast<const uint8_t*>(a.data()), static_cast<const uint8_t*>(a.data()) + n);
+  } else if (a.dtype().is(py::dtype::of<uint16_t>())) {
+    b.bits = 16;
+    b.pixels16.assign(static_cast<const uint16_t*>(a.data()), static_cast<const uint16_t*>(a.data()) + n);
+  } else {
+    throw py::type_error(std::string(what) + " must be uint8 or uint16");
+  }
+  return b;
+}
+
+// An image to compare: an array, or a PNG's path.
+mpvg::Bitmap image_from(const py::object& object, const char* what) {
+  if (py::isinstance<py::str>(object) || py::hasattr(object, "__fspath__")) {
+    const std::string path = py::str(py::module_::import("os").attr("fspath")(object)).cast<std::string>();
+    py::gil_scoped_release release;
+    return mpvg::read_png(path);
+  }
+  return bitmap_from_array(object, what);
+}
+
+// mpvg.compare's result.
+struct PyCompareResult {
+  mpvg::CompareResult r;
+  py::object diff = py::none();
+  std::string verdict() const {
+    return r.verdict == mpvg::CompareVerdict::Pass ? "PASS" : r.verdict == mpvg::CompareVerdict::Warn ? "WARNING" : "FAILURE";
+  }
+  bool passed() const { return r.verdict != mpvg::CompareVerdict::Fail; }
+  std::string repr() const {
+    char b[256];
+    std::snprintf(b, sizeof b,
+                  "<mpvg.CompareResult %s: %zu of %zu pixels differ, %zu fail, %zu warn, %zu antialiasing, max %.4g>",
+                  verdict().c_str(), r.differing, r.pixels, r.failed, r.warned, r.antialiased, r.max_difference);
+    return b;
+  }
+};
+
+PyCompareResult compare_images(const py::object& a, const py::object& b, double fail, double failpercent,
+                               std::optional<double> hardfail, double warn, double warnpercent,
+                               std::optional<double> hardwarn, bool antialiasing, double aa_ring,
+                               const py::object& diff) {
+  mpvg::CompareSettings s;
+  s.fail = fail, s.failpercent = failpercent, s.warn = warn, s.warnpercent = warnpercent;
+  s.hardfail = hardfail.value_or(-1.0), s.hardwarn = hardwarn.value_or(-1.0);
+  s.antialiasing = antialiasing;
+  s.aa_ring = aa_ring;
+  const mpvg::Bitmap x = image_from(a, "a"), y = image_from(b, "b");
+  const bool want_diff = !diff.is_none() && !(py::isinstance<py::bool_>(diff) && !diff.cast<bool>());
+  PyCompareResult out;
+  {
+    py::gil_scoped_release release;
+    out.r = mpvg::compare(x, y, s, want_diff);
+  }
+  if (want_diff && out.r.same_size) {
+    if (!py::isinstance<py::bool_>(diff)) {
+      const std::string path = py::str(py::module_::import("os").attr("fspath")(diff)).cast<std::string>();
+      mpvg::write_png(path, out.r.diff);
+    }
+    out.diff = array_of(std::move(out.r.diff));
+  }
+  return out;
 }
 
 // A page's warnings through Python's warnings module, "page N: ...".
@@ -314,8 +393,12 @@ class PyDocument {
                                           const py::object& background, int bits, uint32_t seed, const std::string& box,
                                           bool annotations, const std::string& thin_lines,
                                           const std::string& colorspace) {
-    if (colorspace != "rgb")
-      throw py::value_error("colorspace '" + colorspace + "': only 'rgb' for now (pdf2png has gray and cmyk)");
+    const mpvg::OutputColorSpace space = colorspace == "rgb"    ? mpvg::OutputColorSpace::Rgb
+                                   : colorspace == "gray" ? mpvg::OutputColorSpace::Gray
+                                   : colorspace == "cmyk" ? mpvg::OutputColorSpace::Cmyk
+                                                          : throw py::value_error("unknown colorspace '" + colorspace +
+                                                                                  "' (rgb, gray or cmyk)");
+    if (space == mpvg::OutputColorSpace::Cmyk && bits != 8) throw py::value_error("colorspace 'cmyk' renders 8 bits");
     if (thin_lines != "exact" && thin_lines != "snap")
       throw py::value_error("unknown thin_lines '" + thin_lines + "' (exact or snap)");
     mpvg::PdfRenderSettings s;
@@ -328,6 +411,7 @@ class PyDocument {
     s.box = box_named(box);
     s.annotations = annotations;
     s.snap_thin_lines = thin_lines == "snap";
+    s.colorspace = space;
     return s;
   }
 
@@ -338,6 +422,8 @@ class PyDocument {
         settings(dpi, aa, gamma, background, bits, seed, box, annotations, thin_lines, colorspace);
     const int i = index(page);
     const bool gpu = on_device(device);
+    if (gpu && (s.colorspace != mpvg::OutputColorSpace::Rgb || bits != 8))
+      throw py::value_error("device='cuda' renders 8-bit RGBA (colorspace='rgb', bits=8)");
     mpvg::Bitmap image;
     mpvg::DeviceBitmap on_gpu;
     {
@@ -376,7 +462,7 @@ class PyDocument {
                                            const std::string& aa, const std::string& gamma,
                                            const py::object& background, int bits, uint32_t seed,
                                            const std::string& box, bool annotations, const std::string& thin_lines,
-                                           const std::string& colorspace, int threads);
+                                           const std::string& colorspace, int threads, const std::string& device);
 
   mpvg::Device backend_;
   std::unique_ptr<mpvg::PdfDocument> doc_;
@@ -398,25 +484,47 @@ class PyDocument::PageStream {
  public:
   const size_t kWindow = 64 + 2 * size_t(std::max(1u, std::thread::hardware_concurrency()));
 
-  PageStream(const PyDocument& doc, std::vector<int> pages, mpvg::PdfRenderSettings settings, int threads)
+  PageStream(const PyDocument& doc, std::vector<int> pages, mpvg::PdfRenderSettings settings, int threads,
+             bool on_gpu)
       : pages_(std::move(pages)) {
-    worker_ = std::thread([this, &doc, settings, threads] {
+    worker_ = std::thread([this, &doc, settings, threads, on_gpu] {
+      // A page's result, once the window has room for it.
+      auto keep = [this](size_t k, Result&& r) {
+        std::unique_lock<std::mutex> lock(m_);
+        cv_.wait(lock, [&] { return cancel_ || k < next_ + kWindow; });
+        if (cancel_) return;
+        done_[k] = std::move(r);
+        cv_.notify_all();
+      };
+      auto failed = [this](size_t k, const std::string& message) {
+        std::lock_guard<std::mutex> lock(m_);
+        Result r;
+        r.error = message.empty() ? "failed" : message;
+        done_[k] = std::move(r);
+        cv_.notify_all();
+      };
       try {
-        doc.doc_->render_pages(
-            pages_, settings,
-            [this](size_t k, mpvg::Bitmap&& b, std::vector<std::string>&& warnings) {
-              std::unique_lock<std::mutex> lock(m_);
-              cv_.wait(lock, [&] { return cancel_ || k < next_ + kWindow; });
-              if (cancel_) return;
-              done_[k] = Result{std::move(b), std::move(warnings), {}};
-              cv_.notify_all();
-            },
-            [this](size_t k, const std::string& message) {
-              std::lock_guard<std::mutex> lock(m_);
-              done_[k] = Result{{}, {}, message.empty() ? "failed" : message};
-              cv_.notify_all();
-            },
-            doc.backend_, threads, [this] { return cancel_.load(); });
+        if (on_gpu)
+          doc.doc_->render_pages_device(
+              pages_, settings,
+              [&](size_t k, mpvg::DeviceBitmap&& b, std::vector<std::string>&& warnings) {
+                Result r;
+                r.device_bitmap = std::move(b);
+                r.on_gpu = true;
+                r.warnings = std::move(warnings);
+                keep(k, std::move(r));
+              },
+              failed, threads, [this] { return cancel_.load(); });
+        else
+          doc.doc_->render_pages(
+              pages_, settings,
+              [&](size_t k, mpvg::Bitmap&& b, std::vector<std::string>&& warnings) {
+                Result r;
+                r.bitmap = std::move(b);
+                r.warnings = std::move(warnings);
+                keep(k, std::move(r));
+              },
+              failed, doc.backend_, threads, [this] { return cancel_.load(); });
       } catch (const std::exception& e) {
         std::lock_guard<std::mutex> lock(m_);
         error_ = e.what();
@@ -441,8 +549,9 @@ class PyDocument::PageStream {
     }
   }
 
-  // The next page's array; its warnings through Python's warnings module.
-  py::array next() {
+  // The next page's array (a DeviceArray on the GPU); its warnings through
+  // Python's warnings module.
+  py::object next() {
     if (next_ >= pages_.size()) throw py::stop_iteration();
     Result r;
     for (;;) {
@@ -480,12 +589,15 @@ class PyDocument::PageStream {
     }
     if (!r.error.empty()) throw mpvg::Error(r.error);
     warn_page(pages_[next_ - 1], r.warnings);
+    if (r.on_gpu) return py::cast(PyDeviceArray(std::move(r.device_bitmap)));
     return array_of(std::move(r.bitmap));
   }
 
  private:
   struct Result {
     mpvg::Bitmap bitmap;
+    mpvg::DeviceBitmap device_bitmap;
+    bool on_gpu = false;
     std::vector<std::string> warnings;
     std::string error;
   };
@@ -503,16 +615,20 @@ class PyDocument::PageStream {
 std::unique_ptr<PyDocument::PageStream> PyDocument::render_pages(
     const std::optional<std::vector<int>>& pages, double dpi, const std::string& aa, const std::string& gamma,
     const py::object& background, int bits, uint32_t seed, const std::string& box, bool annotations,
-    const std::string& thin_lines, const std::string& colorspace, int threads) {
+    const std::string& thin_lines, const std::string& colorspace, int threads, const std::string& device) {
   const mpvg::PdfRenderSettings s =
       settings(dpi, aa, gamma, background, bits, seed, box, annotations, thin_lines, colorspace);
+  const bool gpu = on_device(device);
+  if (gpu && (s.colorspace != mpvg::OutputColorSpace::Rgb || bits != 8))
+    throw py::value_error("device='cuda' renders 8-bit RGBA (colorspace='rgb', bits=8)");
+  if (gpu && backend_ == mpvg::Device::Cpu) throw py::value_error("device='cuda' needs the 'cuda' or 'auto' backend");
   std::vector<int> list;
   if (pages) {
     for (int p : *pages) list.push_back(index(p));
   } else {
     for (int p = 0; p < len(); p++) list.push_back(p);
   }
-  return std::make_unique<PageStream>(*this, std::move(list), s, threads);
+  return std::make_unique<PageStream>(*this, std::move(list), s, threads, gpu);
 }
 
 }  // namespace
@@ -576,7 +692,10 @@ PYBIND11_MODULE(_mpvg, m) {
            "of straight-alpha sRGB RGBA pixels, as pdf2png -r DPI does.\n\n"
            "aa: '4x4x32', '1x32' or '1x8'. gamma: 'srgb' (PDF's) or 'linear'. background: a CSS colour,\n"
            "(r, g, b[, a]) or None (transparent). box: the page box. annotations: draw them as printed.\n"
-           "thin_lines: 'exact' or 'snap' (pdf2png --thin-lines). colorspace: 'rgb'.\n"
+           "thin_lines: 'exact' or 'snap' (pdf2png --thin-lines).\n"
+           "colorspace: 'rgb' (H x W x 4, RGBA), 'gray' (pdf2png -gray: H x W x 1 over an opaque\n"
+           "background, H x W x 2 grey and alpha over a transparent one) or 'cmyk' (H x W x 4 ink\n"
+           "amounts, 0 none to 255 full, 8 bits: pdf2png --colorspace cmyk's TIFF, overprint simulated).\n"
            "device: 'cpu' (a NumPy array) or 'cuda' (an mpvg.DeviceArray in CUDA memory, 8 bits, with\n"
            "the CUDA backend: torch.from_dlpack / cupy.asarray take it without a copy).\n"
            "The GIL is released while the page is interpreted and rendered. Raises mpvg.Error.")
@@ -592,13 +711,14 @@ PYBIND11_MODULE(_mpvg, m) {
            py::arg("dpi") = 150.0, py::arg("aa") = "4x4x32", py::arg("gamma") = "srgb",
            py::arg("background") = "white", py::arg("bits") = 8, py::arg("seed") = 0, py::arg("box") = "crop",
            py::arg("annotations") = true, py::arg("thin_lines") = "exact", py::arg("colorspace") = "rgb",
-           py::arg("threads") = 0, py::keep_alive<0, 1>(),
+           py::arg("threads") = 0, py::arg("device") = "cpu", py::keep_alive<0, 1>(),
            "Renders `pages` (0-based; None: every page) through pdf2png's page pipeline (worker threads\n"
            "interpreting pages while render threads render others, with CUDA on several streams) and\n"
            "returns an iterator over their arrays in the order asked, each what render() gives. A page\n"
            "that fails raises mpvg.Error when its turn comes; warnings go to Python's warnings module.\n"
-           "threads: worker threads (0: one per core). The GIL is released while it waits; Ctrl-C or\n"
-           "dropping the iterator cancels the pages not yet started.");
+           "threads: worker threads (0: one per core). device: 'cpu' (NumPy arrays) or 'cuda' (an\n"
+           "mpvg.DeviceArray a page, left in CUDA memory: colorspace 'rgb', 8 bits). The GIL is released\n"
+           "while it waits; Ctrl-C or dropping the iterator cancels the pages not yet started.");
 
   py::class_<PyDeviceArray>(m, "DeviceArray",
                             "An H x W x 4 uint8 image in CUDA memory owned by mpvg (render(..., device='cuda')),\n"
@@ -611,6 +731,67 @@ PYBIND11_MODULE(_mpvg, m) {
       .def("__dlpack__", &PyDeviceArray::dlpack, py::arg("stream") = py::none())
       .def("__dlpack_device__", &PyDeviceArray::dlpack_device)
       .def("to_host", &PyDeviceArray::to_host, "A NumPy copy (what device='cpu' renders).");
+
+  py::class_<PyCompareResult>(m, "CompareResult",
+                              "What mpvg.compare found (mpvg-compare's report). True when the images pass.")
+      .def_property_readonly("passed", &PyCompareResult::passed, "Equal within the thresholds (warnings pass).")
+      .def("__bool__", &PyCompareResult::passed)
+      .def_property_readonly("verdict", &PyCompareResult::verdict, "'PASS', 'WARNING' or 'FAILURE'.")
+      .def_property_readonly("same_size", [](const PyCompareResult& r) { return r.r.same_size; })
+      .def_property_readonly("pixels", [](const PyCompareResult& r) { return r.r.pixels; })
+      .def_property_readonly("differing", [](const PyCompareResult& r) { return r.r.differing; },
+                             "Pixels that differ at all.")
+      .def_property_readonly("failed", [](const PyCompareResult& r) { return r.r.failed; },
+                             "Pixels over `fail`, not forgiven.")
+      .def_property_readonly("warned", [](const PyCompareResult& r) { return r.r.warned; })
+      .def_property_readonly("antialiased", [](const PyCompareResult& r) { return r.r.antialiased; },
+                             "Pixels over a threshold forgiven as antialiasing.")
+      .def_property_readonly("max_difference", [](const PyCompareResult& r) { return r.r.max_difference; })
+      .def_property_readonly("max_at", [](const PyCompareResult& r) { return py::make_tuple(r.r.max_x, r.r.max_y); },
+                             "(x, y) of the largest difference.")
+      .def_property_readonly("mean_difference", [](const PyCompareResult& r) { return r.r.mean_difference; })
+      .def_property_readonly("rms_difference", [](const PyCompareResult& r) { return r.r.rms_difference; })
+      .def_property_readonly("psnr", [](const PyCompareResult& r) { return r.r.psnr; })
+      .def_property_readonly("diff", [](const PyCompareResult& r) { return r.diff; },
+                             "The diff image (H x W x 4 uint8) when asked for, else None.")
+      .def_property_readonly("json", [](const PyCompareResult& r) { return r.r.json; })
+      .def("__repr__", &PyCompareResult::repr);
+
+  m.def("compare", &compare_images, py::arg("a"), py::arg("b"), py::kw_only(), py::arg("fail") = 1e-6,
+        py::arg("failpercent") = 0.0, py::arg("hardfail") = py::none(), py::arg("warn") = 1e-6,
+        py::arg("warnpercent") = 0.0, py::arg("hardwarn") = py::none(), py::arg("antialiasing") = false,
+        py::arg("aa_ring") = 0.3, py::arg("diff") = py::none(),
+        "Compares two images as mpvg-compare does: arrays (H x W [x C], C 1 to 4, uint8 or uint16,\n"
+        "straight alpha) or PNG paths, premultiplied, channels in [0, 1].\n\n"
+        "fail, failpercent, hardfail, warn, warnpercent, hardwarn: OpenImageIO idiff's thresholds.\n"
+        "antialiasing: forgive differences on antialiased edges whose surroundings are the same in\n"
+        "both images (aa_ring: within two pixels of an edge, a difference up to aa_ring times the\n"
+        "edge's contrast is forgiven as a wider filter's ringing).\n"
+        "diff: True for the diff image in .diff, or a path to write it to as a PNG as well.\n"
+        "Returns an mpvg.CompareResult, true when the images pass.");
+  m.def(
+      "read_png",
+      [](const py::object& path) {
+        const std::string p = py::str(py::module_::import("os").attr("fspath")(path)).cast<std::string>();
+        mpvg::Bitmap b;
+        {
+          py::gil_scoped_release release;
+          b = mpvg::read_png(p);
+        }
+        return array_of(std::move(b));
+      },
+      py::arg("path"), "A PNG as an H x W x 4 array of straight-alpha RGBA (uint8, or uint16 for 16 bits).");
+  m.def(
+      "write_png",
+      [](const py::object& path, const py::object& image) {
+        const std::string p = py::str(py::module_::import("os").attr("fspath")(path)).cast<std::string>();
+        const mpvg::Bitmap b = bitmap_from_array(image, "image");
+        py::gil_scoped_release release;
+        mpvg::write_png(p, b);
+      },
+      py::arg("path"), py::arg("image"),
+      "Writes an array (H x W [x C], C 1 to 4: grey, grey and alpha, RGB, RGBA; uint8 or uint16) as a PNG\n"
+      "with mpvg's encoder (no varying metadata: equal pixels, equal files).");
 
   py::class_<PyDocument::PageStream>(m, "PageStream", "The pages of Document.render_pages, in the order asked.")
       .def("__iter__", [](py::object self) { return self; })

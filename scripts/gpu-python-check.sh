@@ -4,7 +4,9 @@
 # host's Python and the pybind11 headers PyTorch ships, linked with
 # libmpvg.so built here with CUDA; then DeviceArray is checked against
 # host arrays through __cuda_array_interface__ (ctypes and cudart) and
-# torch.from_dlpack, and render_pages is timed on asymptote.
+# torch.from_dlpack, and render_pages is timed on asymptote and pgfmanual
+# into device tensors, against mutool draw over every core (.gpu/mutool.tar.xz:
+# Debian's mutool and its libraries; .gpu/asym.pdf, .gpu/pgf.pdf from the corpus).
 #
 # Here:   mkdir -p .gpu/lm/lib .gpu/lm/deps && cp -L build/lib/libmpvg.so.0 .gpu/lm/lib/ &&
 #         scripts/carry-libs.sh .gpu/lm/lib .gpu/lm/deps && mv .gpu/lm/deps/* .gpu/lm/lib/ &&
@@ -90,6 +92,24 @@ for rnd in range(2):
         n += 1
     dt = time.time() - t0
     print("render_pages asymptote 150 dpi: %d pages in %.2f s, %.1f pages/s (round %d)" % (n, dt, n / dt, rnd + 1))
+# render_pages(device="cuda"): a DeviceArray a page, in the order asked,
+# each render()'s pixels.
+doc3 = mpvg.Document("testdata/pdf/three-pages.pdf", backend="cuda")
+got = list(doc3.render_pages([2, 0, 1, 2], dpi=72, device="cuda"))
+ok = all(isinstance(g, mpvg.DeviceArray) and (g.to_host() == doc3.render(p, dpi=72)).all()
+         for g, p in zip(got, [2, 0, 1, 2])) and len(got) == 4
+print("render_pages(device='cuda'): DeviceArrays equal to render()'s pixels, in order:", ok); fails += not ok
+for path in [".gpu/asym.pdf", ".gpu/pgf.pdf"]:
+    if not os.path.exists(path):
+        continue
+    d = mpvg.Document(path, backend="cuda")
+    for rnd in range(2):
+        t0 = time.time(); n = 0
+        for a in d.render_pages(dpi=150, device="cuda"):
+            n += 1
+        dt = time.time() - t0
+        print("render_pages(device='cuda') %s 150 dpi: %d pages in %.2f s, %.1f pages/s (round %d)"
+              % (os.path.basename(path), n, dt, n / dt, rnd + 1))
 t0 = time.time()
 for p in range(len(doc)):
     doc.render(p, dpi=150, device="cuda")
@@ -97,3 +117,26 @@ dt = time.time() - t0
 print("render(device='cuda') one page at a time: %.1f pages/s" % (len(doc) / dt))
 print("FAILURES", fails)
 PYEOF
+# The baseline on the same host: mutool draw over every core (one process
+# per core over equal page ranges, as PyMuPDF's get_pixmap in a
+# multiprocessing pool would run), rendering to PAM (no compression: the
+# pixels, as get_pixmap gives them) and to PNG.
+if [ -f .gpu/mutool.tar.xz ]; then
+  tar -C /tmp -xJf .gpu/mutool.tar.xz
+  cores=$(nproc)
+  for f in .gpu/asym.pdf .gpu/pgf.pdf; do
+    [ -f "$f" ] || continue
+    n=$(LD_LIBRARY_PATH=/tmp/mt/lib /tmp/mt/bin/mutool info -M "$f" 2>/dev/null | sed -n 's/^Pages: *//p')
+    for fmt in pam png; do
+      rm -rf /tmp/mo && mkdir -p /tmp/mo
+      t0=$(date +%s%N)
+      for k in $(seq 0 $((cores - 1))); do
+        a=$((k * n / cores + 1)) b=$(((k + 1) * n / cores))
+        [ "$a" -le "$b" ] && LD_LIBRARY_PATH=/tmp/mt/lib /tmp/mt/bin/mutool draw -q -r 150 -o "/tmp/mo/m$k-%d.$fmt" "$f" "$a-$b" 2>/dev/null &
+      done
+      wait
+      t1=$(date +%s%N)
+      echo "mutool draw -r 150 ($fmt), $cores processes, $(basename "$f"): $n pages, $(awk "BEGIN{printf \"%.1f\", $n / (($t1 - $t0) / 1e9)}") pages/s"
+    done
+  done
+fi

@@ -15,7 +15,7 @@ PACKAGES=(
   fonts-liberation fonts-urw-base35
   catch2
   libpng-dev libdeflate-dev liblcms2-dev
-  python3-dev python3-numpy pybind11-dev python3-venv
+  python3-dev python3-numpy pybind11-dev python3-venv python3-pytest
   time util-linux
 )
 

@@ -3,9 +3,9 @@
 // way to regenerate.
 //
 // A reference is an 8-bit RGBA PNG reviewed by eye when it was made. The
-// comparison is premultiplied, in 1/255 steps: it passes when no channel is
-// off by more than 2 and at most 0.1 % of the pixels are off by more than
-// 1. A mismatch writes expected | |difference| x 8 | actual into the given
+// comparison is mpvg-compare's (apps/image_compare.h), premultiplied, in
+// 1/255 steps: it passes when no channel is off by more than 2 and at most
+// 0.1 % of the pixels are off by more than 1. A mismatch writes expected | |difference| x 8 | actual into the given
 // panel path and reports the numbers. MPVG_UPDATE_GOLDEN=1 rewrites the
 // reference instead of comparing.
 #pragma once
@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/image_compare.h"
 #include "apps/image_io.h"
 #include "parsers/svg/svg_resources.h"
 #include "tests/catch.h"
@@ -82,27 +83,24 @@ inline void check_golden(const std::string& name, const std::filesystem::path& r
   REQUIRE(ref_image->width == w);
   REQUIRE(ref_image->height == h);
   const std::vector<uint8_t>& expected = ref_image->rgba8;
-  // Premultiplied comparison, in 1/255 steps.
-  int max_diff = 0;
-  size_t over_one = 0;
-  for (size_t i = 0; i < expected.size(); i += 4) {
-    int d = 0;
-    for (int c = 0; c < 4; c++) {
-      const int e = c < 3 ? (expected[i + c] * expected[i + 3] + 127) / 255 : expected[i + 3];
-      const int a = c < 3 ? (actual[i + c] * actual[i + 3] + 127) / 255 : actual[i + 3];
-      d = std::max(d, std::abs(e - a));
-    }
-    max_diff = std::max(max_diff, d);
-    over_one += d > 1 ? 1 : 0;
-  }
-  const double frac = double(over_one) / (double(w) * h);
-  if (max_diff > 2 || frac > 0.001) {
+  // Premultiplied, in 1/255 steps (apps/image_compare.h: mpvg-compare's
+  // comparison): no channel off by more than 2, at most 0.1 % of the
+  // pixels off by more than 1.
+  image_compare::Options o;
+  o.fail = 1.5 / 255;
+  o.failpercent = 0.1;
+  o.hardfail = 2.5 / 255;
+  o.warn = o.fail;
+  const image_compare::Result r = image_compare::compare(image_compare::from_straight8(expected.data(), w, h, 4),
+                                                         image_compare::from_straight8(actual.data(), w, h, 4), o);
+  const double frac = double(r.failed) / (double(w) * h);
+  if (r.verdict == image_compare::Verdict::Fail) {
     std::filesystem::create_directories(panel.parent_path());
     write_failure_panel(panel.string(), w, h, expected, actual);
   }
-  INFO(name << ": max difference " << max_diff << "/255, " << frac * 100
+  INFO(name << ": max difference " << r.max_difference * 255 << "/255, " << frac * 100
             << "% of pixels off by more than 1/255 (panel in " << panel.string() << " on failure)");
-  CHECK(max_diff <= 2);
+  CHECK(r.max_difference <= o.hardfail);
   CHECK(frac <= 0.001);
 }
 

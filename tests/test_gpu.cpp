@@ -9,6 +9,8 @@
 // folder of SVG files (rendered at 1024 px width).
 #include <cuda_runtime.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -1063,4 +1065,78 @@ TEST_CASE("device output: render_rgba8's bytes, kept on the device", "[gpu][devi
   o.width = c.width;
   o.height = c.height;
   CHECK_THROWS_AS(cpu.render_rgba8_device(c.enc, plan_render(o), o), mpvg::Error);
+}
+
+// Issue 32: every golden SVG of testdata/ (golden/ and golden-text/)
+// renders to the same bytes on the CPU executor, whatever its thread count,
+// and on the CUDA executor, at every preset and gamma (README, "Byte-stable
+// outputs"): the same float image, hence the same 8- and 16-bit PNGs. The
+// table printed lists, per preset, how many files agree bit for bit.
+TEST_CASE("golden images: the same bytes on the CPU (any thread count) and CUDA backends", "[gpu][golden]") {
+  const char* root = std::getenv("MPVG_SOURCE_DIR");  // a copy of the tree elsewhere (a device host)
+  const std::filesystem::path src = root ? root : MPVG_SOURCE_DIR;
+  std::vector<std::filesystem::path> svgs;
+  for (const char* dir : {"golden", "golden-text"})
+    for (const auto& e : std::filesystem::directory_iterator(src / "testdata" / dir))
+      if (e.path().extension() == ".svg") svgs.push_back(e.path());
+  std::sort(svgs.begin(), svgs.end());
+  REQUIRE(svgs.size() >= 20);
+  struct Preset {
+    const char* name;
+    Filter filter;
+    PatternKind pattern;
+    int samples;
+  };
+  const Preset presets[] = {{"1x8", Filter::Box, PatternKind::Stratified, 8},
+                            {"1x32", Filter::Box, PatternKind::Stratified, 32},
+                            {"4x4x32", Filter::Cardinal, PatternKind::BlueNoise, 32}};
+  int same[3] = {0, 0, 0}, total = 0;
+  for (const auto& path : svgs) {
+    RenderOptions base;
+    svg::ParseOptions po;
+    po.font_dirs = {(src / "testdata" / "fonts").string()};  // the same fonts wherever it runs
+    po.system_fonts = false;
+    po.view = [&base](double w, double h) {
+      base.width = static_cast<int>(std::lround(w));
+      base.height = static_cast<int>(std::lround(h));
+      base.view = Affine::scale(base.width / w, base.height / h);
+      return base.view;
+    };
+    const svg::ParseResult doc = svg::parse_svg_file(path.string(), po);
+    for (Gamma g : {Gamma::Linear, Gamma::Srgb}) {
+      total++;
+      for (int p = 0; p < 3; p++) {
+        INFO(path.filename().string() << ", " << presets[p].name << ", " << (g == Gamma::Linear ? "linear" : "srgb"));
+        RenderOptions o = base;
+        o.filter = presets[p].filter;
+        o.pattern = presets[p].pattern;
+        o.samples = presets[p].samples;
+        o.gamma = g;
+        o.seed = 0;
+        o.backend = Backend::Cpu;
+        o.threads = 1;
+        const ImageF one = render(doc.scene, o);
+        o.threads = 0;
+        const ImageF all = render(doc.scene, o);
+        o.backend = Backend::Cuda;
+        const ImageF gpu = render(doc.scene, o);
+        CHECK(same_bytes(one.rgba, all.rgba));  // thread counts
+        const bool equal = same_bytes(all.rgba, gpu.rgba);
+        same[p] += equal;
+        const std::vector<uint8_t> c8 = to_rgba8(all, g), g8 = to_rgba8(gpu, g);
+        int worst = 0;
+        for (size_t i = 0; i < c8.size(); i++) worst = std::max(worst, std::abs(c8[i] - g8[i]));
+        if (!equal) {
+          float fw = 0;
+          for (size_t i = 0; i < all.rgba.size(); i++) fw = std::max(fw, std::fabs(all.rgba[i] - gpu.rgba[i]));
+          std::printf("golden bytes: %s %s %s differs: float %.3g, 8-bit %d/255\n", path.filename().c_str(),
+                      presets[p].name, g == Gamma::Linear ? "linear" : "srgb", fw, worst);
+        }
+        CHECK(equal);  // promised at every preset
+        CHECK(worst <= 1);
+      }
+    }
+  }
+  std::printf("golden bytes: %d renders (files x gammas) a preset; bit-identical CPU/CUDA: 1x8 %d, 1x32 %d, "
+              "4x4x32 %d\n", total, same[0], same[1], same[2]);
 }

@@ -120,14 +120,17 @@ struct OutputSize {
 // A rendered image: rows top to bottom, pixels RGBA with straight alpha,
 // sRGB-encoded, exactly what svg2png writes into its PNG (same options,
 // same backend). For 8 bits the pixels are in pixels8, for 16 bits in
-// pixels16 (native byte order); the other vector is empty.
+// pixels16 (native byte order); the other vector is empty. A PDF page
+// rendered in another colour space (PdfRenderSettings::colorspace) has
+// other channels: see OutputColorSpace.
 struct Bitmap {
   int width = 0, height = 0, bits = 8;
+  int channels = 4;
   std::vector<std::uint8_t> pixels8;
   std::vector<std::uint16_t> pixels16;
 
   // Bytes from one row to the next.
-  std::size_t stride() const { return static_cast<std::size_t>(width) * 4 * (bits / 8); }
+  std::size_t stride() const { return static_cast<std::size_t>(width) * channels * (bits / 8); }
 };
 
 // A rendered 8-bit image left in CUDA device memory (Renderer::
@@ -144,6 +147,47 @@ struct DeviceBitmap {
 
 // A device bitmap's pixels copied to the host (as Bitmap::pixels8).
 MPVG_API std::vector<std::uint8_t> download(const DeviceBitmap& bitmap);
+
+// Images as files: a PNG (8 or 16 bits; grey, RGB, palette, with or
+// without alpha) read into a straight-alpha RGBA Bitmap, and a Bitmap
+// (1 to 4 channels: grey, grey and alpha, RGB, RGBA) written as a PNG
+// with mpvg's encoder (no time or other varying metadata: equal pixels
+// give equal files). Throw mpvg::Error.
+MPVG_API Bitmap read_png(const std::string& path);
+MPVG_API void write_png(const std::string& path, const Bitmap& bitmap);
+
+// Golden-image comparison (mpvg-compare; the README's "Comparing images"):
+// two images of one size, premultiplied, channels in [0, 1], a pixel's
+// difference the largest over its channels; OpenImageIO idiff's
+// thresholds, and an antialiasing-aware mode that forgives differences on
+// antialiased edges whose surroundings are the same in both images.
+struct CompareSettings {
+  double fail = 1e-6;        // a pixel differing by more fails
+  double failpercent = 0;    // the images fail when more than this % of pixels fail
+  double hardfail = -1;      // < 0: none; else any pixel differing by more fails the images
+  double warn = 1e-6, warnpercent = 0, hardwarn = -1;  // the same for a warning
+  bool antialiasing = false;
+  double aa_ring = 0.3;      // beside an edge, a difference up to this times its contrast is forgiven
+};
+
+enum class CompareVerdict { Pass, Warn, Fail };
+
+struct CompareResult {
+  CompareVerdict verdict = CompareVerdict::Pass;
+  bool same_size = true;
+  int width = 0, height = 0;
+  std::size_t pixels = 0, differing = 0, failed = 0, warned = 0, antialiased = 0;
+  double max_difference = 0;
+  int max_x = 0, max_y = 0;
+  double mean_difference = 0, rms_difference = 0;
+  double psnr = 0;  // dB; +infinity for equal images
+  Bitmap diff;      // with diff_image: a faded grey copy of a, failures red, warnings orange, forgiven yellow
+  std::string json;  // the result as one JSON object (mpvg-compare --json)
+};
+
+// Compares two bitmaps (8 or 16 bits, 1 to 4 channels, straight alpha).
+MPVG_API CompareResult compare(const Bitmap& a, const Bitmap& b, const CompareSettings& settings = {},
+                               bool diff_image = false);
 
 // An SVG document. It is parsed when first needed, for the output size of
 // that need, and again only when a render asks for another size (strokes
@@ -193,6 +237,19 @@ class MPVG_API SvgDocument {
 // CropBox by default, as MuPDF and pdf2png render).
 enum class PageBox { Media, Crop, Bleed, Trim, Art };
 
+// The pixels of a rendered PDF page (pdf2png's --colorspace):
+//   Rgb:  RGBA, straight alpha (4 channels);
+//   Gray: grey as pdf2png -gray writes it (0.30 R + 0.59 G + 0.11 B of the
+//         RGB render, pdftoppm's), 1 channel over an opaque background,
+//         grey and alpha (2) over a transparent one;
+//   Cmyk: the four process inks the page prints with (0 none, 255 full;
+//         overprint simulated, spot colours through their alternates,
+//         RGB through the document's output intent), the pixels of
+//         pdf2png --colorspace cmyk's TIFF; 8 bits, 4 channels, sRGB
+//         gamma (ink amounts are integrated as they are), drawn on paper
+//         whatever the background.
+enum class OutputColorSpace { Rgb, Gray, Cmyk };
+
 // How a PDF page becomes pixels; the defaults are pdf2png's.
 struct PdfRenderSettings {
   double dpi = 150;  // output pixels per inch (72 points); > 0
@@ -204,6 +261,7 @@ struct PdfRenderSettings {
   PageBox box = PageBox::Crop;
   bool annotations = true;            // annotations and form fields, as printed
   bool snap_thin_lines = false;       // pdf2png --thin-lines snap
+  OutputColorSpace colorspace = OutputColorSpace::Rgb;
 };
 
 // A PDF document, interpreted by MuPDF (where the library was built with
@@ -258,6 +316,16 @@ class MPVG_API PdfDocument {
   // (no CUDA device, sizes, a page's failure).
   DeviceBitmap render_batch(const std::vector<int>& pages, const PdfRenderSettings& settings = {},
                             int threads = 0) const;
+
+  // render_pages on the CUDA backend with each page's 8-bit RGBA pixels
+  // left on the device: sink gets the DeviceBitmap Renderer::render_device
+  // gives, never copied through the host. Throws mpvg::Error without a
+  // CUDA device.
+  using DevicePageSink =
+      std::function<void(std::size_t position, DeviceBitmap&& bitmap, std::vector<std::string>&& warnings)>;
+  void render_pages_device(const std::vector<int>& pages, const PdfRenderSettings& settings,
+                           const DevicePageSink& sink, const PageFailure& failed, int threads = 0,
+                           const std::function<bool()>& cancelled = nullptr) const;
 
  private:
   friend class Renderer;

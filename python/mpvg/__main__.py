@@ -14,43 +14,9 @@ with -r/--dpi N (default 150), -f N and -l N (first and last page),
 """
 import argparse
 import os
-import struct
 import sys
-import tempfile
-import zlib
 
 import mpvg
-
-
-def png_bytes(image):
-    """A PNG of an H x W x 4 uint8 or uint16 array (RGBA, straight alpha)."""
-    h, w, _ = image.shape
-    depth = 16 if image.dtype.itemsize == 2 else 8
-    rows = image.astype(">u2").tobytes() if depth == 16 else image.tobytes()
-    stride = w * 4 * depth // 8
-    raw = b"".join(b"\0" + rows[y * stride:(y + 1) * stride] for y in range(h))
-
-    def chunk(kind, data):
-        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
-
-    header = struct.pack(">IIBBBBB", w, h, depth, 6, 0, 0, 0)
-    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b"")
-
-
-def write_whole(path, data):
-    """Writes `data` to `path` whole or not at all (a temporary file renamed)."""
-    if path == "-":
-        sys.stdout.buffer.write(data)
-        return
-    folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", suffix=".part", dir=folder)
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-        os.replace(tmp, path)
-    except BaseException:
-        os.unlink(tmp)
-        raise
 
 
 def pdf_main(argv):
@@ -85,7 +51,7 @@ def pdf_main(argv):
                 print("mpvg: %s" % e, file=sys.stderr)
                 failed += 1
                 continue
-            write_whole("%s-%0*d.png" % (args.prefix, digits, p + 1), png_bytes(image))
+            mpvg.write_png("%s-%0*d.png" % (args.prefix, digits, p + 1), image)
         return 1 if failed else 0
     except (mpvg.Error, OSError, ValueError) as e:
         print("mpvg: %s" % e, file=sys.stderr)
@@ -129,7 +95,7 @@ def svg_main(args):
                              background=args.background, bits=args.bits, allow_read=args.allow_read)
         for w in r.warnings:
             print("mpvg: warning: %s" % w, file=sys.stderr)
-        write_whole(args.output, png_bytes(image))
+        mpvg.write_png(args.output, image)
     except (mpvg.Error, OSError, ValueError) as e:
         print("mpvg: %s" % e, file=sys.stderr)
         return 1
