@@ -218,26 +218,34 @@ MPVG_HD_INLINE Rgba4 filter_read(const float* layer, int width, int x, int y) {
   return Rgba4{p[0], p[1], p[2], p[3]};
 }
 
+// Box sums in fixed point, 2^40 steps a unit: integer sums are exact, so a
+// window summed pixel by pixel (the GPU's thread a pixel) and a running sum
+// along the line (the CPU's, O(1) a pixel) give the same bits.
+constexpr double kBoxFixed = 1099511627776.0;
+MPVG_HD_INLINE long long box_fixed(float v) { return static_cast<long long>(rint(static_cast<double>(v) * kBoxFixed)); }
+MPVG_HD_INLINE float box_mean(long long sum, int size) {
+  return static_cast<float>(static_cast<double>(sum) / kBoxFixed / static_cast<double>(size));
+}
+
 // One pass of a box blur of `size` pixels along x (horizontal) or y, whose
 // window starts `lead` pixels before the output pixel: the spec's three
 // box blurs approximating a Gaussian (§15.17) for d >= 2. Reads within box
 // (the input's extent; outside it, transparent or by the edge mode).
 MPVG_HD_INLINE Rgba4 filter_box_pass(const float* in, int width, const FilterBox& box, int x, int y, bool horizontal,
                                      int size, int lead, uint32_t edge) {
-  Rgba4 acc{0, 0, 0, 0};
+  long long acc[4] = {0, 0, 0, 0};
   for (int k = 0; k < size; k++) {
     int sx = x, sy = y;
     if (horizontal) sx = filter_edge_index(x - lead + k, box.x0, box.x1, edge);
     else sy = filter_edge_index(y - lead + k, box.y0, box.y1, edge);
     if (sx < 0 || sy < 0) continue;
     const Rgba4 p = filter_read(in, width, sx, sy);
-    acc.r += p.r;
-    acc.g += p.g;
-    acc.b += p.b;
-    acc.a += p.a;
+    acc[0] += box_fixed(p.r);
+    acc[1] += box_fixed(p.g);
+    acc[2] += box_fixed(p.b);
+    acc[3] += box_fixed(p.a);
   }
-  const float s = 1.0f / static_cast<float>(size);
-  return Rgba4{acc.r * s, acc.g * s, acc.b * s, acc.a * s};
+  return Rgba4{box_mean(acc[0], size), box_mean(acc[1], size), box_mean(acc[2], size), box_mean(acc[3], size)};
 }
 
 // One pass of an exact Gaussian (std dev < 2 pixels), radius ceil(3 std),

@@ -14,7 +14,7 @@
 #         cp ../shared/pdf-corpus/asymptote.pdf .gpu/asym.pdf
 # There:  scripts/gpu-python-check.sh   (carry .gpu/lm.tar.xz and .gpu/asym.pdf)
 set -u
-tar -C /tmp -xJf .gpu/lm.tar.xz
+[ -d /tmp/lm ] || tar -C /tmp -xJf .gpu/lm.tar.xz  # (unpacked already: one archive with mutool's)
 ln -sf libmpvg.so.0 /tmp/lm/lib/libmpvg.so
 PY=$(which python3)
 PYBIND=$($PY -c "import torch, os; print(os.path.join(os.path.dirname(torch.__file__), 'include'))" 2>/dev/null)
@@ -121,8 +121,8 @@ PYEOF
 # per core over equal page ranges, as PyMuPDF's get_pixmap in a
 # multiprocessing pool would run), rendering to PAM (no compression: the
 # pixels, as get_pixmap gives them) and to PNG.
-if [ -f .gpu/mutool.tar.xz ]; then
-  tar -C /tmp -xJf .gpu/mutool.tar.xz
+if [ -d /tmp/mt ] || [ -f .gpu/mutool.tar.xz ]; then
+  [ -d /tmp/mt ] || tar -C /tmp -xJf .gpu/mutool.tar.xz
   cores=$(nproc)
   for f in .gpu/asym.pdf .gpu/pgf.pdf; do
     [ -f "$f" ] || continue

@@ -107,7 +107,8 @@ class Graph {
   // One box pass with edge mode none as a running sum along each row or
   // column: O(1) a pixel whatever the box (filter_box_pass, which the CUDA
   // executor runs a thread a pixel, sums its window: O(size)). The sum is
-  // kept in double, so that it does not drift along a long row.
+  // filter_box_pass's, in fixed point: exact, so it neither drifts along a
+  // long row nor differs from the window's sum in a bit.
   Buffer box_pass(const Buffer& src, const FilterBox& read, bool horizontal, int size, int lead) const {
     Buffer out;
     out.px.assign(this->size(), 0.0f);
@@ -117,26 +118,25 @@ class Graph {
     const int lines = horizontal ? h : w, n = horizontal ? w : h;
     const int lo = horizontal ? read.x0 : read.y0, hi = horizontal ? read.x1 : read.y1;
     const int line_lo = horizontal ? read.y0 : read.x0, line_hi = horizontal ? read.y1 : read.x1;
-    const double k = 1.0 / size;
     parallel_for(static_cast<size_t>(lines), threads_, [&](size_t li) {
       const int line = static_cast<int>(li);
       if (line < line_lo || line >= line_hi) return;  // nothing to read on this line
       auto at = [&](int i) -> const float* {
         return src.px.data() + 4 * (horizontal ? static_cast<size_t>(line) * w + i : static_cast<size_t>(i) * w + line);
       };
-      double acc[4] = {0, 0, 0, 0};
+      long long acc[4] = {0, 0, 0, 0};
       // The window of output i is [i - lead, i - lead + size); start at i = 0.
       for (int j = -lead; j < -lead + size; j++)
         if (j >= lo && j < hi && j >= 0 && j < n)
-          for (int c = 0; c < 4; c++) acc[c] += at(j)[c];
+          for (int c = 0; c < 4; c++) acc[c] += box_fixed(at(j)[c]);
       for (int i = 0; i < n; i++) {
         float* o = out.px.data() + 4 * (horizontal ? static_cast<size_t>(line) * w + i : static_cast<size_t>(i) * w + line);
-        for (int c = 0; c < 4; c++) o[c] = static_cast<float>(acc[c] * k);
+        for (int c = 0; c < 4; c++) o[c] = box_mean(acc[c], size);
         const int leave = i - lead, enter = i - lead + size;
         if (leave >= lo && leave < hi && leave >= 0 && leave < n)
-          for (int c = 0; c < 4; c++) acc[c] -= at(leave)[c];
+          for (int c = 0; c < 4; c++) acc[c] -= box_fixed(at(leave)[c]);
         if (enter >= lo && enter < hi && enter >= 0 && enter < n)
-          for (int c = 0; c < 4; c++) acc[c] += at(enter)[c];
+          for (int c = 0; c < 4; c++) acc[c] += box_fixed(at(enter)[c]);
       }
     });
     return out;
