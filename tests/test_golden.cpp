@@ -21,7 +21,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::vector<uint8_t> render_golden(const std::string& svg_path, int* w, int* h) {
+std::vector<uint8_t> render_golden(const std::string& svg_path, int* w, int* h, Filter filter = Filter::Box,
+                                   PatternKind pattern = PatternKind::Stratified, int threads = 0) {
   // Rendered at the intrinsic size, as svg2png without size options; the
   // strokes are prepared for that scale, with the view the render uses.
   RenderOptions o;
@@ -35,6 +36,9 @@ std::vector<uint8_t> render_golden(const std::string& svg_path, int* w, int* h) 
   const svg::ParseResult doc = svg::parse_svg_file(svg_path, po);
   o.samples = 32;
   o.seed = 0;
+  o.filter = filter;
+  o.pattern = pattern;
+  o.threads = threads;
   o.backend = Backend::Cpu;
   *w = o.width;
   *h = o.height;
@@ -55,6 +59,24 @@ TEST_CASE("golden images", "[golden]") {
       const std::vector<uint8_t> actual = render_golden(svg.string(), &w, &h);
       golden::check_golden(name, ref, w, h, actual,
                            fs::path(MPVG_BINARY_DIR) / "golden-failures" / (name + ".png"));
+    }
+  }
+}
+
+// Issue 32: the CPU executor's bytes do not depend on its thread count
+// (fixed-point accumulation, one line of the prefilter a task), at the box
+// and the cardinal presets. (CPU against CUDA: test_gpu.)
+TEST_CASE("golden images: the same bytes with one thread and with every core", "[golden]") {
+  const fs::path dir = fs::path(MPVG_SOURCE_DIR) / "testdata" / "golden";
+  for (const fs::path& svg : golden::inputs(dir, ".svg")) {
+    INFO(svg.filename().string());
+    for (bool cardinal : {false, true}) {
+      const Filter f = cardinal ? Filter::Cardinal : Filter::Box;
+      const PatternKind k = cardinal ? PatternKind::BlueNoise : PatternKind::Stratified;
+      int w, h;
+      const std::vector<uint8_t> one = render_golden(svg.string(), &w, &h, f, k, 1);
+      const std::vector<uint8_t> all = render_golden(svg.string(), &w, &h, f, k, 3);
+      CHECK(one == all);
     }
   }
 }
