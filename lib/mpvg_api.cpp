@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -321,8 +322,16 @@ void run_pages(const pdf::Document& doc, const std::vector<int>& pages, const Pd
   c.program = "mpvg";
   c.unit = "page";
   c.tickets = count;
-  c.render_threads = std::min(count, cuda ? 3 : 1);
+  // With CUDA, render threads (a context's stream each) overlap one page's
+  // host work and copies with another's kernels. MPVG_RENDER_THREADS and
+  // MPVG_PIPELINE_STATS=1 (the pipeline's summary on standard error) are
+  // for measurements.
+  const char* rt = std::getenv("MPVG_RENDER_THREADS");
+  const int render_threads = rt && std::atoi(rt) > 0 ? std::atoi(rt) : 3;
+  const char* st = std::getenv("MPVG_PIPELINE_STATS");
+  c.render_threads = std::min(count, cuda ? render_threads : 1);
   c.workers = std::min(count, threads > 0 ? threads : cuda ? std::max(1, cores - c.render_threads) : cores);
+  const bool stats = st && std::string(st) == "1";
   c.quiet = true;
   c.bits = o.bits;
   c.gamma = o.gamma;
@@ -343,7 +352,8 @@ void run_pages(const pdf::Document& doc, const std::vector<int>& pages, const Pd
   };
   c.deliver = deliver;
   c.failed = failed;
-  pipeline::run(c);
+  const pipeline::Result r = pipeline::run(c);
+  if (stats) std::fprintf(stderr, "%s\n", pipeline::summary(c, r, cuda ? "cuda" : "cpu").c_str());
 }
 
 // Grey of RGBA pixels as pdf2png -gray writes it (png::gray_of), with
