@@ -104,7 +104,7 @@ int main(int argc, char** argv) {
     }
     if (files.size() != 2) throw UsageError{"two images to compare, A and B"};
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "mpvg-compare: %s\n%s", e.message.c_str(), kUsage);
+    std::fprintf(stderr, "mpvg-compare: %s (mpvg-compare --help for the options)\n", e.message.c_str());
     return 2;
   }
   try {
