@@ -56,7 +56,11 @@ image_compare::Picture read_picture(const std::string& path) {
   if (!file) throw Error(path + ": " + std::strerror(errno));
   const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
   std::string why;
-  const std::shared_ptr<Image> image = svg::detail::decode_raster(bytes, &why);
+  // At most 2^26 pixels (an 8192 x 8192 image): the comparison holds each
+  // image as 16 bytes a pixel, and twice that with --aa.
+  svg::detail::DecodeRequest limits;
+  limits.max_pixels = limits.max_whole_pixels = size_t(1) << 26;
+  const std::shared_ptr<Image> image = svg::detail::decode_raster(bytes, &why, limits);
   if (!image) throw Error(path + ": " + (why.empty() ? "not an image mpvg can read" : why));
   return image->bits == 16 ? image_compare::from_straight16(image->rgba16.data(), image->width, image->height, 4)
                            : image_compare::from_straight8(image->rgba8.data(), image->width, image->height, 4);
