@@ -12,6 +12,29 @@
 #         naming a folder holding svg2png and pdf2png)
 set -uo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+# Across machines (the issue's "done when"): here, `scripts/gpu-byte-check.sh
+# --reference DIR` writes every golden rendered by the CPU backend into
+# DIR/PRESET/; there, MPVG_REFERENCE=DIR also compares the CUDA backend's
+# files with those.
+render() {  # converter-dir file preset backend... out
+  local bin=$1 f=$2 preset=$3 out=${*: -1}
+  local run=("${@:4:$#-4}")
+  if [ "${f##*.}" = svg ]; then
+    "$bin/svg2png" -q --aa "$preset" --font-dir "$root/testdata/fonts" --backend "${run[@]}" "$f" "$out" 2>/dev/null
+  else
+    "$bin/pdf2png" -q --aa "$preset" -r 100 --singlefile --backend "${run[@]}" "$f" "${out%.png}" 2>/dev/null
+  fi
+}
+goldens() { ls "$root"/testdata/golden/*.svg "$root"/testdata/golden-text/*.svg "$root"/testdata/pdf/features/*.pdf; }
+if [ "${1:-}" = "--reference" ]; then
+  for preset in 1x8 1x32 4x4x32; do
+    mkdir -p "$2/$preset"
+    for f in $(goldens); do
+      n=$(basename "$f"); render "$root/build/apps" "$f" "$preset" cpu "$2/$preset/${n%.*}.png" || echo "$n: failed"
+    done
+  done
+  exit 0
+fi
 if [ "${1:-}" = "--pack" ]; then
   set -e
   stage=$(mktemp -d)
@@ -33,21 +56,18 @@ else
   export LD_LIBRARY_PATH=$scratch/bytes/lib
   bin=$scratch/bytes/bin
 fi
-fonts=(--font-dir "$root/testdata/fonts")
 echo "host: $(nvidia-smi --query-gpu=name --format=csv,noheader 2>/dev/null), $(nproc) cores"
 status=0
 for preset in 1x8 1x32 4x4x32; do
   same=0 total=0 differ=()
-  for f in "$root"/testdata/golden/*.svg "$root"/testdata/golden-text/*.svg "$root"/testdata/pdf/features/*.pdf; do
+  xsame=0 xdiffer=()
+  for f in $(goldens); do
     name=$(basename "$f")
     outs=()
     for run in "cpu --threads 1" "cpu" "cuda"; do
       o=$scratch/$(echo "$run" | tr -d ' -').png
-      if [ "${f##*.}" = svg ]; then
-        "$bin/svg2png" -q --aa "$preset" "${fonts[@]}" --backend $run "$f" "$o" 2>/dev/null
-      else
-        "$bin/pdf2png" -q --aa "$preset" -r 100 --singlefile --backend $run "$f" "${o%.png}" 2>/dev/null
-      fi || { echo "  $name ($run): failed"; status=1; }
+      # shellcheck disable=SC2086
+      render "$bin" "$f" "$preset" $run "$o" || { echo "  $name ($run): failed"; status=1; }
       outs+=("$o")
     done
     total=$((total + 1))
@@ -56,9 +76,16 @@ for preset in 1x8 1x32 4x4x32; do
     else
       differ+=("$name")
     fi
+    if [ -n "${MPVG_REFERENCE:-}" ]; then
+      if cmp -s "${outs[2]}" "$MPVG_REFERENCE/$preset/${name%.*}.png"; then xsame=$((xsame + 1)); else xdiffer+=("$name"); fi
+    fi
   done
   echo "preset $preset: $same of $total files the same bytes (CPU 1 thread, CPU all, CUDA)"
   for d in "${differ[@]}"; do echo "  differs: $d"; done
   [ ${#differ[@]} -eq 0 ] || status=1
+  if [ -n "${MPVG_REFERENCE:-}" ]; then
+    echo "preset $preset: $xsame of $total CUDA files here the same bytes as the CPU backend's on the reference machine"
+    for d in "${xdiffer[@]}"; do echo "  differs from the reference: $d"; done
+  fi
 done
 exit $status
