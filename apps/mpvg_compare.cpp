@@ -6,9 +6,6 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
-#include <fstream>
-#include <iterator>
 #include <memory>
 #include <string>
 #include <vector>
@@ -17,6 +14,7 @@
 #include "apps/image_io.h"
 #include "core/error.h"
 #include "core/scene.h"
+#include "parsers/svg/svg_parser.h"
 #include "parsers/svg/svg_resources.h"
 
 namespace {
@@ -52,9 +50,9 @@ struct UsageError {
 };
 
 image_compare::Picture read_picture(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw Error(path + ": " + std::strerror(errno));
-  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  // A PNG's bytes, at most 1 GiB (mpvg's bounded reader; "-" is standard input).
+  const std::string data = svg::read_svg_file(path, size_t(1) << 30);
+  const std::vector<uint8_t> bytes(data.begin(), data.end());
   std::string why;
   // At most 2^26 pixels (an 8192 x 8192 image): the comparison holds each
   // image as 16 bytes a pixel, and twice that with --aa.

@@ -12,8 +12,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <mutex>
 #include <new>
 #include <type_traits>
@@ -648,46 +646,41 @@ Bitmap Renderer::render(const PdfDocument& doc, int index, const PdfRenderSettin
 
 namespace {
 
+// Throws unless b is a non-empty image of 1 to 4 channels whose pixels
+// vector (8 or 16 bits) holds exactly its pixels.
+void check_bitmap(const Bitmap& b, const std::string& what) {
+  if (b.width <= 0 || b.height <= 0 || b.channels < 1 || b.channels > 4 || (b.bits != 8 && b.bits != 16) ||
+      (b.bits == 8 ? b.pixels8.size() : b.pixels16.size()) != size_t(b.width) * size_t(b.height) * size_t(b.channels))
+    throw Error(what + ": the bitmap's size, channels or bits are inconsistent");
+}
+
 image_compare::Picture picture_of(const Bitmap& b, const char* which) {
-  const size_t n = size_t(std::max(b.width, 0)) * size_t(std::max(b.height, 0)) * size_t(b.channels);
-  if (b.width <= 0 || b.height <= 0 || b.channels < 1 || b.channels > 4)
-    throw Error(std::string("compare: image ") + which + " is empty or has " + std::to_string(b.channels) +
-                " channels");
-  if (b.bits == 16) {
-    if (b.pixels16.size() != n) throw Error(std::string("compare: image ") + which + " has the wrong pixel count");
-    return image_compare::from_straight16(b.pixels16.data(), b.width, b.height, b.channels);
-  }
-  if (b.bits != 8 || b.pixels8.size() != n)
-    throw Error(std::string("compare: image ") + which + " has the wrong pixel count or bits");
-  return image_compare::from_straight8(b.pixels8.data(), b.width, b.height, b.channels);
+  check_bitmap(b, std::string("compare: image ") + which);
+  return b.bits == 16 ? image_compare::from_straight16(b.pixels16.data(), b.width, b.height, b.channels)
+                      : image_compare::from_straight8(b.pixels8.data(), b.width, b.height, b.channels);
 }
 
 }  // namespace
 
 Bitmap read_png(const std::string& path) {
   return guarded([&] {
-    std::ifstream file(path, std::ios::binary);
-    if (!file) throw ResourceError(path + ": " + std::strerror(errno));
-    const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    const std::string data = read_file(path);
     std::string why;
-    const std::shared_ptr<Image> image = svg::detail::decode_raster(bytes, &why);
+    const std::shared_ptr<Image> image = svg::detail::decode_raster(std::vector<uint8_t>(data.begin(), data.end()), &why);
     if (!image) throw Error(path + ": " + (why.empty() ? "not a PNG" : why));
     Bitmap out;
     out.width = image->width;
     out.height = image->height;
     out.bits = image->bits;
-    out.pixels8 = image->rgba8;
-    out.pixels16 = image->rgba16;
+    out.pixels8 = std::move(image->rgba8);  // the decoded image is this call's alone
+    out.pixels16 = std::move(image->rgba16);
     return out;
   });
 }
 
 void write_png(const std::string& path, const Bitmap& b) {
   guarded([&] {
-    const size_t n = size_t(std::max(b.width, 0)) * size_t(std::max(b.height, 0)) * size_t(b.channels);
-    if (b.width <= 0 || b.height <= 0 || b.channels < 1 || b.channels > 4 || (b.bits != 8 && b.bits != 16) ||
-        (b.bits == 8 ? b.pixels8.size() : b.pixels16.size()) != n)
-      throw Error("write_png: the bitmap's size, channels or bits are inconsistent");
+    check_bitmap(b, "write_png");
     // As RGBA (grey expanded; opaque images are written as RGB).
     auto rgba = [&](const auto& px) {
       using T = typename std::decay_t<decltype(px)>::value_type;

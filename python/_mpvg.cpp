@@ -185,6 +185,11 @@ bool on_device(const std::string& device) {
   throw py::value_error("unknown output device '" + device + "' (cpu or cuda)");
 }
 
+// A str or path-like object as a path (os.fspath).
+std::string fspath(const py::object& path) {
+  return py::str(py::module_::import("os").attr("fspath")(path)).cast<std::string>();
+}
+
 // A path (str or path-like) or the document's bytes (bytes, bytearray,
 // memoryview). `data` names the bytes and `usage` says what is taken, in
 // the TypeErrors.
@@ -202,7 +207,7 @@ Input input_from(const py::object& input, const char* data, const char* usage) {
     if (b.ndim != 1 || b.itemsize != 1) throw py::type_error(std::string(data) + " must be a one-dimensional buffer of bytes");
     in.data = std::string(static_cast<const char*>(b.ptr), static_cast<size_t>(b.size));
   } else if (py::hasattr(input, "__fspath__")) {
-    in.path = py::str(py::module_::import("os").attr("fspath")(input)).cast<std::string>();
+    in.path = fspath(input);
   } else {
     throw py::type_error(usage);
   }
@@ -240,13 +245,16 @@ mpvg::Bitmap bitmap_from_array(const py::object& object, const char* what) {
   return b;
 }
 
+// The PNG at a path (str or path-like), read with the GIL released.
+mpvg::Bitmap png_at(const py::object& path) {
+  const std::string p = fspath(path);
+  py::gil_scoped_release release;
+  return mpvg::read_png(p);
+}
+
 // An image to compare: an array, or a PNG's path.
 mpvg::Bitmap image_from(const py::object& object, const char* what) {
-  if (py::isinstance<py::str>(object) || py::hasattr(object, "__fspath__")) {
-    const std::string path = py::str(py::module_::import("os").attr("fspath")(object)).cast<std::string>();
-    py::gil_scoped_release release;
-    return mpvg::read_png(path);
-  }
+  if (py::isinstance<py::str>(object) || py::hasattr(object, "__fspath__")) return png_at(object);
   return bitmap_from_array(object, what);
 }
 
@@ -284,10 +292,7 @@ PyCompareResult compare_images(const py::object& a, const py::object& b, double 
     out.r = mpvg::compare(x, y, s, want_diff);
   }
   if (want_diff && out.r.same_size) {
-    if (!py::isinstance<py::bool_>(diff)) {
-      const std::string path = py::str(py::module_::import("os").attr("fspath")(diff)).cast<std::string>();
-      mpvg::write_png(path, out.r.diff);
-    }
+    if (!py::isinstance<py::bool_>(diff)) mpvg::write_png(fspath(diff), out.r.diff);
     out.diff = array_of(std::move(out.r.diff));
   }
   return out;
@@ -421,9 +426,7 @@ class PyDocument {
     const mpvg::PdfRenderSettings s =
         settings(dpi, aa, gamma, background, bits, seed, box, annotations, thin_lines, colorspace);
     const int i = index(page);
-    const bool gpu = on_device(device);
-    if (gpu && (s.colorspace != mpvg::OutputColorSpace::Rgb || bits != 8))
-      throw py::value_error("device='cuda' renders 8-bit RGBA (colorspace='rgb', bits=8)");
+    const bool gpu = device_output(device, s);
     mpvg::Bitmap image;
     mpvg::DeviceBitmap on_gpu;
     {
@@ -455,6 +458,15 @@ class PyDocument {
       b = doc_->render_batch(list, s, threads);
     }
     return py::cast(PyDeviceArray(std::move(b), static_cast<int>(list.size())));
+  }
+
+  // Is `device` the GPU (on_device) for a page rendered with s? Device output is 8-bit
+  // RGBA.
+  static bool device_output(const std::string& device, const mpvg::PdfRenderSettings& s) {
+    const bool gpu = on_device(device);
+    if (gpu && (s.colorspace != mpvg::OutputColorSpace::Rgb || s.bits != 8))
+      throw py::value_error("device='cuda' renders 8-bit RGBA (colorspace='rgb', bits=8)");
+    return gpu;
   }
 
   class PageStream;
@@ -510,7 +522,6 @@ class PyDocument::PageStream {
               [&](size_t k, mpvg::DeviceBitmap&& b, std::vector<std::string>&& warnings) {
                 Result r;
                 r.device_bitmap = std::move(b);
-                r.on_gpu = true;
                 r.warnings = std::move(warnings);
                 keep(k, std::move(r));
               },
@@ -589,15 +600,14 @@ class PyDocument::PageStream {
     }
     if (!r.error.empty()) throw mpvg::Error(r.error);
     warn_page(pages_[next_ - 1], r.warnings);
-    if (r.on_gpu) return py::cast(PyDeviceArray(std::move(r.device_bitmap)));
+    if (r.device_bitmap.pixels) return py::cast(PyDeviceArray(std::move(r.device_bitmap)));
     return array_of(std::move(r.bitmap));
   }
 
  private:
   struct Result {
     mpvg::Bitmap bitmap;
-    mpvg::DeviceBitmap device_bitmap;
-    bool on_gpu = false;
+    mpvg::DeviceBitmap device_bitmap;  // with device output (render_pages_device)
     std::vector<std::string> warnings;
     std::string error;
   };
@@ -618,9 +628,7 @@ std::unique_ptr<PyDocument::PageStream> PyDocument::render_pages(
     const std::string& thin_lines, const std::string& colorspace, int threads, const std::string& device) {
   const mpvg::PdfRenderSettings s =
       settings(dpi, aa, gamma, background, bits, seed, box, annotations, thin_lines, colorspace);
-  const bool gpu = on_device(device);
-  if (gpu && (s.colorspace != mpvg::OutputColorSpace::Rgb || bits != 8))
-    throw py::value_error("device='cuda' renders 8-bit RGBA (colorspace='rgb', bits=8)");
+  const bool gpu = device_output(device, s);
   if (gpu && backend_ == mpvg::Device::Cpu) throw py::value_error("device='cuda' needs the 'cuda' or 'auto' backend");
   std::vector<int> list;
   if (pages) {
@@ -771,20 +779,12 @@ PYBIND11_MODULE(_mpvg, m) {
         "Returns an mpvg.CompareResult, true when the images pass.");
   m.def(
       "read_png",
-      [](const py::object& path) {
-        const std::string p = py::str(py::module_::import("os").attr("fspath")(path)).cast<std::string>();
-        mpvg::Bitmap b;
-        {
-          py::gil_scoped_release release;
-          b = mpvg::read_png(p);
-        }
-        return array_of(std::move(b));
-      },
+      [](const py::object& path) { return array_of(png_at(path)); },
       py::arg("path"), "A PNG as an H x W x 4 array of straight-alpha RGBA (uint8, or uint16 for 16 bits).");
   m.def(
       "write_png",
       [](const py::object& path, const py::object& image) {
-        const std::string p = py::str(py::module_::import("os").attr("fspath")(path)).cast<std::string>();
+        const std::string p = fspath(path);
         const mpvg::Bitmap b = bitmap_from_array(image, "image");
         py::gil_scoped_release release;
         mpvg::write_png(p, b);

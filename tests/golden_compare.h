@@ -10,6 +10,7 @@
 // reference instead of comparing.
 #pragma once
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
@@ -21,10 +22,24 @@
 
 #include "apps/image_compare.h"
 #include "apps/image_io.h"
+#include "core/renderer.h"
+#include "parsers/svg/svg_parser.h"
 #include "parsers/svg/svg_resources.h"
 #include "tests/catch.h"
 
 namespace mpvg::golden {
+
+// Golden SVGs render at their intrinsic size, as svg2png without size
+// options: po's view sets o's size and view (strokes are prepared for that
+// scale while parsing).
+inline void at_intrinsic_size(svg::ParseOptions& po, RenderOptions& o) {
+  po.view = [&o](double w, double h) {
+    o.width = static_cast<int>(std::lround(w));
+    o.height = static_cast<int>(std::lround(h));
+    o.view = Affine::scale(o.width / w, o.height / h);
+    return o.view;
+  };
+}
 
 // The files of `dir` whose extension is `ext` (".svg", ".pdf"), sorted.
 inline std::vector<std::filesystem::path> inputs(const std::filesystem::path& dir, const std::string& ext) {

@@ -23,16 +23,9 @@ namespace {
 
 std::vector<uint8_t> render_golden(const std::string& svg_path, int* w, int* h, Filter filter = Filter::Box,
                                    PatternKind pattern = PatternKind::Stratified, int threads = 0) {
-  // Rendered at the intrinsic size, as svg2png without size options; the
-  // strokes are prepared for that scale, with the view the render uses.
   RenderOptions o;
   svg::ParseOptions po;
-  po.view = [&o](double w, double h) {
-    o.width = static_cast<int>(std::lround(w));
-    o.height = static_cast<int>(std::lround(h));
-    o.view = Affine::scale(o.width / w, o.height / h);
-    return o.view;
-  };
+  golden::at_intrinsic_size(po, o);
   const svg::ParseResult doc = svg::parse_svg_file(svg_path, po);
   o.samples = 32;
   o.seed = 0;

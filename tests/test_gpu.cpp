@@ -29,6 +29,7 @@
 #include "gpu/stroke.h"
 #include "parsers/svg/svg_parser.h"
 #include "tests/catch.h"
+#include "tests/golden_compare.h"
 #include "tests/random_forest.h"
 #include "tests/random_groups.h"
 #include "tests/random_meshes.h"
@@ -1096,12 +1097,7 @@ TEST_CASE("golden images: the same bytes on the CPU (any thread count) and CUDA 
     svg::ParseOptions po;
     po.font_dirs = {(src / "testdata" / "fonts").string()};  // the same fonts wherever it runs
     po.system_fonts = false;
-    po.view = [&base](double w, double h) {
-      base.width = static_cast<int>(std::lround(w));
-      base.height = static_cast<int>(std::lround(h));
-      base.view = Affine::scale(base.width / w, base.height / h);
-      return base.view;
-    };
+    golden::at_intrinsic_size(po, base);
     const svg::ParseResult doc = svg::parse_svg_file(path.string(), po);
     for (Gamma g : {Gamma::Linear, Gamma::Srgb}) {
       total++;

@@ -42,13 +42,8 @@ TEST_CASE("golden images of text", "[golden][text]") {
       po.font_dirs = {(fs::path(MPVG_SOURCE_DIR) / "testdata" / "fonts").string()};
       po.font_dirs.insert(po.font_dirs.end(), system_dirs.begin(), system_dirs.end());
       po.system_fonts = false;
-      po.view = [&o](double w, double h) {
-        o.width = static_cast<int>(std::lround(w));
-        o.height = static_cast<int>(std::lround(h));
-        o.view = Affine::scale(o.width / w, o.height / h);
-        return o.view;
-      };
-      const svg::ParseResult doc = svg::parse_svg_file(svg.string(), po);
+      golden::at_intrinsic_size(po, o);
+  const svg::ParseResult doc = svg::parse_svg_file(svg.string(), po);
       for (const std::string& w : doc.warnings) INFO(w);
       CHECK(doc.warnings.empty());
       o.samples = 32;
