@@ -55,7 +55,7 @@ struct Options {
   // --max-memory: the budget of one render (core/memory_budget.h); 0: half
   // of the machine's memory (or of the control group's limit).
   uint64_t max_memory = 0;
-  uint64_t max_input = uint64_t(1) << 30;  // --max-input: bytes of input read at most
+  uint64_t max_input = kDefaultMaxInput;  // --max-input: bytes of input read at most
 };
 
 // Parses argv. Returns false after printing help or version (exit 0);

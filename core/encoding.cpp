@@ -189,7 +189,8 @@ class Encoder {
   // Encodes `scene` into `out`: view maps its units to the frame's
   // coordinates (pixels, or a tile's grid), frame_to_out maps the frame's
   // coordinates to output pixels (its linear part: how large things look).
-  void scene(const Scene& scene, const Affine& view, const Affine& frame_to_out, int depth, EncodedScene& out) {
+  void scene(const Scene& scene, const Affine& view, const Affine& frame_to_out, const MeshBounds& bounds, int depth,
+             EncodedScene& out) {
     if (scene.paths.size() >= kMaxPaths) throw Error("scene has too many paths");
     // The scene's paints first: path records need their flags. Their slots
     // are taken before any is encoded, as a pattern's tile appends paints
@@ -199,7 +200,7 @@ class Encoder {
     std::vector<uint32_t> flags(scene.paints.size());
     for (size_t i = 0; i < scene.paints.size(); i++) {
       PaintRecord rec;  // paint_.paints may grow meanwhile: no reference into it
-      flags[i] = paint(scene, scene.paints[i], view, frame_to_out, depth, rec);
+      flags[i] = paint(scene, scene.paints[i], view, frame_to_out, bounds, depth, rec);
       paint_.paints[base + i] = rec;
     }
     paths(scene, view, base, flags, groups(scene), out);
@@ -265,8 +266,8 @@ class Encoder {
   }
   // The record of paint p, into `out`; returns the path flags it implies
   // (PATH_OPAQUE, PATH_VARYING).
-  uint32_t paint(const Scene& scene, const Paint& p, const Affine& view, const Affine& frame_to_out, int depth,
-                 PaintRecord& out) {
+  uint32_t paint(const Scene& scene, const Paint& p, const Affine& view, const Affine& frame_to_out,
+                 const MeshBounds& bounds, int depth, PaintRecord& out) {
     const float op = clamp01(p.opacity);
     PaintRecord rec{op, op, op, op, PAINT_SOLID, 0, 0, 0};
     uint32_t flags = 0;
@@ -310,7 +311,7 @@ class Encoder {
       case PaintType::Mesh:
         // Never opaque for pruning: a fill larger than the triangles'
         // union would be transparent outside it.
-        if (mesh(scene.meshes.at(p.index), view, rec))
+        if (mesh(scene.meshes.at(p.index), view, bounds, rec))
           flags |= PATH_VARYING;
         else
           rec = PaintRecord{0, 0, 0, 0, PAINT_SOLID, 0, 0, 0};
@@ -426,14 +427,14 @@ class Encoder {
 
   // Fills in a mesh paint (core/mesh_build.h); false when no triangle has
   // an area in pixels.
-  bool mesh(const Mesh& m, const Affine& view, PaintRecord& rec) {
+  bool mesh(const Mesh& m, const Affine& view, const MeshBounds& bounds, PaintRecord& rec) {
     MeshRecord mr{};
     auto color = [this](const RGBA& c) {
       Rgba4 r = out_color(c);
       r.a = clamp01(c.a);
       return r;
     };
-    if (!build_mesh(m, view * m.xf, color, paint_, mr)) return false;
+    if (!build_mesh(m, view * m.xf, color, bounds, options_.budget, paint_, mr)) return false;
     if (m.area_by_triangles) mr.flags |= MESH_AREA_BY_TRIANGLES;
     if (!m.ramp.empty()) {
       Gradient g;  // only its stops: t comes from the triangles
@@ -529,7 +530,8 @@ class Encoder {
         resolved_tiles_.push_back(std::make_shared<const Scene>(options_.tile_filters(tile, gw, gh, grid_view)));
         content = resolved_tiles_.back().get();
       }
-      scene(*content, grid_view, tile_to_out, depth + 1, enc);
+      // Samples of the tile fall in its grid (positions wrap).
+      scene(*content, grid_view, tile_to_out, MeshBounds{0, 0, double(gw), double(gh)}, depth + 1, enc);
       tiles_[pr.tree].scene = std::move(enc);  // tiles_ may have grown meanwhile
       tile_index_.emplace(key, pr.tree);
     }
@@ -757,7 +759,10 @@ EncodedScene encode(const Scene& scene, const Affine& view, Gamma gamma, const E
   EncodedScene out;
   auto paint = std::make_shared<PaintData>();
   Encoder enc(gamma, options, *paint, out.tiles);
-  enc.scene(scene, view, Affine{}, 0, out);
+  MeshBounds bounds;
+  if (options.frame_width > 0 && options.frame_height > 0)
+    bounds = MeshBounds{0, 0, double(options.frame_width), double(options.frame_height)};
+  enc.scene(scene, view, Affine{}, bounds, 0, out);
   enc.finish();
   out.paint = std::move(paint);
   return out;

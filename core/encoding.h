@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/abstraction.h"
+#include "core/memory_budget.h"
 #include "core/paint.h"
 #include "core/paint_data.h"
 #include "core/scene.h"
@@ -75,6 +76,13 @@ struct EncodeOptions {
   // of N knots evenly spaced in t (measured against the exact ramps in
   // BENCHMARKS.md).
   int ramp_lut = 0;
+  // The frame's unit areas, [0, frame_width) x [0, frame_height) in the
+  // coordinates `view` maps to, where samples fall (0: unbounded): paints
+  // prepared per frame are made for what of them can be sampled (a mesh
+  // shading's grid covers only that).
+  int frame_width = 0, frame_height = 0;
+  // What the encoding holds is charged to it (core/memory_budget.h).
+  MemoryBudget* budget = nullptr;
   // Filter effects inside a pattern tile (core/filter_layers.h): the tile
   // with its filters made layers over the tile's grid (width x height
   // unit areas, `view` from tile units to them). Unset: such a tile is

@@ -7,10 +7,13 @@
 // executors; the encoder (core/encoding.cpp) prepares the records.
 //
 // Invariants (set up by the encoder, relied on here):
-//   - every triangle that contains a point is listed in the point's cell
-//     (a triangle is listed in every cell its bounding box meets);
+//   - a cell lists every triangle that meets it, from the top-most down
+//     to the first one that covers the whole cell (the cell taken a little
+//     larger against float rounding); those below it are left out, since
+//     none can be the top-most at a point of the cell;
 //   - a cell's list ascends, so the first containing triangle found from
-//     the end is the top-most, as PDF paints later triangles over earlier;
+//     the end is the top-most, as PDF paints later triangles over earlier
+//     (and the search stops at the covering one at the latest);
 //   - the area a mesh paint fills is the union of its triangles
 //     (mesh_outline in core/mesh_build.h), so a sample that no triangle
 //     contains by this arithmetic lies on an edge within rounding: it

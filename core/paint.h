@@ -143,9 +143,10 @@ static_assert(sizeof(PatternRecord) == 32, "PatternRecord is a 32-byte record sh
 
 // A mesh of Gouraud-shaded triangles (core/mesh.h), located per sample
 // through a uniform grid over its bounding box in pixels: cell (i, j) lists
-// the triangles whose bounding box meets it, as mesh_items[mesh_cells[c] ..
-// mesh_cells[c + 1]) with c = cells + j * grid_w + i, in ascending order
-// (later triangles lie over earlier ones).
+// the triangles that meet it, down to the top-most one that covers it
+// whole (core/mesh_build.h), as mesh_items[mesh_cells[c] .. mesh_cells[c +
+// 1]) with c = cells + j * grid_w + i, in ascending order (later triangles
+// lie over earlier ones).
 struct MeshRecord {
   float x0, y0;  // the grid's corner, pixels
   float sx, sy;  // cells per pixel

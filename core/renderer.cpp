@@ -93,6 +93,14 @@ RenderPlan plan_render(const RenderOptions& o) {
   return p;
 }
 
+EncodeOptions encode_options(const RenderPlan& plan) {
+  EncodeOptions eo;
+  eo.frame_width = plan.frame.ua_w;
+  eo.frame_height = plan.frame.ua_h;
+  eo.budget = plan.options.budget.get();
+  return eo;
+}
+
 EncodedScene encode_for(const Scene& scene, const RenderPlan& plan, Gamma gamma, RenderStats* stats,
                         const FilterExecutor* filters) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -108,7 +116,7 @@ EncodedScene encode_for(const Scene& scene, const RenderPlan& plan, Gamma gamma,
     size_t tile_layers = 0;
     // Filters inside pattern tiles: layers over each tile's grid, made as
     // the encoder reaches the tile (it chooses the grid).
-    EncodeOptions eo;
+    EncodeOptions eo = encode_options(plan);
     eo.tile_filters = [&](const Scene& tile, int width, int height, const Affine& view) {
       const auto t1 = std::chrono::steady_clock::now();
       RenderOptions to = o;
@@ -130,7 +138,7 @@ EncodedScene encode_for(const Scene& scene, const RenderPlan& plan, Gamma gamma,
     }
     return enc;
   }
-  EncodedScene enc = encode(scene, plan.view, gamma);
+  EncodedScene enc = encode(scene, plan.view, gamma, encode_options(plan));
   if (stats) stats->encode_ms += ms_since(t0);
   return enc;
 }

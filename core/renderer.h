@@ -3,12 +3,14 @@
 // choice (auto / cpu / cuda) is gpu/backend.h, which falls back to this.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "core/cpu/cpu_stages.h"
 #include "core/encoding.h"
 #include "core/integration.h"
+#include "core/memory_budget.h"
 #include "core/png_encode.h"
 #include "core/scene.h"
 #include "core/tree.h"
@@ -34,6 +36,9 @@ struct RenderOptions {
   // pixels, so that those paths are drawn aliased (core/integration.h).
   // Set before planning: the frame, and so the encoding, depend on it.
   bool aliased_paths = false;
+  // The render's memory budget (core/memory_budget.h), shared by the
+  // parser that made the scene and every stage; null: nothing is counted.
+  std::shared_ptr<MemoryBudget> budget;
 };
 
 // Per-stage wall times in milliseconds, and what was built.
@@ -74,6 +79,8 @@ struct RenderPlan {
   RenderOptions options;  // what was planned (filter layers are rendered with them)
 };
 RenderPlan plan_render(const RenderOptions& options);
+// What the encoder takes from a plan: the frame's unit areas, the budget.
+EncodeOptions encode_options(const RenderPlan& plan);
 
 // Filter effects' executor (core/filter_layers.h).
 struct FilterExecutor;

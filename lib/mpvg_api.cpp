@@ -106,7 +106,7 @@ bool same_view(const Affine& x, const Affine& y) {
 
 // What svg::parse_svg_file reads, kept so that the document can be parsed
 // again for another output size.
-std::string read_file(const std::string& path) { return svg::read_svg_file(path); }
+std::string read_file(const std::string& path) { return svg::read_svg_file(path, kDefaultMaxInput); }
 
 }  // namespace
 
@@ -416,7 +416,7 @@ PdfDocument PdfDocument::from_file(const std::string& path, const std::string& p
 #ifdef MPVG_HAVE_PDF
   return guarded([&] {
     auto impl = std::make_unique<Impl>();
-    impl->doc = std::make_unique<pdf::Document>(path, password);
+    impl->doc = std::make_unique<pdf::Document>(path, password, kDefaultMaxInput);
     return PdfDocument(std::move(impl));
   });
 #else

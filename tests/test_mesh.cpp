@@ -91,13 +91,14 @@ std::optional<std::array<double, 4>> reference(const Mesh& m, Vec2 q, Gamma gamm
 
 // Compares mesh_at with the reference at n random points of [lo, hi]^2;
 // returns the number of points compared (off edges, inside the mesh).
-int compare(const Mesh& m, const Affine& view, Gamma gamma, std::mt19937& rng, double lo, double hi, int n) {
+int compare(const Mesh& m, const Affine& view, Gamma gamma, std::mt19937& rng, double lo, double hi, int n,
+            const EncodeOptions& options = {}) {
   SceneBuilder b(100, 100);
   Paint paint;
   paint.type = PaintType::Mesh;
   paint.index = b.add_mesh(m);
   b.fill(b.add_geometry(mesh_outline(m)), Affine{}, FillRule::NonZero, paint);
-  const EncodedScene enc = encode(b.finish(), view, gamma);
+  const EncodedScene enc = encode(b.finish(), view, gamma, options);
   REQUIRE(enc.paint->meshes.size() == 1);
   const PaintTables tables = enc.paint->view(nullptr);
   std::uniform_real_distribution<double> u(lo, hi);
@@ -229,4 +230,115 @@ TEST_CASE("a mesh filled over its box paints exactly its triangles (area_by_tria
   }
   CHECK(inside > 1000);
   CHECK(outside > 1000);
+}
+
+namespace {
+
+// n triangles of side 0.3 s to s with corners in [0, s]^2 (each covers a
+// good part of the mesh's box, as in a soup of large overlapping ones).
+Mesh large_triangles(std::mt19937& rng, int n, double s) {
+  std::uniform_real_distribution<double> u(0, 1);
+  Mesh m;
+  for (int k = 0; k < n; k++) {
+    const double size = s * (0.3 + 0.7 * u(rng)), x = (s - size) * u(rng), y = (s - size) * u(rng);
+    const Vec2 p[3] = {{x, y}, {x + size, y + size * u(rng)}, {x + size * u(rng), y + size}};
+    for (const Vec2& q : p)
+      m.vertices.push_back({q, RGBA{static_cast<float>(u(rng)), static_cast<float>(u(rng)), static_cast<float>(u(rng)), 1}});
+  }
+  return m;
+}
+
+// The encoded mesh of m filled over its outline, with options.
+EncodedScene encoded(const Mesh& m, const EncodeOptions& options = {}) {
+  SceneBuilder b(100, 100);
+  Paint paint;
+  paint.type = PaintType::Mesh;
+  paint.index = b.add_mesh(m);
+  b.fill(b.add_geometry(Path::rectangle(0, 0, 100, 100)), Affine{}, FillRule::NonZero, paint);
+  return encode(b.finish(), Affine{}, Gamma::Srgb, options);
+}
+
+}  // namespace
+
+TEST_CASE("a mesh's grid lists triangles down to the first that covers the cell, in bounded memory",
+          "[paint][mesh]") {
+  std::mt19937 rng(17);
+  SECTION("a soup of large overlapping triangles: the top-most colour everywhere, few items") {
+    const Mesh m = large_triangles(rng, 3000, 100);
+    const EncodedScene enc = encoded(m);
+    const MeshRecord& r = enc.paint->meshes.at(0);
+    const size_t cells = size_t(r.grid_w) * r.grid_h, items = enc.paint->mesh_items.size();
+    INFO(cells << " cells, " << items << " items for 3000 triangles");
+    // Listed by their boxes, every triangle would be in ~30 % of the cells.
+    CHECK(items < 3000 * cells / 20);
+    CHECK(compare(m, Affine{}, Gamma::Srgb, rng, 0, 100, 4000) > 3000);
+  }
+  SECTION("65,537 triangles over the whole grid (the item count past 2^32 of the old grid)") {
+    // Two triangles splitting the square along a diagonal, alternately:
+    // by their boxes, each would be listed in all 65,536 cells.
+    Mesh m;
+    for (int k = 0; k < 65537; k++) {
+      const float c = static_cast<float>(k % 251) / 250;
+      const Vec2 a = k % 2 ? Vec2{0, 0} : Vec2{100, 100};
+      for (Vec2 p : {a, Vec2{100, 0}, Vec2{0, 100}}) m.vertices.push_back({p, RGBA{c, 0.5f, 1 - c, 1}});
+    }
+    const EncodedScene enc = encoded(m);
+    const MeshRecord& r = enc.paint->meshes.at(0);
+    const size_t cells = size_t(r.grid_w) * r.grid_h, items = enc.paint->mesh_items.size();
+    INFO(r.grid_w << " x " << r.grid_h << " cells, " << items << " items");
+    CHECK(items <= std::max<size_t>(32 * (65537 + cells), size_t(1) << 25));
+    CHECK(enc.paint->mesh_cells.back() == items);
+    // The two top-most triangles hold every point off the diagonal.
+    const PaintTables t = enc.paint->view(nullptr);
+    std::uniform_real_distribution<double> u(0, 100);
+    for (int i = 0; i < 2000; i++) {
+      const double x = u(rng), y = u(rng);
+      if (std::fabs(x + y - 100) < 1e-3) continue;
+      const int k = x + y < 100 ? 65535 : 65536;  // odd k: the upper-left half
+      const float c = static_cast<float>(k % 251) / 250;
+      const Rgba4 got = mesh_at(r, t, float(x), float(y));
+      INFO("at (" << x << ", " << y << ")");
+      REQUIRE(std::fabs(got.r - c) <= 1e-5);
+      REQUIRE(std::fabs(got.b - (1 - c)) <= 1e-5);
+    }
+  }
+  SECTION("a grid over the frame only: triangles outside it are left out") {
+    // A lattice 10 times the frame's size around it.
+    const Mesh m = random_meshes::lattice(rng, 200, 200, -450, -450, 1000, 1000);
+    EncodeOptions o;
+    o.frame_width = 100;
+    o.frame_height = 100;
+    const EncodedScene enc = encoded(m, o);
+    const MeshRecord& r = enc.paint->meshes.at(0);
+    INFO(enc.paint->mesh_triangles.size() << " triangles kept of 80,000");
+    CHECK(enc.paint->mesh_triangles.size() < 80000 / 50);
+    CHECK(r.x0 >= -1.0f);
+    CHECK(r.x0 + r.grid_w / r.sx <= 101.0f);
+    CHECK(compare(m, Affine{}, Gamma::Srgb, rng, 0, 100, 3000, o) > 2500);
+  }
+  SECTION("the budget: a coarser grid when the lists do not fit, an error when the triangles do not") {
+    const Mesh m = large_triangles(rng, 2000, 100);
+    const size_t full = encoded(m).paint->mesh_items.size();
+    // The triangles and their pixel copies (112 bytes each), and half the items.
+    auto budget = std::make_shared<MemoryBudget>(2000 * (72 + 112) + 4 * full / 2);
+    EncodeOptions o;
+    o.budget = budget.get();
+    const EncodedScene enc = encoded(m, o);
+    INFO(full << " items unbounded, " << enc.paint->mesh_items.size() << " within the budget");
+    CHECK(enc.paint->mesh_items.size() < full);
+    CHECK(budget->used() <= budget->limit());
+    CHECK(budget->used() >= 2000 * 72 + 4 * enc.paint->mesh_items.size());
+    // The same colours from the coarser grid (a budget of its own).
+    MemoryBudget again(budget->limit());
+    o.budget = &again;
+    CHECK(compare(m, Affine{}, Gamma::Srgb, rng, 0, 100, 2000, o) > 1500);
+    MemoryBudget tiny(2000 * 72);
+    o.budget = &tiny;
+    try {
+      encoded(m, o);
+      FAIL("no error");
+    } catch (const ResourceError& e) {
+      CHECK(std::string(e.what()).find("the budget is") != std::string::npos);
+    }
+  }
 }

@@ -853,16 +853,71 @@ TEST_CASE("svg files: reading and unreadable paths", "[svg][errors]") {
         "F0\n");
 }
 
-TEST_CASE("svg robustness: hostile input terminates with bounded output", "[svg][robustness]") {
-  // Deep XML nesting is tinyxml2's error; exponential use fan-out and
-  // clip-path chains hit the frontend's limits with a warning.
-  std::string deep;
-  for (int i = 0; i < 200; i++) deep += "<g>";
-  for (int i = 0; i < 200; i++) deep += "</g>";
-  CHECK(
-      error_of("<svg>" + deep + "</svg>").rfind("XML parse error at line 1: XML_ELEMENT_DEPTH_EXCEEDED", 0) ==
-      0);
+namespace {
 
+// `levels` nested groups (each on a line of its own) around `inner`.
+std::string nested(int levels, const std::string& inner, const std::string& tag = "g") {
+  std::string s;
+  for (int i = 0; i < levels; i++) s += "<" + tag + ">\n";
+  s += inner;
+  for (int i = 0; i < levels; i++) s += "</" + tag + ">\n";
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("svg nesting: as deep as the converter's limit, past tinyxml2's", "[svg][robustness]") {
+  // tinyxml2 refuses past ~98 levels; the document is parsed in pieces
+  // (split_deep_xml) up to 257 levels, deeper elements are left out.
+  const std::string rect = "<rect width='4' height='5' fill='green'/>\n";
+  const std::string one = mpvg::dump(parse(rect).scene);
+  for (int levels : {63, 64, 65, 97, 98, 99, 200, 255}) {
+    INFO(levels << " levels");
+    const auto r = parse(nested(levels, rect));
+    CHECK(mpvg::dump(r.scene) == one);
+    CHECK(r.warnings.empty());
+  }
+  // Namespace prefixes declared at the root reach every piece; a foreign
+  // element's subtree stays out of the drawing in any piece.
+  const auto ns = parse(nested(150, "<s:rect width='4' height='5' fill='green'/>\n", "s:g"),
+                        "xmlns:s='http://www.w3.org/2000/svg' viewBox='0 0 100 100'");
+  CHECK(mpvg::dump(ns.scene) == one);
+  CHECK(mpvg::dump(parse(nested(70, nested(80, rect), "x:foreign"),
+                         "xmlns:x='http://example.org/' viewBox='0 0 100 100'").scene) ==
+        "scene 100 100\nstream\n");
+  // Text and siblings around pieces keep their places.
+  const auto around =
+      parse(nested(80, "<rect width='1' height='1'/>" + nested(20, rect) + "<circle r='2'/>") + "<rect width='9' height='9'/>");
+  CHECK(svg_test::without_geometry(mpvg::dump(around.scene)) ==
+        svg_test::without_geometry(dump_of("<rect width='1' height='1'/>" + rect + "<circle r='2'/><rect width='9' height='9'/>")));
+  // Deeper than the limit: left out with a warning, what is above drawn.
+  const auto deep = parse("<rect width='9' height='9'/>" + nested(400, rect));
+  CHECK(mpvg::dump(deep.scene) == dump_of("<rect width='9' height='9'/>"));
+  REQUIRE(deep.warnings.size() == 1);
+  CHECK(deep.warnings[0] == "elements nested deeper than 257 levels: left out with their content");
+  // A million levels: bounded time and stack.
+  std::string million;
+  for (int i = 0; i < 1000000; i++) million += "<g>";
+  for (int i = 0; i < 1000000; i++) million += "</g>";
+  CHECK(mpvg::dump(parse(million).scene) == "scene 100 100\nstream\n");
+}
+
+TEST_CASE("svg nesting: errors inside and after pieces name their lines", "[svg][robustness][errors]") {
+  // Line 1 is <svg>; the groups take a line each.
+  const std::string bad = "<rect x='1' x='2'/>\n";
+  CHECK(error_of("<svg>\n" + nested(120, bad) + "</svg>") ==
+        "XML parse error at line 122: XML_ERROR_PARSING_ATTRIBUTE (XMLElement name=rect)");
+  CHECK(error_of("<svg>\n" + nested(120, "<rect/>\n") + bad + "</svg>") ==
+        "XML parse error at line 243: XML_ERROR_PARSING_ATTRIBUTE (XMLElement name=rect)");
+  // A piece left open at the end of the text.
+  const std::string open = "<svg>\n" + nested(120, "").substr(0, 120 * 4);
+  CHECK(error_of(open).rfind("XML parse error at line ", 0) == 0);
+  CHECK(error_of("<svg>" + nested(100, "<g>") + "</svg>").rfind("XML parse error at line ", 0) == 0);
+}
+
+TEST_CASE("svg robustness: hostile input terminates with bounded output", "[svg][robustness]") {
+  // Exponential use fan-out and clip-path chains hit the frontend's limits
+  // with a warning.
   std::string bomb = "<defs><rect id='l0' width='1' height='1'/>";
   for (int i = 1; i <= 8; i++) {
     bomb += "<g id='l" + std::to_string(i) + "'>";

@@ -651,13 +651,14 @@ void fill_shade(fz_context* ctx, fz_device* dev, fz_shade* shade, fz_matrix ctm,
     if (capture.bad_color) l->warn("a colour could not be converted: black used");
     if (shade->use_function) capture.mesh.ramp = ramp();
     capture.mesh.xf = l->adjust;
-    Path area = mesh_outline(capture.mesh);
-    if (area.empty()) return;
     // An outline of many edges (a soup of small overlapping triangles,
     // not a subdivided patch) would weigh on the shortcut tree in every
     // cell it crosses: the mesh's box is filled instead, and the triangles
     // decide per sample where it paints.
-    if (area.segments().size() > kMaxMeshOutline) {
+    bool soup = false;
+    Path area = mesh_outline(capture.mesh, kMaxMeshOutline, &soup);
+    if (area.empty() && !soup) return;
+    if (soup) {
       double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
       for (const MeshVertex& v : capture.mesh.vertices) {
         x0 = std::min(x0, v.p.x);

@@ -237,14 +237,25 @@ Document::Document(const std::string& path, const std::string& password, size_t 
   silence(ctx);
   impl_->path = path;
   impl_->password = password;
-  if (path == "-") {
+  // Standard input, devices and FIFOs are read into memory up to the limit
+  // (MuPDF would read /dev/zero for ever); regular files are MuPDF's to read.
+  if (path == "-" || !S_ISREG(st.st_mode)) {
+    FILE* f = path == "-" ? stdin : std::fopen(path.c_str(), "rb");
+    if (!f) throw ResourceError("cannot read '" + path + "': " + std::strerror(errno));
+    struct Close {
+      FILE* f;
+      ~Close() {
+        if (f != stdin) std::fclose(f);
+      }
+    } close{f};
     auto input = std::make_shared<std::vector<unsigned char>>();
     unsigned char buf[1 << 16];
     size_t n;
-    while ((n = std::fread(buf, 1, sizeof buf, stdin)) > 0) {
+    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) {
       if (input->size() + n > max_input) throw too_large();
       input->insert(input->end(), buf, buf + n);
     }
+    if (std::ferror(f)) throw ResourceError("cannot read '" + path + "': " + std::strerror(errno));
     impl_->input = std::move(input);
   }
   impl_->open();
@@ -370,11 +381,34 @@ namespace {
 
 // The page's spot colours (its Separation and DeviceN colorants other than
 // the process ones, All and None), in MuPDF's order, and each one's CMYK
-// equivalent.
-void page_spots(fz_context* ctx, fz_page* page, std::vector<std::string>* names, std::vector<float>* cmyk) {
+// equivalent. A page whose colorants MuPDF cannot list (more than
+// FZ_MAX_SEPARATIONS, 64) is refused: its plates would be missing.
+fz_separations* page_separations(fz_context* ctx, fz_page* page, char (&problem)[256]) {
   fz_separations* volatile seps = nullptr;
   fz_try(ctx) { seps = fz_page_separations(ctx, page); }
-  fz_catch(ctx) { seps = nullptr; }
+  fz_catch(ctx) {
+    seps = nullptr;
+    std::snprintf(problem, sizeof problem, "%s", fz_caught_message(ctx));
+  }
+  return seps;
+}
+
+// Separation i's CMYK equivalent; black where MuPDF cannot tell.
+void separation_cmyk(fz_context* ctx, fz_separations* seps, int i, float (&c)[4]) {
+  fz_try(ctx) { fz_separation_equivalent(ctx, seps, i, fz_device_cmyk(ctx), c, nullptr, fz_default_color_params); }
+  fz_catch(ctx) { c[0] = c[1] = c[2] = 0, c[3] = 1; }
+}
+
+void page_spots(fz_context* ctx, fz_page* page, std::vector<std::string>* names, std::vector<float>* cmyk) {
+  char problem[256] = "";
+  fz_separations* seps = page_separations(ctx, page, problem);
+  if (problem[0]) {
+    if (std::string(problem).find("too many separations") != std::string::npos)
+      throw UnsupportedError("the page has more than " + std::to_string(int(FZ_MAX_SEPARATIONS)) +
+                             " spot colours, which --separations cannot print (MuPDF lists at most " +
+                             std::to_string(int(FZ_MAX_SEPARATIONS)) + ")");
+    throw ParseError(std::string("the page's spot colours cannot be read: ") + problem);
+  }
   if (!seps) return;
   const int n = fz_count_separations(ctx, seps);
   for (int i = 0; i < n; i++) {
@@ -384,8 +418,7 @@ void page_spots(fz_context* ctx, fz_page* page, std::vector<std::string>* names,
         std::find(names->begin(), names->end(), s) != names->end())
       continue;
     float c[4] = {0, 0, 0, 0};
-    fz_try(ctx) { fz_separation_equivalent(ctx, seps, i, fz_device_cmyk(ctx), c, nullptr, fz_default_color_params); }
-    fz_catch(ctx) { c[3] = 1; }
+    separation_cmyk(ctx, seps, i, c);
     names->push_back(s);
     cmyk->insert(cmyk->end(), c, c + 4);
   }

@@ -56,9 +56,29 @@ bool in_svg_namespace(std::string_view prefix, const NamespaceScope& ns, bool no
   return *uri == kSvgNs;
 }
 
+// The one-line message of a tinyxml2 error, its line counted from
+// first_line (a piece's start in the text, split_deep_xml).
+ParseError xml_error(const tinyxml2::XMLDocument& xml, int first_line) {
+  // ErrorStr() reads "Error=NAME ErrorID=N (0xN) Line number=N[: detail]";
+  // keep the detail, which names the element or attribute at fault.
+  std::string msg = "XML parse error at line " + std::to_string(first_line - 1 + std::max(1, xml.ErrorLineNum())) +
+                    ": " + xml.ErrorName();
+  const char* full = xml.ErrorStr();
+  const char* detail = full ? std::strstr(full, "Line number=") : nullptr;
+  if (detail) detail = std::strchr(detail, ':');
+  if (detail) {
+    std::string d = std::string(trim(detail + 1));
+    std::replace(d.begin(), d.end(), '\n', ' ');
+    if (!d.empty()) msg += " (" + d + ")";
+  }
+  return ParseError(msg);
+}
+
+constexpr std::string_view kPieceMark = "\xef\xb7\x90";  // U+FDD0, as mark_white_space_text uses it
+
 class TreeBuilder {
  public:
-  explicit TreeBuilder(Document& doc) : doc_(doc) {}
+  TreeBuilder(Document& doc, const XmlPieces& pieces) : doc_(doc), pieces_(pieces) {}
 
   // Converts x and its subtree; nullptr when x is not an SVG element (its
   // subtree is then dropped too: SVG content inside foreign elements is not
@@ -87,7 +107,11 @@ class TreeBuilder {
       in_text_ = text_content;
       for (const tinyxml2::XMLNode* c = x->FirstChild(); c; c = c->NextSibling()) {
         if (const tinyxml2::XMLElement* ce = c->ToElement()) {
-          if (auto child = build(ce, e.get())) e->children.push_back(std::move(child));
+          if (std::string_view(ce->Name()).substr(0, kPieceMark.size()) == kPieceMark) {
+            if (auto child = build_piece(ce, e.get())) e->children.push_back(std::move(child));
+          } else if (auto child = build(ce, e.get())) {
+            e->children.push_back(std::move(child));
+          }
         } else if (const tinyxml2::XMLText* t = c->ToText(); t && e->name == "style") {
           e->text += unmark_white_space(t->Value());  // CSS text, CDATA sections included
         } else if (const tinyxml2::XMLText* t = c->ToText(); t && text_content) {
@@ -105,6 +129,18 @@ class TreeBuilder {
   }
 
  private:
+  // The tree of the piece a placeholder stands for (split_deep_xml),
+  // parsed now and dropped once converted.
+  std::unique_ptr<Element> build_piece(const tinyxml2::XMLElement* placeholder, const Element* parent) {
+    const size_t k = std::strtoul(placeholder->Name() + kPieceMark.size(), nullptr, 10);
+    if (k == 0 || k >= pieces_.pieces.size()) return nullptr;
+    const std::string& text = pieces_.pieces[k];
+    tinyxml2::XMLDocument xml;
+    if (xml.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) throw xml_error(xml, pieces_.first_line[k]);
+    const tinyxml2::XMLElement* root = xml.RootElement();
+    return root ? build(root, parent) : nullptr;
+  }
+
   void copy_attributes(const tinyxml2::XMLElement* x, Element& e) {
     for (const tinyxml2::XMLAttribute* a = x->FirstAttribute(); a; a = a->Next()) {
       const std::string_view qname = a->Name();
@@ -136,6 +172,7 @@ class TreeBuilder {
   }
 
   Document& doc_;
+  const XmlPieces& pieces_;
   NamespaceScope ns_;
   bool no_namespaces_ = false;
   bool in_text_ = false;  // inside a <text>
@@ -280,26 +317,136 @@ std::string unmark_white_space(const char* text) {
   return out;
 }
 
+namespace {
+
+// One construct of XML text from a '<' at i: its kind and where it ends
+// (npos: unterminated). Comments, CDATA sections, processing instructions
+// and declarations (a DOCTYPE's internal subset in brackets) are Other.
+enum class XmlToken { Start, Empty, End, Other };
+std::pair<XmlToken, size_t> xml_token(const std::string& t, size_t i) {
+  auto after = [&](std::string_view end, size_t from) {
+    const size_t at = t.find(end, from);
+    return at == std::string::npos ? at : at + end.size();
+  };
+  if (t.compare(i, 4, "<!--") == 0) return {XmlToken::Other, after("-->", i + 4)};
+  if (t.compare(i, 9, "<![CDATA[") == 0) return {XmlToken::Other, after("]]>", i + 9)};
+  if (t.compare(i, 2, "<?") == 0) return {XmlToken::Other, after("?>", i + 2)};
+  const bool declaration = t.compare(i, 2, "<!") == 0, end_tag = t.compare(i, 2, "</") == 0;
+  int brackets = 0;
+  char quote = 0;
+  for (size_t k = i + 1; k < t.size(); k++) {
+    const char c = t[k];
+    if (quote) {
+      if (c == quote) quote = 0;
+    } else if (c == '"' || c == '\'') {
+      quote = c;
+    } else if (declaration && c == '[') {
+      brackets++;
+    } else if (declaration && c == ']') {
+      brackets--;
+    } else if (c == '>' && brackets <= 0) {
+      if (declaration) return {XmlToken::Other, k + 1};
+      if (end_tag) return {XmlToken::End, k + 1};
+      return {t[k - 1] == '/' ? XmlToken::Empty : XmlToken::Start, k + 1};
+    }
+  }
+  return {XmlToken::Other, std::string::npos};
+}
+
+}  // namespace
+
+XmlPieces split_deep_xml(const std::string& text, int piece_depth, int max_depth) {
+  // First only the depth: most documents need no piece.
+  int depth = 0, deepest = 0;
+  for (size_t i = text.find('<'); i != std::string::npos; i = text.find('<', i)) {
+    const auto [kind, end] = xml_token(text, i);
+    if (end == std::string::npos) break;
+    if (kind == XmlToken::Start) deepest = std::max(deepest, ++depth);
+    if (kind == XmlToken::Empty) deepest = std::max(deepest, depth + 1);
+    if (kind == XmlToken::End) depth--;
+    i = end;
+  }
+  XmlPieces out;
+  if (deepest <= piece_depth && deepest <= max_depth) return out;
+  struct Open {
+    size_t piece;
+    int depth;  // elements open in it
+  };
+  std::vector<Open> open{{0, 0}};
+  out.pieces.emplace_back();
+  out.first_line.push_back(1);
+  int total = 0, skip = 0, line = 1;  // skip > 0: inside an element left out, this deep in it
+  auto lines = [&](size_t from, size_t to) { return int(std::count(text.begin() + from, text.begin() + to, '\n')); };
+  auto emit = [&](size_t from, size_t to) {
+    if (!skip) out.pieces[open.back().piece].append(text, from, to - from);
+  };
+  // The piece ends at line `last`: its placeholder closes in the parent,
+  // with as many newlines as the piece spans.
+  auto close_piece = [&](int last) {
+    const size_t done = open.back().piece;
+    open.pop_back();
+    out.pieces[open.back().piece] += std::string(size_t(last - out.first_line[done]), '\n') + "/>";
+  };
+  size_t i = 0;
+  while (i < text.size()) {
+    const size_t lt = std::min(text.find('<', i), text.size());
+    emit(i, lt);
+    line += lines(i, lt);
+    if (lt == text.size()) break;
+    const auto [kind, end] = xml_token(text, lt);
+    if (end == std::string::npos) {  // tinyxml2 says what is wrong
+      emit(lt, text.size());
+      break;
+    }
+    const int tag_lines = lines(lt, end);
+    if ((kind == XmlToken::Start || kind == XmlToken::Empty) && !skip && total + 1 > max_depth) {
+      out.dropped = true;
+      if (kind == XmlToken::Start) skip = 1;
+    } else if (kind == XmlToken::Start && skip) {
+      skip++;
+    } else if (kind == XmlToken::End && skip) {
+      skip--;
+    } else if (kind == XmlToken::Start && open.back().depth == piece_depth) {
+      // A piece of its own; the placeholder keeps the parent's lines where
+      // they are (its newlines stand for the piece's).
+      const size_t k = out.pieces.size();
+      out.pieces[open.back().piece] += "<" + std::string(kPieceMark) + std::to_string(k);
+      open.push_back({k, 1});
+      out.pieces.emplace_back();
+      out.first_line.push_back(line);
+      out.pieces[k].append(text, lt, end - lt);
+      total++;
+    } else {
+      emit(lt, end);
+      if (kind == XmlToken::Start) {
+        open.back().depth++;
+        total++;
+      } else if (kind == XmlToken::End && open.back().depth > 0) {
+        open.back().depth--;
+        total--;
+        if (open.back().depth == 0 && open.size() > 1) {
+          // The piece ends: its placeholder closes in the parent, with as
+          // many newlines as the piece spans.
+          close_piece(line + tag_lines);
+        }
+      }
+    }
+    line += tag_lines;
+    i = end;
+  }
+  // Pieces left open (the document ends inside them: their own parse says
+  // so) still close in their parents.
+  while (open.size() > 1) close_piece(line);
+  return out;
+}
+
 Document parse_document(std::string_view raw,
                         const std::function<std::optional<std::string>(std::string_view)>& load) {
-  const std::string text = mark_white_space_text(expand_internal_entities(xml_to_utf8(raw)));
+  std::string text = mark_white_space_text(expand_internal_entities(xml_to_utf8(raw)));
+  XmlPieces pieces = split_deep_xml(text);
+  if (!pieces.pieces.empty()) text = std::move(pieces.pieces[0]);
   tinyxml2::XMLDocument xml;
-  const tinyxml2::XMLError err = xml.Parse(text.data(), text.size());
-  if (err != tinyxml2::XML_SUCCESS) {
-    // ErrorStr() reads "Error=NAME ErrorID=N (0xN) Line number=N[: detail]";
-    // keep the detail, which names the element or attribute at fault.
-    std::string msg =
-        "XML parse error at line " + std::to_string(std::max(1, xml.ErrorLineNum())) + ": " + xml.ErrorName();
-    const char* full = xml.ErrorStr();
-    const char* detail = full ? std::strstr(full, "Line number=") : nullptr;
-    if (detail) detail = std::strchr(detail, ':');
-    if (detail) {
-      std::string d = std::string(trim(detail + 1));
-      std::replace(d.begin(), d.end(), '\n', ' ');
-      if (!d.empty()) msg += " (" + d + ")";
-    }
-    throw ParseError(msg);
-  }
+  if (xml.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) throw xml_error(xml, 1);
   const tinyxml2::XMLElement* root = xml.RootElement();
   if (!root) throw Error("not an SVG document: no root element");
 
@@ -323,7 +470,10 @@ Document parse_document(std::string_view raw,
     const auto href = pseudo_attr("href");
     if (href && (!type || *type == "text/css")) doc.stylesheet_hrefs.push_back(*href);
   }
-  TreeBuilder builder(doc);
+  if (pieces.dropped)
+    doc.warnings.push_back("elements nested deeper than " + std::to_string(kMaxXmlDepth) +
+                           " levels: left out with their content");
+  TreeBuilder builder(doc, pieces);
   doc.root = builder.build(root, nullptr);
   apply_style_sheets(doc, load);
   if (!doc.root || doc.root->name != "svg") {

@@ -42,7 +42,26 @@ struct Document {
   std::vector<std::string> stylesheet_hrefs;
   // The first element carrying each id.
   std::unordered_map<std::string, const Element*> ids;
+  // What the user should hear of (elements nested too deep, left out).
+  std::vector<std::string> warnings;
 };
+
+// XML nested deeper than tinyxml2 parses (TINYXML2_MAX_ELEMENT_DEPTH, 100
+// in 9.x) is parsed in pieces: an element that would open at depth
+// kXmlPieceDepth inside its piece starts a piece of its own, which its
+// parent holds as a placeholder element (named U+FDD0 and the piece's
+// number: no document has that name) that the tree builder replaces by
+// the piece's tree. Elements nested deeper than kMaxXmlDepth in all are
+// left out with their content, with a warning: the converter would
+// ignore them (kMaxDepth), and the DOM's recursions stay bounded.
+constexpr int kXmlPieceDepth = 64;
+constexpr int kMaxXmlDepth = 257;
+struct XmlPieces {
+  std::vector<std::string> pieces;  // pieces[0] is the document; empty: no piece needed
+  std::vector<int> first_line;      // the text's line where each piece starts
+  bool dropped = false;             // elements past max_depth were left out
+};
+XmlPieces split_deep_xml(const std::string& text, int piece_depth = kXmlPieceDepth, int max_depth = kMaxXmlDepth);
 
 // Parses XML text. Throws mpvg::Error on malformed XML ("XML parse error at
 // line N: ...") and when the root element is not an SVG <svg>.

@@ -751,6 +751,7 @@ ParseResult parse_svg_string(std::string_view text, const std::string& base_dir,
     return std::string(r->bytes.begin(), r->bytes.end());
   };
   const detail::Document doc = detail::parse_document(text, load_css);
+  result.warnings.insert(result.warnings.end(), doc.warnings.begin(), doc.warnings.end());
   detail::Session session(doc, options, result.warnings);
   session.base_dir = base_dir.empty() ? std::string(".") : base_dir;
   session.allowed_dirs.push_back(session.base_dir);
