@@ -128,6 +128,7 @@ void append_strokes(StrokeBatch& dst, const StrokeBatch& src, uint32_t paths) {
     dst.segments.push_back(s);
   }
   append(dst.dashes, src.dashes);
+  append(dst.dash_ends, src.dash_ends);
   for (uint32_t e : src.first_element) dst.first_element.push_back(e + dst.nelements);
   dst.nvertices += src.nvertices;
   dst.nelements += src.nelements;

@@ -102,6 +102,7 @@ struct StrokeInput {
   const StrokeSubpath* subpaths;
   const StrokeSegment* segments;
   const double* dashes;
+  const double* dash_ends;   // per dash element, the pattern's sum up to it (StrokeBatch::dash_ends)
   const double* seg_length;  // measuring pass: arc length of each segment
   const double* seg_start;   // scan: arc length from the subpath's start
   const double* sub_length;  // arc length of each subpath
@@ -118,15 +119,28 @@ constexpr double kMaxDashes = 1e6;
 // The dash pattern of a stroke placed along a subpath of length len (SVG 2
 // painting.html#StrokeDashing). Pattern element j of period k covers arc
 // lengths [k sum + cum_j - offset, ... + d_j]; even elements are dashes.
+// e[j] = d_0 + ... + d_j, summed in that order (StrokeBatch::dash_ends):
+// cum_j is e[j - 1], and elements are found by binary search on e, with
+// the same values a running sum over d gives, in O(log n).
 struct DashPattern {
   const double* d;
+  const double* e;
   uint32_t n;
   double sum, offset, len;
 
-  MPVG_HD double element_start(double k, uint32_t j) const {
-    double c = 0;
-    for (uint32_t i = 0; i < j; i++) c += d[i];
-    return k * sum + c - offset;
+  MPVG_HD double cum(uint32_t j) const { return j == 0 ? 0.0 : e[j - 1]; }
+  MPVG_HD double element_start(double k, uint32_t j) const { return k * sum + cum(j) - offset; }
+  // The first j with e[j] > r (n if none): e ascends.
+  MPVG_HD uint32_t first_end_above(double r) const {
+    uint32_t lo = 0, hi = n;
+    while (lo < hi) {
+      const uint32_t mid = lo + (hi - lo) / 2;
+      if (r < e[mid])
+        hi = mid;
+      else
+        lo = mid + 1;
+    }
+    return lo;
   }
   // The element whose interior follows arc length s (the one that begins
   // there at a boundary; never a zero-length one): *k its period.
@@ -136,13 +150,10 @@ struct DashPattern {
     double r = q - per * sum;
     if (r >= sum) r -= sum, per += 1;
     if (r < 0) r += sum, per -= 1;
-    double c = 0;
-    for (uint32_t j = 0; j < n; j++) {
-      if (r < c + d[j]) {
-        *k = per;
-        return j;
-      }
-      c += d[j];
+    const uint32_t j = first_end_above(r);
+    if (j < n) {
+      *k = per;
+      return j;
     }
     *k = per + 1;
     return 0;
@@ -154,12 +165,20 @@ struct DashPattern {
     double r = q - ceil(q / sum - 1) * sum;  // in (0, sum]
     if (r <= 0) r += sum;
     if (r > sum) r -= sum;
-    double c = 0;
-    for (uint32_t j = 0; j < n; j++) {
-      if (r <= c + d[j] && d[j] > 0) return j;
-      c += d[j];
+    // The first j with r <= e[j] and d[j] > 0: past the first with
+    // r <= e[j], the first where e rises (zero-length elements keep it).
+    uint32_t lo = 0, hi = n;
+    while (lo < hi) {
+      const uint32_t mid = lo + (hi - lo) / 2;
+      if (r <= e[mid])
+        hi = mid;
+      else
+        lo = mid + 1;
     }
-    return n - 1;
+    if (lo == n) return n - 1;
+    if (d[lo] > 0) return lo;
+    const uint32_t j = first_end_above(e[lo]);
+    return j < n ? j : n - 1;
   }
   // Whether arc length s lies strictly inside a dash.
   MPVG_HD bool inside_dash(double s) const {
@@ -187,7 +206,7 @@ struct DashPattern {
 };
 
 MPVG_HD_INLINE DashPattern dash_pattern_of(const StrokeInput& in, const StrokeRecord& st, double len) {
-  return {in.dashes + st.dash_first, st.dash_count, st.dash_sum, st.dash_offset, len};
+  return {in.dashes + st.dash_first, in.dash_ends + st.dash_first, st.dash_count, st.dash_sum, st.dash_offset, len};
 }
 
 // Whether a subpath of length len is stroked solid: no pattern, or more
@@ -241,13 +260,17 @@ MPVG_HD void stroke_segment(const StrokeInput& in, uint32_t i, Emitter<Sink>& ou
     if (s >= s1) return 1.0;
     return table.param_at(s - s0);
   };
-  // Start at the first element of the period before the one s0 falls in,
-  // so that every element reaching into the segment is seen; stop past its
-  // end.
+  // Start before the element s0 falls in, two elements of some length
+  // back (and the zero-length ones among them: dots at s0) against
+  // rounding: elements further back end before s0 and add nothing. Stop
+  // past the segment's end.
   double k;
-  dp.element_after(s0, &k);
-  k -= 1;
-  uint32_t j = 0;
+  uint32_t j = dp.element_after(s0, &k);
+  for (uint32_t back = 0, long_ones = 0; back <= dp.n && long_ones < 2; back++) {
+    if (j == 0) j = dp.n, k -= 1;
+    j--;
+    if (dp.d[j] > 0) long_ones++;
+  }
   const double guard = (s1 - s0) / dp.sum * dp.n + 4.0 * dp.n + 8;
   for (double it = 0; it < guard; it++) {
     const double start = dp.element_start(k, j), end = start + dp.d[j];

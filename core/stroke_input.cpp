@@ -130,6 +130,8 @@ bool StrokeBatch::add(const Path& path, const StrokeStyle& style, const Affine& 
     return false;
   }
   dashes.insert(dashes.end(), pattern.begin(), pattern.end());
+  double end = 0;
+  for (double d : pattern) dash_ends.push_back(end += d);
   strokes.push_back(rec);
   return true;
 }

@@ -19,6 +19,9 @@ struct StrokeBatch {
   std::vector<stroking::StrokeSubpath> subpaths;
   std::vector<stroking::StrokeSegment> segments;
   std::vector<double> dashes;
+  // Beside each dash element, its pattern's sum up to and with it, added
+  // in order (StrokeInput::dash_ends: the binary searches of DashPattern).
+  std::vector<double> dash_ends;
   std::vector<uint32_t> first_element;  // per subpath (StrokeInput::first_element)
   uint32_t nvertices = 0, nelements = 0;
 

@@ -242,16 +242,19 @@ size_t StrokeStage::run(const StrokeBatch& b, DeviceBuffer<InputSegment>& out, s
   const std::vector<double> no_dashes{0.0};
   const std::vector<uint32_t> no_elements{0};
   const std::vector<double>& dash_values = b.dashes.empty() ? no_dashes : b.dashes;
+  const std::vector<double>& dash_end_values = b.dash_ends.empty() ? no_dashes : b.dash_ends;
   const std::vector<uint32_t>& element_starts = b.first_element.empty() ? no_elements : b.first_element;
   staging.begin(HostStaging::room(b.strokes.size() * sizeof(StrokeRecord)) +
                 HostStaging::room(b.subpaths.size() * sizeof(StrokeSubpath)) +
                 HostStaging::room(b.segments.size() * sizeof(StrokeSegment)) +
                 HostStaging::room(dash_values.size() * sizeof(double)) +
+                HostStaging::room(dash_end_values.size() * sizeof(double)) +
                 HostStaging::room(element_starts.size() * sizeof(uint32_t)));
   staging.put(strokes, b.strokes);
   staging.put(subpaths, b.subpaths);
   staging.put(segments, b.segments);
   staging.put(dashes, dash_values);
+  staging.put(dash_ends, dash_end_values);
   staging.put(first_element, element_starts);
   if (times) MPVG_CUDA(cudaStreamSynchronize(cudaStreamPerThread));
   t.upload_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - w0).count();
@@ -263,7 +266,7 @@ size_t StrokeStage::run(const StrokeBatch& b, DeviceBuffer<InputSegment>& out, s
   sub_length.resize(nsub + 1);
   keys.resize(nseg + 1);
   const StrokeInput in{strokes.data(),    subpaths.data(),      segments.data(),
-                       dashes.data(),     seg_length.data(),    seg_start.data(),
+                       dashes.data(),     dash_ends.data(),     seg_length.data(),    seg_start.data(),
                        sub_length.data(), first_element.data(), static_cast<uint32_t>(b.strokes.size()),
                        nsub,              nseg,                 nelem};
   // GPU times only when asked for (tools): a frame records no events. The

@@ -20,7 +20,7 @@ class StrokeStage {
   DeviceBuffer<stroking::StrokeRecord> strokes;
   DeviceBuffer<stroking::StrokeSubpath> subpaths;
   DeviceBuffer<stroking::StrokeSegment> segments;
-  DeviceBuffer<double> dashes, seg_length, seg_start, sub_length;
+  DeviceBuffer<double> dashes, dash_ends, seg_length, seg_start, sub_length;
   DeviceBuffer<uint32_t> keys, first_element, count, offset, flags;
   DeviceBuffer<uint32_t> pcount, poffset, scount, soffset;
   DeviceBuffer<stroking::StrokePart> parts;

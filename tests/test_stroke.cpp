@@ -346,3 +346,95 @@ TEST_CASE("stroke stage: stroked scene elements render as their outlines filled"
     CHECK(differ == 0);
   }
 }
+
+namespace {
+
+// DashPattern's searches as the pattern's definition reads: running sums
+// over the elements in order.
+uint32_t after_by_scan(const std::vector<double>& d, double sum, double offset, double s, double* k) {
+  const double q = s + offset;
+  double per = std::floor(q / sum);
+  double r = q - per * sum;
+  if (r >= sum) r -= sum, per += 1;
+  if (r < 0) r += sum, per -= 1;
+  double c = 0;
+  for (uint32_t j = 0; j < d.size(); j++) {
+    if (r < c + d[j]) {
+      *k = per;
+      return j;
+    }
+    c += d[j];
+  }
+  *k = per + 1;
+  return 0;
+}
+
+uint32_t before_by_scan(const std::vector<double>& d, double sum, double offset, double s) {
+  const double q = s + offset;
+  double r = q - std::ceil(q / sum - 1) * sum;
+  if (r <= 0) r += sum;
+  if (r > sum) r -= sum;
+  double c = 0;
+  for (uint32_t j = 0; j < d.size(); j++) {
+    if (r <= c + d[j] && d[j] > 0) return j;
+    c += d[j];
+  }
+  return static_cast<uint32_t>(d.size() - 1);
+}
+
+}  // namespace
+
+TEST_CASE("dash patterns: binary searches on the running sums find what a scan finds", "[stroke_stage][dash]") {
+  std::mt19937 rng(45);
+  std::uniform_real_distribution<double> u(0, 1);
+  int compared = 0;
+  for (int t = 0; t < 300; t++) {
+    // Even lengths, some zero, some tiny, some repeated.
+    const int n = 2 * (1 + static_cast<int>(u(rng) * 20));
+    std::vector<double> d(n);
+    for (double& x : d) {
+      const double r = u(rng);
+      x = r < 0.25 ? 0 : r < 0.3 ? 1e-12 : r < 0.4 ? 0.5 : 10 * u(rng);
+    }
+    d[0] = std::max(d[0], 0.1);  // a pattern of some length
+    std::vector<double> e;
+    double sum = 0;
+    for (double x : d) e.push_back(sum += x);
+    const double offset = u(rng) * sum;
+    const stroking::DashPattern dp{d.data(), e.data(), static_cast<uint32_t>(n), sum, offset, 100};
+    for (int i = 0; i < 200; i++) {
+      // Points anywhere, and exactly on element boundaries.
+      const double s = i % 2 ? (u(rng) * 4 - 1) * sum : 2 * sum + dp.cum(static_cast<uint32_t>(u(rng) * n)) - offset;
+      double k1 = 0, k2 = 0;
+      const uint32_t a1 = dp.element_after(s, &k1), a2 = after_by_scan(d, sum, offset, s, &k2);
+      INFO("pattern " << t << " at " << s);
+      REQUIRE(a1 == a2);
+      REQUIRE(k1 == k2);
+      REQUIRE(dp.element_before(s) == before_by_scan(d, sum, offset, s));
+      compared++;
+    }
+  }
+  CHECK(compared == 60000);
+}
+
+TEST_CASE("dash patterns: a 200,000-element pattern strokes to what its dashes are", "[stroke_stage][dash]") {
+  // Dashes of 0.001 and gaps of 0.001 over a 20-unit line: 10,000 dashes
+  // of the 100,000 pattern periods' first elements reach the line (the
+  // pattern is 200 long), each a rectangle of butt caps.
+  Path p;
+  p.move_to({0, 0});
+  p.line_to({20, 0});
+  StrokeStyle st;
+  st.width = 1;
+  st.dashes.assign(200000, 0.001);
+  const std::vector<InputSegment> out = stroke_of(p, st, Affine::scale(10, 10));
+  double lo = 1e9, hi = -1e9;
+  for (const InputSegment& s : out) {
+    lo = std::min(lo, s.x[0]);
+    hi = std::max(hi, s.x[0]);
+  }
+  CHECK(lo >= -1e-9);
+  CHECK(hi <= 200 + 1e-9);
+  // Each dash is a closed contour of four lines.
+  CHECK(out.size() == 4 * 10000);
+}

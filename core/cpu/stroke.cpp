@@ -29,7 +29,7 @@ std::vector<InputSegment> stroke_cpu(const StrokeBatch& b, int threads, StrokeTi
   const size_t nseg = b.segments.size(), nsub = b.subpaths.size();
   std::vector<double> seg_length(nseg), seg_start(nseg), sub_length(nsub);
   StrokeInput in{b.strokes.data(),        b.subpaths.data(),  b.segments.data(),
-                 b.dashes.data(),         seg_length.data(),  seg_start.data(),
+                 b.dashes.data(),         b.dash_ends.data(), seg_length.data(),  seg_start.data(),
                  sub_length.data(),       b.first_element.data(),
                  static_cast<uint32_t>(b.strokes.size()), static_cast<uint32_t>(nsub),
                  static_cast<uint32_t>(nseg), b.nelements};

@@ -28,6 +28,11 @@ struct DecodeRequest {
   // reducing it (GIF, WebP and interlaced PNG decoders give no rows before
   // the whole image is decoded).
   size_t max_whole_pixels = size_t(1) << 26;
+  // Texels read at most, however much they are reduced: a decoder's time
+  // (a JPEG header may claim 65500 x 65500 pixels that 500 bytes cannot
+  // hold, and libjpeg decodes every missing row as grey; 2^30 texels take
+  // a few seconds).
+  size_t max_decoded_pixels = size_t(1) << 30;
 };
 
 template <class T>

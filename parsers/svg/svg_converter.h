@@ -588,7 +588,10 @@ class Converter {
   // with objectBoundingBox units (obb) a percentage is a fraction of the
   // box like a plain number; with userSpaceOnUse, of the viewport (SVG 1.1
   // §13.2.2, §13.3).
-  double server_length(const std::string* text, Length def, Axis axis, double em, bool obb) const;
+  // Warns when `value` of attribute `name` is a length out of range.
+  void warn_out_of_range(std::string_view name, std::string_view value, CalcOk calc) const;
+  double server_length(const std::string* text, Length def, Axis axis, double em, bool obb,
+                       double max_magnitude = kMaxNumber) const;
   double length(const Element& e, const char* name, Axis axis, double def, double em) const;
   // The length `name` of e as specified, or nullopt when absent or
   // invalid. SVG 2's geometry properties (x, y, width, height, cx, cy, r,
@@ -724,6 +727,9 @@ class Converter {
   // Here: the bounds of fc's content, and the last effect's result over
   // its region; fc's scene is the first one's source.
   void filter_fill(Converter& fc, std::vector<FilterEffect> effects, const Affine& space);
+  // Where an effect's result is painted: its region's box in scene units,
+  // clipped to what of it can show.
+  ViewBox region_fill(const FilterRect& region, const Affine& space) const;
   // What a filter element's primitives are resolved against (svg_filters.cpp).
   struct FilterSpace;
   // Filter element `f` (its href chain resolved) applied to an element with

@@ -139,6 +139,22 @@ ViewBox mapped_box(const FilterRect& r, const Affine& m) {
   return {x0, y0, x1 - x0, y1 - y0};
 }
 
+}  // namespace
+
+// Where a filter's result is painted, in scene units: its region's box,
+// clipped to the scene grown by its size on every side (no more of the
+// region can show; the layer itself is cut to the output in pixels), so
+// that a region of 1e12 units makes no geometry that large.
+ViewBox Converter::region_fill(const FilterRect& region, const Affine& space) const {
+  const ViewBox r = mapped_box(region, space);
+  if (!(scene_w_ > 0 && scene_h_ > 0)) return r;
+  const double x0 = std::max(r.x, -scene_w_), y0 = std::max(r.y, -scene_h_);
+  const double x1 = std::min(r.x + r.w, 2 * scene_w_), y1 = std::min(r.y + r.h, 2 * scene_h_);
+  return {x0, y0, std::max(0.0, x1 - x0), std::max(0.0, y1 - y0)};
+}
+
+namespace {
+
 FilterRect unite(const FilterRect& a, const FilterRect& b) {
   const double x0 = std::min(a.x, b.x), y0 = std::min(a.y, b.y);
   const double x1 = std::max(a.x + a.w, b.x + b.w), y1 = std::max(a.y + a.h, b.y + b.h);
@@ -411,14 +427,14 @@ void Converter::filter_fill(Converter& fc, std::vector<FilterEffect> effects, co
   paint.type = PaintType::Filter;
   for (size_t i = 0; i + 1 < effects.size(); i++) {
     effects[i].source = source;
-    const ViewBox r = mapped_box(effects[i].region, space);
+    const ViewBox r = region_fill(effects[i].region, space);
     SceneBuilder nb(scene_w_, scene_h_);
     paint.index = nb.add_filter(std::move(effects[i]));
     nb.fill(nb.add_geometry(rect_path(r.x, r.y, r.w, r.h, 0, 0)), Affine{}, FillRule::NonZero, paint);
     source = std::make_shared<const Scene>(nb.finish());
   }
   effects.back().source = source;
-  const ViewBox r = mapped_box(effects.back().region, space);
+  const ViewBox r = region_fill(effects.back().region, space);
   filters_.push_back(std::move(effects.back()));
   paint.index = static_cast<uint32_t>(filters_.size() - 1);
   paints_.push_back(paint);
@@ -456,7 +472,7 @@ std::optional<FilterEffect> Converter::filter_effect(const Element& f, const Bou
   // default, of the box or (userSpaceOnUse) of the viewport.
   const double em = font_size_of(f);
   auto len = [&](const char* name, Axis axis, double def) {
-    return server_length(attr(name), Length{def, Unit::Percent}, axis, em, obb);
+    return server_length(attr(name), Length{def, Unit::Percent}, axis, em, obb, kMaxRegionNumber);
   };
   FilterRect region{len("x", Axis::X, -10), len("y", Axis::Y, -10), len("width", Axis::X, 120),
                     len("height", Axis::Y, 120)};
@@ -875,7 +891,7 @@ FilterRect Converter::primitive_subregion(const Element& fe, const FilterSpace& 
   const double em = font_size_of(fe);
   auto coord = [&](const char* name, Axis axis, double& v, bool size) {
     const std::string* a = fe.attribute(name);
-    const auto l = a ? parse_length(*a) : std::nullopt;
+    const auto l = a ? parse_length(*a, CalcOk::No, kMaxRegionNumber) : std::nullopt;
     if (!l) return;
     if (!fs.primitive_obb) {
       v = to_user(*l, axis, em);

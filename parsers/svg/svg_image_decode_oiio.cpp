@@ -159,6 +159,8 @@ std::shared_ptr<Image> decode(const std::vector<uint8_t>& bytes, const char* for
   *full_h = spec.height;
   if (whole && size_t(spec.width) * size_t(spec.height) > req.max_whole_pixels)
     return too_large(size_t(spec.width), size_t(spec.height), req.max_whole_pixels);
+  if (size_t(spec.width) * size_t(spec.height) > req.max_decoded_pixels)
+    return too_large(size_t(spec.width), size_t(spec.height), req.max_decoded_pixels);
   const int k = req.reduction ? std::max(1, req.reduction(spec.width, spec.height)) : 1;
   const size_t out_w = (size_t(spec.width) + k - 1) / k, out_h = (size_t(spec.height) + k - 1) / k;
   if (out_w * out_h > req.max_pixels) return too_large(size_t(spec.width), size_t(spec.height), req.max_pixels);

@@ -77,6 +77,7 @@ bool decode(PngDecoder* d) {
   const int k = req.reduction ? std::max(1, req.reduction(int(w), int(h))) : 1;
   const size_t out_w = (w + k - 1) / k, out_h = (h + k - 1) / k;
   if (too_large(d, out_w, out_h, req.max_pixels)) return false;
+  if (too_large(d, w, h, req.max_decoded_pixels)) return false;
   const bool interlaced = png_get_interlace_type(d->png, d->info) != PNG_INTERLACE_NONE;
   // Interlaced rows are complete only after the last pass: such an image
   // is decoded whole, then reduced.

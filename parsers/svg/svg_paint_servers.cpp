@@ -171,10 +171,11 @@ std::vector<const Element*> Converter::href_chain(const Element& e, const char* 
   return chain;
 }
 
-double Converter::server_length(const std::string* text, Length def, Axis axis, double em, bool obb) const {
+double Converter::server_length(const std::string* text, Length def, Axis axis, double em, bool obb,
+                                double max_magnitude) const {
   Length l = def;
   if (text)
-    if (const auto v = parse_length(*text)) l = *v;
+    if (const auto v = parse_length(*text, CalcOk::No, max_magnitude)) l = *v;
   if (obb && l.unit == Unit::Percent) return l.value / 100;
   return to_user(l, axis, em);
 }

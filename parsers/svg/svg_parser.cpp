@@ -251,6 +251,7 @@ std::optional<Length> Converter::length_value(const Element& e, const char* name
     const auto p = property<std::optional<Length>>(e, name, [&](std::string_view v) {
       if (takes_auto && iequals(trim(v), "auto")) return std::optional<std::optional<Length>>(std::optional<Length>());
       const auto l = parse_length(v, CalcOk::Yes);
+      if (!l) warn_out_of_range(name, v, CalcOk::Yes);
       return l ? std::optional<std::optional<Length>>(l) : std::nullopt;
     });
     if (p.state == Prop<std::optional<Length>>::Set) return p.value;
@@ -275,7 +276,18 @@ std::optional<Length> Converter::length_value(const Element& e, const char* name
   }
   const std::string* a = e.attribute(name);
   if (!a) return std::nullopt;
-  return parse_length(*a, property_like ? CalcOk::Yes : CalcOk::No);
+  const CalcOk calc = property_like ? CalcOk::Yes : CalcOk::No;
+  const auto l = parse_length(*a, calc);
+  if (!l) warn_out_of_range(name, *a, calc);
+  return l;
+}
+
+// A length that is one but for its magnitude is ignored as invalid
+// values are (numbers beyond kMaxNumber are syntax errors), and said so.
+void Converter::warn_out_of_range(std::string_view name, std::string_view value, CalcOk calc) const {
+  if (!parse_length(value, calc, kMaxRegionNumber)) return;
+  const std::string v(value.substr(0, 40));
+  warn(std::string(name) + "=\"" + v + "\": numbers beyond 1e9 are out of range: ignored");
 }
 
 // A length that may be "auto" (rect rx/ry, ellipse rx/ry in SVG 2): absent,
@@ -318,20 +330,20 @@ namespace {
 // presentation attribute) applies, its data kept up to an error (SVG 2
 // paths.html#PathDataErrorHandling). initial is none; inherit takes the
 // parent's value.
-bool d_property(const Element& e, Path& out, std::vector<uint32_t>* arc_continuations) {
+bool d_property(const Element& e, Path& out, std::vector<uint32_t>* arc_continuations, bool* error) {
   for (auto it = e.declarations.rbegin(); it != e.declarations.rend(); ++it) {
     if (it->first != "d") continue;
     const auto keyword = parse_keyword(it->second);
     // unset and revert: d is not inherited, and presentation attributes
     // are author style, which revert rolls back past: none.
     if (keyword == "none" || keyword == "initial" || keyword == "unset" || keyword == "revert") return false;
-    if (keyword == "inherit") return e.parent && d_property(*e.parent, out, arc_continuations);
+    if (keyword == "inherit") return e.parent && d_property(*e.parent, out, arc_continuations, error);
     if (const auto p = parse_css_path(it->second); p && !p->rule && parse_path_data(p->data, out, arc_continuations))
       return true;
   }
   const std::string* d = e.name == "path" ? e.attribute("d") : nullptr;
   if (!d) return false;
-  parse_path_data(*d, out, arc_continuations);
+  if (!parse_path_data(*d, out, arc_continuations)) *error = true;
   return true;
 }
 
@@ -342,7 +354,10 @@ std::optional<Path> Converter::build_shape(const Element& e, double em,
   const std::string& n = e.name;
   if (n == "path") {
     Path p;
-    if (!d_property(e, p, arc_continuations)) return std::nullopt;
+    bool error = false;
+    if (!d_property(e, p, arc_continuations, &error)) return std::nullopt;
+    // Drawn up to the error, as SVG 2 says (paths.html#PathDataErrorHandling).
+    if (error) warn("path data with an error (or a number beyond 1e9): drawn up to it");
     return p;
   }
   if (n == "rect") {

@@ -84,7 +84,7 @@ std::optional<double> Scanner::number() {
   const auto r = std::from_chars(first, last, v, std::chars_format::general);
   if (r.ec != std::errc() || r.ptr != last || !std::isfinite(v)) return std::nullopt;
   if (mantissa > pos_ && s_[pos_] == '-') v = -v;
-  if (std::fabs(v) > kMaxNumber) return std::nullopt;
+  if (std::fabs(v) > max_) return std::nullopt;
   pos_ = i;
   return v;
 }
@@ -248,14 +248,14 @@ std::optional<CalcValue> calc_sum(Scanner& s, int depth) {
 
 }  // namespace
 
-std::optional<Length> parse_length(std::string_view text, CalcOk calc) {
-  Scanner s(trim(text));
+std::optional<Length> parse_length(std::string_view text, CalcOk calc, double max_magnitude) {
+  Scanner s(trim(text), max_magnitude);
   if (calc == CalcOk::Yes && s.consume_word("calc(")) {
     const auto v = calc_sum(s, 0);
     s.skip_ws();
     if (!v || !s.consume(')') || !s.at_end() || v->number) return std::nullopt;
     for (double t : {v->px, v->pct, v->em, v->ex, v->rem})
-      if (!std::isfinite(t) || std::fabs(t) > kMaxNumber) return std::nullopt;
+      if (!std::isfinite(t) || std::fabs(t) > max_magnitude) return std::nullopt;
     Length l{v->px, Unit::Calc};
     l.percent = v->pct;
     l.em = v->em;

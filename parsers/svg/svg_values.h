@@ -21,6 +21,10 @@ namespace mpvg::svg::detail {
 // coordinates this large, and keeping them finite after transforms matters
 // more than accepting them.
 constexpr double kMaxNumber = 1e9;
+// Filter regions and subregions may be larger (a userSpaceOnUse region
+// 2e9 wide around the drawing): they are clipped to what can reach the
+// output before anything is sized (Converter::region_fill, plan_layer).
+constexpr double kMaxRegionNumber = 1e30;
 
 // XML whitespace (XML 1.0 §2.3 S), which is also SVG's wsp.
 inline bool is_ws(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f'; }
@@ -42,7 +46,8 @@ bool iequals(std::string_view a, std::string_view b);
 // A cursor over value text following the SVG 2 / CSS lexical rules.
 class Scanner {
  public:
-  explicit Scanner(std::string_view s) : s_(s) {}
+  // Numbers beyond max_magnitude are syntax errors.
+  explicit Scanner(std::string_view s, double max_magnitude = kMaxNumber) : s_(s), max_(max_magnitude) {}
 
   bool at_end() const { return pos_ >= s_.size(); }
   char peek() const { return at_end() ? '\0' : s_[pos_]; }
@@ -66,6 +71,7 @@ class Scanner {
 
  private:
   std::string_view s_;
+  double max_ = kMaxNumber;
   size_t pos_ = 0;
 };
 
@@ -93,7 +99,7 @@ enum class CalcOk : bool { No, Yes };
 // case-insensitive; with CalcOk::Yes also calc() (+ - * / and parentheses,
 // nested calc(), CSS Values 4 §10.1's typing: a sum of lengths and
 // percentages, scaled by plain numbers). nullopt on anything else.
-std::optional<Length> parse_length(std::string_view s, CalcOk calc = CalcOk::No);
+std::optional<Length> parse_length(std::string_view s, CalcOk calc = CalcOk::No, double max_magnitude = kMaxNumber);
 
 // The font-relative units are resolved with a fixed font: 1em = 16px and
 // 1ex = 8px (fonts are not modelled). `percent_base` is the reference length
