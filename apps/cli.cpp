@@ -341,8 +341,19 @@ uint64_t parse_size(const std::string& option, const std::string& v) {
   return static_cast<uint64_t>(bytes);
 }
 
-RenderOptions render_options(const Options& o, int width, int height, const Affine& view) {
+std::shared_ptr<MemoryBudget> make_budget(const Options& o) {
+  auto b = std::make_shared<MemoryBudget>(memory_budget(o));
+  // What the program itself holds whatever it renders (code, libraries,
+  // fonts, the document's text and tree): counted so that the process's
+  // peak stays near the budget, not a budget and more.
+  b->try_charge(std::min<uint64_t>(kProgramBytes, b->limit() / 8));
+  return b;
+}
+
+RenderOptions render_options(const Options& o, int width, int height, const Affine& view,
+                             std::shared_ptr<MemoryBudget> budget) {
   RenderOptions r;
+  r.budget = budget ? std::move(budget) : make_budget(o);
   r.width = width;
   r.height = height;
   r.view = view;

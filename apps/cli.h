@@ -69,11 +69,17 @@ bool parse(int argc, char** argv, const char* program, const char* input_kind, O
 // given intrinsic size. Throws mpvg::Error when no size can be derived.
 void output_geometry(const Options& o, double doc_width, double doc_height, int* width, int* height, Affine* view);
 
-RenderOptions render_options(const Options& o, int width, int height, const Affine& view);
+// The options' render of width x height pixels. `budget`: the one the
+// document's parse was charged to (its scene stays charged while it
+// renders); null: a fresh one (make_budget).
+RenderOptions render_options(const Options& o, int width, int height, const Affine& view,
+                             std::shared_ptr<MemoryBudget> budget = nullptr);
 
 // The memory budget of one render: --max-memory, or half of what the
 // machine (or the control group it runs in) has.
 uint64_t memory_budget(const Options& o);
+// A budget of that size for one document or page, parse and render.
+std::shared_ptr<MemoryBudget> make_budget(const Options& o);
 
 // Throws mpvg::Error when a frame of width x height pixels would not fit
 // the budget ("the output of 32768x32768 pixels needs 32 GiB, the budget

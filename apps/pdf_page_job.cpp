@@ -16,10 +16,13 @@ std::unique_ptr<pipeline::Job> pdf_page_job(const PdfPageRequest& request, const
   job->out = out;
   // --scale-to: the resolution follows from the page's size.
   const PdfPageRequest& pdf = request;
+  // One budget for the page: its lowering, then its render.
+  pdf::PageOptions page_options = pdf.page;
+  page_options.budget = cli::make_budget(opt);
   pdf::PageResult page = doc.page(
       n - 1,
       [&pdf](double w, double h) { return pdf.scale_to > 0 ? pdf.scale_to / std::max(w, h) : pdf.dpi / 72.0; },
-      pdf.page);
+      page_options);
   const Scene& first = page.ink_passes.empty() ? page.scene : page.ink_passes[0];
   job->prepare_ms[0] = page.interpret_ms;
   job->prepare_ms[1] = page.lower_ms;
@@ -39,7 +42,7 @@ std::unique_ptr<pipeline::Job> pdf_page_job(const PdfPageRequest& request, const
     cli::check_frame(opt, width, height);
     job->width = width;
     job->height = height;
-    job->options = cli::render_options(opt, width, height, view);
+    job->options = cli::render_options(opt, width, height, view, page_options.budget);
     job->plan = plan_render(job->options);
     job->scene = encode_for(page.scene, job->plan, job->options.gamma, &job->stats);
     return job;
@@ -52,6 +55,7 @@ std::unique_ptr<pipeline::Job> pdf_page_job(const PdfPageRequest& request, const
   const int wide = passes * (width + kGap) - kGap;
   cli::check_frame(opt, wide, height);
   SceneBuilder b((pdf.crop_x + wide) / scale, first.height);
+  b.set_budget(page_options.budget.get());
   for (int p = 0; p < passes; p++) {
     const double x0 = pdf.crop_x / scale, y0 = pdf.crop_y / scale, dx = p * (width + kGap) / scale;
     b.push();
@@ -71,7 +75,7 @@ std::unique_ptr<pipeline::Job> pdf_page_job(const PdfPageRequest& request, const
   job->inks = std::move(inks);
   job->width = wide;
   job->height = height;
-  job->options = cli::render_options(opt, wide, height, view);
+  job->options = cli::render_options(opt, wide, height, view, page_options.budget);
   job->plan = plan_render(job->options);
   job->scene = encode_for(scene, job->plan, job->options.gamma, &job->stats);
   return job;

@@ -139,6 +139,7 @@ svg::ParseOptions parse_options_for(const cli::Options& opt, int threads) {
   o.max_image_pixels = std::min<uint64_t>(o.max_image_pixels, images * 3 / 16);
   o.max_whole_image_pixels = std::min<uint64_t>(o.max_whole_image_pixels, images / 8);
   o.max_input_bytes = opt.max_input;
+  o.budget = cli::make_budget(opt);
   o.view = [&opt](double w, double h) {
     int width, height;
     Affine view;
@@ -186,8 +187,9 @@ int run(const cli::Options& opt, const Document& source, Renderers& renderers, c
     return lease.get();
   };
   const std::string read = source.text ? std::string() : svg::read_svg_file(opt.positional[0], opt.max_input);
-  svg::ParseResult doc =
-      svg::parse_svg_string(source.text ? *source.text : read, source.base_dir, parse_options_for(opt, 0));
+  // One budget for the document: its parse, then its render.
+  svg::ParseOptions po = parse_options_for(opt, 0);
+  svg::ParseResult doc = svg::parse_svg_string(source.text ? *source.text : read, source.base_dir, po);
   const double parse_ms = ms_since(t_start);
   io.checkpoint("after parsing");
   if (!opt.quiet)
@@ -195,7 +197,7 @@ int run(const cli::Options& opt, const Document& source, Renderers& renderers, c
   int width, height;
   Affine view;
   cli::output_geometry(opt, doc.scene.width, doc.scene.height, &width, &height, &view);
-  RenderOptions ro = cli::render_options(opt, width, height, view);
+  RenderOptions ro = cli::render_options(opt, width, height, view, po.budget);
   ro.aliased_paths = has_aliased_paths(doc.scene);
   RenderStats stats;
   const RenderPlan plan = plan_render(ro);
@@ -424,13 +426,14 @@ int run_batch(const cli::Options& opt, Renderers& renderers) {
     job->out = items[t].second;
     const auto t0 = Clock::now();
     // One thread each: the workers are the parallelism.
-    svg::ParseResult doc = svg::parse_svg_file(items[t].first, parse_options_for(opt, 1));
+    const svg::ParseOptions po = parse_options_for(opt, 1);
+    svg::ParseResult doc = svg::parse_svg_file(items[t].first, po);
     job->prepare_ms[0] = ms_since(t0);
     const auto t1 = Clock::now();
     job->warnings = std::move(doc.warnings);
     Affine view;
     cli::output_geometry(opt, doc.scene.width, doc.scene.height, &job->width, &job->height, &view);
-    job->options = cli::render_options(opt, job->width, job->height, view);
+    job->options = cli::render_options(opt, job->width, job->height, view, po.budget);
     job->options.aliased_paths = has_aliased_paths(doc.scene);
     if (!cuda) job->options.threads = 1;
     job->plan = plan_render(job->options);

@@ -541,8 +541,28 @@ class Encoder {
     return true;
   }
 
+  // What the encoding of scene's paths holds (its segments with the lines
+  // that close contours, or its strokes' centrelines), charged before it
+  // is made.
+  void charge_paths(const Scene& scene) {
+    if (!options_.budget) return;
+    uint64_t n = scene.paths.size() * sizeof(PathRecord) + scene.stream.size() * sizeof(Entry);
+    for (const ScenePath& sp : scene.paths) {
+      const Path& g = scene.geometries[sp.geometry];
+      const uint64_t segments = g.segments().size(), contours = g.contours().size();
+      if (sp.stroke >= 0)
+        n += segments * sizeof(stroking::StrokeSegment) +
+             contours * (sizeof(stroking::StrokeSubpath) + sizeof(uint32_t)) + sizeof(stroking::StrokeRecord) +
+             scene.strokes[sp.stroke].dashes.size() * 2 * 2 * sizeof(double);
+      else
+        n += (segments + contours) * sizeof(InputSegment);
+    }
+    options_.budget->charge(n, "the scene's encoding");
+  }
+
   void paths(const Scene& scene, const Affine& view, uint32_t paint_base, const std::vector<uint32_t>& paint_flags,
              uint32_t group_base, EncodedScene& out) {
+    charge_paths(scene);
     out.paths.resize(scene.paths.size());
     // How the innermost open group's list composites (GROUP_IN_* of its
     // children); the top level runs front to back.

@@ -62,6 +62,38 @@ void premultiplied(const float c[4], bool linear, float out[4]) {
 
 }  // namespace
 
+std::vector<uint32_t> filter_last_uses(const FilterEffect& f) {
+  const uint32_t n = static_cast<uint32_t>(f.primitives.size());
+  std::vector<uint32_t> last(n, n);
+  for (uint32_t k = 0; k < n; k++) {
+    const FilterPrimitive& p = f.primitives[k];
+    auto use = [&](int32_t in) {
+      if (in >= 0 && static_cast<uint32_t>(in) < k) last[in] = k;
+    };
+    use(p.in), use(p.in2);
+    for (int32_t in : p.inputs) use(in);
+  }
+  return last;
+}
+
+uint64_t filter_layer_bytes(const FilterEffect& f) {
+  const std::vector<uint32_t> last = filter_last_uses(f);
+  const size_t n = last.size();
+  // Results alive as op k makes its own: those made before and read by k
+  // or later (or the graph's, the last).
+  std::vector<size_t> drops(n, 0);  // results dropped after op k
+  for (size_t i = 0; i < n; i++) drops[last[i] < n ? last[i] : i]++;
+  size_t alive = 0, peak = 0;
+  for (size_t k = 0; k < n; k++) {
+    peak = std::max(peak, ++alive);
+    if (k + 1 < n) alive -= drops[k];
+  }
+  // + an op's two inputs (converted or made) and its output; the source's
+  // frame (16 + 16 + 32 bytes a pixel, render_cpu) and its image (16);
+  // the result's texels (8).
+  return 16 * (peak + 3) + 64 + 16 + 8;
+}
+
 LayerJob plan_layer(const FilterEffect& f, const RenderOptions& o, std::string* warning) {
   LayerJob job;
   FilterLayer& l = job.layer;
@@ -75,9 +107,10 @@ LayerJob plan_layer(const FilterEffect& f, const RenderOptions& o, std::string* 
   const FilterBox grown{-g, -g, o.width + g, o.height + g};
   FilterBox b = intersect(pixel_box(f.region, m), grown);
   if (empty(b)) return job;
-  // The memory cap: cut the box around the output's centre.
-  const uint64_t max_pixels =
-      std::min<uint64_t>(kMaxFilterLayerPixels, kMaxFilterBytes / (16 * (f.primitives.size() + 4)));
+  // The memory cap: a quarter of the budget (its limit, not what is left:
+  // both executors cut alike), the box cut around the output's centre.
+  const uint64_t share = o.budget ? o.budget->limit() / 4 : kMaxFilterBytes;
+  const uint64_t max_pixels = std::min<uint64_t>(kMaxFilterLayerPixels, share / filter_layer_bytes(f));
   while (static_cast<uint64_t>(b.x1 - b.x0) * static_cast<uint64_t>(b.y1 - b.y0) > max_pixels) {
     if (warning) *warning = "filter region too large for a layer: cut to the pixels nearest the output";
     const int cx = o.width / 2, cy = o.height / 2;
@@ -93,6 +126,8 @@ LayerJob plan_layer(const FilterEffect& f, const RenderOptions& o, std::string* 
   box = b;
   l.width = b.x1 - b.x0;
   l.height = b.y1 - b.y0;
+  l.last_use = filter_last_uses(f);
+  l.bytes_per_pixel = filter_layer_bytes(f);
   const Affine to_layer = Affine::translate(-b.x0, -b.y0);
   const Affine lm = to_layer * m;  // user space to layer pixels
   const FilterBox whole{0, 0, l.width, l.height};
@@ -338,6 +373,12 @@ FilterExecutor cpu_filters(int threads) {
       LayerJob& job = jobs[k];
       FilterLayer& l = job.layer;
       if (l.width <= 0 || l.height <= 0) continue;
+      // The graph's working set while it runs (the source's frame is
+      // charged by its render); the result's texels stay.
+      MemoryBudget* budget = job.source_options.budget.get();
+      const uint64_t pixels = uint64_t(l.width) * l.height;
+      const BudgetCharge working(budget, pixels * (l.bytes_per_pixel - 8 - 64), "a filter layer");
+      charge(budget, pixels * sizeof(Texel16), "a filter layer's result");
       render_inputs(job, [](const Scene& s, const RenderOptions& so) { return render_cpu(s, so); });
       const FilterResult r = run_filter_cpu(l, threads);
       auto texels = std::make_shared<ExecutorTexels>();

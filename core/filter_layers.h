@@ -29,7 +29,8 @@
 namespace mpvg {
 
 // Layers larger than this are cut to it (about 4x a 4K frame), and to what
-// kMaxFilterBytes holds of the graph's results (16 bytes a pixel each).
+// a quarter of the memory budget (kMaxFilterBytes without one) holds of
+// what a layer needs while it is made (filter_layer_bytes).
 constexpr uint64_t kMaxFilterLayerPixels = uint64_t(1) << 25;
 constexpr uint64_t kMaxFilterBytes = uint64_t(1) << 30;
 // A graph whose ops would read more pixels than this (blur windows,
@@ -41,6 +42,10 @@ constexpr double kMaxFilterReads = 2e10;
 struct FilterLayer {
   int width = 0, height = 0;
   std::vector<FilterOp> ops;
+  // For each op, the last op that reads its result (ops.size() for none):
+  // executors drop a result after it (filter_last_uses).
+  std::vector<uint32_t> last_use;
+  uint64_t bytes_per_pixel = 0;  // while it is made (filter_layer_bytes)
   std::vector<float> tables;  // component transfer tables
   std::vector<int32_t> inputs;  // merge nodes
   std::vector<double> noise;    // turbulence lattices (turbulence_init)
@@ -81,6 +86,16 @@ struct LayerJob {
   };
   std::vector<Element> elements;
 };
+
+// For each primitive of f, the last primitive that reads its result
+// (in, in2, merge inputs); f.primitives.size() for none. The last result
+// is the graph's.
+std::vector<uint32_t> filter_last_uses(const FilterEffect& f);
+// Bytes a pixel of f's layer costs while it is made: the results alive
+// at once (dropped after their last use) and an op's inputs and output,
+// 16 bytes a pixel each; the source rendered over it (its frame's image,
+// unit areas and sums); the result's texels.
+uint64_t filter_layer_bytes(const FilterEffect& f);
 
 // The layer of filter `f` of a scene rendered with `options`, planned:
 // everything but the renders.

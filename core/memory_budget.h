@@ -33,6 +33,10 @@ namespace mpvg {
 // library's readers): a stream such as /dev/zero is read up to it.
 constexpr uint64_t kDefaultMaxInput = uint64_t(1) << 30;
 
+// What a program's budget sets aside for the program itself (its code,
+// libraries, fonts, a document's text and tree), uncounted elsewhere.
+constexpr uint64_t kProgramBytes = uint64_t(64) << 20;
+
 // "1 GiB", "1.5 GiB", "300 MiB", "12 KiB", "100 bytes".
 inline std::string byte_size(uint64_t n) {
   const char* units[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
@@ -91,11 +95,15 @@ class MemoryBudget {
   }
   // Takes `bytes` for `what` ("a mesh shading's grid", "the strokes'
   // segments"), or throws ResourceError: "the render needs 1.2 GiB or
-  // more (WHAT: 900 MiB), the budget is 1 GiB (--max-memory)".
+  // more (WHAT: 900 MiB more), the budget is 1 GiB (--max-memory)".
   void charge(uint64_t bytes, const std::string& what) {
-    if (!try_charge(bytes))
-      throw ResourceError("the render needs " + byte_size(add_sat(used(), bytes)) + " or more (" + what + ": " +
-                          byte_size(bytes) + "), the budget is " + byte_size(limit_) + " (--max-memory)");
+    if (try_charge(bytes)) return;
+    const uint64_t need = add_sat(used(), bytes);
+    // (Just past the limit, as charges that grow step by step end: "more".)
+    const std::string needs = need / 101 * 100 < limit_ ? "more than " + byte_size(limit_)
+                                                          : byte_size(need) + " or more";
+    throw ResourceError("the render needs " + needs + " (" + what + ": " + byte_size(bytes) + " more), the budget is " +
+                        byte_size(limit_) + " (--max-memory)");
   }
   void release(uint64_t bytes) {
     uint64_t u = used_.load(std::memory_order_relaxed);
@@ -122,6 +130,16 @@ class BudgetCharge {
   BudgetCharge(const BudgetCharge&) = delete;
   BudgetCharge& operator=(const BudgetCharge&) = delete;
   BudgetCharge(BudgetCharge&& o) noexcept : budget_(o.budget_), bytes_(o.bytes_) { o.bytes_ = 0; }
+  BudgetCharge& operator=(BudgetCharge&& o) noexcept {
+    if (this != &o) {
+      reset();
+      budget_ = o.budget_;
+      bytes_ = o.bytes_;
+      o.bytes_ = 0;
+    }
+    return *this;
+  }
+  explicit BudgetCharge(MemoryBudget* b) : budget_(b) {}
   ~BudgetCharge() { reset(); }
   void add(uint64_t bytes, const std::string& what) {
     if (!budget_) return;
@@ -132,6 +150,8 @@ class BudgetCharge {
     if (budget_ && bytes_) budget_->release(bytes_);
     bytes_ = 0;
   }
+  // Takes over `bytes` charged already (by a callee that hands them on).
+  void adopt(uint64_t bytes) { bytes_ += budget_ ? bytes : 0; }
   // Keeps the charge for good (the memory outlives the stage).
   void keep() { bytes_ = 0; }
   uint64_t bytes() const { return bytes_; }

@@ -173,7 +173,15 @@ ImageF render_cpu(const EncodedScene& enc, const RenderPlan& plan, const RenderO
     throw Error("a scene encoded with device texels (filter layers rendered on a GPU) cannot render on the CPU");
   const auto t_all = std::chrono::steady_clock::now();
   BuildTimes bt;
-  const ShortcutTree tree = build_tree_cpu(enc, plan.frame.ua_w, plan.frame.ua_h, plan.tree, &bt);
+  MemoryBudget* budget = o.budget.get();
+  const ShortcutTree tree = build_tree_cpu(enc, plan.frame.ua_w, plan.frame.ua_h, plan.tree, &bt, budget);
+  // The frame's buffers while it renders: the image, and for wide filters
+  // the unit areas' colours and the fixed-point sums.
+  const IntegrationFrame& f = plan.frame;
+  const BudgetCharge frame(budget,
+                           uint64_t(f.width) * f.height * 16 + uint64_t(f.ua_w) * f.ua_h * 16 +
+                               uint64_t(f.acc_w) * f.acc_h * 32,
+                           "the frame");
   st.stroke_ms += bt.stroke_ms;
   st.abstract_ms += bt.abstract_ms;
   st.subdivide_ms += bt.subdivide_ms;

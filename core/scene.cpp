@@ -146,6 +146,12 @@ void Path::append(const Path& other) {
   if (!other.contours_.empty()) open_contour_ = other.open_contour_;
 }
 
+size_t path_bytes(const Path& p) {
+  // (Capacities: what the arrays hold, grown by doubling.)
+  return sizeof(Path) + p.points().capacity() * sizeof(Vec2) + p.weights().capacity() * sizeof(double) +
+         p.segments().capacity() * sizeof(Path::Segment) + p.contours().capacity() * sizeof(Path::Contour);
+}
+
 size_t Scene::segment_count() const {
   size_t n = 0;
   for (const ScenePath& sp : paths) {
@@ -201,7 +207,14 @@ SceneBuilder::~SceneBuilder() {
 
 SceneBuilder::Frame& SceneBuilder::frame() { return frames_.back(); }
 
+void SceneBuilder::charge_elements(size_t n, size_t b) {
+  if (budget_)
+    budget_->charge(n * (sizeof(Node) + sizeof(ScenePath) + sizeof(Element) + sizeof(Paint)) + b,
+                    "the scene's elements");
+}
+
 uint32_t SceneBuilder::add_geometry(Path p) {
+  if (budget_) budget_->charge(path_bytes(p), "the scene's geometry");
   scene_.geometries.push_back(std::move(p));
   return static_cast<uint32_t>(scene_.geometries.size() - 1);
 }
@@ -259,6 +272,8 @@ uint32_t SceneBuilder::add_mesh(Mesh m) {
     if (!finite(m.ramp[i].offset) || !finite(m.ramp[i].color)) throw Error("scene: mesh ramp with a non-finite value");
     if (i > 0 && m.ramp[i].offset < m.ramp[i - 1].offset) throw Error("scene: mesh ramp out of order");
   }
+  if (budget_)
+    budget_->charge(m.vertices.size() * sizeof(MeshVertex) + m.ramp.size() * sizeof(ColorStop), "a mesh shading");
   scene_.meshes.push_back(std::move(m));
   return static_cast<uint32_t>(scene_.meshes.size() - 1);
 }
@@ -305,6 +320,7 @@ uint32_t SceneBuilder::add_filter(FilterEffect f) {
   if (!f.source) throw Error("scene: filter without a source");
   if (!finite(f.xf) || !finite_rect(f.region)) throw Error("scene: filter with a non-finite parameter");
   for (size_t i = 0; i < f.primitives.size(); i++) check_primitive(f.primitives[i], static_cast<int32_t>(i));
+  if (budget_) budget_->charge(f.primitives.size() * sizeof(FilterPrimitive), "a filter's primitives");
   scene_.filters.push_back(std::move(f));
   return static_cast<uint32_t>(scene_.filters.size() - 1);
 }
@@ -320,6 +336,7 @@ void SceneBuilder::fill(uint32_t geometry, const Affine& xf, FillRule rule, cons
                          : paint.type == PaintType::Filter         ? scene_.filters.size()
                                                                    : scene_.gradients.size();
   if (paint.index >= servers) throw Error("scene: paint refers to an unknown paint server");
+  charge_elements(1);
   Node* n = new Node{Node::Fill, {}, {}, {}};
   pool_.push_back(n);
   n->path.geometry = geometry;
@@ -334,6 +351,7 @@ void SceneBuilder::fill(uint32_t geometry, const Affine& xf, FillRule rule, cons
 
 void SceneBuilder::stroke(uint32_t geometry, const Affine& xf, const StrokeStyle& style, const Paint& paint,
                           bool aliased) {
+  charge_elements(0, sizeof(StrokeStyle) + style.dashes.size() * sizeof(double));
   fill(geometry, xf, FillRule::NonZero, paint, aliased);
   Node* n = frame().group->content.back();
   n->path.stroke = static_cast<int32_t>(scene_.strokes.size());
@@ -345,6 +363,7 @@ void SceneBuilder::clip(uint32_t geometry, const Affine& xf, FillRule rule, bool
   const bool in_clip_section = !f.activated;
   if (!in_clip_section && !f.clip_context) throw Error("scene grammar: clip test outside a clip-path");
   if (geometry >= scene_.geometries.size()) throw Error("scene: unknown geometry");
+  charge_elements(1);
   Node* n = new Node{Node::Clip, {}, {}, {}};
   pool_.push_back(n);
   n->path.geometry = geometry;
@@ -356,6 +375,7 @@ void SceneBuilder::clip(uint32_t geometry, const Affine& xf, FillRule rule, bool
 }
 
 void SceneBuilder::clip_stroke(uint32_t geometry, const Affine& xf, const StrokeStyle& style, bool aliased) {
+  charge_elements(0, sizeof(StrokeStyle) + style.dashes.size() * sizeof(double));
   clip(geometry, xf, FillRule::NonZero, aliased);
   Frame& f = frame();
   Node* n = (!f.activated ? f.group->clip_items : f.group->content).back();
@@ -366,6 +386,7 @@ void SceneBuilder::clip_stroke(uint32_t geometry, const Affine& xf, const Stroke
 void SceneBuilder::push() {
   Frame& f = frame();
   const bool in_clip_section = !f.activated;
+  charge_elements(1);
   Node* n = new Node{Node::ClipGroup, {}, {}, {}};
   pool_.push_back(n);
   const bool clip_context = in_clip_section || f.clip_context;
@@ -397,6 +418,7 @@ void SceneBuilder::begin_group(const Group& g) {
       static_cast<unsigned>(g.channels[0]) > 2 || static_cast<unsigned>(g.channels[1]) > 2 ||
       static_cast<unsigned>(g.channels[2]) > 2)
     throw Error("scene: group with an unknown blend mode or mask type");
+  charge_elements(1, sizeof(Group));
   Node* n = new Node{Node::Transparency, {}, {}, {}};
   pool_.push_back(n);
   n->group = static_cast<uint32_t>(scene_.groups.size());
@@ -784,6 +806,8 @@ void SceneBuilder::append(const Scene& other, const Affine& xf) {
 
 Scene SceneBuilder::finish() {
   if (frames_.size() != 1) throw Error("scene grammar: unbalanced push/pop or groups at the end of the scene");
+  // The stream and the lists it is made from, about 64 bytes an element.
+  charge_elements(0, pool_.size() * 64);
   Scene out;
   out.width = scene_.width;
   out.height = scene_.height;

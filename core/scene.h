@@ -32,6 +32,7 @@
 
 #include "core/filter.h"
 #include "core/geometry.h"
+#include "core/memory_budget.h"
 #include "core/paint.h"
 
 namespace mpvg {
@@ -415,6 +416,11 @@ struct Scene {
 class SceneBuilder {
  public:
   SceneBuilder(double width, double height);
+  // Charges what the scene holds to `budget` as it grows, before it grows
+  // (frontends that build into the builder as they read: PDF pages);
+  // null (the default): nothing is counted. Throws ResourceError past it.
+  void set_budget(MemoryBudget* budget) { budget_ = budget; }
+  MemoryBudget* budget() const { return budget_; }
   ~SceneBuilder();
   SceneBuilder(const SceneBuilder&) = delete;
   SceneBuilder& operator=(const SceneBuilder&) = delete;
@@ -492,12 +498,19 @@ class SceneBuilder {
   Node* current();
   Frame& frame();
 
+  // Charges for n elements (their nodes, paths and paints) and b bytes more.
+  void charge_elements(size_t n, size_t b = 0);
+
   Scene scene_;
+  MemoryBudget* budget_ = nullptr;
   std::vector<Node*> pool_;
   std::vector<Frame> frames_;
   Node* root_ = nullptr;
   size_t flattened_groups_ = 0;
 };
+
+// The memory a path's arrays hold: what the memory budget is charged for it.
+size_t path_bytes(const Path& p);
 
 // The warning frontends give when SceneBuilder::flattened_groups() is n > 0.
 std::string flattened_groups_warning(size_t n);

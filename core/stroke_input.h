@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/geometry.h"
+#include "core/memory_budget.h"
 #include "core/scene.h"
 #include "core/stroke.h"
 
@@ -44,7 +45,10 @@ struct StrokeBatch {
 struct StrokeTimes {
   double measure_ms = 0, elements_ms = 0, parts_ms = 0, fit_ms = 0;
 };
-std::vector<InputSegment> stroke_cpu(const StrokeBatch& batch, int threads = 0, StrokeTimes* times = nullptr);
+// What it makes is charged to `budget` (if any) as it is made, and given
+// back when it returns: the caller charges the output it keeps.
+std::vector<InputSegment> stroke_cpu(const StrokeBatch& batch, int threads = 0, StrokeTimes* times = nullptr,
+                                     MemoryBudget* budget = nullptr);
 
 // Hairlines. A stroke whose device width is below `min_device_width` pixels
 // would be thinner than a pixel and, with point sampling, flicker in and out

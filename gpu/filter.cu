@@ -236,21 +236,15 @@ class Batch {
   PlanesPtr run() {
     const FilterLayer& first = *l_[0];
     const size_t n = first.ops.size();
-    // Each result is dropped after the last op that reads it: a graph holds
-    // the images still to be read, not all it made.
-    std::vector<size_t> last(n, n);
-    for (size_t k = 0; k < n; k++) {
-      const FilterOp& o = first.ops[k];
-      auto use = [&](int32_t in) {
-        if (in >= 0 && static_cast<size_t>(in) < k) last[in] = k;
-      };
-      use(o.in), use(o.in2);
-      for (uint32_t j = 0; j < o.inputs_count; j++) use(first.inputs[o.inputs_begin + j]);
-    }
+    // Each result is dropped after the last op that reads it (FilterLayer::
+    // last_use, as the CPU's graph does): a graph holds the images still
+    // to be read, not all it made.
+    const bool planned = first.last_use.size() == n;
     for (size_t k = 0; k < n; k++) {
       results_.push_back(apply(k));
-      for (size_t i = 0; i + 1 < n && i < k; i++)
-        if (last[i] == k || last[i] == n) results_[i].reset();
+      if (!planned) continue;
+      for (size_t i = 0; i + 1 < n && i <= k; i++)
+        if (results_[i] && (first.last_use[i] == k || (first.last_use[i] == n && i == k))) results_[i].reset();
     }
     if (results_.empty()) return make(whole_, false, [](size_t) { return Constant{Rgba4{0, 0, 0, 0}}; });
     return results_.back();

@@ -539,10 +539,42 @@ TEST_CASE("filter effects stay bounded: huge layers are cut, costly graphs refus
   l = filter_layer(f, o, render, box, &warning);
   CHECK(l.width == 2000);
   CHECK(l.height == 2000);
-  // 20,000 ops: the memory cap cuts the layer to what their results hold.
-  f.primitives.assign(20000, flood);
+  // 200 floods that nothing reads: one result is held at a time (each
+  // dropped after its last use), the layer is whole.
+  f.primitives.assign(200, flood);
+  warning.clear();
   l = filter_layer(f, o, render, box, &warning);
-  CHECK(uint64_t(l.width) * l.height * 16 * (20000 + 4) <= kMaxFilterBytes);
+  CHECK(l.width == 2000);
+  CHECK(l.height == 2000);
+  CHECK(warning.empty());
+  CHECK(filter_layer_bytes(f) == 16 * (1 + 3) + 88);
+  // 20,000 merged: all of them are held until the merge reads them, and
+  // the memory cap cuts the layer to what they fit in.
+  f.primitives.assign(20000, flood);
+  FilterPrimitive merge;
+  merge.kind = FilterKind::Merge;
+  merge.subregion = f.region;
+  for (int32_t i = 0; i < 20000; i++) merge.inputs.push_back(i);
+  f.primitives.push_back(merge);
+  CHECK(filter_layer_bytes(f) == 16 * (20001 + 3) + 88);
+  l = filter_layer(f, o, render, box, &warning);
+  CHECK(l.width > 0);
+  CHECK(uint64_t(l.width) * l.height * filter_layer_bytes(f) <= kMaxFilterBytes);
+  CHECK(warning.find("too large") != std::string::npos);
+  // A chain holds two; a budget's quarter bounds the layer where one is given.
+  std::vector<uint32_t> last = filter_last_uses(f);
+  CHECK(last[0] == 20000);
+  CHECK(last[19999] == 20000);
+  CHECK(last[20000] == 20001);
+  f.primitives.assign(3, flood);
+  f.primitives[1].in = 0;
+  f.primitives[2].in = 1;
+  CHECK(filter_last_uses(f) == std::vector<uint32_t>{1, 2, 3});
+  CHECK(filter_layer_bytes(f) == 16 * (2 + 3) + 88);
+  o.budget = std::make_shared<MemoryBudget>(uint64_t(4) << 20);
+  warning.clear();
+  l = filter_layer(f, o, render, box, &warning);
+  CHECK(uint64_t(l.width) * l.height * filter_layer_bytes(f) <= (uint64_t(1) << 20));
   CHECK(warning.find("too large") != std::string::npos);
 }
 

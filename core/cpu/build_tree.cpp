@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "core/cpu/cpu_stages.h"
+#include "core/memory_budget.h"
 #include "core/forest.h"
 #include "core/subdivision.h"
 
@@ -24,7 +25,7 @@ uint32_t cell_weight(const TreeLevel& level, const Cell& c) {
 }  // namespace
 
 ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, const TreeParams& params,
-                            BuildTimes* times) {
+                            BuildTimes* times, MemoryBudget* budget) {
   check_stop_rule(params);
   BuildTimes local;
   BuildTimes& t = times ? *times : local;
@@ -38,16 +39,24 @@ ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, co
   TreeParams tile_params = params;
   tile_params.keep_levels = false;
   for (const EncodedTile& tile : scene.tiles)
-    tree.tiles.push_back(build_tree_cpu(tile.scene, tile.width, tile.height, tile_params, &t));
+    tree.tiles.push_back(build_tree_cpu(tile.scene, tile.width, tile.height, tile_params, &t, budget));
 
   auto t0 = std::chrono::steady_clock::now();
   std::vector<InputSegment> with_strokes;
+  BudgetCharge strokes_held(budget);  // given back on return, with with_strokes
   if (!scene.strokes.empty()) {
-    with_strokes = stroke_input_segments(scene);
+    with_strokes = stroke_input_segments(scene, 0, budget);
+    strokes_held.adopt((scene.segments.size() + with_strokes.size()) * sizeof(InputSegment));
     t.stroke_ms += ms_since(t0);
     t0 = std::chrono::steady_clock::now();
   }
-  tree.segments = abstract_cpu(scene.strokes.empty() ? scene.segments : with_strokes);
+  // The abstract segments: at least one an input segment, charged first;
+  // the monotonic pieces past that once they are made.
+  const std::vector<InputSegment>& input = scene.strokes.empty() ? scene.segments : with_strokes;
+  charge(budget, input.size() * sizeof(AbstractSegment), "the abstract segments");
+  tree.segments = abstract_cpu(input);
+  if (tree.segments.size() > input.size())
+    charge(budget, (tree.segments.size() - input.size()) * sizeof(AbstractSegment), "the abstract segments");
   t.abstract_ms += ms_since(t0);
 
   t0 = std::chrono::steady_clock::now();
@@ -59,7 +68,14 @@ ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, co
   for (size_t r = 0; r < tree.roots.size(); r++)
     virt.cells.push_back(
         Cell{at[tree.roots[r].stream_begin], at[tree.roots[r].stream_end], 0, 0, 0, static_cast<uint16_t>(r)});
+  auto level_bytes = [](const TreeLevel& l) {
+    return uint64_t(l.entries.capacity()) * sizeof(Entry) + uint64_t(l.cells.capacity()) * sizeof(Cell);
+  };
+  BudgetCharge virt_held(budget, level_bytes(virt), "the tree's levels");
   TreeLevel level = subdivide_cpu(virt.cells, virt.entries.data(), tree.segments, tree.root_size, true);
+  BudgetCharge level_held(budget, level_bytes(level), "the tree's levels");
+  virt = TreeLevel{};
+  virt_held.reset();
   t.subdivide_ms += ms_since(t0);
   const int max_level = tree_max_level(tree.root_size, params);
   // Levels [0, grid) are subdivided whole and not pruned (the coarse grid:
@@ -79,6 +95,7 @@ ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, co
 
   size_t total_entries = level.entries.size();
   tree.nodes.assign(tree.roots.size(), Node{-1, 0});
+  charge(budget, tree.nodes.capacity() * sizeof(Node), "the tree");
   uint32_t node_base = 0;  // node index of the current level's first cell
   for (int lv = 0;; lv++) {
     tree.depth = lv;
@@ -93,6 +110,7 @@ ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, co
       }
     }
     TreeLevel child;
+    BudgetCharge child_held(budget);
     if (nsub > 0) {
       t0 = std::chrono::steady_clock::now();
       // The cells to subdivide, their entries where they are.
@@ -105,6 +123,8 @@ ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, co
         child = subdivide_cpu(parent, level.entries.data(), tree.segments, tree.root_size, false,
                               params.max_entries - total_entries, &over);
       t.subdivide_ms += ms_since(t0);
+      // (Made before it is charged: a level at most past the budget.)
+      child_held = BudgetCharge(budget, level_bytes(child), "the tree's levels");
       if (over) {
         // Memory cap (criterion 1 of §4.1), found before the level's
         // entries are made: this level is the last, its cells coarser.
@@ -113,8 +133,22 @@ ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, co
         tree.capped = true;
       }
     }
-    // Nodes of this level's cells, leaves for those not subdivided.
+    // Nodes of this level's cells, leaves for those not subdivided. The
+    // leaves' entries grow by exactly what this level adds (no doubling:
+    // the old and new arrays are held together only while they move).
     const uint32_t child_base = node_base + static_cast<uint32_t>(level.cells.size());
+    size_t leaf_add = 0, leaf_count = 0;
+    for (size_t k = 0; k < level.cells.size(); k++)
+      if (!sub[k]) leaf_add += level.cells[k].end - level.cells[k].begin, leaf_count++;
+    const uint64_t old_bytes = tree.leaf_entries.capacity() * sizeof(Entry) + tree.leaves.capacity() * sizeof(Cell) +
+                               tree.nodes.capacity() * sizeof(Node);
+    const uint64_t new_bytes = (tree.leaf_entries.size() + leaf_add) * sizeof(Entry) +
+                               (tree.leaves.size() + leaf_count) * sizeof(Cell) + (child_base + 4 * nsub) * sizeof(Node);
+    charge(budget, new_bytes, "the tree");
+    tree.leaf_entries.reserve(tree.leaf_entries.size() + leaf_add);
+    tree.leaves.reserve(tree.leaves.size() + leaf_count);
+    tree.nodes.reserve(child_base + 4 * nsub);
+    if (budget) budget->release(old_bytes);
     tree.nodes.resize(child_base + 4 * nsub, Node{-1, 0});
     uint32_t m = 0;
     for (size_t k = 0; k < level.cells.size(); k++) {
@@ -142,6 +176,7 @@ ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, co
     total_entries += child.entries.size();
     node_base = child_base;
     level = std::move(child);
+    level_held = std::move(child_held);
   }
   return tree;
 }

@@ -7,6 +7,7 @@
 
 #include "core/encoding.h"
 #include "core/integration.h"
+#include "core/memory_budget.h"
 #include "core/tree.h"
 
 namespace mpvg {
@@ -61,14 +62,18 @@ struct BuildTimes {
 
 // stroke: the scene's fills' input segments with its strokes' (stroke_cpu)
 // added, grouped by path, as abstraction takes them.
-std::vector<InputSegment> stroke_input_segments(const EncodedScene& scene, int threads = 0);
+// The result is charged to `budget` (the caller gives it back).
+std::vector<InputSegment> stroke_input_segments(const EncodedScene& scene, int threads = 0,
+                                                MemoryBudget* budget = nullptr);
 
 // The whole tree: abstraction, root, then level by level subdivision and
 // pruning until the stopping criteria hold everywhere. A forest's (scene.
 // roots, core/forest.h) has one root per scene; width x height is then
 // forest_grid's.
+// What the build holds is charged to `budget` (if any): its scratch while
+// it runs, the tree's arrays for as long as the budget lives.
 ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, const TreeParams& params,
-                            BuildTimes* times = nullptr);
+                            BuildTimes* times = nullptr, MemoryBudget* budget = nullptr);
 
 struct ImageF {
   int width = 0, height = 0;

@@ -27,7 +27,17 @@ class Graph {
   Graph(const FilterLayer& l, int threads) : l_(l), threads_(threads), whole_{0, 0, l.width, l.height} {}
 
   FilterResult run() {
-    for (const FilterOp& op : l_.ops) results_.push_back(std::make_shared<const Buffer>(apply(op)));
+    // Each result is dropped after the last op that reads it (FilterLayer::
+    // last_use, as the GPU's graph does): a graph holds the images still to
+    // be read, not all it made.
+    const size_t n = l_.ops.size();
+    const bool planned = l_.last_use.size() == n;
+    for (size_t k = 0; k < n; k++) {
+      results_.push_back(std::make_shared<const Buffer>(apply(l_.ops[k])));
+      if (!planned) continue;
+      for (size_t i = 0; i + 1 < n && i <= k; i++)
+        if (results_[i] && (l_.last_use[i] == k || (l_.last_use[i] == n && i == k))) results_[i].reset();
+    }
     FilterResult r;
     if (results_.empty()) {
       r.rgba.assign(size(), 0.0f);

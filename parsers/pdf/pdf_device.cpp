@@ -751,6 +751,7 @@ int begin_tile(fz_context*, fz_device* dev, fz_rect area, fz_rect view, float xs
     t.placement = t.pattern_space * Affine::translate(view.x0, view.y0);
     if (xstep > 0 && ystep > 0 && w > 0 && h > 0 && t.placement.invertible()) {
       t.builder = std::make_unique<SceneBuilder>(xstep, ystep);
+      t.builder->set_budget(l->b->budget());
       l->b = t.builder.get();
       l->adjust = t.placement.inverted() * t.parent_adjust;
       if (w < xstep || h < ystep) {  // gaps between cells: the content stays in its box

@@ -482,6 +482,7 @@ PageResult Document::page(int index, const std::function<double(double, double)>
   const double w = box.x1 - box.x0, h = box.y1 - box.y0;
   out.pixels_per_point = pixels_per_point(w, h);
   SceneBuilder b(w, h);
+  b.set_budget(options.budget.get());
   try {
     if (!impl_->glyphs) impl_->glyphs = std::make_unique<detail::GlyphCache>(ctx);
     const Affine device = Affine::scale(out.pixels_per_point, out.pixels_per_point);
@@ -514,6 +515,7 @@ PageResult Document::page(int index, const std::function<double(double, double)>
       for (const InkPass& pass : ink_passes(static_cast<int>(out.ink_names.size()))) {
         target.pass = pass;
         SceneBuilder bp(w, h);
+        bp.set_budget(options.budget.get());
         detail::Lowered l = detail::lower_page(ctx, page, fz_translate(-box.x0, -box.y0), device, w, h, bp,
                                                *impl_->glyphs, options, &target);
         for (std::string& warning : l.warnings)

@@ -53,6 +53,9 @@ struct PageOptions {
   // Print preview's press profile (output_intent.h) where the document has
   // no output intent, or over it; null: the output intent's, or none.
   std::shared_ptr<const OutputProfile> cmyk_profile;
+  // The render's memory budget (core/memory_budget.h): the page's scene is
+  // charged to it as it is lowered; null: not counted.
+  std::shared_ptr<MemoryBudget> budget;
   PageOptions() = default;
   PageOptions(PageBox b) : box(b) {}  // NOLINT: a box alone is the common case
 };

@@ -489,7 +489,7 @@ bool Converter::clip_shape_items(const ClipShape& cs, const Affine& space, LazyB
   if (p.empty()) return true;
   Op op = Op::of(OpKind::Clip);
   op.shape = static_cast<uint32_t>(shapes_.size());
-  shapes_.push_back(std::move(p));
+  add_shape(std::move(p));
   op.xf = space;
   op.rule = cs.shape.rule;
   ops_.push_back(op);

@@ -470,12 +470,21 @@ class Converter {
   // `device` maps the scene's units to output pixels; `level` is the
   // scene's pattern nesting (0 for the document, n for a tile n deep).
   Converter(Session& s, const Affine& device, int level) : s_(s), device_(device), level_(level) {}
+  // What it held of the memory budget is given back (its shapes, moved on
+  // into scenes, are charged by their builders: emit).
+  ~Converter();
+  Converter(const Converter&) = delete;
+  Converter& operator=(const Converter&) = delete;
 
   // The document's scene.
   Scene run();
 
  private:
   void warn(std::string msg) const;
+  // Appends a shape, charged to the memory budget; its index.
+  void add_shape(Path p);
+  // Charges the operations added since the last charge.
+  void charge_ops();
   // Depth and size limits; false when the element must be skipped.
   bool enter(int depth);
   const Element* find(const std::string& id) const;
@@ -796,6 +805,8 @@ class Converter {
   size_t tile_encodings_ = 0;  // tile encodings this scene's pattern paints imply
 
   std::vector<Op> ops_;
+  size_t ops_charged_ = 0;
+  uint64_t charged_ = 0;  // bytes of the memory budget held for shapes_ and ops_
   std::vector<Paint> paints_;
   std::vector<Gradient> gradients_;  // Paint::index of gradient paints
   std::vector<Pattern> patterns_;    // Paint::index of pattern paints

@@ -410,7 +410,7 @@ void Converter::filter_fill(Converter& fc, std::vector<FilterEffect> effects, co
   fc.for_each_content(0, fc.ops_.size(), [&](const Op& op) {
     if (op.stroke || op.filter || (op.kind != OpKind::Fill && op.kind != OpKind::Bounds)) return;
     auto [it, added] = copied.emplace(op.shape, static_cast<uint32_t>(shapes_.size()));
-    if (added) shapes_.push_back(fc.shapes_[op.shape]);
+    if (added) add_shape(fc.shapes_[op.shape]);
     Op bounds = Op::of(OpKind::Bounds);
     bounds.shape = it->second;
     bounds.xf = op.xf;

@@ -182,7 +182,7 @@ void Converter::texture_fill(std::shared_ptr<const Image> image, const Affine& t
 }
 
 uint32_t Converter::rect_shape(const ViewBox& r) {
-  shapes_.push_back(rect_path(r.x, r.y, r.w, r.h, 0, 0));
+  add_shape(rect_path(r.x, r.y, r.w, r.h, 0, 0));
   return static_cast<uint32_t>(shapes_.size() - 1);
 }
 

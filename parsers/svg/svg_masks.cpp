@@ -197,7 +197,7 @@ bool Converter::mask_ops(const Element& mask, const Affine& space, LazyBounds& b
     ops_.push_back(Op::of(OpKind::Push));
     Op clip = Op::of(OpKind::Clip);
     clip.shape = static_cast<uint32_t>(shapes_.size());
-    shapes_.push_back(rect_path(x, y, w, h, 0, 0));
+    add_shape(rect_path(x, y, w, h, 0, 0));
     clip.xf = region_xf;
     ops_.push_back(clip);
     ops_.push_back(Op::of(OpKind::Activate));

@@ -109,8 +109,32 @@ void Converter::warn(std::string msg) const {
   if (s_.warned.insert(msg).second) s_.warnings.push_back(std::move(msg));
 }
 
+Converter::~Converter() {
+  if (s_.options.budget) s_.options.budget->release(charged_);
+}
+
+void Converter::add_shape(Path p) {
+  if (MemoryBudget* b = s_.options.budget.get()) {
+    const uint64_t n = path_bytes(p);
+    b->charge(n, "the document's shapes");
+    charged_ += n;
+  }
+  shapes_.push_back(std::move(p));
+}
+
+void Converter::charge_ops() {
+  MemoryBudget* b = s_.options.budget.get();
+  // (Its capacity: what the array holds, grown by doubling.)
+  if (!b || ops_.capacity() <= ops_charged_) return;
+  const uint64_t n = (ops_.capacity() - ops_charged_) * sizeof(Op);
+  b->charge(n, "the document's elements");
+  charged_ += n;
+  ops_charged_ = ops_.capacity();
+}
+
 // Depth and size limits; false when the element must be skipped.
 bool Converter::enter(int depth) {
+  charge_ops();
   if (depth > kMaxDepth) {
     warn("nesting deeper than " + std::to_string(kMaxDepth) +
          " levels (elements, use and clip-path references): deeper content ignored");
@@ -313,7 +337,7 @@ int Converter::shape_index(const Element& e, double em) {
   // Zero-length subpaths ("M p Z") have no segments but are stroked.
   if (p && !p->contours().empty()) {
     index = static_cast<int>(shapes_.size());
-    shapes_.push_back(std::move(*p));
+    add_shape(std::move(*p));
     if (!arcs.empty()) arc_continuations_.emplace(static_cast<uint32_t>(index), std::move(arcs));
   }
   shape_of_.emplace(&e, index);
@@ -697,6 +721,8 @@ void Converter::clip_child(const Element& e, const Context& ctx, int depth) {
 // ------------------------------------------------------------ output
 
 void Converter::emit(SceneBuilder& b) {
+  // Every scene of the document is built here: charged as it grows.
+  b.set_budget(s_.options.budget.get());
   // Paint servers first, in order: Paint::index counts from 0 in each list.
   for (Gradient& g : gradients_) b.add_gradient(std::move(g));
   for (Pattern& p : patterns_) b.add_pattern(std::move(p));
@@ -771,8 +797,10 @@ ParseResult parse_svg_string(std::string_view text, const std::string& base_dir,
   session.base_dir = base_dir.empty() ? std::string(".") : base_dir;
   session.allowed_dirs.push_back(session.base_dir);
   session.allowed_dirs.insert(session.allowed_dirs.end(), options.allowed_dirs.begin(), options.allowed_dirs.end());
-  detail::Converter conv(session, Affine{}, 0);
-  result.scene = conv.run();
+  {
+    detail::Converter conv(session, Affine{}, 0);
+    result.scene = conv.run();
+  }  // (its charges given back: its scene builders charged the scene)
   result.stroked_paths = session.stroked_paths;
   return result;
 }

@@ -94,6 +94,11 @@ struct ParseOptions {
   size_t max_image_pixels = size_t(1) << 28;
   size_t max_whole_image_pixels = size_t(1) << 26;
 
+  // The render's memory budget (core/memory_budget.h): the document's
+  // shapes, elements and scene are charged to it as they are made; a
+  // document that needs more fails with ResourceError. Null: not counted.
+  std::shared_ptr<MemoryBudget> budget;
+
   // Bytes of input parse_svg_file reads at most (svg2png --max-input).
   size_t max_input_bytes = SIZE_MAX;
 

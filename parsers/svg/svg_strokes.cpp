@@ -51,7 +51,7 @@ std::optional<Op> Converter::shape_stroke(uint32_t shape, const Style& st, const
     // the centreline mapped there.
     hl = hairline(inh.stroke_width, device_);
     op.shape = static_cast<uint32_t>(shapes_.size());
-    shapes_.push_back(shapes_[shape].transformed(space));
+    add_shape(shapes_[shape].transformed(space));
     op.xf = Affine{};
   } else {
     hl = hairline(inh.stroke_width, device_ * space);

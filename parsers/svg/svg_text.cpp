@@ -1046,7 +1046,7 @@ void Converter::text(const Element& e, const Style& st, const Affine& space) {
       continue;
     }
     const uint32_t shape = static_cast<uint32_t>(shapes_.size());
-    shapes_.push_back(std::move(piece.path));
+    add_shape(std::move(piece.path));
     if (!piece.image) {
       // Glyphs and decorations follow text-rendering, not shape-rendering.
       piece.st.inh.aliased_shapes = piece.st.inh.aliased_text;
@@ -1215,7 +1215,7 @@ void Converter::clip_text(const Element& e, const Style& st, const Affine& space
   for (TextPiece& piece : layout_text(e, st, space)) {
     Op op = Op::of(OpKind::Clip);
     op.shape = static_cast<uint32_t>(shapes_.size());
-    shapes_.push_back(std::move(piece.path));
+    add_shape(std::move(piece.path));
     op.xf = space;
     op.rule = piece.st.inh.clip_rule;
     op.aliased = piece.st.inh.aliased_text;
