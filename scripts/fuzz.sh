@@ -10,6 +10,10 @@
 #   scripts/fuzz.sh merge TARGET          # minimize build-fuzz/corpus + seeds into testdata/fuzz/<target>/
 #   scripts/fuzz.sh minimize TARGET FILE  # minimize a crash input (-minimize_crash) to FILE.min
 #   scripts/fuzz.sh repro TARGET FILE...  # run inputs once, with the sanitizers' report
+#   scripts/fuzz.sh sanitized             # CI's check (scripts/test.sh): the regression runners
+#                                         # under ASan and UBSan, no libFuzzer, in build-asan/
+#                                         # (MPVG_SANITIZE=ON, -O1, -j nproc unless JOBS=N), and
+#                                         # their CTest tests over the same corpora and cases
 #
 # Targets: svg css path_data pdf image. `run` builds and seeds first; it
 # writes new inputs to build-fuzz/corpus/<target>/, crashes to
@@ -57,6 +61,24 @@ build() {
 
 seed() { python3 "$root/fuzz/make_seeds.py" "$bd/seeds"; }
 
+# The sanitized regressions: build-fuzz/'s flags without libFuzzer, so no
+# coverage instrumentation and only the fuzz_regress target (the runners and
+# the libraries they link, not the applications or the test suite). -O1
+# instead of Release's -O3, as ASan's documentation suggests: less inlining,
+# so that a report's stack names the function that went wrong even where
+# only addr2line symbolizes it (CI: no llvm-symbolizer), for about the same
+# compile time (BENCHMARKS.md). Incremental, as build/ is.
+sanitized() {
+  local sd="$root/build-asan"
+  if [ ! -f "$sd/CMakeCache.txt" ]; then
+    CC=clang CXX=clang++ cmake -S "$root" -B "$sd" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+      "-DCMAKE_C_FLAGS_RELEASE=-O1 -DNDEBUG" "-DCMAKE_CXX_FLAGS_RELEASE=-O1 -DNDEBUG" \
+      -DMPVG_ENABLE_CUDA=OFF -DMPVG_SANITIZE=ON -DMPVG_BUILD_TESTS=OFF >/dev/null
+  fi
+  cmake --build "$sd" -j "${JOBS:-$(nproc 2>/dev/null || echo 2)}" --target fuzz_regress
+  (cd "$sd" && ctest --output-on-failure -j "$(nproc 2>/dev/null || echo 2)")
+}
+
 corpora() {  # the writable corpus first, then the read-only ones
   local t=$1 dirs=("$bd/corpus/$t")
   mkdir -p "$bd/corpus/$t"
@@ -69,6 +91,7 @@ mode=${1:-}
 case "$mode" in
   build) build ;;
   seed) seed ;;
+  sanitized) sanitized ;;
   run)
     [ $# -eq 3 ] || { echo "usage: $0 run TARGET|all SECONDS" >&2; exit 2; }
     build
@@ -135,5 +158,5 @@ case "$mode" in
     # shellcheck disable=SC2046
     exec "$bd/fuzz/fuzz_$t" $(common_flags "$t") "$@"
     ;;
-  *) sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit 2 ;;
+  *) sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; exit 2 ;;
 esac

@@ -1,5 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages mpvg needs to build and test.
+# clang with its sanitizer runtimes (libclang-rt-14-dev, only recommended
+# by clang, so named) and Ninja build the sanitized fuzz regressions that
+# scripts/test.sh runs (scripts/fuzz.sh sanitized).
 # Idempotent: when every package is already installed it does nothing
 # (no apt-get update, no network), so warm rebuilds stay fast.
 set -euo pipefail
@@ -17,6 +20,7 @@ PACKAGES=(
   libpng-dev libdeflate-dev liblcms2-dev
   python3-dev python3-numpy pybind11-dev python3-venv python3-pytest
   time util-linux
+  clang libclang-rt-14-dev ninja-build
 )
 
 missing=()
