@@ -88,10 +88,11 @@ uint64_t filter_layer_bytes(const FilterEffect& f) {
     peak = std::max(peak, ++alive);
     if (k + 1 < n) alive -= drops[k];
   }
-  // + an op's two inputs (converted or made) and its output; the source's
-  // frame (16 + 16 + 32 bytes a pixel, render_cpu) and its image (16);
-  // the result's texels (8).
-  return 16 * (peak + 3) + 64 + 16 + 8;
+  // The source's render first (its frame: 16 + 16 + 32 bytes a pixel,
+  // render_cpu), then the graph: the results and an op's two inputs
+  // (converted or made) and output; beside both the source's image (16)
+  // and the result's texels (8).
+  return std::max<uint64_t>(64, 16 * (peak + 3)) + 16 + 8;
 }
 
 LayerJob plan_layer(const FilterEffect& f, const RenderOptions& o, std::string* warning) {
@@ -373,13 +374,13 @@ FilterExecutor cpu_filters(int threads) {
       LayerJob& job = jobs[k];
       FilterLayer& l = job.layer;
       if (l.width <= 0 || l.height <= 0) continue;
-      // The graph's working set while it runs (the source's frame is
-      // charged by its render); the result's texels stay.
+      // The result's texels stay; the source's frame is charged by its
+      // render, then its image and the graph's working set while it runs.
       MemoryBudget* budget = job.source_options.budget.get();
       const uint64_t pixels = uint64_t(l.width) * l.height;
-      const BudgetCharge working(budget, pixels * (l.bytes_per_pixel - 8 - 64), "a filter layer");
       charge(budget, pixels * sizeof(Texel16), "a filter layer's result");
       render_inputs(job, [](const Scene& s, const RenderOptions& so) { return render_cpu(s, so); });
+      const BudgetCharge working(budget, pixels * (l.bytes_per_pixel - 8), "a filter layer");
       const FilterResult r = run_filter_cpu(l, threads);
       auto texels = std::make_shared<ExecutorTexels>();
       texels->host = r.rgba.empty() ? std::vector<Texel16>(size_t(l.width) * l.height, Texel16{0, 0, 0, 0})

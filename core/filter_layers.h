@@ -91,10 +91,11 @@ struct LayerJob {
 // (in, in2, merge inputs); f.primitives.size() for none. The last result
 // is the graph's.
 std::vector<uint32_t> filter_last_uses(const FilterEffect& f);
-// Bytes a pixel of f's layer costs while it is made: the results alive
-// at once (dropped after their last use) and an op's inputs and output,
-// 16 bytes a pixel each; the source rendered over it (its frame's image,
-// unit areas and sums); the result's texels.
+// Bytes a pixel of f's layer costs while it is made: the source rendered
+// over it (its frame's image, unit areas and sums), then the graph (the
+// results alive at once, dropped after their last use, and an op's inputs
+// and output, 16 bytes a pixel each), the larger of the two; beside both
+// the source's image and the result's texels.
 uint64_t filter_layer_bytes(const FilterEffect& f);
 
 // The layer of filter `f` of a scene rendered with `options`, planned:

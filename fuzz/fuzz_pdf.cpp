@@ -3,7 +3,8 @@
 // its first two pages are interpreted and lowered to scenes through mpvg's
 // device (parsers/pdf/pdf_device.cpp) at the resolution pdf2png
 // --scale-to 32 would choose, and rendered on the CPU at most 32 x 32
-// pixels (fuzz_render.h). mpvg::Error (broken file, failing page) is an
+// pixels (fuzz_render.h); page 1 also lowered for --separations, its
+// plates named (apps/ink_output.h). mpvg::Error (broken file, failing page) is an
 // expected outcome; anything else escaping is a finding.
 #include <unistd.h>
 
@@ -14,6 +15,7 @@
 #include <cstdio>
 #include <string>
 
+#include "apps/ink_output.h"
 #include "core/error.h"
 #include "fuzz/fuzz_render.h"
 #include "parsers/pdf/pdf_parser.h"
@@ -39,6 +41,20 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         if (!(pw >= 0 && ph >= 0 && pw <= fuzz::kMaxSide && ph <= fuzz::kMaxSide)) continue;
         const int width = std::max(1, static_cast<int>(pw)), height = std::max(1, static_cast<int>(ph));
         fuzz::render_small(page.scene, Affine::scale(scale, scale), width, height, static_cast<unsigned>(size) + i);
+      } catch (const Error&) {
+      }
+    }
+    // Print preview's separations of page 1 (spots from the document):
+    // the passes lowered, every plate's name a file name of its own.
+    if (pages > 0) {
+      try {
+        pdf::PageOptions sep;
+        sep.inks = pdf::InkModel::Separations;
+        sep.budget = std::make_shared<MemoryBudget>(fuzz::kBudgetBytes);
+        const pdf::PageResult page = doc.page(0, [](double w, double h) { return 8 / std::max(w, h); }, sep);
+        for (const std::string& name : plate_names(page.ink_names))
+          if (name.empty() || name.find_first_of("/\\") != std::string::npos || name.size() > kMaxPlateName + 12)
+            __builtin_trap();
       } catch (const Error&) {
       }
     }

@@ -2,7 +2,7 @@
 // scene encoded and rendered on the CPU as svg2png and pdf2png do it
 // (apps/svg2png.cpp run: output geometry, plan_render, encode_for,
 // render_cpu, 8-bit conversion), at most kMaxSide pixels on a side, on one
-// thread. The antialiasing mode cycles with `variant` through the
+// thread, under a memory budget of kBudgetBytes. The antialiasing mode cycles with `variant` through the
 // converters' presets (4x4x32 in linear light, the default; 1x32 in sRGB, as
 // the shared suites' references; 1x8).
 #pragma once
@@ -25,6 +25,9 @@ inline bool output_view(double w, double h, int* width, int* height, Affine* vie
   return true;
 }
 
+// The memory budget of a fuzzed render (the fuzzers' RSS limit is 2 GiB).
+constexpr uint64_t kBudgetBytes = uint64_t(256) << 20;
+
 inline void render_small(const Scene& scene, const Affine& view, int width, int height, unsigned variant) {
   RenderOptions ro;
   ro.width = width;
@@ -38,6 +41,9 @@ inline void render_small(const Scene& scene, const Affine& view, int width, int 
     default: ro.filter = Filter::Box, ro.samples = 8, ro.pattern = PatternKind::Stratified, ro.gamma = Gamma::Linear; break;
   }
   ro.aliased_paths = has_aliased_paths(scene);
+  // A budget as the converters give one (core/memory_budget.h), small
+  // enough that inputs reach its refusals: a ResourceError is an outcome.
+  ro.budget = std::make_shared<MemoryBudget>(kBudgetBytes);
   RenderStats stats;
   const RenderPlan plan = plan_render(ro);
   const EncodedScene enc = encode_for(scene, plan, ro.gamma, &stats);

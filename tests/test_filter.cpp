@@ -547,7 +547,7 @@ TEST_CASE("filter effects stay bounded: huge layers are cut, costly graphs refus
   CHECK(l.width == 2000);
   CHECK(l.height == 2000);
   CHECK(warning.empty());
-  CHECK(filter_layer_bytes(f) == 16 * (1 + 3) + 88);
+  CHECK(filter_layer_bytes(f) == 64 + 24);
   // 20,000 merged: all of them are held until the merge reads them, and
   // the memory cap cuts the layer to what they fit in.
   f.primitives.assign(20000, flood);
@@ -556,7 +556,7 @@ TEST_CASE("filter effects stay bounded: huge layers are cut, costly graphs refus
   merge.subregion = f.region;
   for (int32_t i = 0; i < 20000; i++) merge.inputs.push_back(i);
   f.primitives.push_back(merge);
-  CHECK(filter_layer_bytes(f) == 16 * (20001 + 3) + 88);
+  CHECK(filter_layer_bytes(f) == 16 * (20001 + 3) + 24);
   l = filter_layer(f, o, render, box, &warning);
   CHECK(l.width > 0);
   CHECK(uint64_t(l.width) * l.height * filter_layer_bytes(f) <= kMaxFilterBytes);
@@ -570,7 +570,7 @@ TEST_CASE("filter effects stay bounded: huge layers are cut, costly graphs refus
   f.primitives[1].in = 0;
   f.primitives[2].in = 1;
   CHECK(filter_last_uses(f) == std::vector<uint32_t>{1, 2, 3});
-  CHECK(filter_layer_bytes(f) == 16 * (2 + 3) + 88);
+  CHECK(filter_layer_bytes(f) == 16 * (2 + 3) + 24);
   o.budget = std::make_shared<MemoryBudget>(uint64_t(4) << 20);
   warning.clear();
   l = filter_layer(f, o, render, box, &warning);
