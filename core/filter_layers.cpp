@@ -108,10 +108,14 @@ LayerJob plan_layer(const FilterEffect& f, const RenderOptions& o, std::string* 
   const FilterBox grown{-g, -g, o.width + g, o.height + g};
   FilterBox b = intersect(pixel_box(f.region, m), grown);
   if (empty(b)) return job;
-  // The memory cap: a quarter of the budget (its limit, not what is left:
-  // both executors cut alike), the box cut around the output's centre.
-  const uint64_t share = o.budget ? o.budget->limit() / 4 : kMaxFilterBytes;
-  const uint64_t max_pixels = std::min<uint64_t>(kMaxFilterLayerPixels, share / filter_layer_bytes(f));
+  // The memory cap: kMaxFilterBytes, or what a blur's layer of four
+  // times the output's pixels takes where that is more, within a quarter
+  // of the budget (its limit, not what is left: both executors cut
+  // alike); the box is cut around the output's centre.
+  const uint64_t per_pixel = filter_layer_bytes(f);
+  uint64_t share = std::max<uint64_t>(kMaxFilterBytes, 4 * uint64_t(o.width) * uint64_t(o.height) * 88);
+  if (o.budget) share = std::min(share, o.budget->limit() / 4);
+  const uint64_t max_pixels = std::min<uint64_t>(kMaxFilterLayerPixels, share / per_pixel);
   while (static_cast<uint64_t>(b.x1 - b.x0) * static_cast<uint64_t>(b.y1 - b.y0) > max_pixels) {
     if (warning) *warning = "filter region too large for a layer: cut to the pixels nearest the output";
     const int cx = o.width / 2, cy = o.height / 2;

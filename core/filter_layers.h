@@ -29,8 +29,10 @@
 namespace mpvg {
 
 // Layers larger than this are cut to it (about 4x a 4K frame), and to what
-// a quarter of the memory budget (kMaxFilterBytes without one) holds of
-// what a layer needs while it is made (filter_layer_bytes).
+// kMaxFilterBytes (or what a blur over four times the output's pixels
+// takes, 88 bytes a pixel, where that is more) holds of what the layer
+// needs while it is made (filter_layer_bytes), within a quarter of the
+// memory budget.
 constexpr uint64_t kMaxFilterLayerPixels = uint64_t(1) << 25;
 constexpr uint64_t kMaxFilterBytes = uint64_t(1) << 30;
 // A graph whose ops would read more pixels than this (blur windows,

@@ -559,7 +559,12 @@ TEST_CASE("filter effects stay bounded: huge layers are cut, costly graphs refus
   CHECK(filter_layer_bytes(f) == 16 * (20001 + 3) + 24);
   l = filter_layer(f, o, render, box, &warning);
   CHECK(l.width > 0);
-  CHECK(uint64_t(l.width) * l.height * filter_layer_bytes(f) <= kMaxFilterBytes);
+  // The cap: kMaxFilterBytes, or a blur's 88 bytes over four times the
+  // output's 4 M pixels where that is more (1.408 GB here).
+  const uint64_t cap = std::max<uint64_t>(kMaxFilterBytes, uint64_t(4) * 2000 * 2000 * 88);
+  CHECK(cap == 1408000000u);
+  CHECK(uint64_t(l.width) * l.height * filter_layer_bytes(f) <= cap);
+  CHECK(uint64_t(l.width) * l.height * filter_layer_bytes(f) > cap / 2);
   CHECK(warning.find("too large") != std::string::npos);
   // A chain holds two; a budget's quarter bounds the layer where one is given.
   std::vector<uint32_t> last = filter_last_uses(f);
