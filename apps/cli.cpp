@@ -7,6 +7,10 @@
 #include <filesystem>
 
 #include <unistd.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+#include <mutex>
 
 #include <algorithm>
 #include <cctype>
@@ -341,7 +345,21 @@ uint64_t parse_size(const std::string& option, const std::string& v) {
   return static_cast<uint64_t>(bytes);
 }
 
+// glibc raises its mmap threshold (up to 32 MiB) each time a large mmapped
+// block is freed; blocks below it then come from per-thread arenas, which
+// keep what is freed in them. The CPU stages' scratch, made on every core,
+// then stays resident: 10^5 lines peaked at 1.28 GB on 16 cores, 0.94 GB
+// on 2. A fixed 1 MiB threshold returns every large block when it is freed
+// (0.92 GB on 16 cores, the same time).
+void bound_allocator() {
+#if defined(__GLIBC__)
+  static std::once_flag once;
+  std::call_once(once, [] { mallopt(M_MMAP_THRESHOLD, 1 << 20); });
+#endif
+}
+
 std::shared_ptr<MemoryBudget> make_budget(const Options& o) {
+  bound_allocator();
   auto b = std::make_shared<MemoryBudget>(memory_budget(o));
   // What the program itself holds whatever it renders (code, libraries,
   // fonts, the document's text and tree): counted so that the process's

@@ -80,6 +80,10 @@ RenderOptions render_options(const Options& o, int width, int height, const Affi
 uint64_t memory_budget(const Options& o);
 // A budget of that size for one document or page, parse and render.
 std::shared_ptr<MemoryBudget> make_budget(const Options& o);
+// Makes the allocator hand large freed blocks back to the system (glibc: a
+// fixed mmap threshold), so that the peak RSS follows what the budget
+// counts; make_budget calls it, once per process.
+void bound_allocator();
 
 // Throws mpvg::Error when a frame of width x height pixels would not fit
 // the budget ("the output of 32768x32768 pixels needs 32 GiB, the budget
