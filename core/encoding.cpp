@@ -203,7 +203,7 @@ class Encoder {
       flags[i] = paint(scene, scene.paints[i], view, frame_to_out, bounds, depth, rec);
       paint_.paints[base + i] = rec;
     }
-    paths(scene, view, base, flags, groups(scene), out);
+    paths(scene, view, base, flags, groups(scene), depth == 0 ? options_.border : ImageBorder{}, out);
   }
 
  private:
@@ -561,7 +561,7 @@ class Encoder {
   }
 
   void paths(const Scene& scene, const Affine& view, uint32_t paint_base, const std::vector<uint32_t>& paint_flags,
-             uint32_t group_base, EncodedScene& out) {
+             uint32_t group_base, const ImageBorder& border, EncodedScene& out) {
     charge_paths(scene);
     out.paths.resize(scene.paths.size());
     // How the innermost open group's list composites (GROUP_IN_* of its
@@ -618,6 +618,7 @@ class Encoder {
         pts[i] = xf.apply(g.points()[i]);
         check_finite(pts[i]);
       }
+      const size_t path_first = out.segments.size();
       for (const Path::Contour& c : g.contours()) {
         if (c.segment_count == 0) continue;
         Vec2 last{};
@@ -661,6 +662,8 @@ class Encoder {
           out.segments.push_back(in);
         }
       }
+      // Edges on the image's border go out past the frame (core/image_border.h).
+      push_out_border_edges(border, out.segments, path_first);
     }
   }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/abstraction.h"
+#include "core/image_border.h"
 #include "core/memory_budget.h"
 #include "core/paint.h"
 #include "core/paint_data.h"
@@ -81,6 +82,9 @@ struct EncodeOptions {
   // prepared per frame are made for what of them can be sampled (a mesh
   // shading's grid covers only that).
   int frame_width = 0, frame_height = 0;
+  // The output image within the frame: the top-level scene's edges on its
+  // border are pushed out past the frame (core/image_border.h).
+  ImageBorder border;
   // What the encoding holds is charged to it (core/memory_budget.h).
   MemoryBudget* budget = nullptr;
   // Filter effects inside a pattern tile (core/filter_layers.h): the tile

@@ -44,6 +44,22 @@ MPVG_HD_INLINE uint32_t mesh_cell(const MeshRecord& m, float px, float py) {
 // Premultiplied colour of mesh m at pixel (px, py); transparent where the
 // cell lists no triangle.
 MPVG_HD_NOINLINE inline Rgba4 mesh_at(const MeshRecord& m, const PaintTables& t, float px, float py) {
+  // The grid spans the triangles' box. A point outside it is outside
+  // every triangle: not painted where the area is the triangles', else the
+  // colour at the nearest point of the box (a sliver inside it), found
+  // without scanning every triangle of the edge cell it would clamp to
+  // (at a seam listing them all; the margin around the image samples such
+  // points, core/image_border.h).
+  {
+    const float fx = (px - m.x0) * m.sx, fy = (py - m.y0) * m.sy;
+    const float gw = float(m.grid_w), gh = float(m.grid_h), e = 1e-3f;
+    if (!(fx >= 0.0f && fy >= 0.0f && fx <= gw && fy <= gh)) {
+      if ((m.flags & MESH_AREA_BY_TRIANGLES) && !(fx >= -e && fy >= -e && fx <= gw + e && fy <= gh + e))
+        return Rgba4{0.0f, 0.0f, 0.0f, 0.0f};
+      px = m.x0 + fminf(fmaxf(fx, e), gw - e) / m.sx;
+      py = m.y0 + fminf(fmaxf(fy, e), gh - e) / m.sy;
+    }
+  }
   const uint32_t c = mesh_cell(m, px, py);
   const uint32_t first = t.mesh_cells[c], last = t.mesh_cells[c + 1];
   if (first == last) return Rgba4{0.0f, 0.0f, 0.0f, 0.0f};

@@ -90,9 +90,23 @@ MeshGrid mesh_grid(double x0, double y0, double w, double h, uint32_t gw, uint32
 // item(k, cell) for every triangle k, top-most first, and every cell it
 // meets that no triangle above it covers whole: a sample in such a
 // covered cell stops at the covering triangle (or one above it), so what
-// lies below can never be its top-most. Stops when item returns false.
+// lies below can never be its top-most. What a cell holds outside the
+// triangles' box is in no triangle: a triangle covers the cell whole when
+// it covers the cell's part within that box (a sample outside it takes
+// the covering triangle's nearest colour, or none, as beyond any other
+// triangle). Stops when item returns false.
 template <class F>
 bool visit_cells(const std::vector<PixelTriangle>& tris, const MeshGrid& g, F&& item) {
+  double mx0 = INFINITY, my0 = INFINITY, mx1 = -INFINITY, my1 = -INFINITY;
+  for (const PixelTriangle& t : tris) {
+    mx0 = std::min(mx0, t.bx0), my0 = std::min(my0, t.by0);
+    mx1 = std::max(mx1, t.bx1), my1 = std::max(my1, t.by1);
+  }
+  // The box, less what rounding can put a point on its edge outside the
+  // triangle whose edge it is (which would otherwise cover no edge cell).
+  const double inset = 1e-5 * (1 + std::max({std::fabs(mx0), std::fabs(my0), std::fabs(mx1), std::fabs(my1)}));
+  if (mx1 - mx0 > 4 * inset) mx0 += inset, mx1 -= inset;
+  if (my1 - my0 > 4 * inset) my0 += inset, my1 -= inset;
   const size_t words = (g.w + 63) / 64;
   std::vector<uint64_t> open(size_t(g.h) * words, ~uint64_t(0));  // bits past w are never read
   uint64_t open_cells = uint64_t(g.w) * g.h;
@@ -103,7 +117,7 @@ bool visit_cells(const std::vector<PixelTriangle>& tris, const MeshGrid& g, F&& 
     MeshGrid::range(t.by0, t.by1, g.y0, g.sy, g.widen, g.h, j0, j1);
     for (uint32_t j = j0; j <= j1; j++) {
       uint64_t* row = &open[size_t(j) * words];
-      const double cy0 = g.y0 + (j - g.widen) / g.sy, cy1 = g.y0 + (j + 1 + g.widen) / g.sy;
+      const double cy0 = std::max(my0, g.y0 + (j - g.widen) / g.sy), cy1 = std::min(my1, g.y0 + (j + 1 + g.widen) / g.sy);
       for (uint32_t wd = i0 / 64; wd <= i1 / 64; wd++) {
         uint64_t bits = row[wd];
         if (wd == i0 / 64) bits &= ~uint64_t(0) << (i0 % 64);
@@ -112,7 +126,8 @@ bool visit_cells(const std::vector<PixelTriangle>& tris, const MeshGrid& g, F&& 
           const int b = __builtin_ctzll(bits);
           bits &= bits - 1;
           const uint32_t i = wd * 64 + static_cast<uint32_t>(b);
-          const Overlap o = overlap(t, g.x0 + (i - g.widen) / g.sx, cy0, g.x0 + (i + 1 + g.widen) / g.sx, cy1);
+          const Overlap o = overlap(t, std::max(mx0, g.x0 + (i - g.widen) / g.sx), cy0,
+                                    std::min(mx1, g.x0 + (i + 1 + g.widen) / g.sx), cy1);
           if (o == Overlap::None) continue;
           if (!item(k, size_t(j) * g.w + i)) return false;
           if (o == Overlap::Whole) {

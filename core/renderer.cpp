@@ -97,6 +97,11 @@ EncodeOptions encode_options(const RenderPlan& plan) {
   EncodeOptions eo;
   eo.frame_width = plan.frame.ua_w;
   eo.frame_height = plan.frame.ua_h;
+  const double off = plan.frame.to_unit_areas;
+  eo.border.set = true;
+  eo.border.x0 = off, eo.border.y0 = off;
+  eo.border.x1 = off + plan.frame.width, eo.border.y1 = off + plan.frame.height;
+  eo.border.fx1 = plan.frame.ua_w, eo.border.fy1 = plan.frame.ua_h;
   eo.budget = plan.options.budget.get();
   return eo;
 }
