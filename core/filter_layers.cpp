@@ -113,7 +113,7 @@ LayerJob plan_layer(const FilterEffect& f, const RenderOptions& o, std::string* 
   // of the budget (its limit, not what is left: both executors cut
   // alike); the box is cut around the output's centre.
   const uint64_t per_pixel = filter_layer_bytes(f);
-  uint64_t share = std::max<uint64_t>(kMaxFilterBytes, 4 * uint64_t(o.width) * uint64_t(o.height) * 88);
+  uint64_t share = std::max<uint64_t>(kMaxFilterBytes, 4 * uint64_t(o.width) * uint64_t(o.height) * kOneOpLayerBytes);
   if (o.budget) share = std::min(share, o.budget->limit() / 4);
   const uint64_t max_pixels = std::min<uint64_t>(kMaxFilterLayerPixels, share / per_pixel);
   while (static_cast<uint64_t>(b.x1 - b.x0) * static_cast<uint64_t>(b.y1 - b.y0) > max_pixels) {
@@ -132,7 +132,7 @@ LayerJob plan_layer(const FilterEffect& f, const RenderOptions& o, std::string* 
   l.width = b.x1 - b.x0;
   l.height = b.y1 - b.y0;
   l.last_use = filter_last_uses(f);
-  l.bytes_per_pixel = filter_layer_bytes(f);
+  l.bytes_per_pixel = per_pixel;
   const Affine to_layer = Affine::translate(-b.x0, -b.y0);
   const Affine lm = to_layer * m;  // user space to layer pixels
   const FilterBox whole{0, 0, l.width, l.height};

@@ -30,11 +30,15 @@ namespace mpvg {
 
 // Layers larger than this are cut to it (about 4x a 4K frame), and to what
 // kMaxFilterBytes (or what a blur over four times the output's pixels
-// takes, 88 bytes a pixel, where that is more) holds of what the layer
+// takes, kOneOpLayerBytes a pixel, where that is more) holds of what the layer
 // needs while it is made (filter_layer_bytes), within a quarter of the
 // memory budget.
 constexpr uint64_t kMaxFilterLayerPixels = uint64_t(1) << 25;
 constexpr uint64_t kMaxFilterBytes = uint64_t(1) << 30;
+// What filter_layer_bytes gives a graph of one op (a blur): 16 bytes for
+// each of its result, two inputs and output, and the source's image and
+// the result's texels beside them.
+constexpr uint64_t kOneOpLayerBytes = 16 * (1 + 3) + 16 + 8;
 // A graph whose ops would read more pixels than this (blur windows,
 // morphology windows, convolution kernels, summed over their boxes) is not
 // run: the filter draws nothing, with a warning (a bounded time, not a hang).

@@ -47,9 +47,14 @@ enum Side { kNone, kLeft, kRight, kTop, kBottom };
 
 inline bool near(double a, double b) { return std::fabs(a - b) <= kBorderTolerance; }
 
+// The index of s's last control point (its end point).
+inline int last_point(const InputSegment& s) {
+  return s.type == INPUT_LINE ? 1 : (s.type == INPUT_CUBIC ? 3 : 2);
+}
+
 // The border line all of s's control points lie on, if any.
 inline Side side_of(const ImageBorder& b, const InputSegment& s) {
-  const int n = s.type == INPUT_LINE ? 2 : (s.type == INPUT_CUBIC ? 4 : 3);
+  const int n = last_point(s) + 1;
   auto all = [&](const double* v, double at) {
     for (int i = 0; i < n; i++)
       if (!near(v[i], at)) return false;
@@ -107,7 +112,7 @@ inline size_t push_out_border_edges(const ImageBorder& b, std::vector<InputSegme
       out.push_back(s);
       continue;
     }
-    const int last = s.type == INPUT_LINE ? 1 : (s.type == INPUT_CUBIC ? 3 : 2);
+    const int last = last_point(s);
     const double ax = s.x[0], ay = s.y[0], bx = s.x[last], by = s.y[last];
     double pax, pay, pbx, pby;
     push_out(b, side, ax, ay, &pax, &pay);

@@ -87,26 +87,27 @@ MeshGrid mesh_grid(double x0, double y0, double w, double h, uint32_t gw, uint32
   return MeshGrid{gw, gh, x0, y0, sx, sy, 1e-3 + 1e-6 * (std::fabs(x0) * sx + std::fabs(y0) * sy + gw + gh)};
 }
 
+// The triangles' box [x0, x1] x [y0, y1] less what rounding can put a
+// point on its edge outside the triangle whose edge it is (which would
+// otherwise cover no edge cell whole): what visit_cells judges cover in.
+MeshBounds cover_box(double x0, double y0, double x1, double y1) {
+  const double inset = 1e-5 * (1 + std::max({std::fabs(x0), std::fabs(y0), std::fabs(x1), std::fabs(y1)}));
+  if (x1 - x0 > 4 * inset) x0 += inset, x1 -= inset;
+  if (y1 - y0 > 4 * inset) y0 += inset, y1 -= inset;
+  return MeshBounds{x0, y0, x1, y1};
+}
+
 // item(k, cell) for every triangle k, top-most first, and every cell it
 // meets that no triangle above it covers whole: a sample in such a
 // covered cell stops at the covering triangle (or one above it), so what
 // lies below can never be its top-most. What a cell holds outside the
-// triangles' box is in no triangle: a triangle covers the cell whole when
-// it covers the cell's part within that box (a sample outside it takes
-// the covering triangle's nearest colour, or none, as beyond any other
-// triangle). Stops when item returns false.
+// triangles' box (cover_box) is in no triangle: a triangle covers the
+// cell whole when it covers the cell's part within that box (a sample
+// outside it takes the covering triangle's nearest colour, or none, as
+// beyond any other triangle). Stops when item returns false.
 template <class F>
-bool visit_cells(const std::vector<PixelTriangle>& tris, const MeshGrid& g, F&& item) {
-  double mx0 = INFINITY, my0 = INFINITY, mx1 = -INFINITY, my1 = -INFINITY;
-  for (const PixelTriangle& t : tris) {
-    mx0 = std::min(mx0, t.bx0), my0 = std::min(my0, t.by0);
-    mx1 = std::max(mx1, t.bx1), my1 = std::max(my1, t.by1);
-  }
-  // The box, less what rounding can put a point on its edge outside the
-  // triangle whose edge it is (which would otherwise cover no edge cell).
-  const double inset = 1e-5 * (1 + std::max({std::fabs(mx0), std::fabs(my0), std::fabs(mx1), std::fabs(my1)}));
-  if (mx1 - mx0 > 4 * inset) mx0 += inset, mx1 -= inset;
-  if (my1 - my0 > 4 * inset) my0 += inset, my1 -= inset;
+bool visit_cells(const std::vector<PixelTriangle>& tris, const MeshGrid& g, const MeshBounds& box, F&& item) {
+  const double mx0 = box.x0, my0 = box.y0, mx1 = box.x1, my1 = box.y1;
   const size_t words = (g.w + 63) / 64;
   std::vector<uint64_t> open(size_t(g.h) * words, ~uint64_t(0));  // bits past w are never read
   uint64_t open_cells = uint64_t(g.w) * g.h;
@@ -262,6 +263,7 @@ bool build_mesh(const Mesh& m, const Affine& to_px, const std::function<Rgba4(co
   const size_t n = tris.size();
   if (n == 0) return false;
   if (tri_base + n > UINT32_MAX) throw ResourceError("a mesh shading has more triangles than a frame can index");
+  const MeshBounds cover = cover_box(x0, y0, x1, y1);
   // The grid spans what of the triangles can be sampled.
   x0 = std::max(x0, bounds.x0);
   y0 = std::max(y0, bounds.y0);
@@ -290,7 +292,7 @@ bool build_mesh(const Mesh& m, const Affine& to_px, const std::function<Rgba4(co
         std::min({index_room, budget_room, std::max<uint64_t>(32 * (uint64_t(n) + uint64_t(gw) * gh), kMeshItems)});
     count.assign(size_t(gw) * gh + 1, 0);
     total = 0;
-    const bool fits = visit_cells(tris, g, [&](size_t, size_t c) {
+    const bool fits = visit_cells(tris, g, cover, [&](size_t, size_t c) {
       count[c + 1]++;
       return ++total <= cap;
     });
@@ -321,7 +323,7 @@ bool build_mesh(const Mesh& m, const Affine& to_px, const std::function<Rgba4(co
   // Triangles come top-most first: each cell's list is written from its
   // end, so that it ascends.
   std::vector<uint32_t> fill(count.begin() + 1, count.end());
-  visit_cells(tris, mesh_grid(x0, y0, w, h, gw, gh), [&](size_t k, size_t c) {
+  visit_cells(tris, mesh_grid(x0, y0, w, h, gw, gh), cover, [&](size_t k, size_t c) {
     out.mesh_items[item_base + --fill[c]] = static_cast<uint32_t>(tri_base + k);
     return true;
   });
