@@ -409,6 +409,10 @@ std::string format_stats(const RenderStats& s) {
   char buf[1024], png_line[64] = "";
   // where the frame compressed its PNG (FrameRenderer::render_png)
   if (s.png_ms > 0) std::snprintf(png_line, sizeof png_line, "png %.3f ms\n", s.png_ms);
+  char samples_line[96] = "";  // adaptive sampling: evaluated, not weighed
+  if (s.pixels > 0 && s.samples > 0)
+    std::snprintf(samples_line, sizeof samples_line, "samples %.1f per pixel (evaluated)\n",
+                  double(s.samples) / double(s.pixels));
   char filter_line[96] = "";  // filter layers, inside encode
   if (s.filter_layers > 0)
     std::snprintf(filter_line, sizeof filter_line, "filter layers %zu, %.3f ms (in encode)\n", s.filter_layers,
@@ -416,12 +420,12 @@ std::string format_stats(const RenderStats& s) {
   std::snprintf(buf, sizeof buf,
                 "backend %s%s%s\n"
                 "encode %.3f ms\n%sstroke %.3f ms\nabstract %.3f ms\nsubdivide %.3f ms\nprune %.3f ms\nschedule %.3f ms\n"
-                "sample+integrate %.3f ms\n%stotal %.3f ms\n"
+                "sample+integrate %.3f ms\n%s%stotal %.3f ms\n"
                 "input segments %zu, abstract segments %zu, depth %d, leaves %zu, leaf entries %zu, "
                 "tree %.2f MiB\n",
                 s.backend.c_str(), s.note.empty() ? "" : ": ", s.note.c_str(), s.encode_ms, filter_line, s.stroke_ms,
                 s.abstract_ms,
-                s.subdivide_ms, s.prune_ms, s.schedule_ms, s.sample_ms, png_line, s.total_ms, s.input_segments,
+                s.subdivide_ms, s.prune_ms, s.schedule_ms, s.sample_ms, samples_line, png_line, s.total_ms, s.input_segments,
                 s.abstract_segments, s.depth, s.leaves, s.leaf_entries, s.tree_bytes / 1048576.0);
   return buf;
 }

@@ -195,6 +195,8 @@ ImageF render_cpu(const EncodedScene& enc, const RenderPlan& plan, const RenderO
   ImageF img = render_tree_cpu(tree, plan.integ, plan.frame, background_paint(o.background, o.gamma), o.threads, &rt);
   st.schedule_ms += rt.schedule_ms;
   st.sample_ms += rt.sample_ms;
+  st.samples += rt.samples;
+  st.pixels += uint64_t(f.width) * uint64_t(f.height);
   st.total_ms += ms_since(t_all);
   st.input_segments = enc.input_segment_count;
   st.abstract_segments = tree.segments.size();
@@ -256,6 +258,8 @@ std::vector<ImageF> render_forest_cpu(const std::vector<FrameScene>& scenes, con
     st.prune_ms += bt.prune_ms * share;
     st.schedule_ms += rt.schedule_ms;
     st.sample_ms += rt.sample_ms;
+    st.samples += rt.samples;
+    st.pixels += uint64_t(scenes[k].plan->frame.width) * uint64_t(scenes[k].plan->frame.height);
     st.total_ms += build_ms * share + ms_since(t0);
     st.input_segments = scenes[k].scene->input_segment_count;
     st.abstract_segments = static_cast<size_t>(tree.segments.size() * share);

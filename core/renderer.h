@@ -56,6 +56,9 @@ struct RenderStats {
   size_t input_segments = 0, abstract_segments = 0, leaves = 0, leaf_entries = 0;
   size_t tree_bytes = 0;
   int depth = 0;
+  // Samples evaluated (adaptive sampling: one per flat unit area and per
+  // uniform leaf), and the output pixels they were for.
+  uint64_t samples = 0, pixels = 0;
 };
 
 // Renders on the CPU. Throws mpvg::Error for scenes it cannot render.

@@ -141,6 +141,31 @@ MPVG_HD_INLINE bool entry_varies(Entry e, const PathRecord* paths) {
   return entry_kind(e) == ENTRY_WINDING && (paths[entry_path(e)].flags & PATH_VARYING) != 0;
 }
 
+// Adaptive sampling: is unit area (ux, uy) of a leaf flat, one colour at
+// every sample? It is when no segment of the leaf's stream touches the unit
+// area's closed square and no path of the stream has a position-dependent
+// paint. The stream gives each sample of the leaf its path's true winding
+// number, which changes only across the path's segments, and every segment
+// that crosses the unit area is in the stream of the leaf holding it; a
+// monotonic segment lies in its endpoints' box. Shortcuts and winding entries
+// stand for geometry outside the leaf. A flat unit area needs one sample:
+// both executors take its class's first, and send its colour times the
+// weights' sums (integration.h), as for a uniform leaf.
+//
+// unit_area_spoils_flat: does entry e (seg: its segment, SEGMENT entries
+// only) keep unit area (ux, uy) from being flat? Callers loop over the
+// leaf's entries (the CPU from the tree, a GPU block from its shared copy).
+MPVG_HD_INLINE bool unit_area_spoils_flat(Entry e, const AbstractSegment* seg, const PathRecord* paths, uint32_t ux,
+                                          uint32_t uy) {
+  const uint32_t kind = entry_kind(e);
+  if (kind > ENTRY_WINDING) return false;  // delimiters and groups
+  if ((paths[entry_path(e)].flags & PATH_VARYING) != 0) return true;
+  if (kind != ENTRY_SEGMENT) return false;
+  const float x0 = static_cast<float>(ux), y0 = static_cast<float>(uy);
+  return fmaxf(seg->x0, seg->x1) >= x0 && fminf(seg->x0, seg->x1) <= x0 + 1.0f && fmaxf(seg->y0, seg->y1) >= y0 &&
+         fminf(seg->y0, seg->y1) <= y0 + 1.0f;
+}
+
 template <int Depth, uint32_t Kinds>
 MPVG_HD_NOINLINE Rgba4 pattern_at(const PaintTables& t, const PatternRecord& p, float px, float py);
 
@@ -417,6 +442,16 @@ MPVG_HD_INLINE Rgba4 sample_cell(const SampleInputs& in, uint32_t begin, uint32_
   }
   sample_finish_path<Depth, Kinds>(st, in, px, py);
   return st.color;
+}
+
+// Is unit area (ux, uy) of the leaf with entries [begin, end) flat
+// (unit_area_spoils_flat)?
+MPVG_HD_INLINE bool unit_area_flat(const SampleInputs& in, uint32_t begin, uint32_t end, uint32_t ux, uint32_t uy) {
+  for (uint32_t i = begin; i < end; i++) {
+    const Entry e = in.entries[i];
+    if (unit_area_spoils_flat(e, entry_segment(e, in.segments), in.paths, ux, uy)) return false;
+  }
+  return true;
 }
 
 // Leaf containing pixel (ix, iy): descend from the root by the bits of the

@@ -50,6 +50,8 @@ auto render_cuda(gpu::Context& ctx, const EncodedScene& enc, const RenderPlan& p
   st.prune_ms += gt.prune_ms;
   st.schedule_ms += gt.schedule_ms;
   st.sample_ms += gt.sample_ms + gt.integrate_ms;
+  st.samples += gt.samples;
+  st.pixels += uint64_t(plan.frame.width) * uint64_t(plan.frame.height);
   st.total_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_all).count();
   st.input_segments = enc.input_segment_count;
   st.tree_bytes = ctx.tree_bytes();
@@ -408,6 +410,8 @@ std::vector<FrameRenderer::Output> FrameRenderer::render_forest(const std::vecto
     st.prune_ms += gt.prune_ms * share;
     st.schedule_ms += rt.schedule_ms;
     st.sample_ms += rt.sample_ms + rt.integrate_ms;
+    st.samples += rt.samples;
+    st.pixels += uint64_t(plan.frame.width) * uint64_t(plan.frame.height);
     st.png_ms += rt.png_ms;
     st.total_ms +=
         build_ms * share + std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

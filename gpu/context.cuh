@@ -301,6 +301,7 @@ struct Context::Impl {
   DeviceBuffer<float> weights, weight_sums, buf;
   DeviceBuffer<double> totals;
   DeviceBuffer<unsigned long long> acc;  // fixed-point accumulators, 4 per pixel
+  DeviceBuffer<unsigned long long> sample_count;  // samples evaluated by the last render (timed renders only)
   DeviceBuffer<SrgbCodeTable> srgb_table;  // core/rgba8.h's, uploaded on first use
   DeviceBuffer<uint32_t> rgba8;            // the image as 8-bit codes (rgba8.cu)
   // The codes in memory of their own, handed out (rgba8.cu).

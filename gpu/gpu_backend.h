@@ -20,6 +20,7 @@ struct GpuTimes {
   double stroke_ms = 0, abstract_ms = 0, subdivide_ms = 0, prune_ms = 0, schedule_ms = 0, sample_ms = 0;
   double integrate_ms = 0;  // wide filters: normalisation, prefilter, output
   double png_ms = 0;        // the PNG stage on the device (render_png)
+  uint64_t samples = 0;     // samples evaluated (adaptive sampling: core/sampling.h, unit_area_flat)
   double preprocess_ms() const { return stroke_ms + abstract_ms + subdivide_ms + prune_ms; }
   double render_ms() const { return schedule_ms + sample_ms + integrate_ms; }
 };

@@ -67,7 +67,7 @@ template <uint32_t Kinds>
 __global__ void k_leaf_info(const Cell* leaves, size_t nleaves, const Entry* entries, SampleInputs in,
                             uint32_t root_size, int width, int height, uint32_t tile_w, uint32_t tile_h,
                             uint32_t root, uint32_t* batches, float4* color, const RootPass* by_root,
-                            uint32_t pass_kinds) {
+                            uint32_t pass_kinds, unsigned long long* samples) {
   const size_t l = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
   if (l > nleaves) return;
   if (l == nleaves) {
@@ -93,6 +93,7 @@ __global__ void k_leaf_info(const Cell* leaves, size_t nleaves, const Entry* ent
     const Rgba4 col = sample_cell<0, Kinds>(in, c.begin, c.end, float(r.x0), float(r.y0));
     color[l] = make_float4(col.r, col.g, col.b, col.a);
     batches[l] = 0;
+    if (samples) atomicAdd(samples, 1ull);
   } else {
     color[l] = make_float4(0.0f, 0.0f, 0.0f, -1.0f);  // a = -1: not uniform
     batches[l] = ((r.w + tile_w - 1) / tile_w) * ((r.h + tile_h - 1) / tile_h);
@@ -105,6 +106,8 @@ struct Accumulate {
   unsigned long long* acc;  // null: direct
   const float* weights;     // [class][m][K*K]
   int support, class_mod, acc_w, acc_h;
+  float4* ua_color;                // flat unit areas' colours (not direct)
+  unsigned long long* samples;     // samples evaluated (--stats), or null
 };
 
 // Kinds: the paint kinds the scene uses (sampling.h); each mask is its own
@@ -119,6 +122,7 @@ __global__ void k_sample(const Cell* leaves, uint32_t nleaves, const uint32_t* b
   Entry* se = reinterpret_cast<Entry*>(ss + chunk);
   float4* red = reinterpret_cast<float4*>(se + chunk + (chunk & 1));
   unsigned long long* tacc = reinterpret_cast<unsigned long long*>(red + blockDim.x);
+  __shared__ uint32_t nwork;
 
   const uint32_t b = blockIdx.x;
   // The leaf of this batch: the last leaf whose batches start at or before it.
@@ -133,6 +137,7 @@ __global__ void k_sample(const Cell* leaves, uint32_t nleaves, const uint32_t* b
     width = p.ua_w, height = p.ua_h;
     image = p.image;
     a.acc = a.acc ? p.acc : nullptr;
+    a.ua_color = p.ua_color;
     a.acc_w = p.acc_w, a.acc_h = p.acc_h;
   }
   const PixelRect r = leaf_rect(c, root_size, width, height);
@@ -152,23 +157,73 @@ __global__ void k_sample(const Cell* leaves, uint32_t nleaves, const uint32_t* b
   // (tile_h + K - 1), the first at (ox - K + 1, oy - K + 1).
   const int acc_tw = tile_w + K - 1, acc_tn = a.acc ? acc_tw * (tile_h + K - 1) * 4 : 0;
   for (int i = tid; i < acc_tn; i += blockDim.x) tacc[i] = 0;
-  for (uint32_t p0 = 0; p0 < count; p0 += group) {
-    const uint32_t pix = p0 + g;
-    const bool active = g < group && pix < count;
-    const uint32_t x = ox + (active ? pix % tw : 0), y = oy + (active ? pix / tw : 0);
+  // Adaptive sampling (core/sampling.h, unit_area_flat): a flat unit area
+  // takes one sample, on a thread of its own, and goes to its pixel or to
+  // the unit-area colours the normalisation gathers; the others are listed
+  // in `work` (in any order: every sum is order-free) for the sample groups.
+  // A leaf whose stream fits in one chunk is loaded once, for the test and
+  // for every group's samples.
+  uint32_t* work = reinterpret_cast<uint32_t*>(tacc + acc_tn);
+  const uint32_t stream = c.end - c.begin;
+  const bool resident = stream <= static_cast<uint32_t>(chunk);
+  if (resident)
+    for (uint32_t t = tid; t < stream; t += blockDim.x) {
+      const Entry e = in.entries[c.begin + t];
+      se[t] = e;
+      if (entry_kind(e) == ENTRY_SEGMENT) ss[t] = in.segments[e.data];
+    }
+  if (tid == 0) nwork = 0;
+  __syncthreads();
+  for (uint32_t u = tid; u < count; u += blockDim.x) {
+    const uint32_t x = ox + u % tw, y = oy + u / tw;
+    bool flat = true;
+    if (resident) {
+      for (uint32_t t = 0; t < stream && flat; t++) flat = !unit_area_spoils_flat(se[t], &ss[t], in.paths, x, y);
+    } else {
+      flat = unit_area_flat(in, c.begin, c.end, x, y);
+    }
+    if (flat) {
+      const SampleOffset o = pattern[unit_area_class(x, y, a.class_mod) * n];
+      const float fx = float(x) + o.x, fy = float(y) + o.y;
+      SampleState<Kinds> fs = sample_start<Kinds>();
+      if (resident)
+        for (uint32_t t = 0; t < stream && !fs.done; t++) sample_step<0, Kinds>(fs, in, se[t], &ss[t], fx, fy);
+      else
+        for (uint32_t i = c.begin; i < c.end && !fs.done; i++) {
+          const Entry e = in.entries[i];
+          sample_step<0, Kinds>(fs, in, e, entry_segment(e, in.segments), fx, fy);
+        }
+      sample_finish_path<0, Kinds>(fs, in, fx, fy);
+      const Rgba4 col = fs.color;
+      if (a.acc) a.ua_color[size_t(y) * width + x] = make_float4(col.r, col.g, col.b, col.a);
+      else image[size_t(y) * width + x] = composite(col.r, col.g, col.b, col.a, bg);
+    } else {
+      work[atomicAdd(&nwork, 1u)] = u;
+    }
+  }
+  __syncthreads();
+  const uint32_t nw = nwork;
+  if (a.samples && tid == 0) atomicAdd(a.samples, static_cast<unsigned long long>(nw) * n + (count - nw));
+  for (uint32_t p0 = 0; p0 < nw; p0 += group) {
+    const uint32_t wi = p0 + g;
+    const bool active = g < group && wi < nw;
+    const uint32_t pix = active ? work[wi] : 0;
+    const uint32_t x = ox + pix % tw, y = oy + pix / tw;
     const SampleOffset o = pattern[unit_area_class(x, y, a.class_mod) * n + k];  // the class's pattern
     const float sx = float(x) + o.x, sy = float(y) + o.y;
     SampleState<Kinds> st = sample_start<Kinds>();
     st.done = !active;
     for (uint32_t base = c.begin; base < c.end; base += chunk) {
       const uint32_t cnt = min(static_cast<uint32_t>(chunk), c.end - base);
-      __syncthreads();  // the previous chunk has been read by everyone
-      for (uint32_t t = tid; t < cnt; t += blockDim.x) {
-        const Entry e = in.entries[base + t];
-        se[t] = e;
-        if (entry_kind(e) == ENTRY_SEGMENT) ss[t] = in.segments[e.data];
+      if (!resident) {
+        __syncthreads();  // the previous chunk has been read by everyone
+        for (uint32_t t = tid; t < cnt; t += blockDim.x) {
+          const Entry e = in.entries[base + t];
+          se[t] = e;
+          if (entry_kind(e) == ENTRY_SEGMENT) ss[t] = in.segments[e.data];
+        }
+        __syncthreads();
       }
-      __syncthreads();
       for (uint32_t t = 0; t < cnt && !st.done; t++) sample_step<0, Kinds>(st, in, se[t], &ss[t], sx, sy);
       if (__syncthreads_and(st.done)) break;
     }
@@ -193,8 +248,8 @@ __global__ void k_sample(const Cell* leaves, uint32_t nleaves, const uint32_t* b
       const int targets = K * K;
       for (int t = tid; t < group * targets; t += blockDim.x) {
         const int gg = t / targets, e = t % targets;
-        const uint32_t upix = p0 + gg;
-        if (upix >= count) continue;
+        if (p0 + gg >= nw) continue;
+        const uint32_t upix = work[p0 + gg];
         const uint32_t ux = ox + upix % tw, uy = oy + upix / tw;
         float s4[4];
         integrate_unit_area(a.weights + size_t(unit_area_class(ux, uy, a.class_mod)) * n * targets + e, targets, 0.0f,
@@ -377,7 +432,8 @@ void launch_sampler(Context::Impl& m, uint32_t kinds, uint32_t total, int thread
   const SamplerShape& sh = m.shape;
   const size_t shared = sizeof(AbstractSegment) * sh.chunk + sizeof(Entry) * (sh.chunk + (sh.chunk & 1)) +
                         sizeof(float4) * threads +
-                        (direct ? 0 : sizeof(unsigned long long) * 4 * (tile_w + K - 1) * (tile_h + K - 1));
+                        (direct ? 0 : sizeof(unsigned long long) * 4 * (tile_w + K - 1) * (tile_h + K - 1)) +
+                        sizeof(uint32_t) * tile_w * tile_h;  // the work list
   auto launch = [&](auto kernel) {
     MPVG_CUDA(cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, static_cast<int>(shared)));
     kernel<<<total, threads, shared>>>(m.leaves.data(), static_cast<uint32_t>(m.nleaves), m.leaf_batches.data(), in,
@@ -408,7 +464,12 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
   out_height = frame.height;
   image.resize(size_t(frame.width) * frame.height);
   const SampleInputs in{leaf_entries.data(), segments.data(), paths.data(), paint_view.data()};
-  Accumulate acc_args{nullptr, nullptr, integ.support, integ.class_mod, frame.acc_w, frame.acc_h};
+  Accumulate acc_args{nullptr, nullptr, integ.support, integ.class_mod, frame.acc_w, frame.acc_h, nullptr, nullptr};
+  if (times) {  // samples evaluated, for --stats
+    sample_count.resize(1);
+    MPVG_CUDA(cudaMemsetAsync(sample_count.data(), 0, sizeof(unsigned long long)));
+    acc_args.samples = sample_count.data();
+  }
   const size_t nacc = size_t(frame.acc_w) * frame.acc_h * 4;
   if (!direct) {
     upload_changed(weights, weights_host, integ.weights);
@@ -429,7 +490,7 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
   leaf_info<<<grid_for(nleaves + 1, kBlock), kBlock>>>(leaves.data(), nleaves, leaf_entries.data(), in, root_size, width,
                                                        height, static_cast<uint32_t>(tile_w),
                                                        static_cast<uint32_t>(tile_h), root, nb, leaf_color.data(), nullptr,
-                                                       0);
+                                                       0, acc_args.samples);
   launched();
   prim.exclusive_sum(nb, leaf_batches.data(), nleaves + 1);
   const uint32_t total_batches = read_u32(leaf_batches.data() + nleaves);
@@ -437,6 +498,13 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
   timer.stop();
 
   timer.start(&t.sample_ms);
+  if (!direct) {  // before the sampler, which adds the flat unit areas' colours
+    ua_color.resize(nua);
+    k_unit_area_color<<<grid_for(nua, kBlock), kBlock>>>(nodes.data(), root_size, root, width, height,
+                                                         leaf_color.data(), ua_color.data(), nullptr, nullptr);
+    launched();
+    acc_args.ua_color = ua_color.data();
+  }
   if (total_batches) {
     launch_sampler(*this, kinds, total_batches, threads, direct, integ, tile_w, tile_h, in, width, height, bg,
                    image.data(), acc_args, nullptr);
@@ -444,11 +512,6 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
   if (direct) {
     k_fill_uniform<<<grid_for(nua, kBlock), kBlock>>>(nodes.data(), root_size, root, width, height,
                                                       leaf_color.data(), bg, image.data(), nullptr, nullptr);
-    launched();
-  } else {
-    ua_color.resize(nua);
-    k_unit_area_color<<<grid_for(nua, kBlock), kBlock>>>(nodes.data(), root_size, root, width, height,
-                                                         leaf_color.data(), ua_color.data(), nullptr, nullptr);
     launched();
   }
   timer.stop();
@@ -482,6 +545,11 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
     timer.stop();
   }
   timer.collect();
+  if (times) {
+    unsigned long long n = 0;
+    MPVG_CUDA(cudaMemcpy(&n, sample_count.data(), sizeof n, cudaMemcpyDeviceToHost));
+    times->samples += n;
+  }
 }
 
 void Context::Impl::render_roots(const Integration& integ, const std::vector<IntegrationFrame>& frames,
@@ -544,20 +612,37 @@ void Context::Impl::render_roots(const Integration& integ, const std::vector<Int
   const uint32_t* pass_roots = pass_slots.data();
   const unsigned nslots = static_cast<unsigned>(frames.size());
   const SampleInputs in{leaf_entries.data(), segments.data(), paths.data(), paint_view.data()};
-  Accumulate acc_args{nullptr, direct ? nullptr : weights.data(), integ.support, integ.class_mod, 0, 0};
+  Accumulate acc_args{nullptr, direct ? nullptr : weights.data(), integ.support, integ.class_mod, 0, 0, nullptr, nullptr};
   if (!direct) acc_args.acc = acc.data();  // non-null: accumulate (each root's own, from the table)
   leaf_batches.resize(nleaves + 1);
   leaf_color.resize(nleaves + 1);
   uint32_t* nb = (u32[0].resize(nleaves + 1), u32[0].data());
   // One schedule and one sampler launch per sampler specialisation (each
-  // root keeps its own, as alone: SceneRoot::kinds).
-  for (const uint32_t kinds : kinds_seen) {
+  // root keeps its own, as alone: SceneRoot::kinds). The unit-area colours
+  // come from every leaf's colour before any sampler adds its flat unit
+  // areas: with several specialisations, a first round of schedules gives
+  // all colours and each sampler's round schedules its batches again.
+  auto leaf_info_pass = [&](uint32_t kinds) {
     auto leaf_info = (kinds & SAMPLE_GROUPS) ? k_leaf_info<SAMPLE_GROUPS> : k_leaf_info<PAINTS_SOLID>;
     leaf_info<<<grid_for(nleaves + 1, kBlock), kBlock>>>(leaves.data(), nleaves, leaf_entries.data(), in, root_size, 0,
                                                          0, static_cast<uint32_t>(tile_w),
                                                          static_cast<uint32_t>(tile_h), 0, nb, leaf_color.data(),
-                                                         by_root, kinds);
+                                                         by_root, kinds, nullptr);
     launched();
+  };
+  const bool rounds = kinds_seen.size() > 1;
+  if (rounds)
+    for (const uint32_t kinds : kinds_seen) leaf_info_pass(kinds);
+  else
+    leaf_info_pass(kinds_seen.front());
+  if (!direct) {
+    k_unit_area_color<<<dim3(grid_for(max_ua, kBlock), nslots), kBlock>>>(nodes.data(), root_size, 0, 0, 0,
+                                                                         leaf_color.data(), nullptr, by_root,
+                                                                         pass_roots);
+    launched();
+  }
+  for (const uint32_t kinds : kinds_seen) {
+    if (rounds) leaf_info_pass(kinds);
     prim.exclusive_sum(nb, leaf_batches.data(), nleaves + 1);
     const uint32_t total_batches = read_u32(leaf_batches.data() + nleaves);
     if (!total_batches) continue;
@@ -571,9 +656,6 @@ void Context::Impl::render_roots(const Integration& integ, const std::vector<Int
     launched();
     return;
   }
-  k_unit_area_color<<<dim3(grid_for(max_ua, kBlock), nslots), kBlock>>>(nodes.data(), root_size, 0, 0, 0,
-                                                                       leaf_color.data(), nullptr, by_root, pass_roots);
-  launched();
   k_normalize<<<dim3(grid_for(max_acc, kBlock), nslots), kBlock>>>(nullptr, nullptr, 0, 0, 0, integ.support,
                                                                   integ.class_mod, weight_sums.data(), totals.data(),
                                                                   nullptr, by_root, pass_roots);

@@ -82,6 +82,7 @@ struct ImageF {
 
 struct RenderTimes {
   double schedule_ms = 0, sample_ms = 0;
+  uint64_t samples = 0;  // samples evaluated (adaptive sampling: core/sampling.h, unit_area_flat)
 };
 
 // schedule + sample + integrate: every unit area of frame is sampled with

@@ -115,6 +115,11 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
   const std::vector<Task> tasks = schedule(tree, frame.ua_w, frame.ua_h, root);
   const std::vector<char> uniform = uniform_leaves(tree, root);
   if (times) times->schedule_ms += ms_since(t0);
+  // Samples evaluated (--stats): one per uniform leaf of the frame, one per
+  // flat unit area, integ.samples per other unit area.
+  std::atomic<uint64_t> samples{0};
+  for (size_t l = 0; l < tree.leaves.size(); l++)
+    if (uniform[l] && tree.leaves[l].root == root) samples.fetch_add(1, std::memory_order_relaxed);
 
   t0 = std::chrono::steady_clock::now();
   const TreePaint paint(tree);
@@ -133,7 +138,7 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
   const bool aliasing = integ.support % 2 == 1;
   const uint32_t root_kinds =
       root < tree.roots.size() ? tree.roots[root].kinds[aliasing] : sampler_kinds(paint.data, aliasing);
-  return with_sampler_kinds(root_kinds, [&](auto kinds) {
+  ImageF image = with_sampler_kinds(root_kinds, [&](auto kinds) {
     constexpr uint32_t Kinds = decltype(kinds)::value;
     const int n = integ.samples;
     const bool direct = integ.support == 1 && integ.pad == 0;
@@ -151,8 +156,18 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
               composite(p, background, &img.rgba[(size_t(y) * size_t(frame.width) + x) * 4]);
           return;
         }
+        uint64_t evaluated = 0;
         for (uint32_t y = task.y0; y < task.y1; y++) {
           for (uint32_t x = task.x0; x < task.x1; x++) {
+            float* out = &img.rgba[(size_t(y) * size_t(frame.width) + x) * 4];
+            if (unit_area_flat(in, c.begin, c.end, x, y)) {
+              const Rgba4 col = sample_cell<0, Kinds>(in, c.begin, c.end, float(x) + pattern[0].x, float(y) + pattern[0].y);
+              const float p[4] = {col.r, col.g, col.b, col.a};
+              composite(p, background, out);
+              evaluated++;
+              continue;
+            }
+            evaluated += uint64_t(n);
             float acc[4] = {0, 0, 0, 0};
             for (int k = 0; k < n; k++) {
               const Rgba4 col =
@@ -163,9 +178,10 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
               acc[3] += col.a;
             }
             const float p[4] = {acc[0] * w, acc[1] * w, acc[2] * w, acc[3] * w};
-            composite(p, background, &img.rgba[(size_t(y) * size_t(frame.width) + x) * 4]);
+            composite(p, background, out);
           }
         }
+        samples.fetch_add(evaluated, std::memory_order_relaxed);
       });
       if (times) times->sample_ms += ms_since(t0);
       return img;
@@ -192,10 +208,19 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
       std::vector<Rgba4> col(static_cast<size_t>(n));
       std::vector<float> sums(size_t(T) * 4);
       static_assert(sizeof(Rgba4) == 4 * sizeof(float), "Rgba4 is four floats");
+      uint64_t evaluated = 0;
       for (uint32_t uy = task.y0; uy < task.y1; uy++) {
         for (uint32_t ux = task.x0; ux < task.x1; ux++) {
           const int cls = unit_area_class(ux, uy, integ.class_mod);
           const SampleOffset* o = &integ.offsets[size_t(cls) * n];
+          if (unit_area_flat(in, c.begin, c.end, ux, uy)) {
+            // Gathered in the normalisation, as a uniform leaf's unit areas.
+            ua_color[size_t(uy) * frame.ua_w + ux] =
+                sample_cell<0, Kinds>(in, c.begin, c.end, float(ux) + o[0].x, float(uy) + o[0].y);
+            evaluated++;
+            continue;
+          }
+          evaluated += uint64_t(n);
           for (int i = 0; i < n; i++)
             col[i] = sample_cell<0, Kinds>(in, c.begin, c.end, float(ux) + o[i].x, float(uy) + o[i].y);
           integrate_unit_area_all(integ.weights.data() + size_t(cls) * n * T, T, n, &col[0].r, sums.data());
@@ -212,6 +237,7 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
           }
         }
       }
+      samples.fetch_add(evaluated, std::memory_order_relaxed);
     });
     // Normalise (adding the uniform unit areas), prefilter rows then columns,
     // clamp, crop, composite.
@@ -251,6 +277,8 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
     if (times) times->sample_ms += ms_since(t0);
     return img;
   });
+  if (times) times->samples += samples.load(std::memory_order_relaxed);
+  return image;
 }
 
 }  // namespace mpvg
