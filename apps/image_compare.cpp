@@ -151,6 +151,7 @@ Result compare(const Picture& a, const Picture& b, const Options& o, std::vector
   std::unique_ptr<Edges> edges;  // the antialiasing-aware mode's (linear copies of both images)
   if (o.antialiasing) edges = std::make_unique<Edges>(a, b);
   double sum = 0, sum2 = 0;
+  std::vector<float> largest(n);  // each pixel's largest channel difference, for the percentiles
   bool hard_fail = false, hard_warn = false;
   const double lowest = std::min(o.fail, o.warn);
   for (int y = 0; y < h; y++)
@@ -163,6 +164,7 @@ Result compare(const Picture& a, const Picture& b, const Options& o, std::vector
         sum2 += e * e;
         d = std::max(d, e);
       }
+      largest[i] = static_cast<float>(d);
       if (d > 0) r.differing++;
       if (d > r.max_difference) r.max_difference = d, r.max_x = x, r.max_y = y;
       if (d <= lowest) continue;
@@ -181,6 +183,15 @@ Result compare(const Picture& a, const Picture& b, const Options& o, std::vector
         q[0] = 255, q[1] = failed ? 0 : 140, q[2] = 0;
       }
     }
+  auto percentile = [&](double q) {
+    const size_t k = std::min(n - 1, static_cast<size_t>(q * double(n)));
+    std::nth_element(largest.begin(), largest.begin() + std::ptrdiff_t(k), largest.end());
+    return double(largest[k]);
+  };
+  if (n) {
+    r.p99_difference = percentile(0.99);
+    r.p999_difference = percentile(0.999);
+  }
   r.mean_difference = n ? sum / (4.0 * n) : 0;
   r.rms_difference = n ? std::sqrt(sum2 / (4.0 * n)) : 0;
   r.psnr = r.rms_difference > 0 ? 20.0 * std::log10(1.0 / r.rms_difference) : std::numeric_limits<double>::infinity();
@@ -211,6 +222,7 @@ std::string to_json(const Result& r, const Options& o) {
   s += ",\"max_difference\":" + num(r.max_difference) + ",\"max_at\":[" + std::to_string(r.max_x) + "," +
        std::to_string(r.max_y) + "]";
   s += ",\"mean_difference\":" + num(r.mean_difference) + ",\"rms_difference\":" + num(r.rms_difference);
+  s += ",\"p99_difference\":" + num(r.p99_difference) + ",\"p999_difference\":" + num(r.p999_difference);
   s += ",\"psnr\":" + num(r.psnr);
   s += ",\"fail\":" + num(o.fail) + ",\"failpercent\":" + num(o.failpercent) + ",\"hardfail\":" + num(o.hardfail);
   s += ",\"warn\":" + num(o.warn) + ",\"warnpercent\":" + num(o.warnpercent) + ",\"hardwarn\":" + num(o.hardwarn);

@@ -65,6 +65,9 @@ struct Result {
   double max_difference = 0;
   int max_x = 0, max_y = 0;
   double mean_difference = 0, rms_difference = 0;
+  // Percentiles of each pixel's largest channel difference (the noise
+  // between two renders: a seed's, a sample count's).
+  double p99_difference = 0, p999_difference = 0;
   double psnr = std::numeric_limits<double>::infinity();  // dB, over the four channels
 };
 

@@ -123,6 +123,8 @@ int main(int argc, char** argv) {
       } else {
         const double pct = r.pixels ? 100.0 / double(r.pixels) : 0;
         std::printf("  Mean error = %.6g\n  RMS error = %.6g\n", r.mean_difference, r.rms_difference);
+        std::printf("  99%% of pixels within %.6g (%.1f/255), 99.9%% within %.6g (%.1f/255)\n", r.p99_difference,
+                    r.p99_difference * 255, r.p999_difference, r.p999_difference * 255);
         if (r.rms_difference > 0) std::printf("  Peak SNR = %.4g\n", r.psnr);
         else std::printf("  Peak SNR = inf\n");
         std::printf("  Max error  = %.6g @ (%d, %d)\n", r.max_difference, r.max_x, r.max_y);
