@@ -5,6 +5,7 @@
 // changed dump is a changed parse: read the difference, never regenerate
 // a file to make this pass.
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -47,13 +48,24 @@ TEST_CASE("scene dumps: each feature's SVG parses to its expected dump", "[svg][
     if (e.path().extension() == ".svg") cases.push_back(e.path());
   std::sort(cases.begin(), cases.end());
   REQUIRE(cases.size() >= 20);
+  int skipped = 0;
   for (const fs::path& svg : cases) {
     fs::path expected = svg;
     expected.replace_extension(".dump");
     INFO(svg.filename().string());
     REQUIRE(fs::exists(expected));
     const std::string want = read(expected), got = svg_test::dump_text(svg.string());
+#if !defined(MPVG_HAVE_TEXT)
+    // Built without the text stage (no FreeType, e.g. the GPU host): <text>
+    // is ignored with another warning, and the dumps of text features, made
+    // with it, cannot match.
+    if (want.find("text not rendered") != std::string::npos || want.find("<text>") != std::string::npos) {
+      skipped++;
+      continue;
+    }
+#endif
     INFO(first_difference(want, got));
     CHECK(got == want);
   }
+  if (skipped) std::printf("test_svg_dumps: %d dumps of text features skipped (built without text)\n", skipped);
 }
