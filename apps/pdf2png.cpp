@@ -199,13 +199,38 @@ void usage() {
       "      --help, --version\n");
 }
 
+// svg2png's options that pdf2png would otherwise take from cli::parse and
+// not use: refused, with what to use instead (issue 47).
+const char* svg_only_option(const std::string& a) {
+  struct Refused {
+    const char* option;
+    const char* instead;
+  };
+  static const Refused kRefused[] = {
+      {"-w", "use -r DPI or --scale-to N"},         {"--width", "use -r DPI or --scale-to N"},
+      {"--height", "use -r DPI or --scale-to N"},   {"-z", "use -r DPI"},
+      {"--zoom", "use -r DPI"},                     {"-a", "use --scale-to N"},
+      {"--keep-aspect-ratio", "use --scale-to N"},  {"-b", "pages are drawn on white, or on nothing with --transparent"},
+      {"--background", "pages are drawn on white, or on nothing with --transparent"},
+      {"--server", "pdf2png renders in-process"},
+      {"--shard", "run one pdf2png per document, -f and -l for page ranges"},
+      {"--batch", "run one pdf2png per document"},
+      {"--font-dir", "a PDF carries or names its fonts"},
+      {"--languages", "a PDF has no language switches"},
+      {"--allow-read", "a PDF reads no other files"},
+  };
+  for (const Refused& r : kRefused)
+    if (a == r.option) return r.instead;
+  return nullptr;
+}
+
 // Takes pdf2png's own options out of argv; the rest goes to cli::parse.
 // Returns false after --help.
 std::vector<char*> own_options(int argc, char** argv, PdfOptions& p) {
   std::vector<char*> rest{argv[0]};
   for (int i = 1; i < argc; i++) {
     const std::string a = argv[i];
-    if (a == "--help" || a == "-?") {
+    if (a == "--help" || a == "-?" || a == "-h" || a == "-help") {  // pdftoppm's -h and -help too
       usage();
       return {};
     }
@@ -221,6 +246,8 @@ std::vector<char*> own_options(int argc, char** argv, PdfOptions& p) {
         throw mpvg::cli::UsageError{"invalid value '" + v + "' for " + a};
       return d;
     };
+    if (const char* instead = svg_only_option(a))
+      throw mpvg::cli::UsageError{a + " is an svg2png option: " + instead};
     if (a == "-r" || a == "--dpi")
       p.dpi = number(1);
     else if (a == "-f")
@@ -358,6 +385,10 @@ int main(int argc, char** argv) {
     // 150 dpi loses 40 % of its darkness).
     opt.gamma = Gamma::Srgb;
     if (!cli::parse(static_cast<int>(rest.size()), rest.data(), "pdf2png", "pdf", opt)) return 0;
+    // One document a run (cli::parse makes several inputs, or -o with a
+    // folder, a batch): the others would be dropped without a word.
+    if (opt.batch || opt.positional.size() != 1)
+      throw cli::UsageError{"pdf2png renders one document a run (usage: pdf2png [OPTIONS] INPUT.pdf OUTPUT-PREFIX)"};
     if (pdf.gray && pdf.mono) throw cli::UsageError{"-gray and -mono cannot be given together"};
     if (pdf.mono && opt.bits == 16) throw cli::UsageError{"-mono writes 1-bit images: --bits 16 cannot be given with it"};
     if (pdf.format == image::Format::Jpeg && opt.bits == 16)

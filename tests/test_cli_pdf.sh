@@ -34,6 +34,22 @@ check "--help describes pdf2png's own options" \
   -a -z "$(echo "$out" | grep -e '--width')"
 err=$("$bin" -q --dpi zero "$pdf" "$tmp/m" 2>&1); rc=$?
 check "a bad option value: exit 2" test "$rc" = 2
+# svg2png's options are refused, not ignored (issue 47): exit 2, one line
+# that names the option, and no page written.
+for opt in "-w 100" "--width 100" "--height 100" "-z 3" "-b red" "-a" "--server" "--shard 0/2" \
+  "--font-dir $tmp" "--languages de" "--allow-read $tmp" "--batch $tmp/list"; do
+  err=$("$bin" -q $opt "$pdf" "$tmp/svgopt" 2>&1); rc=$?
+  check "pdf2png refuses svg2png's ${opt%% *}" \
+    test "$rc" = 2 -a "$(echo "$err" | wc -l)" = 1 -a -n "$(echo "$err" | grep -e "${opt%% *} is an svg2png option")" \
+    -a ! -e "$tmp/svgopt-1.png"
+done
+err=$("$bin" -q -o "$tmp/two" "$pdf" "$pdf" 2>&1); rc=$?
+check "two documents are a usage error, not the first one rendered" \
+  test "$rc" = 2 -a -n "$(echo "$err" | grep -e 'one document a run')" -a ! -e "$tmp/two-1.png"
+for h in -h -help; do
+  out=$("$bin" $h); rc=$?
+  check "pdftoppm's $h prints the help" test "$rc" = 0 -a -n "$(echo "$out" | grep -e 'OUTPUT-PREFIX')"
+done
 "$bin" -q --backend cpu -r 72 -f 1 -l 3 "$pdf" "$tmp/l"; rc=$?
 check "-l past the last page renders what exists" test "$rc" = 0 -a -f "$tmp/l-1.png"
 
