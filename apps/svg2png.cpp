@@ -502,6 +502,10 @@ int svg2png_main(int argc, char** argv, std::unique_ptr<Renderers>& renderers) {
   cli::Options opt;
   try {
     if (!cli::parse(argc, argv, "svg2png", "svg", opt)) return 0;
+    // A PNG's bytes on a terminal are garbage and can upset it (rsvg-convert
+    // and resvg write only to a pipe or a file there, too).
+    if (!opt.batch && opt.output == "-" && isatty(STDOUT_FILENO))
+      throw cli::UsageError{"standard output is a terminal: redirect it, or name an output file"};
   } catch (const cli::UsageError& e) {
     std::fprintf(stderr, "svg2png: %s\n", e.message.c_str());
     return 2;

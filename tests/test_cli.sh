@@ -23,6 +23,12 @@ check "-a fits inside" test "$(png_size "$tmp/e.png")" = 100x75
 check "-z scales" test "$(png_size "$tmp/f.png")" = 64x48
 "$bin" -q - - < "$svg" > "$tmp/g.png"
 check "stdin to stdout gives the same bytes as files" cmp -s "$tmp/a.png" "$tmp/g.png"
+if command -v script > /dev/null; then
+  # stdout a terminal (util-linux script runs the command on a pseudo-terminal).
+  tty_out=$(script -qec "'$bin' -q '$svg' -" /dev/null < /dev/null); rc=$?
+  check "a PNG is not written to a terminal: exit 2, one line" \
+    test "$rc" = 2 -a -n "$(echo "$tty_out" | grep -e 'standard output is a terminal')" -a "$(echo "$tty_out" | wc -l)" = 1
+fi
 "$bin" -q -o "$tmp/h.png" "$svg"
 check "-o names the output" cmp -s "$tmp/a.png" "$tmp/h.png"
 "$bin" -q --seed 7 "$svg" "$tmp/i.png"
