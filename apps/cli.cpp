@@ -267,6 +267,7 @@ bool parse(int argc, char** argv, const char* program, const char* kind, Options
   } else if (o.output.empty() && o.positional.size() > 2) {
     throw UsageError{"several inputs need -o OUTDIR"};
   }
+  if (!o.batch && o.output.empty() && o.positional.size() == 1 && o.output_optional) o.output = "-";
   if (o.pattern == PatternKind::BlueNoise && o.samples && *o.samples != 8 && *o.samples != 32 && *o.samples != 64)
     throw UsageError{"blue-noise patterns have 8, 32 or 64 samples; use --pattern stratified for " +
                      std::to_string(*o.samples)};

@@ -36,6 +36,8 @@ struct Options {
   std::vector<std::string> languages{"en"};  // --languages (systemLanguage)
   std::vector<std::string> positional;
   std::string output;  // -o; else the second positional argument
+  // pdf2png: the output may be left out (one input): standard output ("-").
+  bool output_optional = false;
 
   // Batches (svg2png): -o OUTDIR with several inputs (or one, when OUTDIR
   // is a folder or ends in '/'), or --batch LIST (lines "IN OUT"; "-" reads

@@ -144,7 +144,7 @@ bool encode(const std::string& format, const Raster& r, const EncodeOptions& o, 
   }
   if (o.dpi > 0) {
     spec.attribute("XResolution", static_cast<float>(o.dpi));
-    spec.attribute("YResolution", static_cast<float>(o.dpi));
+    spec.attribute("YResolution", static_cast<float>(o.dpi_y > 0 ? o.dpi_y : o.dpi));
     spec.attribute("ResolutionUnit", "in");
   }
   if (format == "tiff") {

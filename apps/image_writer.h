@@ -31,8 +31,9 @@ struct EncodeOptions {
   // to 9 (pdf2png's --compression N).
   int deflate_level = 1;
   // Resolution written into the file (TIFF's XResolution and YResolution
-  // per inch, JPEG's JFIF density); 0: none.
-  double dpi = 0;
+  // per inch, JPEG's JFIF density); 0: none. dpi_y: the vertical one
+  // where it differs (pdf2png's -rx/-ry); 0: dpi.
+  double dpi = 0, dpi_y = 0;
 };
 
 // Interleaved samples, top row first, rows packed: width * channels

@@ -38,11 +38,13 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <deque>
 #include <exception>
 #include <filesystem>
@@ -63,6 +65,16 @@
 #include "parsers/pdf/pdf_parser.h"
 
 namespace {
+
+// pdftoppm's exit codes (its manual's EXIT CODES): 0 no error, 1 the PDF
+// cannot be opened, 2 an output file cannot be written, 3 permissions
+// (MuPDF renders what the password opens: never), 99 anything else.
+constexpr int kExitOpen = 1, kExitOutput = 2, kExitOther = 99;
+
+// A file pdf2png writes besides the pages (--report) cannot be written.
+struct WriteError : mpvg::Error {
+  using mpvg::Error::Error;
+};
 
 // The CUDA devices pdf2png renders on: --devices, or every one visible,
 // counted before CUDA's start-up has finished (without waiting for the
@@ -96,11 +108,20 @@ std::vector<int> pdf_devices(const mpvg::cli::Options& opt, bool cuda) {
 
 struct PdfOptions {
   double dpi = 150;
+  double dpi_y = 0;         // -ry (0: dpi)
   int first = 1, last = -1;
+  bool range_given = false;  // -f or -l
+  bool odd = false, even = false;  // pdftoppm's -o and -e
+  std::string pages;        // --pages LIST, as mutool takes them (1-3,5,N)
   std::string password;
   bool transparent = false;
   bool singlefile = false;  // the first page only, to OUT-PREFIX.png (.jpg, .tif)
+  bool forcenum = false;    // -forcenum: -singlefile's name keeps the page number
+  char sep = '-';           // -sep C: between the prefix and the page number
+  bool progress = false;    // -progress: "PAGE LAST FILE" on stderr per page written
   int scale_to = 0;         // the longer side in pixels (overrides the resolution)
+  int scale_to_x = 0, scale_to_y = 0;  // -scale-to-x/-y (pdf_page_job.h)
+  std::string report;       // --report FILE: JSON lines, one a page
   int crop_x = 0, crop_y = 0, crop_w = 0, crop_h = 0;  // -x -y -W -H, pixels at the resolution
   mpvg::pdf::PageBox box = mpvg::pdf::PageBox::Crop;   // --box, -cropbox
   bool annotations = true;                              // -hide-annotations
@@ -120,19 +141,31 @@ struct PdfOptions {
 
 void usage() {
   std::printf(
-      "Usage: pdf2png [OPTIONS] INPUT.pdf OUTPUT-PREFIX\n"
+      "Usage: pdf2png [OPTIONS] INPUT.pdf [OUTPUT-PREFIX]\n"
       "Renders the pages of INPUT to OUTPUT-PREFIX-1.png, OUTPUT-PREFIX-2.png, ... (page\n"
       "numbers zero-padded to the page count's digits, as pdftoppm writes them) with\n"
-      "the mpvg rasterizer. INPUT '-' reads standard input.\n\n"
+      "the mpvg rasterizer. INPUT '-' reads standard input. Without OUTPUT-PREFIX (or\n"
+      "with '-') the one page selected is written to standard output.\n"
+      "pdftoppm's options are taken with one dash or two (-singlefile, --singlefile).\n\n"
       "Pages:\n"
       "  -f N, -l N                first and last page (default: all)\n"
-      "      --singlefile          the first page only, written to OUTPUT-PREFIX.png\n"
+      "  -o, -e                    odd or even pages only (of those selected)\n"
+      "      --pages LIST          pages as mutool takes them: 1-3,5,N (N: the last page;\n"
+      "                            a range may run backwards, 3-1)\n"
+      "  -singlefile               the first page only, written to OUTPUT-PREFIX.png\n"
       "                            (.jpg, .tif)\n"
-      "      --password P          the document's password\n"
+      "  -forcenum                 with -singlefile: the page number all the same\n"
+      "  -sep C                    the character between prefix and number (default -)\n"
+      "      --password P          the document's password (also -upw P, -opw P)\n"
       "Size:\n"
-      "  -r, --dpi N               resolution (default 150)\n"
-      "      --scale-to N          the longer side in pixels (instead of -r)\n"
-      "  -x X -y Y -W W -H H       a crop window, in pixels at the resolution\n"
+      "  -r, --dpi N               resolution (default 150); -rx N, -ry N one axis's\n"
+      "  -scale-to N               the longer side in pixels (instead of -r)\n"
+      "  -scale-to-x N, -scale-to-y N\n"
+      "                            the width or height in pixels; the other side keeps\n"
+      "                            the resolution unless it is -1: then the aspect ratio\n"
+      "                            (as pdftoppm)\n"
+      "  -x X -y Y -W W -H H       a crop window, in pixels at the resolution (-sz N: W\n"
+      "                            and H)\n"
       "      --box B               the page box rendered: media, crop (default), bleed,\n"
       "                            trim or art (PDF 32000-1 14.11.2)\n"
       "      -cropbox              --box crop (pdftoppm's spelling)\n"
@@ -195,8 +228,16 @@ void usage() {
       "      --repeat N            the pages N times over (benchmarks)\n"
       "      --timeout S           give up on a page after S seconds (it fails; the\n"
       "                            others go on)\n"
+      "  -progress                 a line 'PAGE LAST FILE' on standard error for each\n"
+      "                            page written (pdftoppm's)\n"
+      "      --report FILE         one JSON line a page: input, output, status, ms,\n"
+      "                            warnings, error\n"
       "  -q, --quiet               no warnings\n"
-      "      --help, --version\n");
+      "  -v, --version, -h, --help\n\n"
+      "Exit status, as pdftoppm's: 0 every page written; 1 the document cannot be\n"
+      "opened (missing, not a PDF, damaged, wrong password); 2 an output file cannot\n"
+      "be written; 99 anything else: a bad option or page range, a page that failed\n"
+      "(the other pages are still written).\n");
 }
 
 // svg2png's options that pdf2png would otherwise take from cli::parse and
@@ -224,14 +265,32 @@ const char* svg_only_option(const std::string& a) {
   return nullptr;
 }
 
+// pdftoppm's options, which it spells with one dash; pdf2png takes them
+// with one or two.
+bool pdftoppm_option(const std::string& name) {
+  static const char* const kNames[] = {
+      "singlefile", "forcenum", "sep",  "progress", "scale-to", "scale-to-x",      "scale-to-y", "rx",
+      "ry",         "upw",      "opw",  "sz",       "cropbox",  "hide-annotations", "png",        "jpeg",
+      "jpegopt",    "tiff",     "tiffcompression",  "gray",     "mono"};
+  for (const char* n : kNames)
+    if (name == n) return true;
+  return false;
+}
+
 // Takes pdf2png's own options out of argv; the rest goes to cli::parse.
-// Returns false after --help.
+// Returns an empty vector after --help or -v.
 std::vector<char*> own_options(int argc, char** argv, PdfOptions& p) {
   std::vector<char*> rest{argv[0]};
+  double r = 0, rx = 0, ry = 0;  // -r, -rx, -ry (0: not given)
   for (int i = 1; i < argc; i++) {
-    const std::string a = argv[i];
+    std::string a = argv[i];
+    if (a.rfind("--", 0) == 0 && pdftoppm_option(a.substr(2))) a = a.substr(1);  // --singlefile: -singlefile
     if (a == "--help" || a == "-?" || a == "-h" || a == "-help") {  // pdftoppm's -h and -help too
       usage();
+      return {};
+    }
+    if (a == "-v") {  // pdftoppm's spelling of --version
+      std::printf("pdf2png (mpvg) 0.1\n");
       return {};
     }
     auto value = [&]() -> std::string {
@@ -246,30 +305,68 @@ std::vector<char*> own_options(int argc, char** argv, PdfOptions& p) {
         throw mpvg::cli::UsageError{"invalid value '" + v + "' for " + a};
       return d;
     };
+    auto whole = [&](long lo, long hi) {  // an integer in [lo, hi]
+      const std::string v = value();
+      char* end = nullptr;
+      const long n = std::strtol(v.c_str(), &end, 10);
+      if (end == v.c_str() || *end || n < lo || n > hi)
+        throw mpvg::cli::UsageError{"invalid value '" + v + "' for " + a + " (an integer from " + std::to_string(lo) +
+                                    " to " + std::to_string(hi) + ")"};
+      return static_cast<int>(n);
+    };
     if (const char* instead = svg_only_option(a))
       throw mpvg::cli::UsageError{a + " is an svg2png option: " + instead};
     if (a == "-r" || a == "--dpi")
-      p.dpi = number(1);
-    else if (a == "-f")
-      p.first = static_cast<int>(number(1));
-    else if (a == "-l")
-      p.last = static_cast<int>(number(1));
-    else if (a == "--password")
-      p.password = value();
+      r = number(1);
+    else if (a == "-rx")
+      rx = number(1);
+    else if (a == "-ry")
+      ry = number(1);
+    else if (a == "-f" || a == "-l") {
+      (a == "-f" ? p.first : p.last) = whole(1, 2147483647);
+      p.range_given = true;
+    }
+    else if (a == "-o")  // pdftoppm's: odd pages (the output prefix is the second argument, or --output)
+      p.odd = true;
+    else if (a == "-e")
+      p.even = true;
+    else if (a == "--pages") {
+      p.pages = value();
+      if (p.pages.empty()) throw mpvg::cli::UsageError{"--pages needs a list, e.g. 1-3,5,N"};
+    } else if (a == "--password" || a == "-upw" || a == "-opw")
+      p.password = value();  // MuPDF takes the user's or the owner's
     else if (a == "--transparent")
       p.transparent = true;
-    else if (a == "--singlefile")
+    else if (a == "-singlefile")
       p.singlefile = true;
-    else if (a == "--scale-to")
-      p.scale_to = static_cast<int>(number(1));
-    else if (a == "-x")
-      p.crop_x = static_cast<int>(number(0));
+    else if (a == "-forcenum")
+      p.forcenum = true;
+    else if (a == "-sep") {
+      const std::string v = value();
+      if (v.size() != 1 || v == "/")
+        throw mpvg::cli::UsageError{"-sep takes one character (not '/'), got '" + v + "'"};
+      p.sep = v[0];
+    } else if (a == "-progress")
+      p.progress = true;
+    else if (a == "--report") {
+      p.report = value();
+      if (p.report.empty()) throw mpvg::cli::UsageError{"--report needs a file name"};
+    } else if (a == "-scale-to")
+      p.scale_to = whole(1, 1 << 20);
+    else if (a == "-scale-to-x" || a == "-scale-to-y") {
+      const int v = whole(-1, 1 << 20);
+      if (v == 0) throw mpvg::cli::UsageError{a + " takes a number of pixels, or -1 (keep the aspect ratio)"};
+      (a == "-scale-to-x" ? p.scale_to_x : p.scale_to_y) = v;
+    } else if (a == "-x")
+      p.crop_x = whole(0, 1 << 20);
     else if (a == "-y")
-      p.crop_y = static_cast<int>(number(0));
+      p.crop_y = whole(0, 1 << 20);
     else if (a == "-W")
-      p.crop_w = static_cast<int>(number(1));
+      p.crop_w = whole(1, 1 << 20);
     else if (a == "-H")
-      p.crop_h = static_cast<int>(number(1));
+      p.crop_h = whole(1, 1 << 20);
+    else if (a == "-sz")
+      p.crop_w = p.crop_h = whole(1, 1 << 20);
     else if (a == "--box") {
       const std::string v = value();
       using mpvg::pdf::PageBox;
@@ -346,7 +443,99 @@ std::vector<char*> own_options(int argc, char** argv, PdfOptions& p) {
     else
       rest.push_back(argv[i]);
   }
+  // -rx and -ry override -r for their axis.
+  p.dpi = rx > 0 ? rx : r > 0 ? r : 150;
+  const double y = ry > 0 ? ry : r > 0 ? r : 150;
+  p.dpi_y = y != p.dpi ? y : 0;
+  if (p.odd && p.even) throw mpvg::cli::UsageError{"-o (odd pages) and -e (even pages) cannot be given together"};
+  if (!p.pages.empty() && p.range_given)
+    throw mpvg::cli::UsageError{"--pages and -f/-l cannot be given together"};
+  if (p.forcenum && !p.singlefile) p.forcenum = false;  // numbered anyway
   return rest;
+}
+
+// The pages a run renders, in order: runs of pages `step` apart (1 or 2,
+// downwards when negative), so that a range of a document with 10^9 pages
+// costs nothing.
+struct Selection {
+  struct Run {
+    int start, step, count;
+  };
+  std::vector<Run> runs;
+  long long total = 0;
+  int last = 0;  // the last page in order (pdftoppm's -progress prints it)
+  int page(long long t) const {
+    for (const Run& r : runs) {
+      if (t < r.count) return static_cast<int>(r.start + t * r.step);
+      t -= r.count;
+    }
+    return 0;
+  }
+};
+
+// A page number of a --pages list: digits, or N (the last page).
+int list_page(const std::string& item, const std::string& v, int count) {
+  if (v == "N") return count;
+  char* end = nullptr;
+  const long n = std::strtol(v.c_str(), &end, 10);
+  if (v.empty() || end == v.c_str() || *end || n < 1)
+    throw mpvg::cli::UsageError{"--pages: '" + item + "' is not a page or a range (e.g. 1-3,5,N)"};
+  if (n > count)
+    throw mpvg::Error("--pages: page " + std::to_string(n) + " is past the last page (" + std::to_string(count) + ")");
+  return static_cast<int>(n);
+}
+
+// -f/-l or --pages, then -o/-e, then -singlefile. Throws mpvg::Error for
+// pages that do not exist, cli::UsageError for a list that does not parse.
+Selection select_pages(const PdfOptions& pdf, int count) {
+  std::vector<std::pair<int, int>> ranges;  // inclusive, either way round
+  if (!pdf.pages.empty()) {
+    for (size_t at = 0; at <= pdf.pages.size();) {
+      const size_t end = std::min(pdf.pages.find(',', at), pdf.pages.size());
+      const std::string item = pdf.pages.substr(at, end - at);
+      at = end + 1;
+      const size_t dash = item.find('-');
+      const int a = list_page(item, item.substr(0, dash), count);
+      ranges.emplace_back(a, dash == std::string::npos ? a : list_page(item, item.substr(dash + 1), count));
+    }
+  } else {
+    if (pdf.first > count)
+      throw mpvg::Error("the first page (" + std::to_string(pdf.first) + ") is past the last page (" +
+                        std::to_string(count) + ")");
+    if (pdf.last >= 0 && pdf.last < pdf.first)
+      throw mpvg::Error("the last page (" + std::to_string(pdf.last) + ") is before the first page (" +
+                        std::to_string(pdf.first) + ")");
+    // -l past the last page: the pages there are, as pdftoppm.
+    ranges.emplace_back(pdf.first, pdf.last < 0 ? count : std::min(pdf.last, count));
+  }
+  Selection sel;
+  std::vector<std::pair<int, int>> taken;  // each run's lowest and highest page
+  for (const auto& [a, b] : ranges) {
+    const int dir = a <= b ? 1 : -1;
+    int start = a;
+    if ((pdf.odd && start % 2 == 0) || (pdf.even && start % 2 == 1)) start += dir;
+    if ((b - start) * dir < 0) continue;  // no page of that parity
+    const int step = (pdf.odd || pdf.even ? 2 : 1) * dir;
+    const int n = (b - start) / step + 1;
+    const int end = start + (n - 1) * step;
+    const int lo = std::min(start, end), hi = std::max(start, end);
+    for (const auto& [l, h] : taken)
+      if (lo <= h && l <= hi)
+        throw mpvg::cli::UsageError{"--pages names a page twice ('" + pdf.pages + "'): each page is written once"};
+    taken.emplace_back(lo, hi);
+    sel.runs.push_back({start, step, n});
+    sel.total += n;
+    sel.last = end;
+  }
+  if (sel.total == 0)
+    throw mpvg::Error(std::string("no ") + (pdf.odd ? "odd" : "even") + " page among the pages selected");
+  if (pdf.singlefile) {
+    sel.runs.resize(1);
+    sel.runs[0].count = 1;
+    sel.total = 1;
+    sel.last = sel.runs[0].start;
+  }
+  return sel;
 }
 
 // The press profile --cmyk-profile names (loaded once, in main).
@@ -357,7 +546,10 @@ std::unique_ptr<mpvg::pipeline::Job> lower(const PdfOptions& pdf, const mpvg::cl
                                            const mpvg::pdf::Document& doc, int n, const std::string& out) {
   mpvg::PdfPageRequest r;
   r.dpi = pdf.dpi;
+  r.dpi_y = pdf.dpi_y;
   r.scale_to = pdf.scale_to;
+  r.scale_to_x = pdf.scale_to_x;
+  r.scale_to_y = pdf.scale_to_y;
   r.crop_x = pdf.crop_x;
   r.crop_y = pdf.crop_y;
   r.crop_w = pdf.crop_w;
@@ -384,11 +576,17 @@ int main(int argc, char** argv) {
     // MuPDF, Poppler and Acrobat draw (in linear light a 0.4 pt rule at
     // 150 dpi loses 40 % of its darkness).
     opt.gamma = Gamma::Srgb;
+    opt.output_optional = true;  // no OUTPUT-PREFIX: standard output, as pdftoppm
     if (!cli::parse(static_cast<int>(rest.size()), rest.data(), "pdf2png", "pdf", opt)) return 0;
     // One document a run (cli::parse makes several inputs, or -o with a
     // folder, a batch): the others would be dropped without a word.
     if (opt.batch || opt.positional.size() != 1)
       throw cli::UsageError{"pdf2png renders one document a run (usage: pdf2png [OPTIONS] INPUT.pdf OUTPUT-PREFIX)"};
+    // A PNG's bytes on a terminal are garbage and can upset it.
+    if (opt.output == "-" && isatty(STDOUT_FILENO))
+      throw cli::UsageError{"standard output is a terminal: redirect it, or give an OUTPUT-PREFIX"};
+    if (opt.output == "-" && pdf.inks == pdf::InkModel::Separations)
+      throw cli::UsageError{"--separations writes several files a page: give an OUTPUT-PREFIX"};
     if (pdf.gray && pdf.mono) throw cli::UsageError{"-gray and -mono cannot be given together"};
     if (pdf.mono && opt.bits == 16) throw cli::UsageError{"-mono writes 1-bit images: --bits 16 cannot be given with it"};
     if (pdf.format == image::Format::Jpeg && opt.bits == 16)
@@ -429,7 +627,7 @@ int main(int argc, char** argv) {
       throw cli::UsageError{std::string(pdf.format_flag) + " needs OpenImageIO (" + no + ")"};
   } catch (const cli::UsageError& e) {
     std::fprintf(stderr, "pdf2png: %s\n", e.message.c_str());
-    return 2;
+    return kExitOther;  // pdftoppm's 99
   }
   // A JPEG has no alpha: its pages are drawn over white, --transparent or not.
   if ((!pdf.transparent || pdf.format == image::Format::Jpeg) && opt.background.a == 0)
@@ -437,30 +635,49 @@ int main(int argc, char** argv) {
   // CUDA starts on a thread of its own at once (~250 ms on the GPU host),
   // while the document opens and the workers lower the first pages.
   GpuStartup startup(opt.backend, cli::render_options(opt, 64, 64, Affine{}));
+  // The document first: failing to open it is pdftoppm's exit 1.
+  std::unique_ptr<pdf::Document> opened;
   try {
-    const pdf::Document doc(opt.positional[0], pdf.password, opt.max_input);
+    opened = std::make_unique<pdf::Document>(opt.positional[0], pdf.password, opt.max_input);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "pdf2png: %s\n", error_message(e).c_str());
+    std::fflush(nullptr);
+    std::_Exit(kExitOpen);
+  }
+  std::FILE* report = nullptr;
+  try {
+    const pdf::Document& doc = *opened;
     const int count = doc.page_count();
     // Print preview without a press profile: said once for the document.
     if (pdf.inks != pdf::InkModel::Rgb && !cmyk_profile && !opt.quiet && count > 0 && !doc.has_output_intent())
       std::fprintf(stderr,
                    "pdf2png: warning: no CMYK output profile (the document has no output intent; --cmyk-profile "
                    "names one): RGB colours converted by PDF's device formulas, RGB black as black ink alone\n");
-    const int first = pdf.first;
-    const int last = pdf.singlefile ? std::min(pdf.first, count) : pdf.last < 0 ? count : std::min(pdf.last, count);
     const int digits = static_cast<int>(std::to_string(count).size());
     // No page to render is an error, as for pdftoppm (its exit 99): a
-    // document without pages, or a range past the last page.
+    // document without pages, a range past the last page, no page of the
+    // parity asked for.
     if (count == 0) throw Error("'" + opt.positional[0] + "' has no pages");
-    if (first > count)
-      throw Error("the first page (" + std::to_string(first) + ") is past the last page (" + std::to_string(count) +
-                  ")");
-    if (pdf.last >= 0 && pdf.last < first)
-      throw Error("the last page (" + std::to_string(pdf.last) + ") is before the first page (" +
-                  std::to_string(first) + ")");
-    const int range = last - first + 1;
-    const long long requested = static_cast<long long>(range) * pdf.repeat;
+    const Selection selection = select_pages(pdf, count);
+    // Standard output takes one image.
+    if (opt.output == "-" && (selection.total > 1 || pdf.repeat > 1))
+      throw cli::UsageError{std::to_string(selection.total * pdf.repeat) +
+                            " pages cannot all go to standard output: give an OUTPUT-PREFIX, or select one page "
+                            "(-singlefile, -f N -l N)"};
+    const long long range = selection.total;
+    const long long requested = range * pdf.repeat;
     if (requested > 1000000000) throw Error("--repeat makes more than 10^9 pages");
     const int pages = static_cast<int>(requested);
+    auto page_of = [&](int t) { return selection.page(t % range); };
+    // OUT-PREFIX-07.png; -singlefile: OUT-PREFIX.png; standard output: "-".
+    auto output_of = [&](int t) {
+      if (opt.output == "-") return std::string("-");
+      const char* ext = image::extension(pdf.format);  // png, jpg, tif
+      if (pdf.singlefile && !pdf.forcenum) return opt.output + "." + ext;
+      char name[48];
+      std::snprintf(name, sizeof name, "%c%0*d.%s", pdf.sep, digits, page_of(t), ext);
+      return opt.output + name;
+    };
     // The thread counts are set before CUDA's start-up has finished: with a
     // GPU visible (its device files exist) they are CUDA's. If CUDA then
     // fails, one render thread renders on the CPU and the others stop.
@@ -502,7 +719,19 @@ int main(int argc, char** argv) {
     // asymptote 109 pages/s with 16 workers, 120 with 14; BENCHMARKS.md).
     c.workers = std::min(pages, pdf.threads > 0 ? pdf.threads : cuda ? std::max(1, cores - c.render_threads) : cores);
     // A progress line on a terminal for multi-page jobs.
-    c.progress = !opt.quiet && pages > 1 && isatty(fileno(stderr));
+    c.progress = !opt.quiet && !pdf.progress && pages > 1 && isatty(fileno(stderr));
+    // -progress: pdftoppm's line per page written.
+    if (pdf.progress)
+      c.written = [&](const pipeline::Job& job) {
+        std::fprintf(stderr, "%d %d %s\n", page_of(job.index), selection.last, job.out.c_str());
+      };
+    if (!pdf.report.empty()) {
+      report = std::fopen(pdf.report.c_str(), "w");
+      if (!report) throw WriteError("cannot write the report '" + pdf.report + "': " + std::strerror(errno));
+      c.report = report;
+      c.report_input = [&](int t) { return opt.positional[0] + ":" + std::to_string(page_of(t)); };
+      c.report_output = output_of;
+    }
     c.stats = opt.stats;
     c.quiet = opt.quiet;
     c.bits = opt.bits;
@@ -521,7 +750,6 @@ int main(int argc, char** argv) {
     const char* shared = std::getenv("MPVG_PDF_SHARED_CONTEXT");
     const bool shared_context = shared && std::string(shared) == "1";
     std::vector<std::unique_ptr<pdf::Document>> clones(c.workers);
-    auto page_of = [&](int t) { return first + t % range; };
     c.label = [&](int t) { return "page " + std::to_string(page_of(t)); };
     c.prepare = [&](int t, int w) {
       const pdf::Document* d = &doc;
@@ -530,11 +758,7 @@ int main(int argc, char** argv) {
           clones[w] = doc.clone(shared_context ? pdf::Document::Context::Shared : pdf::Document::Context::Independent);
         d = clones[w].get();
       }
-      const int n = page_of(t);
-      char name[32];
-      const char* ext = image::extension(pdf.format);  // png, jpg, tif
-      std::snprintf(name, sizeof name, "-%0*d.%s", digits, n, ext);
-      return lower(pdf, opt, *d, n, opt.output + (pdf.singlefile ? "." + std::string(ext) : std::string(name)));
+      return lower(pdf, opt, *d, page_of(t), output_of(t));
     };
     c.make_renderer = [&](int r) -> std::unique_ptr<FrameRenderer> {
       if (opt.backend == Backend::Cpu) return std::make_unique<FrameRenderer>(Backend::Cpu);
@@ -562,11 +786,15 @@ int main(int argc, char** argv) {
     // Every page is written: the process ends without tearing down CUDA
     // (100-150 ms on the GPU host; the driver frees it at exit) or MuPDF.
     std::fflush(nullptr);
-    std::_Exit(result.failed ? 1 : 0);
+    std::_Exit(result.write_failed ? kExitOutput : result.failed ? kExitOther : 0);
+  } catch (const cli::UsageError& e) {
+    std::fprintf(stderr, "pdf2png: %s\n", e.message.c_str());
+    std::fflush(nullptr);
+    std::_Exit(kExitOther);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "pdf2png: %s\n", error_message(e).c_str());
     // Not exit(): the start-up thread may still be running (GpuStartup).
     std::fflush(nullptr);
-    std::_Exit(1);
+    std::_Exit(dynamic_cast<const WriteError*>(&e) ? kExitOutput : kExitOther);
   }
 }

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "apps/cli.h"
+#include "apps/json.h"
 #include "apps/png_writer.h"
 #include "core/error.h"
 
@@ -88,6 +89,7 @@ struct State {
   std::map<int, Clock::time_point> started;
   std::map<int, Clock::duration> spent;  // preparation time of items waiting for a renderer
   std::set<int> in_prepare, timed_out;
+  std::map<int, Clock::time_point> began;  // --report: when each item in flight was taken
   int live_threads = 0;   // render threads and workers not yet returned
   bool stopping = false;  // every item is through: the watchdog ends
 
@@ -128,6 +130,20 @@ struct State {
     r.finished++;
     in_flight--;
     if (!error.empty()) r.failed++;
+    const int t = job ? job->index : ticket;
+    if (c.report) {
+      const auto at = began.find(t);
+      const double ms = at == began.end() ? 0 : ms_since(at->second);
+      if (at != began.end()) began.erase(at);
+      const char* status = error.empty() ? "ok" : timed_out.count(t) ? "timed out" : "failed";
+      static const std::vector<std::string> kNone;
+      const std::string line =
+          report_line(c.report_input ? c.report_input(t) : c.label(t), c.report_output ? c.report_output(t) : "",
+                      status, ms, job ? job->warnings : kNone, error);
+      std::fprintf(c.report, "%s\n", line.c_str());
+      std::fflush(c.report);
+    }
+    if (job && error.empty() && c.written) c.written(*job);
     const char* nl = c.progress ? "\r\033[K" : "";
     if (!error.empty() && c.failed) c.failed(job ? job->index : ticket, error);
     // Items no renderer could take are counted, and reported once at the end.
@@ -179,6 +195,7 @@ struct State {
     // the page's resolution.
     image::EncodeOptions encode = c.encode;
     encode.dpi = job.dpi;
+    encode.dpi_y = job.dpi_y;
     if (job.inks) {
       write_ink_page(*job.inks, job.out, job.width, job.height, job.rgba8.data(), encode);
       job.png_ms = ms_since(t0);
@@ -195,6 +212,7 @@ struct State {
         : c.bits == 16        ? png::encode_gray16(job.width, job.height, to_rgba16(job.image, c.gamma).data(), options)
         : rgb                 ? png::encode_rgba8(job.width, job.height, job.rgba8.data(), options)
                               : png::encode_gray8(job.width, job.height, job.rgba8.data(), c.color, options);
+    if (c.format == image::Format::Png) png::set_resolution(bytes, job.dpi, job.dpi_y);
     const auto t1 = Clock::now();
     png::write_file(job.out, bytes);
     job.write_ms = ms_since(t1);
@@ -224,6 +242,7 @@ struct State {
         }
         job->image = ImageF{};
         lock.lock();
+        if (!error.empty()) result.write_failed++;
         spare_rgba8.push_back(std::move(job->rgba8));
         finish(job.get(), error);
         continue;
@@ -232,6 +251,7 @@ struct State {
       const int t = next++;
       in_flight++;
       preparing++;
+      if (c.report) began[t] = Clock::now();
       if (c.timeout_s > 0) {
         started[t] = Clock::now();
         in_prepare.insert(t);
@@ -478,6 +498,15 @@ Result run(const Config& config) {
     std::fprintf(stderr, "%s", nl);
   result.seconds = ms_since(s.t_start) / 1000;
   return result;
+}
+
+std::string report_line(const std::string& input, const std::string& output, const char* status, double ms,
+                        const std::vector<std::string>& warnings, const std::string& error) {
+  std::string line = "{\"input\": " + json::quote(input) + ", \"output\": " + json::quote(output) +
+                     ", \"status\": " + json::quote(status) + ", \"ms\": " + json::number(ms, 1) +
+                     ", \"warnings\": " + json::string_array(warnings);
+  if (!error.empty()) line += ", \"error\": " + json::quote(error);
+  return line + "}";
 }
 
 std::string summary(const Config& c, const Result& r, const char* backend) {

@@ -9,6 +9,7 @@
 // most `workers + 4 + render threads x forest_scenes` items are in flight.
 // An item that fails is reported and every other one is still written.
 #pragma once
+#include <cstdio>
 #include <functional>
 #include <memory>
 #include <string>
@@ -28,7 +29,9 @@ struct Job {
   int index = 0;       // the ticket it came from: render order, messages
   std::string label;   // "page 3", "tiger.svg": how messages name it
   std::string out;     // the PNG's path ("-": standard output)
-  double dpi = 0;      // the resolution a TIFF or JPEG records (0: none)
+  // The resolution the file records (PNG's pHYs, TIFF's and JPEG's
+  // density; 0: none); dpi_y where the vertical one differs (0: dpi).
+  double dpi = 0, dpi_y = 0;
   // Print preview: the image holds ink passes side by side, written as
   // apps/ink_output.h writes them (8 bits).
   std::shared_ptr<const InkPage> inks;
@@ -114,13 +117,29 @@ struct Config {
   // one frame each.
   bool device_output = false;
   std::function<void(int ticket, const std::string& error)> failed;
+  // Called for each item written (under the pipeline's lock, in the order
+  // they finish): pdf2png's -progress.
+  std::function<void(const Job& job)> written;
+  // --report FILE: one JSON object a line for each item as it finishes
+  // (report_line), flushed line by line; null: none.
+  std::FILE* report = nullptr;
+  // The item's input and output as the report names them ("a.svg",
+  // "a.png"; "doc.pdf", "doc-3.png").
+  std::function<std::string(int t)> report_input, report_output;
 };
+
+// The report's line for ticket t: {"input": ..., "output": ..., "status":
+// "ok" | "failed" | "timed out", "ms": wall time from its start to its
+// end, "warnings": [...], "error": "..." (failed only)}.
+std::string report_line(const std::string& input, const std::string& output, const char* status, double ms,
+                        const std::vector<std::string>& warnings, const std::string& error);
 
 // What went through; totals in ms over the items that succeeded.
 struct Result {
   int finished = 0, failed = 0;
   int unrendered = 0;  // of the failed: no renderer could take them
   int timed_out = 0;   // of the failed: past Config::timeout_s
+  int write_failed = 0;  // of the failed: rendered, but its file could not be written
   int frames = 0;      // frames rendered (a forest frame renders several items)
   // Threads still busy with an item that timed out when run() returned:
   // the process should end with std::_Exit (they use the caller's data).

@@ -1,6 +1,7 @@
 #include "apps/png_writer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -293,6 +294,22 @@ std::vector<uint8_t> encode_rgba8(int width, int height, const uint8_t* rgba, co
 
 std::vector<uint8_t> encode_rgba16(int width, int height, const uint16_t* rgba, const EncodeOptions& options) {
   return encode(width, height, rgba, options);
+}
+
+void set_resolution(std::vector<uint8_t>& png, double dpi_x, double dpi_y) {
+  // After the signature (8 bytes) and IHDR (25): before IDAT, as the
+  // specification orders pHYs (5.6).
+  constexpr size_t kAfterIhdr = 8 + 25;
+  if (!(dpi_x > 0) || png.size() < kAfterIhdr) return;
+  if (!(dpi_y > 0)) dpi_y = dpi_x;
+  auto per_metre = [](double dpi) { return static_cast<uint32_t>(std::min(4e9, std::lround(dpi / 0.0254) * 1.0)); };
+  std::vector<uint8_t> data;
+  put32(data, per_metre(dpi_x));
+  put32(data, per_metre(dpi_y));
+  data.push_back(1);  // unit: the metre
+  std::vector<uint8_t> chunk;
+  put_chunk(chunk, "pHYs", data.data(), data.size());
+  png.insert(png.begin() + kAfterIhdr, chunk.begin(), chunk.end());
 }
 
 void write_file(const std::string& path, const std::vector<uint8_t>& bytes) { write_output(path, bytes); }

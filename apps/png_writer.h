@@ -80,6 +80,10 @@ std::vector<uint8_t> encode_gray16(int width, int height, const uint16_t* rgba, 
 // (RGBA), the zlib stream.
 std::vector<uint8_t> wrap(int width, int height, int bit_depth, int channels, const uint8_t* zlib, size_t n);
 
+// Records the resolution in a PNG made above: a pHYs chunk (pixels per
+// metre, as pdftoppm writes it) after IHDR. dpi_y 0: dpi_x; dpi_x 0: none.
+void set_resolution(std::vector<uint8_t>& png, double dpi_x, double dpi_y = 0);
+
 // Writes bytes to path ("-": standard output), whole or not at all
 // (apps/output_file.h). Throws mpvg::Error.
 void write_file(const std::string& path, const std::vector<uint8_t>& bytes);

@@ -33,19 +33,19 @@ check "--help describes pdf2png's own options" \
   test "$rc" = 0 -a -n "$(echo "$out" | grep -e 'OUTPUT-PREFIX')" -a -n "$(echo "$out" | grep -e '--dpi')" \
   -a -z "$(echo "$out" | grep -e '--width')"
 err=$("$bin" -q --dpi zero "$pdf" "$tmp/m" 2>&1); rc=$?
-check "a bad option value: exit 2" test "$rc" = 2
-# svg2png's options are refused, not ignored (issue 47): exit 2, one line
+check "a bad option value: exit 99, as pdftoppm's usage errors" test "$rc" = 99
+# svg2png's options are refused, not ignored (issue 47): exit 99, one line
 # that names the option, and no page written.
 for opt in "-w 100" "--width 100" "--height 100" "-z 3" "-b red" "-a" "--server" "--shard 0/2" \
   "--font-dir $tmp" "--languages de" "--allow-read $tmp" "--batch $tmp/list"; do
   err=$("$bin" -q $opt "$pdf" "$tmp/svgopt" 2>&1); rc=$?
   check "pdf2png refuses svg2png's ${opt%% *}" \
-    test "$rc" = 2 -a "$(echo "$err" | wc -l)" = 1 -a -n "$(echo "$err" | grep -e "${opt%% *} is an svg2png option")" \
+    test "$rc" = 99 -a "$(echo "$err" | wc -l)" = 1 -a -n "$(echo "$err" | grep -e "${opt%% *} is an svg2png option")" \
     -a ! -e "$tmp/svgopt-1.png"
 done
-err=$("$bin" -q -o "$tmp/two" "$pdf" "$pdf" 2>&1); rc=$?
+err=$("$bin" -q --output "$tmp/two" "$pdf" "$pdf" 2>&1); rc=$?
 check "two documents are a usage error, not the first one rendered" \
-  test "$rc" = 2 -a -n "$(echo "$err" | grep -e 'one document a run')" -a ! -e "$tmp/two-1.png"
+  test "$rc" = 99 -a -n "$(echo "$err" | grep -e 'one document a run')" -a ! -e "$tmp/two-1.png"
 for h in -h -help; do
   out=$("$bin" $h); rc=$?
   check "pdftoppm's $h prints the help" test "$rc" = 0 -a -n "$(echo "$out" | grep -e 'OUTPUT-PREFIX')"
@@ -60,8 +60,8 @@ for broken in three-pages-bad-page2; do
   err=$("$bin" -q --backend cpu -r 72 "$src/testdata/pdf/$broken.pdf" "$tmp/$broken" 2>&1); rc=$?
   check "$broken: pages 1 and 3 written, page 2 not" \
     test -f "$tmp/$broken-1.png" -a ! -e "$tmp/$broken-2.png" -a -f "$tmp/$broken-3.png"
-  check "$broken: exit 1, one line naming page 2, then the summary ($err)" \
-    test "$rc" = 1 -a "$(echo "$err" | wc -l)" = 2 -a -n "$(echo "$err" | grep -e '^pdf2png: page 2: ')" \
+  check "$broken: exit 99 (pdftoppm's other error), one line naming page 2, then the summary ($err)" \
+    test "$rc" = 99 -a "$(echo "$err" | wc -l)" = 2 -a -n "$(echo "$err" | grep -e '^pdf2png: page 2: ')" \
     -a "$(echo "$err" | tail -n 1)" = "pdf2png: 3 pages, 2 written, 1 failed"
   errors[$broken]=$(echo "$err" | head -n 1)
 done
@@ -75,18 +75,19 @@ check "truncated: repaired, three pages, exit 0" test "$rc" = 0 -a -f "$tmp/t-3.
 same_pages_1_2() { cmp -s "$tmp/t-1.png" "$tmp/full-1.png" && cmp -s "$tmp/t-2.png" "$tmp/full-2.png"; }
 check "truncated: pages 1 and 2 as in the intact document" same_pages_1_2
 # Cuts of the intact document every 100 bytes: what is recovered is
-# written, anything else is an error line and exit 1 (MuPDF 1.21 gives up
+# written, anything else is an error line and exit 1 (the document cannot
+# be opened) or 99 (pages that fail) (MuPDF 1.21 gives up
 # on a cut inside some dictionaries: "invalid key in dict"); never a crash.
 size=$(wc -c < "$src/testdata/pdf/three-pages.pdf")
 bad_cuts=""
 for ((n = 0; n < size; n += 100)); do
   head -c "$n" "$src/testdata/pdf/three-pages.pdf" > "$tmp/cut.pdf"
   err=$("$bin" -q --backend cpu -r 10 "$tmp/cut.pdf" "$tmp/cut" 2>&1); rc=$?
-  if ! { test "$rc" = 0 -a -z "$err" || test "$rc" = 1 -a -n "$err" -a -z "$(echo "$err" | grep -v '^pdf2png: ')"; }; then
+  if ! { test "$rc" = 0 -a -z "$err" || { test "$rc" = 1 -o "$rc" = 99 && test -n "$err" -a -z "$(echo "$err" | grep -v '^pdf2png: ')"; }; }; then
     bad_cuts="$bad_cuts $n(rc $rc)"
   fi
 done
-check "truncated anywhere: output or an error line with exit 1, never a crash${bad_cuts:+ (failed at$bad_cuts)}" \
+check "truncated anywhere: output or an error line with exit 1 or 99, never a crash${bad_cuts:+ (failed at$bad_cuts)}" \
   test -z "$bad_cuts"
 
 # A page tree that claims 2e9 pages and holds three: three pages, named
@@ -96,13 +97,92 @@ check "a lying /Count: the three pages there are, exit 0" \
   test "$rc" = 0 -a -z "$err" -a "$(cd "$tmp" && echo c-*.png)" = "c-1.png c-2.png c-3.png"
 # No page to render is an error, as for pdftoppm.
 err=$("$bin" -q --backend cpu "$src/testdata/pdf/no-page-tree.pdf" "$tmp/n" 2>&1); rc=$?
-check "no page tree: exit 1, one line ($err)" \
-  test "$rc" = 1 -a "$err" = "pdf2png: '$src/testdata/pdf/no-page-tree.pdf' has no pages"
+check "no page tree: exit 99, one line ($err)" \
+  test "$rc" = 99 -a "$err" = "pdf2png: '$src/testdata/pdf/no-page-tree.pdf' has no pages"
 err=$("$bin" -q --backend cpu -f 5 "$src/testdata/pdf/three-pages.pdf" "$tmp/f" 2>&1); rc=$?
-check "-f past the last page: exit 1, one line ($err)" \
-  test "$rc" = 1 -a "$err" = "pdf2png: the first page (5) is past the last page (3)" -a ! -e "$tmp/f-5.png"
+check "-f past the last page: exit 99, one line ($err)" \
+  test "$rc" = 99 -a "$err" = "pdf2png: the first page (5) is past the last page (3)" -a ! -e "$tmp/f-5.png"
 err=$("$bin" -q --backend cpu -f 3 -l 2 "$src/testdata/pdf/three-pages.pdf" "$tmp/f" 2>&1); rc=$?
-check "-l before -f: exit 1, one line ($err)" test "$rc" = 1 -a "$(echo "$err" | wc -l)" = 1
+check "-l before -f: exit 99, one line ($err)" test "$rc" = 99 -a "$(echo "$err" | wc -l)" = 1
+
+# pdftoppm's spellings and meanings (issue 47).
+three=$src/testdata/pdf/three-pages.pdf
+boxes=$src/testdata/pdf/page-boxes.pdf
+names() { (cd "$tmp" && ls | grep "^$1" | tr '\n' ' '); }
+"$bin" -q --backend cpu -r 10 -o "$three" "$tmp/odd"
+"$bin" -q --backend cpu -r 10 -e "$three" "$tmp/even"
+check "-o and -e: odd and even pages (pdftoppm's meaning)" \
+  test "$(names odd)$(names even)" = "odd-1.png odd-3.png even-2.png "
+err=$("$bin" -q -o -e "$three" "$tmp/oe" 2>&1); rc=$?
+check "-o with -e: exit 99, one line" test "$rc" = 99 -a "$(echo "$err" | wc -l)" = 1
+err=$("$bin" -q -e "$pdf" "$tmp/noeven" 2>&1); rc=$?
+check "-e on a one-page document: no page, exit 99 ($err)" test "$rc" = 99 -a -n "$(echo "$err" | grep 'no even page')"
+"$bin" -q --backend cpu -r 10 --pages 3-2 "$three" "$tmp/back"
+"$bin" -q --backend cpu -r 10 --pages 1,N -f 1 "$three" "$tmp/bad" 2>/dev/null; rc=$?
+check "--pages with -f: exit 99" test "$rc" = 99
+"$bin" -q --backend cpu -r 10 --pages 1,N "$three" "$tmp/list"
+"$bin" -q --backend cpu -r 10 --pages 2-N -o "$three" "$tmp/lodd"
+check "--pages 3-2, 1,N, and 2-N with -o: the pages asked for" \
+  test "$(names back)$(names list)$(names lodd)" = "back-2.png back-3.png list-1.png list-3.png lodd-3.png "
+check "--pages: the same page as -f/-l gives" cmp -s "$tmp/list-3.png" "$tmp/lodd-3.png"
+for bad in "1,1" "2-3,3" "0" "4" "1-x" "-2" ","; do
+  err=$("$bin" -q --backend cpu -r 10 --pages "$bad" "$three" "$tmp/pl" 2>&1); rc=$?
+  check "--pages '$bad': exit 99, one line, nothing written ($err)" \
+    test "$rc" = 99 -a "$(echo "$err" | wc -l)" = 1 -a -z "$(names pl)"
+done
+"$bin" -q --backend cpu -r 10 -singlefile -f 2 "$three" "$tmp/sf"
+"$bin" -q --backend cpu -r 10 --singlefile -forcenum -f 2 "$three" "$tmp/fn"
+"$bin" -q --backend cpu -r 10 -sep _ -f 3 "$three" "$tmp/sep"
+check "-singlefile (one dash), -forcenum, -sep _" test "$(names sf)$(names fn)$(names sep)" = "sf.png fn-2.png sep_3.png "
+err=$("$bin" -q -sep ab "$three" "$tmp/sep2" 2>&1); rc=$?
+check "-sep of two characters: exit 99" test "$rc" = 99
+err=$("$bin" --backend cpu -r 10 -progress "$three" "$tmp/pg" 2>&1 >/dev/null | grep -v summary | grep -v '^pdf2png')
+check "-progress: 'PAGE LAST FILE' a page, as pdftoppm ($err)" \
+  test "$(echo "$err" | sort)" = "$(printf '1 3 %s\n2 3 %s\n3 3 %s' "$tmp/pg-1.png" "$tmp/pg-2.png" "$tmp/pg-3.png")"
+"$bin" -q --backend cpu -r 72 -singlefile "$pdf" > "$tmp/stdout.png"; rc=$?
+check "no OUTPUT-PREFIX: the page to standard output, as pdftoppm" test "$rc" = 0 -a "$(png_size "$tmp/stdout.png")" = 100x100
+"$bin" -q --backend cpu -r 72 -singlefile "$pdf" - > "$tmp/dash.png"
+check "OUTPUT-PREFIX '-': standard output, the same bytes as a file" cmp -s "$tmp/dash.png" "$tmp/r-1.png"
+check "... and no file named '-.png'" test ! -e ./-.png -a ! -e "$tmp/-.png"
+err=$("$bin" -q --backend cpu -r 10 "$three" 2>&1 > "$tmp/three-out.png"); rc=$?
+check "three pages to standard output: exit 99, one line, nothing written ($err)" \
+  test "$rc" = 99 -a "$(echo "$err" | wc -l)" = 1 -a ! -s "$tmp/three-out.png"
+if command -v script > /dev/null; then
+  err=$(script -qec "'$bin' -q --backend cpu -singlefile '$pdf'" /dev/null 2>&1 | tr -d '\r'); rc=$?
+  check "standard output a terminal: refused with one line ($err)" test -n "$(echo "$err" | grep 'is a terminal')"
+fi
+# Sizes as pdftoppm 22.12 gives them for this page of 300 x 200 pt (its
+# MediaBox): -scale-to-x alone keeps -r's resolution down, -1 the aspect.
+for case in "-scale-to 100:100x67" "-scale-to-x 100:100x417" "-scale-to-y 100:625x100" \
+  "-scale-to-x 100 -scale-to-y -1:100x67" "-scale-to-x -1 -scale-to-y 100:150x100" \
+  "-scale-to-x 100 -scale-to-y 50:100x50" "-rx 72 -ry 36:300x100" "--scale-to 100 -r 300:100x67"; do
+  "$bin" -q --backend cpu --box media ${case%%:*} -singlefile "$boxes" "$tmp/sz"
+  check "${case%%:*}: ${case##*:}, as pdftoppm" test "$(png_size "$tmp/sz.png")" = "${case##*:}"
+done
+phys() { python3 -c "
+import struct, sys
+d = open(sys.argv[1], 'rb').read()
+i = d.find(b'pHYs')
+print(*struct.unpack('>IIB', d[i + 4:i + 13]) if i > 0 else 'none')" "$1"; }
+"$bin" -q --backend cpu --box media -rx 72 -ry 36 -singlefile "$boxes" "$tmp/phys"
+check "the PNG records its resolution (pHYs, per metre, as pdftoppm's): $(phys "$tmp/phys.png")" \
+  test "$(phys "$tmp/phys.png")" = "2835 1417 1"
+"$bin" -q --backend cpu -r 72 -upw secret "$src/testdata/pdf/encrypted-password-secret.pdf" "$tmp/upw"
+"$bin" -q --backend cpu -r 72 -opw secret "$src/testdata/pdf/encrypted-password-secret.pdf" "$tmp/opw"
+check "-upw and -opw: the password" test -f "$tmp/upw-1.png" -a -f "$tmp/opw-1.png"
+out=$("$bin" -v); rc=$?
+check "-v: the version, exit 0" test "$rc" = 0 -a -n "$(echo "$out" | grep mpvg)"
+err=$("$bin" -q --backend cpu -r 10 "$three" "$tmp/nodir/x" 2>&1); rc=$?
+check "an output that cannot be written: exit 2, as pdftoppm" test "$rc" = 2
+"$bin" -q --backend cpu -r 10 --report "$tmp/report.jsonl" "$src/testdata/pdf/three-pages-bad-page2.pdf" "$tmp/rep"; rc=$?
+got=$(python3 -c "
+import json, sys
+for line in open(sys.argv[1]):
+    r = json.loads(line)
+    print(r['input'].rsplit('/', 1)[1], r['output'].rsplit('/', 1)[1], r['status'], type(r['ms']).__name__, r['warnings'], 'error' in r)
+" "$tmp/report.jsonl" | sort | tr '\n' ';')
+check "--report: a JSON line a page, the failed one with its error ($got)" \
+  test "$rc" = 99 -a "$got" = "three-pages-bad-page2.pdf:1 rep-1.png ok float [] False;three-pages-bad-page2.pdf:2 rep-2.png failed float [] True;three-pages-bad-page2.pdf:3 rep-3.png ok float [] False;"
 
 "$bin" -q --backend cpu -r 72 - "$tmp/in" < "$pdf"
 check "- reads the document from stdin, the same image" cmp -s "$tmp/r-1.png" "$tmp/in-1.png"
@@ -114,11 +194,11 @@ check "- reads the document from stdin, the same image" cmp -s "$tmp/r-1.png" "$
 same_frames() { for k in 1 2 3; do cmp -s "$tmp/fr1-$k.png" "$tmp/fr3-$k.png" || return 1; done; }
 check "--frame-scenes 3: the same pages as a frame each" same_frames
 err=$("$bin" -q --backend cpu -r 72 --frame-scenes 0 "$pdf" "$tmp/fr0" 2>&1); rc=$?
-check "--frame-scenes 0: exit 2" test "$rc" = 2
+check "--frame-scenes 0: exit 99" test "$rc" = 99
 "$bin" -q --backend cpu -r 72 --devices 0,1 "$pdf" "$tmp/dv"; rc=$?
 check "--devices: accepted (the CPU backend renders anyway)" test "$rc" = 0 -a -f "$tmp/dv-1.png"
 err=$("$bin" -q --backend cpu -r 72 --devices x "$pdf" "$tmp/dvx" 2>&1); rc=$?
-check "--devices x: exit 2" test "$rc" = 2
+check "--devices x: exit 99" test "$rc" = 99
 
 # Page boxes (--box; scripts/make_pdf_features.py page_boxes): sizes at
 # 72 dpi and, at each box's lower-left corner, the square of its colour
@@ -222,13 +302,13 @@ check "-mono: 0/1, the RGB output's grey dithered by the 4x4 thresholds ($got)" 
 check "-mono --compression 1: the same pixels" cmp -s "$tmp/ramp-mono.txt" "$tmp/ramp-mono1.txt"
 
 err=$("$bin" -q -gray -mono "$ramp" "$tmp/u" 2>&1); rc=$?
-check "-gray with -mono: exit 2, one line ($err)" test "$rc" = 2 -a "$(echo "$err" | wc -l)" = 1
+check "-gray with -mono: exit 99, one line ($err)" test "$rc" = 99 -a "$(echo "$err" | wc -l)" = 1
 err=$("$bin" -q -mono --bits 16 "$ramp" "$tmp/u" 2>&1); rc=$?
-check "-mono with --bits 16: exit 2, one line ($err)" test "$rc" = 2 -a "$(echo "$err" | wc -l)" = 1
+check "-mono with --bits 16: exit 99, one line ($err)" test "$rc" = 99 -a "$(echo "$err" | wc -l)" = 1
 err=$("$bin" -q --box paper "$ramp" "$tmp/u" 2>&1); rc=$?
-check "--box paper: exit 2, one line ($err)" test "$rc" = 2 -a "$(echo "$err" | wc -l)" = 1 -a ! -e "$tmp/u-1.png"
+check "--box paper: exit 99, one line ($err)" test "$rc" = 99 -a "$(echo "$err" | wc -l)" = 1 -a ! -e "$tmp/u-1.png"
 err=$("$bin" -q "$ramp" "$tmp/u" --box 2>&1); rc=$?
-check "--box without a value: exit 2" test "$rc" = 2
+check "--box without a value: exit 99" test "$rc" = 99
 # Annotations (testdata/pdf/features/annotations.pdf, 200 x 200 pt on a 0.9
 # grey page): a printable green square annotation at 20..90, a hidden red
 # one (/F 2) at 110..180, a printable blue one at the top. Drawn as printed
@@ -296,7 +376,7 @@ check "--thin-lines exact (default): each rule's ink is its width in pixels ($go
 got=$(ink "$(runs "$(column "$tmp/tl-1.png")")" "$exact_want")
 check "--gamma linear loses thin rules' darkness (not the default: $got)" test "$got" != ok
 "$bin" -q --thin-lines fuzzy "$thin" "$tmp/tx" 2>/dev/null; rc=$?
-check "--thin-lines fuzzy: exit 2" test "$rc" = 2
+check "--thin-lines fuzzy: exit 99" test "$rc" = 99
 
 # ICC colour management: a build of MuPDF without it (Debian 12's: mutool
 # says "ICC support is not available") draws ICC-based colours through
@@ -320,7 +400,7 @@ check "--help lists --box, -cropbox, -hide-annotations, -gray, -mono and --thin-
 # predictor) and must hold the PNG's samples exactly; a JPEG's header its
 # size, density and scan type (tests/test_image_writer.cpp reads both back
 # through OpenImageIO). Where the module is missing (MPVG_IMAGE_IO=png):
-# one line, exit 2, nothing rendered, and the rest is skipped.
+# one line, exit 99, nothing rendered, and the rest is skipped.
 tiff_pixels() {  # TIFF [all]: "WxH bits samples photometric" and each pixel's samples
   python3 - "$@" <<'PY'
 import struct, sys, zlib
@@ -397,11 +477,11 @@ print(out, unit, dens, scan)
 PY
 }
 err=$("$bin" -q --backend cpu -r 72 -tiff "$pdf" "$tmp/tif" 2>&1); rc=$?
-if [ "$rc" = 2 ] && echo "$err" | grep -q 'needs OpenImageIO'; then
-  check "-tiff without OpenImageIO's module: exit 2, one line, nothing written ($err)" \
+if [ "$rc" = 99 ] && echo "$err" | grep -q 'needs OpenImageIO'; then
+  check "-tiff without OpenImageIO's module: exit 99, one line, nothing written ($err)" \
     test "$(echo "$err" | wc -l)" = 1 -a ! -e "$tmp/tif-1.tif" -a ! -e "$tmp/tif-1.png"
   err=$("$bin" -q --backend cpu -r 72 -jpeg "$pdf" "$tmp/jpg" 2>&1); rc=$?
-  check "-jpeg without it: exit 2 ($err)" test "$rc" = 2 -a ! -e "$tmp/jpg-1.jpg"
+  check "-jpeg without it: exit 99 ($err)" test "$rc" = 99 -a ! -e "$tmp/jpg-1.jpg"
   echo "skip -tiff and -jpeg output: ${err#pdf2png: }"
 else
   check "-tiff: PREFIX-1.tif, exit 0 ($err)" test "$rc" = 0 -a -f "$tmp/tif-1.tif" -a ! -e "$tmp/tif-1.png"
@@ -517,19 +597,19 @@ PY
   check "--cmyk-profile converts RGB colours and images through it ($got)" test "$got" = ok
   for bad in "--cmyk-profile $src/testdata/pdf/rgb-inks.pdf --colorspace cmyk" "--cmyk-profile $ri"; do
     err=$("$bin" -q --backend cpu $bad "$ri" "$tmp/cb" 2>&1); rc=$?
-    check "$bad: exit 2, one line ($err)" test "$rc" = 2 -a "$(echo "$err" | wc -l)" = 1
+    check "$bad: exit 99, one line ($err)" test "$rc" = 99 -a "$(echo "$err" | wc -l)" = 1
   done
   for bad in "--colorspace cmyk -jpeg" "--separations -gray" "--colorspace cmyk --bits 16" \
     "--colorspace cmyk --gamma linear" "--separations --transparent" "--colorspace lab"; do
     err=$("$bin" -q --backend cpu $bad "$pp" "$tmp/ib" 2>&1); rc=$?
-    check "$bad: exit 2, one line ($err)" test "$rc" = 2 -a "$(echo "$err" | wc -l)" = 1 -a -z "$(ls "$tmp" | grep '^ib')"
+    check "$bad: exit 99, one line ($err)" test "$rc" = 99 -a "$(echo "$err" | wc -l)" = 1 -a -z "$(ls "$tmp" | grep '^ib')"
   done
 fi
 for bad in "-jpeg --bits 16" "-jpeg -mono" "-tiff -jpeg" "-tiffcompression zstd" "-jpegopt quality=0" \
   "-jpegopt progressive=maybe" "-jpegopt speed=1"; do
   err=$("$bin" -q --backend cpu $bad "$ramp" "$tmp/ub" 2>&1); rc=$?
-  check "$bad: exit 2, one line, nothing written ($err)" \
-    test "$rc" = 2 -a "$(echo "$err" | wc -l)" = 1 -a -z "$(ls "$tmp" | grep '^ub')"
+  check "$bad: exit 99, one line, nothing written ($err)" \
+    test "$rc" = 99 -a "$(echo "$err" | wc -l)" = 1 -a -z "$(ls "$tmp" | grep '^ub')"
 done
 out=$("$bin" --help)
 check "--help lists -jpeg, -jpegopt, -tiff and -tiffcompression" \
