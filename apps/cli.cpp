@@ -33,6 +33,12 @@ void usage(const char* program, const char* kind) {
       "  -h, --height N            output height in pixels (width keeps the aspect ratio)\n"
       "  -z, --zoom F              scale the document's own size by F (default 1)\n"
       "  -a, --keep-aspect-ratio   with both -w and -h: fit inside, keep the aspect ratio\n"
+      "  -d, --dpi N               pixels per inch of the document's in, cm, mm, pt and\n"
+      "                            pc (default 96), written into the PNG (pHYs)\n"
+      "  -i, --export-id ID        draw only the element with that id, the output its\n"
+      "                            box (strokes, markers and filter regions included)\n"
+      "      --query               print the drawn elements' ids and boxes as JSON on\n"
+      "                            standard output (the root viewport's units); no PNG\n"
       "Output:\n"
       "  -o, --output FILE         output file (instead of the second argument)\n"
       "  -b, --background COLOR    background colour, e.g. white or #ffffff (default\n"
@@ -68,7 +74,9 @@ void usage(const char* program, const char* kind) {
       "      --frame-scenes N      small files rendered together as one frame, at most N\n"
       "                            (default 8 with CUDA and --compression 1, else 1)\n"
       "      --timeout S           give up on a file after S seconds (it fails; the\n"
-      "                            others go on)\n"
+      "                            others go on; a single file too)\n"
+      "      --report FILE         one JSON line a file: input, output, status, ms,\n"
+      "                            warnings, error\n"
       "Text:\n"
       "      --font-dir DIR        fonts for <text>: every font file in DIR's tree\n"
       "                            (repeatable), before the system's fonts\n"
@@ -144,6 +152,18 @@ bool parse(int argc, char** argv, const char* program, const char* kind, Options
     } else if (a == "-z" || a == "--zoom") {
       o.zoom = number(a, value());
       if (!(o.zoom > 0)) throw UsageError{"the zoom must be positive"};
+    } else if (a == "-d" || a == "--dpi") {
+      o.dpi = number(a, value());
+      // resvg's range: a resolution outside it is a typo.
+      if (!(o.dpi >= 10 && o.dpi <= 4000)) throw UsageError{"--dpi takes 10 to 4000 pixels per inch"};
+    } else if (a == "-i" || a == "--export-id") {
+      o.export_id = value();
+      if (o.export_id.empty()) throw UsageError{"--export-id needs an element's id"};
+    } else if (a == "--query") {
+      o.query = true;
+    } else if (a == "--report") {
+      o.report = value();
+      if (o.report.empty()) throw UsageError{"--report needs a file name"};
     } else if (a == "-a" || a == "--keep-aspect-ratio") {
       o.keep_aspect = true;
     } else if (a == "-b" || a == "--background") {
@@ -262,6 +282,8 @@ bool parse(int argc, char** argv, const char* program, const char* kind, Options
     std::error_code ec;
     o.batch = o.positional.size() > 1 || o.output.back() == '/' || std::filesystem::is_directory(o.output, ec);
   } else if (o.output.empty() && o.positional.size() == 2) {
+    // (A folder as the second argument is refused when it is written,
+    // "Is a directory": -o FOLDER writes into it.)
     o.output = o.positional[1];
     o.positional.pop_back();
   } else if (o.output.empty() && o.positional.size() > 2) {
@@ -271,6 +293,14 @@ bool parse(int argc, char** argv, const char* program, const char* kind, Options
   if (o.pattern == PatternKind::BlueNoise && o.samples && *o.samples != 8 && *o.samples != 32 && *o.samples != 64)
     throw UsageError{"blue-noise patterns have 8, 32 or 64 samples; use --pattern stratified for " +
                      std::to_string(*o.samples)};
+  if (o.query) {
+    if (o.batch || o.positional.size() != 1 || !o.output.empty())
+      throw UsageError{std::string("--query takes one input and no output (usage: ") + program + " --query INPUT." +
+                       kind + ")"};
+    if (!o.export_id.empty()) throw UsageError{"--query lists every element: leave out --export-id"};
+    return true;
+  }
+  if (!o.report.empty() && !o.batch) throw UsageError{"--report is for batches (-o OUTDIR or --batch LIST)"};
   if (!o.batch && (o.positional.size() != 1 || o.output.empty()))
     throw UsageError{std::string("expected an input and an output file (usage: ") + program + " [OPTIONS] INPUT." +
                      kind + " OUTPUT.png)"};

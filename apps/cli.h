@@ -58,6 +58,13 @@ struct Options {
   // of the machine's memory (or of the control group's limit).
   uint64_t max_memory = 0;
   uint64_t max_input = kDefaultMaxInput;  // --max-input: bytes of input read at most
+
+  // svg2png: --dpi (rsvg-convert's -d, resvg's --dpi): pixels per inch of
+  // the document's absolute units, and the PNG's pHYs; 0: 96, no pHYs.
+  double dpi = 0;
+  std::string export_id;  // --export-id / -i: that element alone, cropped to its box
+  bool query = false;     // --query: the drawn elements' ids and boxes as JSON on stdout, no PNG
+  std::string report;     // --report FILE: a batch's JSON lines, one a file
 };
 
 // Parses argv. Returns false after printing help or version (exit 0);

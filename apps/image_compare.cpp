@@ -15,7 +15,7 @@ Picture from_straight(const T* px, int width, int height, int channels, float sc
   p.width = width;
   p.height = height;
   const size_t n = size_t(width) * size_t(height);
-  p.rgba.resize(n * 4);
+  p.values.resize(n * 4);
   for (size_t i = 0; i < n; i++) {
     const T* s = px + i * size_t(channels);
     float r, g, b, a = 1.0f;
@@ -26,15 +26,22 @@ Picture from_straight(const T* px, int width, int height, int channels, float sc
       r = s[0] * scale, g = s[1] * scale, b = s[2] * scale;
       if (channels == 4) a = s[3] * scale;
     }
-    float* d = &p.rgba[i * 4];
+    float* d = &p.values[i * 4];
     d[0] = r * a, d[1] = g * a, d[2] = b * a, d[3] = a;
   }
   return p;
 }
 
-// Luma of a premultiplied pixel over white (the diff image's grey).
+// Luma of a premultiplied pixel over white (the diff image's grey); for
+// inks, the paper less the most ink.
 float shade(const Picture& p, size_t i) {
-  const float* q = &p.rgba[i * 4];
+  const float* q = &p.values[i * size_t(p.channels)];
+  if (!p.colour) {
+    float most = 0;
+    for (int c = 0; c < p.channels; c++)
+      if (p.names.size() <= size_t(c) || p.names[c] != "A") most = std::max(most, q[c]);
+    return 1.0f - most;
+  }
   const float white = 1.0f - q[3];
   return 0.299f * (q[0] + white) + 0.587f * (q[1] + white) + 0.114f * (q[2] + white);
 }
@@ -46,16 +53,16 @@ class Edges {
   // a fraction of the edge's contrast whatever the colours (sRGB codes
   // stretch it near black).
   Edges(const Picture& a, const Picture& b)
-      : a_(a), b_(b), la_(linear(a)), lb_(linear(b)), w_(a.width), h_(a.height) {}
+      : a_(a), b_(b), la_(linear(a)), lb_(linear(b)), w_(a.width), h_(a.height), n_(a.channels) {}
 
   // How far (the largest over channels) p's value in `x` lies outside the
   // range of values `y` has within `radius` pixels of p.
   double outside(const Picture& x, const Picture& y, int px, int py, int radius) const {
-    float lo[4] = {2, 2, 2, 2}, hi[4] = {-1, -1, -1, -1};
+    float lo[kMaxChannels], hi[kMaxChannels];
     range(y, px, py, radius, lo, hi);
-    const float* v = &x.rgba[(size_t(py) * w_ + px) * 4];
+    const float* v = &x.values[(size_t(py) * w_ + px) * n_];
     double e = 0;
-    for (int c = 0; c < 4; c++) e = std::max(e, double(std::max({0.0f, lo[c] - v[c], v[c] - hi[c]})));
+    for (int c = 0; c < n_; c++) e = std::max(e, double(std::max({0.0f, lo[c] - v[c], v[c] - hi[c]})));
     return e;
   }
 
@@ -70,31 +77,36 @@ class Edges {
   // The contrast of the edges within `radius` of p in either image, in
   // linear light: the largest range of a channel over both neighbourhoods.
   double contrast(int x, int y, int radius) const {
-    float lo[4] = {2, 2, 2, 2}, hi[4] = {-1, -1, -1, -1};
+    float lo[kMaxChannels], hi[kMaxChannels];
     range(la_, x, y, radius, lo, hi);
-    range(lb_, x, y, radius, lo, hi);
+    range(lb_, x, y, radius, lo, hi, false);
     double c = 0;
-    for (int k = 0; k < 4; k++) c = std::max(c, double(hi[k] - lo[k]));
+    for (int k = 0; k < n_; k++) c = std::max(c, double(hi[k] - lo[k]));
     return c;
   }
 
  private:
-  void range(const Picture& p, int x, int y, int radius, float lo[4], float hi[4]) const {
+  // The range of each channel of p within `radius` of (x, y), widening
+  // lo and hi as they are unless `fresh`.
+  void range(const Picture& p, int x, int y, int radius, float* lo, float* hi, bool fresh = true) const {
+    if (fresh) std::fill(lo, lo + n_, 2.0f), std::fill(hi, hi + n_, -1.0f);
     for (int ny = std::max(0, y - radius); ny <= std::min(h_ - 1, y + radius); ny++)
       for (int nx = std::max(0, x - radius); nx <= std::min(w_ - 1, x + radius); nx++) {
-        const float* q = &p.rgba[(size_t(ny) * w_ + nx) * 4];
-        for (int c = 0; c < 4; c++) lo[c] = std::min(lo[c], q[c]), hi[c] = std::max(hi[c], q[c]);
+        const float* q = &p.values[(size_t(ny) * w_ + nx) * n_];
+        for (int c = 0; c < n_; c++) lo[c] = std::min(lo[c], q[c]), hi[c] = std::max(hi[c], q[c]);
       }
   }
 
-  // p with its colour decoded from sRGB, premultiplied.
+  // p with its colour decoded from sRGB, premultiplied (inks are amounts
+  // already: as they are).
   static Picture linear(const Picture& p) {
     Picture l = p;
-    for (size_t i = 0; i < l.rgba.size(); i += 4) {
-      const float a = l.rgba[i + 3];
+    if (!p.colour) return l;
+    for (size_t i = 0; i < l.values.size(); i += 4) {
+      const float a = l.values[i + 3];
       for (int c = 0; c < 3 && a > 0; c++) {
-        const float v = std::min(1.0f, l.rgba[i + c] / a);
-        l.rgba[i + c] = a * (v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f));
+        const float v = std::min(1.0f, l.values[i + c] / a);
+        l.values[i + c] = a * (v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f));
       }
     }
     return l;
@@ -103,7 +115,7 @@ class Edges {
   const Picture& a_;
   const Picture& b_;
   const Picture la_, lb_;
-  int w_, h_;
+  int w_, h_, n_;
 };
 
 // A difference the antialiasing-aware mode forgives: each image's value
@@ -132,11 +144,21 @@ Result compare(const Picture& a, const Picture& b, const Options& o, std::vector
   Result r;
   r.width = a.width;
   r.height = a.height;
+  r.width_b = b.width;
+  r.height_b = b.height;
+  r.channels = a.channels;
+  r.channels_b = b.channels;
   if (a.width != b.width || a.height != b.height) {
     r.same_size = false;
     r.verdict = Verdict::Fail;
     return r;
   }
+  if (a.channels != b.channels || a.colour != b.colour || a.names != b.names || a.channels > kMaxChannels) {
+    r.same_channels = false;
+    r.verdict = Verdict::Fail;
+    return r;
+  }
+  const int nc = a.channels;
   const int w = a.width, h = a.height;
   const size_t n = size_t(w) * size_t(h);
   r.pixels = n;
@@ -158,8 +180,8 @@ Result compare(const Picture& a, const Picture& b, const Options& o, std::vector
     for (int x = 0; x < w; x++) {
       const size_t i = size_t(y) * w + x;
       double d = 0;
-      for (int c = 0; c < 4; c++) {
-        const double e = std::fabs(double(a.rgba[i * 4 + c]) - double(b.rgba[i * 4 + c]));
+      for (int c = 0; c < nc; c++) {
+        const double e = std::fabs(double(a.values[i * nc + c]) - double(b.values[i * nc + c]));
         sum += e;
         sum2 += e * e;
         d = std::max(d, e);
@@ -192,8 +214,8 @@ Result compare(const Picture& a, const Picture& b, const Options& o, std::vector
     r.p99_difference = percentile(0.99);
     r.p999_difference = percentile(0.999);
   }
-  r.mean_difference = n ? sum / (4.0 * n) : 0;
-  r.rms_difference = n ? std::sqrt(sum2 / (4.0 * n)) : 0;
+  r.mean_difference = n ? sum / (double(nc) * n) : 0;
+  r.rms_difference = n ? std::sqrt(sum2 / (double(nc) * n)) : 0;
   r.psnr = r.rms_difference > 0 ? 20.0 * std::log10(1.0 / r.rms_difference) : std::numeric_limits<double>::infinity();
   const double percent = n ? 100.0 / double(n) : 0;
   if (hard_fail || double(r.failed) * percent > o.failpercent) r.verdict = Verdict::Fail;
@@ -215,7 +237,12 @@ std::string to_json(const Result& r, const Options& o) {
   std::string s = "{\"result\":\"";
   s += verdict_name(r.verdict);
   s += "\",\"same_size\":" + std::string(r.same_size ? "true" : "false");
+  s += ",\"same_channels\":" + std::string(r.same_channels ? "true" : "false");
   s += ",\"width\":" + std::to_string(r.width) + ",\"height\":" + std::to_string(r.height);
+  s += ",\"a\":{\"width\":" + std::to_string(r.width) + ",\"height\":" + std::to_string(r.height) +
+       ",\"channels\":" + std::to_string(r.channels) + "}";
+  s += ",\"b\":{\"width\":" + std::to_string(r.width_b) + ",\"height\":" + std::to_string(r.height_b) +
+       ",\"channels\":" + std::to_string(r.channels_b) + "}";
   s += ",\"pixels\":" + std::to_string(r.pixels) + ",\"differing\":" + std::to_string(r.differing);
   s += ",\"failed\":" + std::to_string(r.failed) + ",\"warned\":" + std::to_string(r.warned);
   s += ",\"antialiased\":" + std::to_string(r.antialiased);

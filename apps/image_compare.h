@@ -33,11 +33,21 @@
 
 namespace mpvg::image_compare {
 
-// A w x h image, premultiplied RGBA in [0, 1].
+// A w x h image of `channels` values a pixel in [0, 1], interleaved: for
+// colour, premultiplied RGBA (sRGB-encoded colour, alpha last); else ink
+// amounts (CMYK and spot colours of a print preview, 0: no ink), alpha
+// last where there is one (`names` says which: "C", "M", "Y", "K",
+// "PANTONE 185 C", "A"). Images compare when they have the same kind of
+// channels.
 struct Picture {
-  int width = 0, height = 0;
-  std::vector<float> rgba;
+  int width = 0, height = 0, channels = 4;
+  bool colour = true;
+  std::vector<std::string> names;  // inks only
+  std::vector<float> values;
 };
+
+// The most channels a picture may have (CMYK, spot colours, alpha).
+constexpr int kMaxChannels = 16;
 
 // From straight-alpha RGBA at 8 or 16 bits (`channels` 1 grey, 2 grey and
 // alpha, 3 RGB, 4 RGBA per pixel).
@@ -56,7 +66,12 @@ enum class Verdict { Pass, Warn, Fail };
 struct Result {
   Verdict verdict = Verdict::Pass;
   bool same_size = true;
-  int width = 0, height = 0;
+  // The channels differ in kind or number (RGBA against CMYK inks): the
+  // images fail, nothing else measured.
+  bool same_channels = true;
+  int width = 0, height = 0;  // a's
+  int width_b = 0, height_b = 0;
+  int channels = 4, channels_b = 4;
   size_t pixels = 0;
   size_t differing = 0;    // difference > 0
   size_t failed = 0;       // over `fail`, not forgiven
@@ -73,8 +88,8 @@ struct Result {
 
 // Compares a with b. With `diff`, fills it with a's width x height straight
 // RGBA8 diff image: a faded grey copy of a, pixels that fail red, warn
-// orange, forgiven as antialiasing yellow. Images of different sizes fail
-// (same_size false, nothing else measured).
+// orange, forgiven as antialiasing yellow. Images of different sizes or
+// channels fail (same_size or same_channels false, nothing else measured).
 Result compare(const Picture& a, const Picture& b, const Options& options, std::vector<uint8_t>* diff = nullptr);
 
 // "PASS", "WARNING", "FAILURE".

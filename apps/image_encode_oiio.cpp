@@ -1,5 +1,6 @@
 // TIFF and JPEG files encoded by OpenImageIO, into memory through an
-// IOProxy (nothing touches the disk). Built as a module of its own,
+// IOProxy (nothing touches the disk), and image files read back for
+// mpvg-compare (TIFFs of any channels). Built as a module of its own,
 // mpvg_oiio_encoder.so (MPVG_IMAGE_IO=oiio), that image_writer.cpp opens
 // on first need: OpenImageIO's ~260 libraries cost 0.3 s to load, which a
 // process writing only PNGs does not pay.
@@ -193,6 +194,52 @@ bool encode(const std::string& format, const Raster& r, const EncodeOptions& o, 
 
 }  // namespace
 
+// An image file read back whole (image::decode): the first subimage, its
+// channels as stored (CMYK and inks not converted to RGB: oiio:RawColor;
+// alpha left straight), samples scaled to [0, 1].
+bool read(const std::vector<uint8_t>& bytes, size_t max_pixels, mpvg::image::Decoded* out, std::string* why) {
+  OIIO::Filesystem::IOMemReader mem(bytes.data(), bytes.size());
+  OIIO::Filesystem::IOProxy* proxy = &mem;
+  OIIO::ImageSpec config;
+  config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  config.attribute("oiio:RawColor", 1);
+  auto in = OIIO::ImageInput::open("image.tif", &config, proxy);
+  if (!in) {
+    std::string msg = OIIO::geterror();
+    return fail(why, msg.empty() ? "not an image OpenImageIO reads" : msg);
+  }
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) return fail(why, "an image without pixels");
+  if (size_t(spec.width) * size_t(spec.height) > max_pixels)
+    return fail(why, "image of " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                         " pixels is over the limit of " + std::to_string(max_pixels) + " pixels");
+  out->width = spec.width;
+  out->height = spec.height;
+  out->channels = spec.nchannels;
+  out->bits = spec.format.size() >= 2 ? 16 : 8;
+  out->alpha = spec.alpha_channel;
+  out->names = spec.channelnames;
+  const std::string space = spec.get_string_attribute("tiff:ColorSpace");
+  const int photometric = spec.get_int_attribute("tiff:PhotometricInterpretation", -1);
+  out->cmyk = space == "CMYK" || photometric == 5 /* Separated */ ||
+              (spec.nchannels >= 4 && spec.channelnames.size() >= 4 && spec.channelnames[0] == "C" &&
+               spec.channelnames[3] == "K");
+  // OpenImageIO 2.4 calls a CMYK TIFF's K its alpha channel (a fourth
+  // channel without ExtraSamples): alpha is a channel named so.
+  if (out->alpha >= 0 && out->alpha < int(out->names.size()) && out->names[out->alpha] != "A" &&
+      out->names[out->alpha] != "Alpha")
+    out->alpha = -1;
+  out->samples.resize(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, out->samples.data())) {
+    std::string msg = in->geterror();
+    in->close();
+    return fail(why, "cannot decode the image: " + msg);
+  }
+  in->close();
+  return true;
+}
+
 // The module's entry points, looked up by name by image_writer.cpp, which
 // holds their types. `format` is "tiff" or "jpeg". Built by the same
 // compiler against the same libstdc++ as the caller, so C++ types cross.
@@ -209,5 +256,15 @@ extern "C" __attribute__((visibility("default"))) bool mpvg_oiio_encode(const ch
     return encode(format, *raster, *options, bytes, why);
   } catch (const std::exception& e) {
     return fail(why, std::string("cannot encode the ") + format + " image: " + e.what());
+  }
+}
+
+extern "C" __attribute__((visibility("default"))) bool mpvg_oiio_read(const std::vector<uint8_t>* bytes,
+                                                                     size_t max_pixels,
+                                                                     mpvg::image::Decoded* out, std::string* why) {
+  try {
+    return read(*bytes, max_pixels, out, why);
+  } catch (const std::exception& e) {
+    return fail(why, std::string("cannot read the image: ") + e.what());
   }
 }

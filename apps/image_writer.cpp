@@ -29,6 +29,22 @@ const Encoder& oiio_module() {
   return module;
 }
 
+using ReadFn = bool (*)(const std::vector<uint8_t>*, size_t, Decoded*, std::string*);
+
+// The same module's reader, opened on first need.
+struct Reader {
+  ReadFn read = nullptr;
+  std::string error;
+};
+
+const Reader& reader_module() {
+  static const Reader module = [] {
+    const OiioModule m = open_oiio_module("mpvg_oiio_encoder.so", "mpvg_oiio_read", "image file reader");
+    return Reader{reinterpret_cast<ReadFn>(m.entry), m.error};
+  }();
+  return module;
+}
+
 // Grey (png::gray_of) or the colours as they are, alpha kept where any
 // pixel is not opaque and the format has alpha, else composited over
 // white (g a + max (1 - a), rounded); mono dithered to 0 or max.
@@ -159,6 +175,15 @@ const char* extension(Format f) {
 std::string encoder_library() {
   std::string no;
   return encoder_available(&no) ? oiio_module().version + " (module)" : "no OpenImageIO: " + no;
+}
+
+Decoded decode(const std::vector<uint8_t>& bytes, size_t max_pixels) {
+  const Reader& m = reader_module();
+  if (!m.read) throw Error("TIFF cannot be read: " + m.error);
+  Decoded out;
+  std::string why;
+  if (!m.read(&bytes, max_pixels, &out, &why)) throw Error(why);
+  return out;
 }
 
 }  // namespace mpvg::image

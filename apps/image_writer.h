@@ -1,5 +1,5 @@
 // Image files other than PNG: TIFF and JPEG (pdf2png's -tiff and -jpeg, as
-// pdftoppm's), encoded by OpenImageIO in a module opened on first need
+// pdftoppm's; TIFFs read back for mpvg-compare), encoded by OpenImageIO in a module opened on first need
 // (apps/image_encode_oiio.cpp, mpvg_oiio_encoder.so; built where
 // MPVG_IMAGE_IO=oiio), as SVG images are decoded: a process that writes
 // only PNGs never loads OpenImageIO's ~260 libraries. PNG goes through
@@ -68,6 +68,21 @@ std::vector<uint8_t> encode_rgba8(Format f, int width, int height, const uint8_t
                                   const EncodeOptions& o);
 std::vector<uint8_t> encode_rgba16(Format f, int width, int height, const uint16_t* rgba, png::Color color,
                                    const EncodeOptions& o);
+
+// An image file read back (mpvg-compare reads the TIFFs pdf2png writes):
+// its first subimage, width * height * channels samples in [0, 1],
+// interleaved, top row first.
+struct Decoded {
+  int width = 0, height = 0, channels = 0, bits = 8;
+  bool cmyk = false;               // C, M, Y, K, then spot colours: ink amounts (0: no ink)
+  int alpha = -1;                  // the channel of (straight) alpha; -1: none
+  std::vector<std::string> names;  // the channels' names ("R", "C", "PANTONE 185 C", "A")
+  std::vector<float> samples;
+};
+
+// Reads a TIFF (or any file OpenImageIO reads) of at most max_pixels
+// pixels through the module. Throws mpvg::Error with one line.
+Decoded decode(const std::vector<uint8_t>& bytes, size_t max_pixels);
 
 // The file name extension pdftoppm gives the format: "png", "jpg", "tif".
 const char* extension(Format f);

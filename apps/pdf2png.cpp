@@ -259,6 +259,10 @@ const char* svg_only_option(const std::string& a) {
       {"--font-dir", "a PDF carries or names its fonts"},
       {"--languages", "a PDF has no language switches"},
       {"--allow-read", "a PDF reads no other files"},
+      {"-d", "use -r DPI"},
+      {"-i", "pdf2png renders whole pages (-x, -y, -W, -H crop them)"},
+      {"--export-id", "pdf2png renders whole pages (-x, -y, -W, -H crop them)"},
+      {"--query", "pdfinfo -box lists a document's page boxes"},
   };
   for (const Refused& r : kRefused)
     if (a == r.option) return r.instead;

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <filesystem>
 #include <fstream>
@@ -21,10 +22,12 @@
 #include <map>
 #include <mutex>
 #include <optional>
+#include <thread>
 #include <unistd.h>
 
 #include "apps/cli.h"
 #include "apps/image_io.h"
+#include "apps/json.h"
 #include "apps/pipeline.h"
 #include "apps/png_writer.h"
 #include "apps/server.h"
@@ -132,6 +135,9 @@ svg::ParseOptions parse_options_for(const cli::Options& opt, int threads) {
   o.font_dirs = opt.font_dirs;
   o.languages = opt.languages;
   o.threads = threads;
+  if (opt.dpi > 0) o.dpi = opt.dpi;
+  o.export_id = opt.export_id;
+  o.query = opt.query;
   // The images' share of the memory budget (core/memory_budget.h): RGBA8
   // and a mip chain of a third more, 16/3 bytes a texel; half of it for
   // the decoders that hold a whole image before it is reduced.
@@ -282,10 +288,13 @@ int run(const cli::Options& opt, const Document& source, Renderers& renderers, c
   png::EncodeOptions png_options;
   png_options.threads = 0;
   if (opt.compression >= 0) png_options.level = opt.compression;
-  io.write(!compressed.zlib.empty()
-               ? png::wrap(width, height, 8, compressed.channels, compressed.zlib.data(), compressed.zlib.size())
-           : opt.bits == 16 ? png::encode_rgba16(width, height, rgba16.data(), png_options)
-                            : png::encode_rgba8(width, height, rgba8.data(), png_options));
+  std::vector<uint8_t> png =
+      !compressed.zlib.empty()
+          ? png::wrap(width, height, 8, compressed.channels, compressed.zlib.data(), compressed.zlib.size())
+      : opt.bits == 16 ? png::encode_rgba16(width, height, rgba16.data(), png_options)
+                       : png::encode_rgba8(width, height, rgba8.data(), png_options);
+  if (opt.dpi > 0) png::set_resolution(png, opt.dpi);
+  io.write(png);
   const double write_ms = ms_since(t_write);
   if (opt.stats) {
     if (server::serving()) std::fprintf(err, "persistent renderer: pid %d\n", static_cast<int>(getpid()));
@@ -424,6 +433,7 @@ int run_batch(const cli::Options& opt, Renderers& renderers) {
     auto job = std::make_unique<pipeline::Job>();
     job->label = items[t].first;
     job->out = items[t].second;
+    job->dpi = opt.dpi;
     const auto t0 = Clock::now();
     // One thread each: the workers are the parallelism.
     const svg::ParseOptions po = parse_options_for(opt, 1);
@@ -453,6 +463,14 @@ int run_batch(const cli::Options& opt, Renderers& renderers) {
     return std::make_unique<FrameRenderer>(Backend::Cuda, devices[r % devices.size()]);
   };
   c.timeout_s = opt.timeout_s;
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> report(nullptr, std::fclose);
+  if (!opt.report.empty()) {
+    report.reset(std::fopen(opt.report.c_str(), "w"));
+    if (!report) throw Error("cannot write the report '" + opt.report + "': " + std::strerror(errno));
+    c.report = report.get();
+    c.report_input = [&](int t) { return items[t].first; };
+    c.report_output = [&](int t) { return items[t].second; };
+  }
   const pipeline::Result result = pipeline::run(c);
   if (opt.stats) {
     if (!cuda && opt.backend == Backend::Auto) std::fprintf(stderr, "svg2png: on the CPU: %s\n", why.c_str());
@@ -472,7 +490,7 @@ int run_batch(const cli::Options& opt, Renderers& renderers) {
 // and its PNG written here, with this process's umask and rights. nullopt,
 // with *why, when it must render in-process.
 std::optional<int> through_server(const cli::Options& opt, int argc, char** argv, const std::string& text,
-                                  std::string* why) {
+                                  const std::function<void()>& writing, std::string* why) {
   namespace fs = std::filesystem;
   std::error_code ec;
   auto absolute = [&](const std::string& p) { return fs::absolute(p, ec).string(); };
@@ -492,9 +510,75 @@ std::optional<int> through_server(const cli::Options& opt, int argc, char** argv
   if (!reply) return std::nullopt;
   std::fwrite(reply->messages.data(), 1, reply->messages.size(), stderr);
   std::fflush(stderr);
-  if (reply->status == 0) png::write_file(opt.output, reply->png);
+  if (reply->status == 0) {
+    writing();
+    png::write_file(opt.output, reply->png);
+  }
   return reply->status;
 }
+
+// svg2png --query: the drawn elements with an id and their boxes, as one
+// JSON object on standard output (an element a line), no PNG.
+int query(const cli::Options& opt) {
+  const svg::ParseOptions po = parse_options_for(opt, 0);
+  const svg::ParseResult doc = svg::parse_svg_file(opt.positional[0], po);
+  if (!opt.quiet)
+    for (const std::string& w : doc.warnings) std::fprintf(stderr, "svg2png: warning: %s\n", w.c_str());
+  std::string out = "{\"width\": " + json::number(doc.scene.width) + ", \"height\": " + json::number(doc.scene.height) +
+                    ", \"elements\": [";
+  for (size_t i = 0; i < doc.elements.size(); i++) {
+    const svg::ElementBox& e = doc.elements[i];
+    out += std::string(i ? "," : "") + "\n  {\"id\": " + json::quote(e.id) + ", \"x\": " + json::number(e.x) +
+           ", \"y\": " + json::number(e.y) + ", \"width\": " + json::number(e.width) +
+           ", \"height\": " + json::number(e.height) + "}";
+  }
+  out += doc.elements.empty() ? "]}\n" : "\n]}\n";
+  std::fwrite(out.data(), 1, out.size(), stdout);
+  if (std::fflush(stdout) != 0) throw Error(std::string("cannot write standard output: ") + std::strerror(errno));
+  return 0;
+}
+
+// --timeout for one file: when the file is not written after S seconds the
+// process ends (exit 1) with one line, as a batch fails an item. Once the
+// PNG is being written it finishes (writing() waits for a deadline being
+// handled), so a file is written whole or not at all.
+class Deadline {
+ public:
+  Deadline(double seconds, std::string input) : input_(std::move(input)), seconds_(seconds) {
+    if (seconds > 0) watch_ = std::thread([this] { watch(); });
+  }
+  ~Deadline() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      state_ = State::Done;
+    }
+    changed_.notify_all();
+    if (watch_.joinable()) watch_.join();
+  }
+  // Called before the output is written: no timeout from here on.
+  void writing() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (state_ == State::Running) state_ = State::Writing;
+  }
+
+ private:
+  enum class State { Running, Writing, Done };
+  void watch() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (changed_.wait_for(lock, std::chrono::duration<double>(seconds_), [&] { return state_ != State::Running; }))
+      return;
+    // (The lock held: the render cannot start writing meanwhile.)
+    std::fprintf(stderr, "svg2png: %s: timed out after %g s (--timeout)\n", input_.c_str(), seconds_);
+    std::fflush(nullptr);
+    std::_Exit(1);
+  }
+  std::string input_;
+  double seconds_;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  State state_ = State::Running;
+  std::thread watch_;
+};
 
 // svg2png's whole job in this process; a single file goes to the
 // persistent renderer when it is asked for and serves us.
@@ -510,6 +594,14 @@ int svg2png_main(int argc, char** argv, std::unique_ptr<Renderers>& renderers) {
     std::fprintf(stderr, "svg2png: %s\n", e.message.c_str());
     return 2;
   }
+  if (opt.query) {
+    try {
+      return query(opt);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "svg2png: %s\n", error_message(e).c_str());
+      return 1;
+    }
+  }
   // Batches stay in-process: the pipeline amortises start-up itself.
   const bool hand_over = !opt.batch && server::requested(argc, argv);
   // Begun before anything else: the driver's initialisation overlaps the
@@ -521,6 +613,7 @@ int svg2png_main(int argc, char** argv, std::unique_ptr<Renderers>& renderers) {
   try {
     if (opt.batch) return run_batch(opt, *renderers);
     const std::string& path = opt.positional[0];
+    Deadline deadline(opt.timeout_s, path);
     Document source{nullptr, folder_of(path)};
     std::string text;
     if (hand_over) {
@@ -530,13 +623,22 @@ int svg2png_main(int argc, char** argv, std::unique_ptr<Renderers>& renderers) {
       text = svg::read_svg_file(path, opt.max_input);
       source.text = &text;
       std::string why;
-      if (const std::optional<int> status = through_server(opt, argc, argv, text, &why)) return *status;
+      if (const std::optional<int> status = through_server(opt, argc, argv, text, [&] { deadline.writing(); }, &why)) return *status;
       if (opt.stats) std::fprintf(stderr, "persistent renderer: not used (%s); rendering in-process\n", why.c_str());
       start();
     }
     JobIO io;
-    io.write = [&](const std::vector<uint8_t>& png) { png::write_file(opt.output, png); };
+    io.write = [&](const std::vector<uint8_t>& png) {
+      deadline.writing();
+      png::write_file(opt.output, png);
+    };
     return run(opt, source, *renderers, io);
+  } catch (const ParseError& e) {
+    // What is wrong in which file ("svg2png: a.svg: XML parse error at
+    // line 3, column 13: ..."), as a batch names its items.
+    const std::string& path = opt.positional[0];
+    std::fprintf(stderr, "svg2png: %s: %s\n", path == "-" ? "standard input" : path.c_str(), error_message(e).c_str());
+    return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "svg2png: %s\n", error_message(e).c_str());
     return 1;

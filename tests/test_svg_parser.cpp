@@ -4,6 +4,7 @@
 // appear in reverse document order, clip tests in document order.
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -11,6 +12,7 @@
 #include "parsers/svg/svg_geometry.h"
 #include "parsers/svg/svg_parser.h"
 #include "parsers/svg/xml_encoding.h"
+#include "parsers/svg/xml_syntax.h"
 #include "tests/catch.h"
 #include "tests/svg_test_util.h"
 
@@ -812,10 +814,13 @@ TEST_CASE("svg bounds: tight boxes of conics and cubics", "[svg][bounds]") {
 
 TEST_CASE("svg errors: one clear line each", "[svg][errors]") {
   CHECK(error_of("<svg><g></svg>") ==
-        "XML parse error at line 1: XML_ERROR_MISMATCHED_ELEMENT (XMLElement name=g)");
+        "XML parse error at line 1, column 9: </svg> does not close <g> (opened at line 1, column 6)");
   CHECK(error_of("<svg>\n<rect x='1' x='2'/></svg>") ==
-        "XML parse error at line 2: XML_ERROR_PARSING_ATTRIBUTE (XMLElement name=rect)");
-  CHECK(error_of("") == "XML parse error at line 1: XML_ERROR_EMPTY_DOCUMENT");
+        "XML parse error at line 2, column 13: the attribute 'x' appears twice in <rect>");
+  CHECK(error_of("") == "XML parse error at line 1, column 1: no element: the document is empty or holds no XML");
+  // Files handed to svg2png by mistake.
+  CHECK(error_of("%PDF-1.7\n%\xe2\xe3\n1 0 obj") == "the input is a PDF document, not SVG: render it with pdf2png");
+  CHECK(error_of("\x89PNG\r\n\x1a\n....") == "the input is a PNG image, not SVG");
   CHECK(error_of("<html xmlns='http://www.w3.org/1999/xhtml'/>") ==
         "not an SVG document: the root element is <html>, not <svg>");
   CHECK(error_of("<svg xmlns='http://example.org/'/>") ==
@@ -902,13 +907,147 @@ TEST_CASE("svg nesting: as deep as the converter's limit, past tinyxml2's", "[sv
   CHECK(mpvg::dump(parse(million).scene) == "scene 100 100\nstream\n");
 }
 
+// svg2png --dpi, --query and --export-id, as the parser serves them.
+TEST_CASE("svg options: dpi, element boxes, one element exported", "[svg][options]") {
+  using mpvg::svg::ParseOptions;
+  // --dpi: absolute units at that many pixels per inch; px stays.
+  ParseOptions at300;
+  at300.dpi = 300;
+  const auto sized = mpvg::svg::parse_svg_string(svg_test::document("", "width='2in' height='2.54cm'"), ".", at300);
+  CHECK(sized.scene.width == Approx(600));
+  CHECK(sized.scene.height == Approx(300));
+  CHECK(mpvg::svg::parse_svg_string(svg_test::document("", "width='2in' height='10'"), ".", at300).scene.height == 10);
+  CHECK(parse("", "width='2in' height='2.54cm'").scene.width == Approx(192));  // 96 by default
+  // A stroke's width in pt follows too: 3pt at 300 dpi is 12.5 px.
+  ParseOptions q300 = at300;
+  q300.query = true;
+  const auto stroked = mpvg::svg::parse_svg_string(
+      svg_test::document("<path id='p' d='M 10 50 H 90' stroke='black' stroke-width='3pt'/>"), ".", q300);
+  REQUIRE(stroked.elements.size() == 1);
+  CHECK(stroked.elements[0].height == Approx(12.5));
+
+  // --query: drawn elements with an id, in document order, in the root
+  // viewport's units (here twice the viewBox's), strokes included; not
+  // what is hidden or only defined; an element drawn through <use> where
+  // it is drawn first.
+  ParseOptions query;
+  query.query = true;
+  const std::string body =
+      "<defs><rect id='template' width='10' height='10' fill='green'/></defs>"
+      "<g id='group' transform='translate(10 20)'>"
+      "  <rect id='box' width='30' height='10' fill='red'/>"
+      "  <circle id='ring' cx='50' cy='5' r='5' fill='none' stroke='blue' stroke-width='2'/>"
+      "  <rect id='hidden' width='5' height='5' fill='none'/>"
+      "  <rect id='gone' width='5' height='5' display='none'/>"
+      "</g>"
+      "<use id='copy' href='#template' x='80' y='80'/>";
+  const auto r = mpvg::svg::parse_svg_string(svg_test::document(body, "width='200' height='200' viewBox='0 0 100 100'"),
+                                             ".", query);
+  std::string listed;
+  for (const auto& e : r.elements) {
+    char line[160];
+    std::snprintf(line, sizeof line, "%s %g %g %g %g\n", e.id.c_str(), e.x, e.y, e.width, e.height);
+    listed += line;
+  }
+  CHECK(listed ==
+        "group 20 38 112 24\n"
+        "box 20 40 60 20\n"
+        "ring 108 38 24 24\n"
+        "copy 160 160 20 20\n"
+        "template 160 160 20 20\n");
+
+  // --export-id: the element alone, its ancestors' transform kept and their
+  // opacity not, the scene its box at the origin.
+  ParseOptions one;
+  one.export_id = "box";
+  const std::string doc = svg_test::document(
+      "<rect width='100' height='100' fill='blue'/>"
+      "<g transform='translate(10 20)' opacity='0.5'><rect id='box' x='5' y='5' width='30' height='10' fill='red'/></g>",
+      "width='100' height='100'");
+  const auto ex = mpvg::svg::parse_svg_string(doc, ".", one);
+  CHECK(ex.scene.width == 30);
+  CHECK(ex.scene.height == 10);
+  const std::string dump = mpvg::dump(ex.scene);
+  INFO(dump);
+  CHECK(dump.find("0 0 1 1") == std::string::npos);   // no blue
+  CHECK(dump.find("group") == std::string::npos);     // no opacity group
+  // The view is asked for the element's size.
+  ParseOptions sized_view = one;
+  double asked_w = 0, asked_h = 0;
+  sized_view.view = [&](double w, double h) {
+    asked_w = w, asked_h = h;
+    return mpvg::Affine::scale(2, 2);
+  };
+  mpvg::svg::parse_svg_string(doc, ".", sized_view);
+  CHECK(asked_w == 30);
+  CHECK(asked_h == 10);
+  one.export_id = "nothing";
+  CHECK_THROWS_WITH(mpvg::svg::parse_svg_string(doc, ".", one), "no element has the id 'nothing' (--export-id)");
+}
+
+// Where find_xml_fault puts each kind of well-formedness error, and that
+// it finds none in documents that are well-formed.
+TEST_CASE("xml faults: line, column and a sentence", "[svg][errors]") {
+  using mpvg::svg::detail::find_xml_fault;
+  auto at = [](const std::string& text) {
+    const auto f = find_xml_fault(text);
+    return f ? std::to_string(f->line) + ":" + std::to_string(f->column) + " " + f->what : std::string("none");
+  };
+  CHECK(at("<svg>\n  <rect x=1/>\n</svg>") == "2:11 the value of the attribute 'x' of <rect> must be in quotes");
+  CHECK(at("<svg><rect x/></svg>") == "1:12 the attribute 'x' of <rect> has no value (write x=\"...\")");
+  CHECK(at("<svg><rect x='1'y='2'/></svg>") == "1:17 attributes of <rect> must be separated by white space");
+  CHECK(at("<svg><rect x='1 /></svg>") == "1:14 the value of the attribute 'x' is not closed");
+  CHECK(at("<svg><rect x='<'/></svg>") == "1:15 '<' in the value of the attribute 'x' (write &lt;)");
+  CHECK(at("<svg><rect</svg>") == "1:11 unexpected '<' in the <rect> tag");
+  CHECK(at("<svg>\n<g>\n</svg>") == "3:1 </svg> does not close <g> (opened at line 2, column 1)");
+  CHECK(at("<svg><g>") == "1:9 the document ends inside <g> (opened at line 1, column 6)");
+  CHECK(at("<svg></svg></g>") == "1:12 an end tag without a start tag");
+  CHECK(at("<svg/><svg/>") == "1:7 a second root element (a document has one)");
+  CHECK(at("hello <svg/>") == "1:1 text before the root element");
+  CHECK(at("<svg/> x") == "1:8 text after the end of the root element");
+  CHECK(at("<svg><!-- open </svg>") == "1:6 a comment is not closed with -->");
+  CHECK(at("<svg><![CDATA[ x </svg>") == "1:6 a CDATA section is not closed with ]]>");
+  CHECK(at("<svg>a & b</svg>") == "1:8 '&' must start an entity reference (write &amp; for an '&')");
+  CHECK(at("<svg>&amp</svg>") == "1:6 an entity reference is not closed with ';' (write &amp; for an '&')");
+  CHECK(at("<svg>&#xZZ;</svg>") == "1:6 a malformed character reference (&#N; or &#xH;)");
+  CHECK(at("<svg>a < b</svg>") == "1:8 '<' must start a tag (write &lt; for a '<' in text)");
+  CHECK(at("") == "1:1 no element: the document is empty or holds no XML");
+  // Columns count characters: two-byte UTF-8 letters before the fault.
+  CHECK(at("<svg><text>\xc3\xa9\xc3\xa9 & </text></svg>") == "1:15 '&' must start an entity reference (write &amp; for an '&')");
+  // Well-formed: a declaration, a DOCTYPE with an internal subset (its
+  // '>' and quotes inside), comments, CDATA, processing instructions,
+  // references, both quotes, white space around '='.
+  CHECK(at("\xef\xbb\xbf<?xml version='1.0'?>\n<!DOCTYPE svg [ <!ENTITY e \"<g>\"> ]>\n<!-- c -->"
+           "<svg a = \"1\" b='2'><![CDATA[ < & ]]><?pi x?>&e;&#65;&#x41;<g/></svg>\n<!-- end -->\n") == "none");
+  // Every document of the test data that tinyxml2 reads is well-formed
+  // to the scanner too.
+  int files = 0;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(std::string(MPVG_SOURCE_DIR) + "/testdata")) {
+    if (entry.path().extension() != ".svg" || entry.path().string().find("hostile") != std::string::npos ||
+        entry.path().string().find("fuzz") != std::string::npos)
+      continue;
+    std::ifstream in(entry.path(), std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::string utf8;
+    try {
+      utf8 = mpvg::svg::detail::xml_to_utf8(text);
+    } catch (const mpvg::Error&) {
+      continue;
+    }
+    INFO(entry.path().string());
+    CHECK(at(utf8) == "none");
+    files++;
+  }
+  CHECK(files > 50);
+}
+
 TEST_CASE("svg nesting: errors inside and after pieces name their lines", "[svg][robustness][errors]") {
   // Line 1 is <svg>; the groups take a line each.
   const std::string bad = "<rect x='1' x='2'/>\n";
   CHECK(error_of("<svg>\n" + nested(120, bad) + "</svg>") ==
-        "XML parse error at line 122: XML_ERROR_PARSING_ATTRIBUTE (XMLElement name=rect)");
+        "XML parse error at line 122, column 13: the attribute 'x' appears twice in <rect>");
   CHECK(error_of("<svg>\n" + nested(120, "<rect/>\n") + bad + "</svg>") ==
-        "XML parse error at line 243: XML_ERROR_PARSING_ATTRIBUTE (XMLElement name=rect)");
+        "XML parse error at line 243, column 13: the attribute 'x' appears twice in <rect>");
   // A piece left open at the end of the text.
   const std::string open = "<svg>\n" + nested(120, "").substr(0, 120 * 4);
   CHECK(error_of(open).rfind("XML parse error at line ", 0) == 0);

@@ -438,6 +438,15 @@ struct Session {
   // feImage that reaches its own filter again).
   int filter_depth = 0;
   std::vector<const Element*> active_filters;
+  // ParseOptions::export_id: the element drawn alone (null: everything),
+  // and whether its subtree is being converted now.
+  const Element* export_target = nullptr;
+  bool exporting = false;
+  Bounds export_box;  // what it draws, in scene units (Converter::run)
+  // ParseOptions::query: the boxes of the drawn elements with an id
+  // (ParseResult::elements), and the ids listed so far.
+  std::vector<ElementBox>* boxes = nullptr;
+  std::unordered_set<std::string> boxed;
   size_t filter_effects = 0;  // made so far (kMaxFilterEffects)
   std::map<TileKey, Tile> tiles;
   size_t stroked_paths = 0;
@@ -626,6 +635,16 @@ class Converter {
   };
   bool place(const Element& e, Kind kind, const Context& ctx, Placed& out);
   void render(const Element& e, const Context& ctx, int depth);
+  // render()'s work: the element with its effects. render() itself decides
+  // what --export-id leaves out and measures the boxes --query lists.
+  void render_element(const Element& e, const Context& ctx, int depth);
+  // An ancestor of the element --export-id draws: its transform and the
+  // properties it passes down, none of its effects, no other children.
+  void render_ancestor(const Element& e, const Context& ctx, int depth);
+  // What ops_[begin, end) paints, in scene units: strokes with their width,
+  // markers, filter regions, embedded documents; invisible shapes (bounds
+  // operations) and clip and mask content not.
+  Bounds drawn_bounds(size_t begin, size_t end) const;
   // What render() draws of an element, its own clip-path, mask, opacity
   // and filter aside: a container's children, a use's target, a shape.
   void draw_content(const Element& e, Kind kind, const Placed& pl, const Context& inner, int depth);
@@ -801,6 +820,10 @@ class Converter {
   Session& s_;
   Affine device_;  // scene units to output pixels
   int level_ = 0;
+  // Its operations are in the document's scene units (false for an
+  // feImage's element, drawn in the filter's space): --query and
+  // --export-id look at this converter's elements.
+  bool document_space_ = true;
   double scene_w_ = 0, scene_h_ = 0;  // the size of the scene being converted, in its units
   size_t tile_encodings_ = 0;  // tile encodings this scene's pattern paints imply
 

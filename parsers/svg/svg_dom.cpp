@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "parsers/svg/svg_values.h"
 #include "parsers/svg/xml_encoding.h"
+#include "parsers/svg/xml_syntax.h"
 
 namespace mpvg::svg::detail {
 
@@ -56,29 +57,46 @@ bool in_svg_namespace(std::string_view prefix, const NamespaceScope& ns, bool no
   return *uri == kSvgNs;
 }
 
-// The one-line message of a tinyxml2 error, its line counted from
-// first_line (a piece's start in the text, split_deep_xml).
-ParseError xml_error(const tinyxml2::XMLDocument& xml, int first_line) {
-  // ErrorStr() reads "Error=NAME ErrorID=N (0xN) Line number=N[: detail]";
-  // keep the detail, which names the element or attribute at fault.
-  std::string msg = "XML parse error at line " + std::to_string(first_line - 1 + std::max(1, xml.ErrorLineNum())) +
-                    ": " + xml.ErrorName();
-  const char* full = xml.ErrorStr();
-  const char* detail = full ? std::strstr(full, "Line number=") : nullptr;
-  if (detail) detail = std::strchr(detail, ':');
-  if (detail) {
-    std::string d = std::string(trim(detail + 1));
-    std::replace(d.begin(), d.end(), '\n', ' ');
-    if (!d.empty()) msg += " (" + d + ")";
+// What tinyxml2's error kinds mean, for a document in which
+// find_xml_fault finds no fault (the two disagree on a detail).
+const char* error_sentence(tinyxml2::XMLError e) {
+  switch (e) {
+    case tinyxml2::XML_ERROR_EMPTY_DOCUMENT: return "no element: the document is empty or holds no XML";
+    case tinyxml2::XML_ERROR_PARSING_ELEMENT: return "a malformed tag";
+    case tinyxml2::XML_ERROR_PARSING_ATTRIBUTE: return "a malformed attribute";
+    case tinyxml2::XML_ERROR_MISMATCHED_ELEMENT: return "an end tag that does not match its start tag";
+    case tinyxml2::XML_ERROR_PARSING_TEXT: return "malformed text";
+    case tinyxml2::XML_ERROR_PARSING_CDATA: return "a malformed CDATA section";
+    case tinyxml2::XML_ERROR_PARSING_COMMENT: return "a comment that is not closed";
+    case tinyxml2::XML_ERROR_PARSING_DECLARATION: return "a malformed <?...?> declaration";
+    case tinyxml2::XML_ERROR_PARSING_UNKNOWN: return "a malformed <!...> declaration";
+    case tinyxml2::XML_ELEMENT_DEPTH_EXCEEDED: return "elements nested too deep";
+    default: return "not well-formed XML";
   }
-  return ParseError(msg);
+}
+
+// The one-line message of a document tinyxml2 refuses: the first fault
+// find_xml_fault finds in the document's text `utf8`, with its line and
+// column; else tinyxml2's line (counted from first_line, a piece's start
+// in the text, split_deep_xml) and its error kind in words.
+ParseError xml_error(const tinyxml2::XMLDocument& xml, int first_line, std::string_view raw) {
+  std::optional<XmlFault> f;
+  try {
+    f = find_xml_fault(xml_to_utf8(raw));
+  } catch (const Error&) {
+  }
+  if (f)
+    return ParseError("XML parse error at line " + std::to_string(f->line) + ", column " + std::to_string(f->column) +
+                      ": " + f->what);
+  return ParseError("XML parse error at line " + std::to_string(first_line - 1 + std::max(1, xml.ErrorLineNum())) +
+                    ": " + error_sentence(xml.ErrorID()));
 }
 
 constexpr std::string_view kPieceMark = "\xef\xb7\x90";  // U+FDD0, as mark_white_space_text uses it
 
 class TreeBuilder {
  public:
-  TreeBuilder(Document& doc, const XmlPieces& pieces) : doc_(doc), pieces_(pieces) {}
+  TreeBuilder(Document& doc, const XmlPieces& pieces, std::string_view raw) : doc_(doc), pieces_(pieces), raw_(raw) {}
 
   // Converts x and its subtree; nullptr when x is not an SVG element (its
   // subtree is then dropped too: SVG content inside foreign elements is not
@@ -136,7 +154,7 @@ class TreeBuilder {
     if (k == 0 || k >= pieces_.pieces.size()) return nullptr;
     const std::string& text = pieces_.pieces[k];
     tinyxml2::XMLDocument xml;
-    if (xml.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) throw xml_error(xml, pieces_.first_line[k]);
+    if (xml.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) throw xml_error(xml, pieces_.first_line[k], raw_);
     const tinyxml2::XMLElement* root = xml.RootElement();
     return root ? build(root, parent) : nullptr;
   }
@@ -173,6 +191,7 @@ class TreeBuilder {
 
   Document& doc_;
   const XmlPieces& pieces_;
+  std::string_view raw_;  // the document as read, for error messages
   NamespaceScope ns_;
   bool no_namespaces_ = false;
   bool in_text_ = false;  // inside a <text>
@@ -446,7 +465,7 @@ Document parse_document(std::string_view raw,
   XmlPieces pieces = split_deep_xml(text);
   if (!pieces.pieces.empty()) text = std::move(pieces.pieces[0]);
   tinyxml2::XMLDocument xml;
-  if (xml.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) throw xml_error(xml, 1);
+  if (xml.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) throw xml_error(xml, 1, raw);
   const tinyxml2::XMLElement* root = xml.RootElement();
   if (!root) throw Error("not an SVG document: no root element");
 
@@ -473,7 +492,7 @@ Document parse_document(std::string_view raw,
   if (pieces.dropped)
     doc.warnings.push_back("elements nested deeper than " + std::to_string(kMaxXmlDepth) +
                            " levels: left out with their content");
-  TreeBuilder builder(doc, pieces);
+  TreeBuilder builder(doc, pieces, raw);
   doc.root = builder.build(root, nullptr);
   apply_style_sheets(doc, load);
   if (!doc.root || doc.root->name != "svg") {

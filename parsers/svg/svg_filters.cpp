@@ -929,6 +929,7 @@ void Converter::fe_image(const Element& fe, const FilterSpace& fs, FilterPrimiti
     }
     // The element's scene is in the filter's user space.
     Converter ic(s_, device_ * fs.space, level_);
+    ic.document_space_ = false;
     ic.scene_w_ = fs.region.w;
     ic.scene_h_ = fs.region.h;
     Context ctx = document_context(*target, false);

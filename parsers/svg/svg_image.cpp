@@ -291,6 +291,8 @@ std::optional<Converter::Embedded> Converter::embed_document(const LoadedImage& 
     // The document's strokes are prepared for the scale its scene units
     // end up at in our output pixels, known once its size is.
     ParseOptions options = s_.options;
+    options.export_id.clear();  // the outer document's
+    options.query = false;
     bool sized = false;
     options.view = [&](double w, double h) {
       out.viewport = viewport(w, h);

@@ -89,7 +89,7 @@ Scene Converter::run() {
   // background-color on the root (CSS Backgrounds 3, as browsers paint
   // the root element's background): the whole viewport, under everything.
   if (const auto bg = property<RGBA>(root, "background-color", [](std::string_view v) { return parse_color(v); });
-      bg.state == Prop<RGBA>::Set && bg.value.a > 0) {
+      !s_.export_target && bg.state == Prop<RGBA>::Set && bg.value.a > 0) {
     Paint paint;
     paint.color = bg.value;
     paints_.push_back(paint);
@@ -99,6 +99,7 @@ Scene Converter::run() {
     ops_.push_back(fill);
   }
   render(root, ctx, 0);
+  if (s_.export_target) s_.export_box = drawn_bounds(0, ops_.size());
   emit(builder);
   Scene scene = builder.finish();
   if (builder.flattened_groups()) warn(flattened_groups_warning(builder.flattened_groups()));
@@ -472,6 +473,73 @@ bool Converter::conditions_pass(const Element& e) const {
 
 // Converts a rendered element (and its subtree) in painter's order.
 void Converter::render(const Element& e, const Context& ctx, int depth) {
+  if (s_.export_target && !s_.exporting && document_space_) {
+    // --export-id: the element itself, the path down to it, nothing else.
+    if (&e != s_.export_target) {
+      for (const Element* a = s_.export_target->parent; a; a = a->parent)
+        if (a == &e) render_ancestor(e, ctx, depth);
+      return;
+    }
+    s_.exporting = true;
+    render_element(e, ctx, depth);
+    s_.exporting = false;
+    return;
+  }
+  const std::string* id = s_.boxes && document_space_ && level_ == 0 ? e.attribute("id") : nullptr;
+  if (!id || id->empty() || s_.boxed.count(*id)) {
+    render_element(e, ctx, depth);
+    return;
+  }
+  // --query: listed in document order (before its descendants), measured
+  // once converted, dropped when it draws nothing.
+  const size_t slot = s_.boxes->size(), start = ops_.size();
+  s_.boxed.insert(*id);
+  s_.boxes->push_back({*id});
+  render_element(e, ctx, depth);
+  const Bounds b = drawn_bounds(start, ops_.size());
+  ElementBox& box = (*s_.boxes)[slot];
+  if (b.empty()) {
+    // Not drawn (yet): a later <use> of it may draw it.
+    s_.boxes->erase(s_.boxes->begin() + static_cast<ptrdiff_t>(slot));
+    s_.boxed.erase(*id);
+    return;
+  }
+  box.x = b.x0;
+  box.y = b.y0;
+  box.width = b.width();
+  box.height = b.height();
+}
+
+void Converter::render_ancestor(const Element& e, const Context& ctx, int depth) {
+  const Kind kind = classify(e);
+  if (kind == Kind::Ignored || !conditions_pass(e)) return;
+  if (e.name == "svg" && e.parent) {
+    render_viewport(e, ctx, depth, nullptr);
+    return;
+  }
+  if (!enter(depth)) return;
+  Placed pl;
+  if (!place(e, kind, ctx, pl)) return;
+  if (kind == Kind::Container) draw_content(e, kind, pl, child_context(pl.st, pl.space, false), depth);
+}
+
+Bounds Converter::drawn_bounds(size_t begin, size_t end) const {
+  Bounds b;
+  for_each_content(begin, end, [&](const Op& op) {
+    if (op.kind == OpKind::Append) {
+      const Scene& doc = embedded_[op.scene];
+      for (Vec2 p : {Vec2{0, 0}, Vec2{doc.width, 0}, Vec2{0, doc.height}, Vec2{doc.width, doc.height}})
+        b.add(op.xf.apply(p));
+    } else if (op.kind == OpKind::Fill && op.stroke) {
+      add_stroke_bounds(shapes_[op.shape], stroke_styles_[op.stroke_style], device_ * op.xf, device_.inverted(), b);
+    } else if (op.kind == OpKind::Fill) {
+      add_path_bounds(shapes_[op.shape], op.xf, b);
+    }
+  });
+  return b;
+}
+
+void Converter::render_element(const Element& e, const Context& ctx, int depth) {
   const Kind kind = classify(e);
   if (kind == Kind::Ignored || !conditions_pass(e)) return;
   if (kind == Kind::Unsupported) {
@@ -765,7 +833,35 @@ void Converter::emit(SceneBuilder& b) {
 
 }  // namespace detail
 
+namespace {
+
+// Files people hand to svg2png by mistake, known by their first bytes
+// (after any white space): said so instead of an XML error.
+void refuse_other_formats(std::string_view text) {
+  const size_t lead = std::min(text.find_first_not_of(" \t\r\n"), text.size());
+  const std::string_view t = text.substr(lead);
+  struct Signature {
+    std::string_view bytes;
+    const char* what;
+  };
+  static const Signature kKnown[] = {
+      {"%PDF-", "a PDF document, not SVG: render it with pdf2png"},
+      {"%!PS", "a PostScript document, not SVG"},
+      {"\x89PNG\r\n\x1a\n", "a PNG image, not SVG"},
+      {"\xff\xd8\xff", "a JPEG image, not SVG"},
+      {"GIF8", "a GIF image, not SVG"},
+      {"PK\x03\x04", "a ZIP archive (perhaps an .odg or .docx), not SVG"},
+  };
+  for (const Signature& s : kKnown)
+    if (t.substr(0, s.bytes.size()) == s.bytes) throw ParseError(std::string("the input is ") + s.what);
+  if (t.substr(0, 4) == "RIFF" && t.size() >= 12 && t.substr(8, 4) == "WEBP")
+    throw ParseError("the input is a WebP image, not SVG");
+}
+
+}  // namespace
+
 ParseResult parse_svg_string(std::string_view text, const std::string& base_dir, const ParseOptions& options) {
+  const detail::AbsoluteUnitsScope units(options.dpi);
   // .svgz: gzip-compressed SVG, recognised by the gzip signature and
   // inflated (at most 256 MiB) before parsing.
   std::string inflated;
@@ -776,6 +872,7 @@ ParseResult parse_svg_string(std::string_view text, const std::string& base_dir,
     inflated = std::move(*out);
     text = inflated;
   }
+  refuse_other_formats(text);
   ParseResult result;
   // Style sheets that <?xml-stylesheet?> and @import name: local files under
   // the read policy (the document's folder tree and allowed_dirs).
@@ -793,15 +890,56 @@ ParseResult parse_svg_string(std::string_view text, const std::string& base_dir,
   };
   const detail::Document doc = detail::parse_document(text, load_css);
   result.warnings.insert(result.warnings.end(), doc.warnings.begin(), doc.warnings.end());
-  detail::Session session(doc, options, result.warnings);
-  session.base_dir = base_dir.empty() ? std::string(".") : base_dir;
-  session.allowed_dirs.push_back(session.base_dir);
-  session.allowed_dirs.insert(session.allowed_dirs.end(), options.allowed_dirs.begin(), options.allowed_dirs.end());
-  {
-    detail::Converter conv(session, Affine{}, 0);
-    result.scene = conv.run();
-  }  // (its charges given back: its scene builders charged the scene)
-  result.stroked_paths = session.stroked_paths;
+  const detail::Element* target = nullptr;
+  if (!options.export_id.empty()) {
+    const auto it = doc.ids.find(options.export_id);
+    if (it == doc.ids.end()) throw ParseError("no element has the id '" + options.export_id + "' (--export-id)");
+    target = it->second;
+  }
+  detail::Bounds box;
+  auto convert = [&](const ParseOptions& o, std::vector<std::string>& warnings) {
+    detail::Session session(doc, o, warnings);
+    session.base_dir = base_dir.empty() ? std::string(".") : base_dir;
+    session.allowed_dirs.push_back(session.base_dir);
+    session.allowed_dirs.insert(session.allowed_dirs.end(), o.allowed_dirs.begin(), o.allowed_dirs.end());
+    session.export_target = target;
+    if (o.query) session.boxes = &result.elements;
+    Scene scene;
+    {
+      detail::Converter conv(session, Affine{}, 0);
+      scene = conv.run();
+    }  // (its charges given back: its scene builders charged the scene)
+    result.stroked_paths = session.stroked_paths;
+    box = session.export_box;
+    return scene;
+  };
+  if (!target) {
+    result.scene = convert(options, result.warnings);
+    return result;
+  }
+  // --export-id: the element's box at the document's own scale first (its
+  // hairlines and stroke outlines barely depend on it), then the element
+  // converted for the output the box becomes, moved to the origin.
+  ParseOptions measure = options;
+  measure.view = nullptr;
+  measure.query = false;
+  std::vector<std::string> ignored;
+  convert(measure, ignored);
+  if (box.empty() || !(box.width() > 0 && box.height() > 0))
+    throw ParseError("the element '" + options.export_id + "' draws nothing (--export-id)");
+  const detail::Bounds drawn = box;
+  const Affine to_origin = Affine::translate(-drawn.x0, -drawn.y0);
+  ParseOptions place = options;
+  place.view = [&](double, double) {
+    const Affine view = options.view ? options.view(drawn.width(), drawn.height())
+                                     : Affine::scale(options.device_scale, options.device_scale);
+    return view * to_origin;
+  };
+  const Scene element = convert(place, result.warnings);
+  SceneBuilder b(drawn.width(), drawn.height());
+  b.set_budget(options.budget.get());
+  b.append(element, to_origin);
+  result.scene = b.finish();
   return result;
 }
 

@@ -49,8 +49,19 @@
 
 namespace mpvg::svg {
 
+// An element with an id and the box of what it draws (svg2png --query):
+// in the root viewport's units (CSS pixels of the document's own size),
+// strokes, markers and filter regions included, clip paths not applied.
+struct ElementBox {
+  std::string id;
+  double x = 0, y = 0, width = 0, height = 0;
+};
+
 struct ParseResult {
   Scene scene;
+  // ParseOptions::query: every drawn element with an id, in document
+  // order (an element drawn several times through <use>: the first time).
+  std::vector<ElementBox> elements;
   // One short line per feature rendered approximately or not at all,
   // deduplicated, in the order first met.
   std::vector<std::string> warnings;
@@ -101,6 +112,23 @@ struct ParseOptions {
 
   // Bytes of input parse_svg_file reads at most (svg2png --max-input).
   size_t max_input_bytes = SIZE_MAX;
+
+  // Pixels per inch of the absolute units (in, cm, mm, pt, pc) of the
+  // document's lengths: CSS's 96 by default; svg2png --dpi, as
+  // rsvg-convert's -d and resvg's --dpi (px and user units stay as they
+  // are: a document sized in mm comes out at that many dots per inch).
+  double dpi = 96;
+
+  // svg2png --export-id: only the element with this id and its subtree,
+  // with its ancestors' transforms and the properties they pass down but
+  // none of their effects (opacity, clip, mask, filter), as rsvg-convert
+  // and resvg draw it; the scene is the box of what it draws
+  // (ElementBox), moved to the origin, and `view` is asked for that size.
+  // ParseError when no element with that id is drawn.
+  std::string export_id;
+
+  // svg2png --query: fill ParseResult::elements.
+  bool query = false;
 
   // Threads converting strokes (0: every core). Batches that parse files
   // on every core already pass 1.

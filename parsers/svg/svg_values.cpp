@@ -268,16 +268,25 @@ std::optional<Length> parse_length(std::string_view text, CalcOk calc, double ma
   return l;
 }
 
+namespace {
+thread_local double px_per_inch = 96;
+}  // namespace
+
+AbsoluteUnitsScope::AbsoluteUnitsScope(double dpi) : saved_(px_per_inch) { px_per_inch = dpi; }
+AbsoluteUnitsScope::~AbsoluteUnitsScope() { px_per_inch = saved_; }
+
 double length_to_px(const Length& l, double percent_base) {
-  // CSS Values 3 absolute lengths: 1in = 96px = 2.54cm = 72pt = 6pc.
+  // CSS Values 3 absolute lengths: 1in = 96px = 2.54cm = 72pt = 6pc (96:
+  // px_per_inch, unless --dpi says otherwise).
+  const double in = px_per_inch;
   switch (l.unit) {
     case Unit::None:
     case Unit::Px: return l.value;
-    case Unit::Pt: return l.value * (96.0 / 72.0);
-    case Unit::Pc: return l.value * 16.0;
-    case Unit::Mm: return l.value * (96.0 / 25.4);
-    case Unit::Cm: return l.value * (96.0 / 2.54);
-    case Unit::In: return l.value * 96.0;
+    case Unit::Pt: return l.value * (in / 72.0);
+    case Unit::Pc: return l.value * (in / 6.0);
+    case Unit::Mm: return l.value * (in / 25.4);
+    case Unit::Cm: return l.value * (in / 2.54);
+    case Unit::In: return l.value * in;
     case Unit::Em:
     case Unit::Rem: return l.value * 16.0;
     case Unit::Ex: return l.value * 8.0;

@@ -105,6 +105,19 @@ std::optional<Length> parse_length(std::string_view s, CalcOk calc = CalcOk::No,
 // 1ex = 8px (fonts are not modelled). `percent_base` is the reference length
 // that 100% stands for.
 double length_to_px(const Length& l, double percent_base);
+// The absolute units (in, cm, mm, pt, pc) convert at `dpi` pixels per inch
+// instead of 96 for the lengths this thread converts while the scope
+// lives (ParseOptions::dpi, for the parse of one document).
+class AbsoluteUnitsScope {
+ public:
+  explicit AbsoluteUnitsScope(double dpi);
+  ~AbsoluteUnitsScope();
+  AbsoluteUnitsScope(const AbsoluteUnitsScope&) = delete;
+  AbsoluteUnitsScope& operator=(const AbsoluteUnitsScope&) = delete;
+
+ private:
+  double saved_;
+};
 // A length with its font-relative units resolved: em against `em`, ex as
 // half of it, rem against `rem`; percentages of `percent_base`.
 double resolve_length(const Length& l, double percent_base, double em, double rem);
