@@ -18,6 +18,13 @@ png_size() {  # prints WIDTHxHEIGHT of a PNG (IHDR at byte 16)
 # Reads PNGs of any colour type and depth: `pixels PNG X,Y ...` prints
 # "WxH depth type" and each pixel's samples as R-G-B (or G, or G-A); `all`
 # every pixel, `raw` the inflated rows (filter bytes included) in hex.
+phys() {  # a PNG's pHYs: "X Y UNIT" (pixels per metre, 1: metre), or "none"
+  python3 -c "
+import struct, sys
+d = open(sys.argv[1], 'rb').read()
+i = d.find(b'pHYs')
+print(*(struct.unpack('>IIB', d[i + 4:i + 13]) if i > 0 else ['none']))" "$1"
+}
 pixels() {
   python3 - "$@" <<'PY'
 import struct, sys, zlib

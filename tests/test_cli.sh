@@ -197,5 +197,93 @@ printf '<svg xmlns="http://www.w3.org/2000/svg" width="2000" height="2000"><filt
 err=$("$bin" --backend cpu --aa 1x8 "$tmp/costly.svg" "$tmp/costly.png" 2>&1); rc=$?
 check "a filter too costly to run: a warning, exit 0" test "$rc" = 0 -a -s "$tmp/costly.png" && grep -q "too costly" <<<"$err"
 
+# --dpi (rsvg-convert -d, resvg --dpi): a document sized in physical units
+# comes out at that resolution, which the PNG records; px stay px.
+printf '<svg xmlns="http://www.w3.org/2000/svg" width="2in" height="25.4mm"><rect width="100%%" height="100%%" fill="red"/></svg>' > "$tmp/inch.svg"
+"$bin" -q --backend cpu --dpi 300 "$tmp/inch.svg" "$tmp/dpi.png"; rc=$?
+check "--dpi 300: 2in x 25.4mm is 600x300" test "$rc" = 0 -a "$(png_size "$tmp/dpi.png")" = 600x300
+check "--dpi 300: pHYs 11811 per metre ($(phys "$tmp/dpi.png"))" test "$(phys "$tmp/dpi.png")" = "11811 11811 1"
+"$bin" -q --backend cpu "$tmp/inch.svg" "$tmp/dpi96.png"
+check "without --dpi: 96 per inch, no pHYs" test "$(png_size "$tmp/dpi96.png")" = 192x96 -a "$(phys "$tmp/dpi96.png")" = none
+"$bin" -q --backend cpu -d 48 "$svg" "$tmp/dpi48.png"
+check "-d leaves px documents' size" test "$(png_size "$tmp/dpi48.png")" = 128x96
+err=$("$bin" --dpi 5 "$svg" "$tmp/x.png" 2>&1); rc=$?
+check "--dpi out of range: exit 2" test "$rc" = 2 -a -n "$(grep -F 'takes 10 to 4000' <<<"$err")"
+
+# --query: the drawn elements' ids and boxes as JSON; --export-id: one of
+# them alone, the output its box.
+cat > "$tmp/ids.svg" <<'EOF'
+<svg xmlns="http://www.w3.org/2000/svg" width="100" height="80">
+  <rect id="back" width="100" height="80" fill="#ddd"/>
+  <g id="pair" opacity="0.5">
+    <rect id="a" x="20" y="30" width="40" height="20" fill="blue"/>
+    <circle id="b" cx="70" cy="20" r="10" fill="red" stroke="black" stroke-width="2"/>
+  </g>
+  <defs><rect id="unused" width="5" height="5"/></defs>
+</svg>
+EOF
+out=$("$bin" --query "$tmp/ids.svg"); rc=$?
+check "--query: exit 0" test "$rc" = 0
+listed=$(python3 -c "
+import json, sys
+d = json.loads(sys.argv[1])
+print('%g %g' % (d['width'], d['height']), ';'.join('%s %g %g %g %g' % (e['id'], e['x'], e['y'], e['width'], e['height']) for e in d['elements']))
+" "$out")
+check "--query: ids, boxes, document order; nothing undrawn ($listed)" \
+  test "$listed" = "100 80 back 0 0 100 80;pair 20 9 61 41;a 20 30 40 20;b 59 9 22 22"
+"$bin" --query "$tmp/ids.svg" "$tmp/x.png" 2>/dev/null; rc=$?
+check "--query with an output: exit 2" test "$rc" = 2
+"$bin" -q --backend cpu --aa 1x32 -i a "$tmp/ids.svg" "$tmp/a.png"; rc=$?
+check "--export-id: exit 0, the element's box" test "$rc" = 0 -a "$(png_size "$tmp/a.png")" = 40x20
+"$bin" -q --backend cpu --aa 1x32 -w 80 --export-id a "$tmp/ids.svg" "$tmp/a80.png"
+check "--export-id with -w: the element's box scaled" test "$(png_size "$tmp/a80.png")" = 80x40
+check "--export-id: the element alone, without its group's opacity" \
+  test "$(pixels "$tmp/a.png" 0,0 39,19)" = "40x20 8 2 0-0-255 0-0-255"
+err=$("$bin" -q -i unused "$tmp/ids.svg" "$tmp/x.png" 2>&1); rc=$?
+check "--export-id of an element not drawn: exit 1, says so" test "$rc" = 1 -a -n "$(grep -F "draws nothing" <<<"$err")" -a ! -e "$tmp/x.png"
+err=$("$bin" -q -i nope "$tmp/ids.svg" "$tmp/x.png" 2>&1); rc=$?
+check "--export-id of a missing id: exit 1, names the file" test "$rc" = 1 -a "$err" = "svg2png: $tmp/ids.svg: no element has the id 'nope' (--export-id)"
+
+# --timeout for one file: exit 1, one line, nothing written.
+{
+  echo '<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100">'
+  for i in $(seq 0 299); do
+    echo "<path d=\"M $((i % 97)) 0 C 30 $((i % 53)) 70 $((100 - i % 41)) 100 $((i % 89))\" fill=\"none\" stroke=\"#123456\" stroke-width=\"$((1 + i % 5))\" stroke-dasharray=\"3 1\"/>"
+  done
+  echo '</svg>'
+} > "$tmp/slow.svg"
+err=$("$bin" --backend cpu --timeout 0.05 -w 6000 "$tmp/slow.svg" "$tmp/slow.png" 2>&1); rc=$?
+check "--timeout, one file: exit 1, one line, no output" \
+  test "$rc" = 1 -a "$err" = "svg2png: $tmp/slow.svg: timed out after 0.05 s (--timeout)" -a ! -e "$tmp/slow.png"
+"$bin" -q --backend cpu --timeout 60 "$svg" "$tmp/fast.png"; rc=$?
+check "--timeout, one file in time: written" test "$rc" = 0 -a -s "$tmp/fast.png"
+
+# --report: a batch's JSON lines.
+mkdir -p "$tmp/rep"
+printf '<svg xmlns="http://www.w3.org/2000/svg"><rect</svg>' > "$tmp/rep/broken.svg"
+cp "$svg" "$tmp/rep/good.svg"
+"$bin" -q --backend cpu --report "$tmp/report.jsonl" -o "$tmp/repout" "$tmp/rep/good.svg" "$tmp/rep/broken.svg"; rc=$?
+rows=$(python3 -c "
+import json, sys
+rows = sorted((json.loads(l) for l in open(sys.argv[1])), key=lambda r: r['input'])
+print(';'.join('%s %s %s %s' % (r['input'].rsplit('/', 1)[1], r['status'], r['output'].rsplit('/', 1)[1], bool(r.get('error'))) for r in rows))
+" "$tmp/report.jsonl")
+check "--report: one line a file, status and output ($rows)" test "$rc" = 1 -a "$rows" = "broken.svg failed broken.png True;good.svg ok good.png False"
+"$bin" --report "$tmp/r.jsonl" "$svg" "$tmp/x.png" 2>/dev/null; rc=$?
+check "--report for one file: exit 2" test "$rc" = 2
+
+# Error messages: the file, line and column of an XML error in words; a
+# PDF given by mistake.
+printf '<svg xmlns="http://www.w3.org/2000/svg">\n  <rect x=1 width="3"/>\n</svg>\n' > "$tmp/unquoted.svg"
+err=$("$bin" "$tmp/unquoted.svg" "$tmp/x.png" 2>&1); rc=$?
+check "XML error: file, line, column, a sentence" \
+  test "$rc" = 1 -a "$err" = "svg2png: $tmp/unquoted.svg: XML parse error at line 2, column 11: the value of the attribute 'x' of <rect> must be in quotes"
+printf '%%PDF-1.4\n%%\xe2\xe3\xcf\xd3\n1 0 obj\n' > "$tmp/doc.svg"
+err=$("$bin" "$tmp/doc.svg" "$tmp/x.png" 2>&1); rc=$?
+check "a PDF given to svg2png: use pdf2png" test "$rc" = 1 -a "$err" = "svg2png: $tmp/doc.svg: the input is a PDF document, not SVG: render it with pdf2png"
+
+out=$("$(dirname "$bin")/mpvg-compare" --version); rc=$?
+check "mpvg-compare --version ($out)" test "$rc" = 0 -a -n "$(grep -E '^mpvg-compare \(mpvg\) [0-9.]+$' <<<"$out")"
+
 echo "$fails failed"
 test "$fails" = 0

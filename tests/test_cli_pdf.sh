@@ -159,11 +159,6 @@ for case in "-scale-to 100:100x67" "-scale-to-x 100:100x417" "-scale-to-y 100:62
   "$bin" -q --backend cpu --box media ${case%%:*} -singlefile "$boxes" "$tmp/sz"
   check "${case%%:*}: ${case##*:}, as pdftoppm" test "$(png_size "$tmp/sz.png")" = "${case##*:}"
 done
-phys() { python3 -c "
-import struct, sys
-d = open(sys.argv[1], 'rb').read()
-i = d.find(b'pHYs')
-print(*struct.unpack('>IIB', d[i + 4:i + 13]) if i > 0 else 'none')" "$1"; }
 "$bin" -q --backend cpu --box media -rx 72 -ry 36 -singlefile "$boxes" "$tmp/phys"
 check "the PNG records its resolution (pHYs, per metre, as pdftoppm's): $(phys "$tmp/phys.png")" \
   test "$(phys "$tmp/phys.png")" = "2835 1417 1"
@@ -567,6 +562,26 @@ PY
   got=$(pixels "$tmp/sep-1.png" 20,30 60,30 180,30)
   check "--separations: the press sheet in RGB, cyan and yellow overprinted green ($got)" \
     test "$got" = "200x100 8 2 0-255-0 255-255-0 64-255-255"
+  # mpvg-compare reads these TIFFs: inks against inks, channel by channel.
+  cmp=$(dirname "$bin")/mpvg-compare
+  "$cmp" -q "$tmp/cmyk-1.tif" "$tmp/cmyk-1.tif"; rc=$?
+  check "mpvg-compare: a CMYK TIFF equals itself" test "$rc" = 0
+  "$bin" -q --backend cpu -r 72 --colorspace cmyk "$pp" "$tmp/cmyk0"
+  "$bin" -q --backend cpu -r 72 --seed 5 --colorspace cmyk "$pp" "$tmp/cmyk5"
+  "$cmp" -q "$tmp/cmyk0-1.tif" "$tmp/cmyk5-1.tif"; rc=$?
+  "$cmp" -q --aa "$tmp/cmyk0-1.tif" "$tmp/cmyk5-1.tif"; rc_aa=$?
+  check "mpvg-compare: another seed's CMYK differs, forgiven as antialiasing with --aa ($rc, $rc_aa)" \
+    test "$rc" = 1 -a "$rc_aa" = 0
+  out=$("$cmp" "$tmp/cmyk-1.tif" "$tmp/sep-1.tif"); rc=$?
+  check "mpvg-compare: CMYK against five inks fails, says why" test "$rc" = 1 -a -n "$(grep -F 'differ in their channels' <<<"$out")"
+  "$bin" -q --backend cpu -r 72 --aa 1x32 "$pp" "$tmp/pprgb"
+  "$bin" -q --backend cpu -r 72 --aa 1x32 -tiff "$pp" "$tmp/pprgb"
+  "$cmp" -q "$tmp/pprgb-1.png" "$tmp/pprgb-1.tif"; rc=$?
+  check "mpvg-compare: an RGB TIFF equals the PNG of the same render" test "$rc" = 0
+  "$bin" -q --backend cpu -r 36 --aa 1x32 -tiff "$pp" "$tmp/ppsmall"
+  json=$("$cmp" --json "$tmp/pprgb-1.tif" "$tmp/ppsmall-1.tif"); rc=$?
+  check "mpvg-compare --json, sizes differ: both sizes ($json)" \
+    test "$rc" = 1 -a -n "$(grep -F '"a":{"width":200,"height":100,"channels":4},"b":{"width":100,"height":50,"channels":4}' <<<"$json")"
   # Colour management (parsers/pdf/output_intent.h; testdata/pdf/rgb-inks*.pdf):
   # RGB black, red, grey black, CMYK black, then an RGB image of black and
   # red. Without a press profile, PDF's device formulas (RGB black as K
