@@ -63,7 +63,9 @@ void usage(const char* program, const char* kind) {
       "                            (the current directory's for '-') is readable\n"
       "                            otherwise; network URLs are never loaded\n"
       "Batches (several inputs in one process, overlapped):\n"
-      "  -o OUTDIR IN1 IN2 ...     write OUTDIR/IN1.png, ... (OUTDIR is made if missing)\n"
+      "  -o OUTDIR IN1 IN2 ...     write OUTDIR/IN1.png, ... (OUTDIR is made if missing;\n"
+      "                            one input too: -o names a folder unless it has an\n"
+      "                            extension, as out.png)\n"
       "      --batch LIST          lines 'IN OUT' (tab or space separated); '-' reads\n"
       "                            the list from standard input\n"
       "      --shard I/N           only inputs I, I+N, I+2N, ... (0 <= I < N), e.g. one\n"
@@ -279,8 +281,13 @@ bool parse(int argc, char** argv, const char* program, const char* kind, Options
     if (!o.positional.empty()) throw UsageError{"--batch takes its inputs from the list, not the command line"};
     o.batch = true;
   } else if (!o.output.empty() && !o.positional.empty()) {
+    // svg2png -o names a folder (made if missing) with several inputs, or
+    // when it is one, ends in '/' or has no extension ("-o out"); a file
+    // only as "-o out.png" (or "-").
     std::error_code ec;
-    o.batch = o.positional.size() > 1 || o.output.back() == '/' || std::filesystem::is_directory(o.output, ec);
+    const std::filesystem::path out(o.output);
+    o.batch = o.positional.size() > 1 || o.output.back() == '/' || std::filesystem::is_directory(out, ec) ||
+              (!o.output_optional && o.output != "-" && !out.has_extension());
   } else if (o.output.empty() && o.positional.size() == 2) {
     // (A folder as the second argument is refused when it is written,
     // "Is a directory": -o FOLDER writes into it.)

@@ -31,6 +31,11 @@ if command -v script > /dev/null; then
 fi
 "$bin" -q -o "$tmp/h.png" "$svg"
 check "-o names the output" cmp -s "$tmp/a.png" "$tmp/h.png"
+"$bin" -q -o "$tmp/newdir" "$svg"; rc=$?
+check "-o FOLDER with one input, the folder missing: made, FOLDER/arcs.png" test "$rc" = 0 -a -d "$tmp/newdir" && cmp -s "$tmp/a.png" "$tmp/newdir/arcs.png"
+mkdir -p "$tmp/there"
+"$bin" -q -o "$tmp/there" "$svg"; rc=$?
+check "-o FOLDER with one input, the folder there: FOLDER/arcs.png" test "$rc" = 0 && cmp -s "$tmp/a.png" "$tmp/there/arcs.png"
 "$bin" -q --seed 7 "$svg" "$tmp/i.png"
 check "--seed changes the sample pattern" differ "$tmp/a.png" "$tmp/i.png"
 # The box filter's images are the same bit for bit on every backend (wide
