@@ -15,10 +15,11 @@ struct OiioModule {
 };
 
 // Opens `file` ("mpvg_oiio_decoder.so") from fixed places only (no search
-// path a document or the environment names): the build tree and the
-// installed lib/mpvg (MPVG_OIIO_MODULE_DIRS, from CMake), lib/mpvg beside
-// the executable's bin/, and mpvg/ beside the shared object holding this
-// code (libmpvg.so in another prefix, or loaded by Python). Checks that it
+// path a document or the environment names): mpvg/ beside the shared object
+// holding this code (libmpvg.so in any prefix, or loaded by Python), or in
+// a program the install libdir's mpvg/ beside the executable's bin/ (lib/,
+// Debian's lib/<multiarch>/), then the build tree and the configured
+// libdir's mpvg/ (MPVG_OIIO_MODULE_DIRS, from CMake). Checks that it
 // exports `entry` and mpvg_oiio_version; `what` ("decoder") names it in
 // messages. A module is never closed: its state lives until the process
 // ends. Call once per module (the callers keep the result).

@@ -3,6 +3,8 @@
 # clang with its sanitizer runtimes (libclang-rt-14-dev, only recommended
 # by clang, so named) and Ninja build the sanitized fuzz regressions that
 # scripts/test.sh runs (scripts/fuzz.sh sanitized).
+# help2man writes the man pages from each program's --help and
+# bash-completion's helpers back packaging/bash-completion/ (and its test).
 # Idempotent: when every package is already installed it does nothing
 # (no apt-get update, no network), so warm rebuilds stay fast.
 set -euo pipefail
@@ -20,6 +22,7 @@ PACKAGES=(
   libpng-dev libdeflate-dev liblcms2-dev
   python3-dev python3-numpy pybind11-dev python3-venv python3-pytest
   time util-linux
+  help2man bash-completion
   clang libclang-rt-14-dev ninja-build
 )
 
