@@ -23,7 +23,7 @@ namespace {
 using namespace mpvg;
 
 const char* kUsage =
-    "usage: mpvg-compare A B [options]\n"
+    "Usage: mpvg-compare A B [options]\n"
     "Compares images A and B (PNG: 8 or 16 bits, grey, RGB, palette, with or without alpha;\n"
     "TIFF: 8 or 16 bits, grey, RGB, CMYK and spot inks, as pdf2png writes them; JPEG) pixel\n"
     "by pixel, premultiplied, channels in [0, 1]; inks are compared as ink amounts. Exit\n"
