@@ -19,6 +19,7 @@ PACKAGES=(
   catch2
   libpng-dev libdeflate-dev liblcms2-dev
   python3-dev python3-numpy pybind11-dev python3-venv python3-pytest
+  python3-dask python3-distributed
   time util-linux
   clang libclang-rt-14-dev ninja-build
 )
