@@ -49,13 +49,14 @@ static_assert(std::is_base_of_v<std::runtime_error, Error> && sizeof(Error) == s
 namespace {
 
 // The finer kinds of the public header (PasswordError, MemoryLimitError)
-// for failures the pipeline throws as their broader kind: told apart by
+// for failures the pipeline throws as a broader kind (a password refused
+// is a plain Error, a budget exceeded a ResourceError): told apart by
 // the one line it gives them (parsers/pdf/pdf_parser.cpp's refusals of a
 // password, core/memory_budget.h's and cli::check_frame's "..., the
 // budget is N").
 [[noreturn]] void rethrow_refined(const Error& e) {
   const std::string what = e.what();
-  if (dynamic_cast<const ParseError*>(&e) && !dynamic_cast<const PasswordError*>(&e) &&
+  if (!dynamic_cast<const PasswordError*>(&e) &&
       (what.find(": wrong password") != std::string::npos ||
        what.find("the document is encrypted: give its password") != std::string::npos))
     throw PasswordError(what);

@@ -469,12 +469,12 @@ class PyRenderer {
   std::string note() const { return renderer_.note(); }
   std::vector<std::string> warnings() const { return warnings_; }
 
-  py::array render_svg(const py::object& input, const py::object& data, std::optional<double> width,
+  py::array render_svg(const py::object& input, const py::object& data_arg, std::optional<double> width,
                        std::optional<double> height, std::optional<double> zoom, bool keep_aspect_ratio,
                        const std::string& aa, const std::string& gamma, const py::object& background, int bits,
                        uint32_t seed, const py::object& base_dir_arg, const py::object& allow_read_arg,
                        const py::object& font_dir, const py::object& languages, const py::object& max_memory) {
-    const Input in = input_from(input, data, "SVG data",
+    const Input in = input_from(input, data_arg, "SVG data",
                                 "render_svg takes a path (str or path-like), SVG text (a str starting with '<'), "
                                 "the document's bytes or a file object");
     const std::string base_dir = fspath(base_dir_arg);

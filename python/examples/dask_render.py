@@ -28,27 +28,29 @@ import dask.bag as db
 
 import mpvg
 
-# The worker's own renderer and documents: a thread-local, so one per
-# worker thread whatever the scheduler (a Renderer is for one thread at a
-# time; a process of the processes scheduler or of a distributed worker
-# has its own copy of the module).
-_local = threading.local()
+# The worker's own renderer and documents, kept on its thread (a Renderer
+# is for one thread at a time): one per worker thread whatever the
+# scheduler. On the Thread object, not in a module global: Dask ships a
+# script's functions to worker processes by value, globals and all, and a
+# threading.local does not pickle.
+def _cache():
+    return threading.current_thread().__dict__.setdefault("mpvg_dask_render", {})
 
 
 def _renderer(backend):
-    r = getattr(_local, "renderer", None)
-    if r is None:
-        r = _local.renderer = mpvg.Renderer(backend)
-    return r
+    key = ("renderer", mpvg.Renderer, backend)
+    cache = _cache()
+    if key not in cache:
+        cache[key] = mpvg.Renderer(backend)
+    return cache[key]
 
 
 def _document(path, backend):
-    docs = getattr(_local, "documents", None)
-    if docs is None:
-        docs = _local.documents = {}
-    if path not in docs:
-        docs[path] = mpvg.Document(path, backend=backend)
-    return docs[path]
+    key = ("document", mpvg.Document, path, backend)
+    cache = _cache()
+    if key not in cache:
+        cache[key] = mpvg.Document(path, backend=backend)
+    return cache[key]
 
 
 def items(in_dir):

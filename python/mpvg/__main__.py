@@ -14,7 +14,8 @@ OUT-PREFIX-1.png, ... (page numbers padded to the page count's digits;
 standard output), with -r/--dpi N (default 150), -rx N, -ry N, -scale-to N,
 -scale-to-x N, -scale-to-y N, -f N, -l N, --password P (also -upw, -opw),
 --transparent, -gray, --box B, -hide-annotations, --thin-lines M, --aa,
---gamma (default srgb), --bits, --seed, --max-memory, --backend.
+--gamma (default srgb), --bits, --seed, --max-memory, --backend. (Grey
+pages are written as RGB PNGs of the same values: mpvg.write_png's.)
 
 Exit codes, pdf2png's (pdftoppm's) for both: 0 done, 1 the document cannot
 be opened (unreadable, malformed, encrypted), 2 an output file cannot be

@@ -13,7 +13,8 @@ import mpvg
 from conftest import FEATURES, GOLDEN, PDFS, read_png, rgba, run
 
 THREE = os.path.join(PDFS, "three-pages.pdf")
-# A page that is not square (the sizes below tell the two axes apart).
+# A page that is not square, 260 x 180 pt (the sizes below tell the two
+# axes apart).
 TALL = os.path.join(PDFS, "page-boxes.pdf")
 
 
@@ -36,7 +37,7 @@ def test_context_manager_len_index_iterate():
         assert np.array_equal(img, doc.render(1, dpi=36, aa="1x8"))
         assert img.shape == (50, 50, 4)
         centres = [tuple(p.render(dpi=36, aa="1x8")[25, 25, :3]) for p in doc]
-        assert centres == [(255, 0, 0), (0, 128, 0), (0, 0, 255)] or len(set(centres)) == 3
+        assert centres == [(255, 0, 0), (0, 153, 0), (0, 0, 255)]
         assert "3 pages" in repr(doc) and "100 x 100" in repr(page)
     assert doc.is_closed and "closed" in repr(doc)
 

@@ -15,6 +15,14 @@ THREE = os.path.join(PDFS, "three-pages.pdf")
 LOCKED = os.path.join(PDFS, "encrypted-password-secret.pdf")
 
 
+def pixels(path):
+    """A PNG's pixels as RGBA: pdf2png -gray writes grey PNGs, mpvg.write_png RGB ones of the same values."""
+    px = read_png(path)
+    if px.shape[2] <= 2:
+        px = np.concatenate([px[..., :1]] * 3 + [px[..., 1:]], axis=2)
+    return rgba(px)
+
+
 def mpvg_m(*args, **kw):
     return subprocess.run([sys.executable, "-m", "mpvg", *[str(a) for a in args]], capture_output=True, **kw)
 
@@ -52,7 +60,7 @@ def test_pdf_sizes_same_as_pdf2png(pdf2png, tmp_path):
         assert r.returncode == 0, r.stderr
         assert sorted(os.listdir(tmp_path / "cli")) == sorted(os.listdir(tmp_path / "mod")) == ["p-2.png", "p-3.png"]
         for n in ("p-2.png", "p-3.png"):
-            assert np.array_equal(read_png(tmp_path / "cli" / n), read_png(tmp_path / "mod" / n)), (args, n)
+            assert np.array_equal(pixels(tmp_path / "cli" / n), pixels(tmp_path / "mod" / n)), (args, n)
     # -singlefile and standard output (one page, no prefix).
     r = mpvg_m("--backend", "cpu", "-r", "20", "-singlefile", THREE, tmp_path / "single")
     assert r.returncode == 0 and os.path.exists(tmp_path / "single.png")
