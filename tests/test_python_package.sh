@@ -58,7 +58,7 @@ if ! ls "$build"/python/mpvg/_mpvg*.so > /dev/null 2>&1; then
 elif ran=1 && MPVG_BUILD_DIR=$build "$src/scripts/install-python.sh" "$prefix" > "$tmp/install-python.log" 2>&1; then
   check "install-python.sh: exit 0" true
   check "install-python.sh: the image decoder module beside the library" \
-    test -n "$(ls "$prefix"/mpvg/mpvg/ 2>/dev/null)" -o ! -e "$build/parsers/libmpvg_oiio_decoder.so"
+    test -e "$prefix/mpvg/mpvg/mpvg_oiio_decoder.so" -o ! -e "$build/lib/mpvg/mpvg_oiio_decoder.so"
   checks_for "install-python.sh" "$python" "$prefix/mpvg" PYTHONPATH="$prefix"
 else
   check "install-python.sh: exit 0" false
