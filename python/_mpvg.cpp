@@ -1089,7 +1089,7 @@ PYBIND11_MODULE(_mpvg, m) {
           "size", [](const PyPage& p) { return p.size("crop"); },
           "(width, height) in points (1/72 inch) of the crop box, after /Rotate: what render() covers.")
       .def_property_readonly("rect", &PyPage::rect, "(0, 0, width, height) in points, as PyMuPDF's page.rect.")
-      .def("bound", &PyPage::size, py::arg("box") = "crop",
+      .def("box_size", &PyPage::size, py::arg("box") = "crop",
            "(width, height) in points of the page box `box` ('media', 'crop', 'bleed', 'trim' or 'art').")
       .def(
           "render",

@@ -5,7 +5,7 @@ SVG options (svg2png's spelling): -w/--width W, -h/--height H, -z/--zoom Z,
 -a/--keep-aspect-ratio, --aa 4x4x32|1x32|1x8, --gamma linear|srgb,
 -b/--background COLOUR, --bits 8|16, --seed N, --backend auto|cpu|cuda,
 --allow-read DIR, --font-dir DIR (both repeatable), --languages LIST,
---max-memory SIZE. IN '-' reads standard input, OUT '-' writes to standard
+--max-memory SIZE, -q/--quiet. IN '-' reads standard input, OUT '-' writes to standard
 output (not a terminal).
 
 A PDF (its first bytes say %PDF) is written as pdf2png writes it:
@@ -14,7 +14,7 @@ OUT-PREFIX-1.png, ... (page numbers padded to the page count's digits;
 standard output), with -r/--dpi N (default 150), -rx N, -ry N, -scale-to N,
 -scale-to-x N, -scale-to-y N, -f N, -l N, --password P (also -upw, -opw),
 --transparent, -gray, --box B, -hide-annotations, --thin-lines M, --aa,
---gamma (default srgb), --bits, --seed, --max-memory, --backend. (Grey
+--gamma (default srgb), --bits, --seed, --max-memory, --backend, -q. (Grey
 pages are written as RGB PNGs of the same values: mpvg.write_png's.)
 
 Exit codes, pdf2png's (pdftoppm's) for both: 0 done, 1 the document cannot
@@ -24,12 +24,17 @@ line each on standard error, "mpvg: ...".
 """
 import argparse
 import os
+import re
 import sys
 import tempfile
+import warnings
 
 import mpvg
 
 EXIT_OK, EXIT_OPEN, EXIT_OUTPUT, EXIT_OTHER = 0, 1, 2, 99
+EPILOG = ("Exit status, as pdf2png's (pdftoppm's): 0 done; 1 the document cannot be opened (missing, malformed, "
+          "encrypted without --password or with a wrong one); 2 an output file cannot be written; 99 anything "
+          "else: a bad option, a page that failed (the other pages are still written).")
 
 
 class Usage(Exception):
@@ -73,8 +78,9 @@ def write_output(path, image):
 
 
 def pdf_main(argv):
-    ap = Parser(prog="python -m mpvg", allow_abbrev=False, add_help=False,
-                description="Renders PDF pages to PNGs with mpvg (as pdf2png does).")
+    ap = Parser(prog="python -m mpvg", allow_abbrev=False, add_help=False, epilog=EPILOG,
+                description="Renders PDF pages to PNGs with mpvg (as pdf2png does: its options, its names "
+                            "OUT-PREFIX-N.png).")
     ap.add_argument("input")
     ap.add_argument("prefix", nargs="?", default="-")
     ap.add_argument("-h", "-help", "--help", action="help")
@@ -99,6 +105,7 @@ def pdf_main(argv):
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--max-memory")
     ap.add_argument("--backend", default="auto", choices=["auto", "cpu", "cuda"])
+    ap.add_argument("-q", "--quiet", action="store_true", help="no warnings")
     args = ap.parse_args(argv)
     # -scale-to-x/-y as pdftoppm takes them (apps/pdf_page_job.h): the
     # other axis keeps its resolution unless it is -1. render() takes
@@ -149,19 +156,26 @@ def pdf_main(argv):
             # aspect ratio): its pixels from the page's size at that dpi.
             kw = dict(size)
             if kw.get("height", 0) is None or kw.get("width", 0) is None:
-                w, h = doc[p].bound(args.box)
+                w, h = doc[p].box_size(args.box)
                 if kw["width"] is None:
                     kw["width"] = max(1, -int(-(w * dpi / 72.0 - 1e-6) // 1))
                 else:
                     kw["height"] = max(1, -int(-(h * (dpi_y or dpi) / 72.0 - 1e-6) // 1))
             try:
-                image = doc.render(p, dpi=dpi, dpi_y=dpi_y, **kw, **options)
+                # The page's warnings as pdf2png prints them, one line each.
+                with warnings.catch_warnings(record=True) as caught:
+                    warnings.simplefilter("always")
+                    image = doc.render(p, dpi=dpi, dpi_y=dpi_y, **kw, **options)
             except mpvg.OptionError as e:
                 raise Usage(str(e))
             except mpvg.Error as e:
                 say(e)
                 failed += 1
                 continue
+            if not args.quiet:
+                for w in caught:  # "page N: WHAT" (Document.render's) as pdf2png's "page N: warning: WHAT"
+                    say(re.sub(r"^(page \d+: )?", lambda m: (m.group(1) or "") + "warning: ", str(w.message),
+                               count=1))
             if args.prefix == "-":
                 name = "-"
             elif args.singlefile:
@@ -178,8 +192,9 @@ def pdf_main(argv):
 
 def svg_main(argv):
     # -h is svg2png's height: help is --help alone.
-    ap = Parser(prog="python -m mpvg", add_help=False, allow_abbrev=False,
-                description="Renders an SVG document to a PNG with mpvg (as svg2png does).")
+    ap = Parser(prog="python -m mpvg", add_help=False, allow_abbrev=False, epilog=EPILOG,
+                description="Renders an SVG document to a PNG with mpvg (as svg2png does, with its options), or "
+                            "a PDF's pages (python -m mpvg -h IN.pdf: pdf2png's options).")
     ap.add_argument("input")
     ap.add_argument("output")
     ap.add_argument("-w", "--width", type=float)
@@ -196,6 +211,7 @@ def svg_main(argv):
     ap.add_argument("--font-dir", action="append", default=[])
     ap.add_argument("--languages")
     ap.add_argument("--max-memory")
+    ap.add_argument("-q", "--quiet", action="store_true", help="no warnings")
     ap.add_argument("--help", action="help")
     args = ap.parse_args(argv)
     if args.output == "-" and sys.stdout.isatty():
@@ -225,8 +241,9 @@ def svg_main(argv):
     except mpvg.Error as e:
         say(e)
         return EXIT_OTHER
-    for w in r.warnings:
-        say("warning: %s" % w)
+    if not args.quiet:
+        for w in r.warnings:
+            say("warning: %s" % w)
     try:
         write_output(args.output, image)
     except (mpvg.Error, OSError) as e:

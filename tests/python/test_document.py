@@ -145,7 +145,8 @@ def test_sizes_are_pdf2png_s(pdf2png, tmp_path, pdf, cli, kw):
 def test_size_semantics():
     with mpvg.Document(TALL, backend="cpu") as doc:
         w, h = doc[0].size
-        assert w != h
+        assert (w, h) == (260.0, 180.0) and doc[0].box_size("media") == (300.0, 200.0)
+        assert doc[0].render(box="media", dpi=72, aa="1x8").shape[:2] == (200, 300)
         img = doc[0].render(scale_to=200, aa="1x8")
         assert max(img.shape[:2]) == 200
         wide = doc[0].render(width=150, aa="1x8")

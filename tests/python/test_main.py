@@ -119,3 +119,15 @@ def test_help():
         r = mpvg_m(*args)
         assert r.returncode == 0 and b"usage: python -m mpvg" in r.stdout
     assert b"pdf2png" in mpvg_m("-h", THREE).stdout and b"svg2png" in mpvg_m("--help").stdout
+
+
+def test_warnings_are_the_cli_s_lines(pdf2png, tmp_path):
+    # (colorspace-iccbased warns where MuPDF has no ICC support, as Debian's.)
+    pdf = os.path.join(os.path.dirname(THREE), "features", "colorspace-iccbased.pdf")
+    cli = run(pdf2png, "--backend", "cpu", "-r", "20", pdf, tmp_path / "cli", capture_output=True, text=True)
+    r = mpvg_m("--backend", "cpu", "-r", "20", pdf, tmp_path / "mod")
+    assert r.returncode == 0 and cli.stderr
+    assert r.stderr.decode().replace("mpvg: ", "pdf2png: ") == cli.stderr
+    r = mpvg_m("-q", "--backend", "cpu", "-r", "20", pdf, tmp_path / "mod")
+    assert r.returncode == 0 and r.stderr == b""
+    assert b"Exit status" in mpvg_m("-h", pdf).stdout and b"99" in mpvg_m("--help").stdout
