@@ -3,6 +3,8 @@
 # clang with its sanitizer runtimes (libclang-rt-14-dev, only recommended
 # by clang, so named) and Ninja build the sanitized fuzz regressions that
 # scripts/test.sh runs (scripts/fuzz.sh sanitized).
+# python3-dask and python3-distributed run the Dask batch example
+# (python/examples/dask_render.py, tests/python/test_dask.py).
 # Idempotent: when every package is already installed it does nothing
 # (no apt-get update, no network), so warm rebuilds stay fast.
 set -euo pipefail
