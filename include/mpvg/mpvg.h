@@ -71,8 +71,8 @@ class ResourceError : public Error {
 // pipeline throws the kinds above): settings out of range or that cannot
 // go together; a PDF encrypted without its password or with a wrong one;
 // a render past its memory budget (RenderSettings::max_memory, --max-
-// memory's) or the machine's memory. Catching the kind above still
-// catches these.
+// memory's; the machine running out is still std::bad_alloc). Catching
+// the kind above still catches these.
 class OptionError : public Error {
  public:
   using Error::Error;
