@@ -153,19 +153,22 @@ def pdf_main(argv):
         failed = 0
         for p in pages:
             # One axis given alone keeps the other's resolution (not the
-            # aspect ratio): its pixels from the page's size at that dpi.
-            kw = dict(size)
+            # aspect ratio), as pdftoppm: that axis's resolution is the one
+            # giving it its pixels (W * 72 / width in points), the other's dpi.
+            kw, page_dpi, page_dpi_y = dict(size), dpi, dpi_y
             if kw.get("height", 0) is None or kw.get("width", 0) is None:
                 w, h = doc[p].box_size(args.box)
-                if kw["width"] is None:
-                    kw["width"] = max(1, -int(-(w * dpi / 72.0 - 1e-6) // 1))
+                if kw.pop("width") is None:
+                    page_dpi_y = kw.pop("height") * 72.0 / h
                 else:
-                    kw["height"] = max(1, -int(-(h * (dpi_y or dpi) / 72.0 - 1e-6) // 1))
+                    page_dpi_y = dpi_y or dpi
+                    page_dpi = sx * 72.0 / w
+                    kw.pop("height")
             try:
                 # The page's warnings as pdf2png prints them, one line each.
                 with warnings.catch_warnings(record=True) as caught:
                     warnings.simplefilter("always")
-                    image = doc.render(p, dpi=dpi, dpi_y=dpi_y, **kw, **options)
+                    image = doc.render(p, dpi=page_dpi, dpi_y=page_dpi_y, **kw, **options)
             except mpvg.OptionError as e:
                 raise Usage(str(e))
             except mpvg.Error as e:

@@ -52,6 +52,7 @@ def test_svg_same_pixels_as_svg2png(svg2png, tmp_path):
 
 def test_pdf_sizes_same_as_pdf2png(pdf2png, tmp_path):
     for args in (["-scale-to", "64"], ["-scale-to-x", "80", "-scale-to-y", "30"], ["-scale-to-x", "50", "-scale-to-y", "-1"],
+                 ["-scale-to-x", "80"], ["-r", "40", "-scale-to-y", "33"], ["-rx", "50", "-scale-to-y", "33"],
                  ["-r", "30", "-ry", "45"], ["-r", "40", "-gray"]):
         for d in ("cli", "mod"):
             os.makedirs(tmp_path / d, exist_ok=True)
