@@ -6,6 +6,7 @@
 #include "core/error.h"  // mpvg::Error (the public header's copy is skipped)
 #include "mpvg/mpvg.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -20,6 +21,7 @@
 #include "apps/cli.h"
 #include "apps/image_compare.h"
 #include "apps/png_writer.h"
+#include "core/memory_budget.h"
 #include "core/renderer.h"
 #include "gpu/backend.h"
 #include "parsers/svg/svg_parser.h"
@@ -46,14 +48,32 @@ static_assert(std::is_base_of_v<std::runtime_error, Error> && sizeof(Error) == s
 
 namespace {
 
+// The finer kinds of the public header (PasswordError, MemoryLimitError)
+// for failures the pipeline throws as a broader kind (a password refused
+// is a plain Error, a budget exceeded a ResourceError): told apart by
+// the one line it gives them (parsers/pdf/pdf_parser.cpp's refusals of a
+// password, core/memory_budget.h's and cli::check_frame's "..., the
+// budget is N").
+[[noreturn]] void rethrow_refined(const Error& e) {
+  const std::string what = e.what();
+  if (!dynamic_cast<const PasswordError*>(&e) &&
+      (what.find(": wrong password") != std::string::npos ||
+       what.find("the document is encrypted: give its password") != std::string::npos))
+    throw PasswordError(what);
+  if (dynamic_cast<const ResourceError*>(&e) && !dynamic_cast<const MemoryLimitError*>(&e) &&
+      what.find(", the budget is ") != std::string::npos)
+    throw MemoryLimitError(what);
+  throw;
+}
+
 // Runs f, turning any other std::exception (from the standard library or
 // an image decoder) into mpvg::Error, as the public header documents.
 template <class F>
 auto guarded(F&& f) -> decltype(f()) {
   try {
     return f();
-  } catch (const Error&) {
-    throw;
+  } catch (const Error& e) {
+    rethrow_refined(e);
   } catch (const std::bad_alloc&) {
     throw;
   } catch (const std::exception& e) {
@@ -67,7 +87,7 @@ const char* preset_name(Antialiasing aa) {
     case Antialiasing::Box1x32: return "1x32";
     case Antialiasing::Cardinal4x4x32: return "4x4x32";
   }
-  throw Error("unknown antialiasing mode");
+  throw OptionError("unknown antialiasing mode");
 }
 
 // The settings as svg2png's parsed command line, checked as its option
@@ -75,7 +95,7 @@ const char* preset_name(Antialiasing aa) {
 cli::Options to_cli(const RenderSettings& s) {
   cli::Options o;
   auto positive = [](double v, const char* what) {
-    if (!(std::isfinite(v) && v > 0)) throw Error(std::string("the ") + what + " must be positive");
+    if (!(std::isfinite(v) && v > 0)) throw OptionError(std::string("the ") + what + " must be positive");
   };
   if (s.width) positive(*s.width, "width");
   if (s.height) positive(*s.height, "height");
@@ -86,17 +106,30 @@ cli::Options to_cli(const RenderSettings& s) {
   o.keep_aspect = s.keep_aspect_ratio;
   const Color& c = s.background;
   for (float v : {c.r, c.g, c.b, c.a})
-    if (!(v >= 0 && v <= 1)) throw Error("background components must lie in [0, 1]");
+    if (!(v >= 0 && v <= 1)) throw OptionError("background components must lie in [0, 1]");
   o.background = RGBA{c.r, c.g, c.b, c.a};
   o.preset = preset_name(s.antialiasing);
   o.seed = s.seed;
   switch (s.gamma) {
     case GammaMode::Linear: o.gamma = Gamma::Linear; break;
     case GammaMode::Srgb: o.gamma = Gamma::Srgb; break;
-    default: throw Error("unknown gamma mode");
+    default: throw OptionError("unknown gamma mode");
   }
-  if (s.bits != 8 && s.bits != 16) throw Error("bits must be 8 or 16, not " + std::to_string(s.bits));
+  if (s.bits != 8 && s.bits != 16) throw OptionError("bits must be 8 or 16, not " + std::to_string(s.bits));
   o.bits = s.bits;
+  // svg2png's --font-dir, --languages, --max-memory, --allow-read, checked
+  // as its option parser checks them.
+  for (const std::string& d : s.font_dirs)
+    if (d.empty()) throw OptionError("a font folder (--font-dir) must not be empty");
+  o.font_dirs = s.font_dirs;
+  for (const std::string& l : s.languages)
+    if (l.empty()) throw OptionError("a language tag (--languages) must not be empty");
+  if (s.languages.empty()) throw OptionError("languages needs a list of language tags, e.g. en-US,de");
+  o.languages = s.languages;
+  o.max_memory = s.max_memory;
+  for (const std::string& d : s.allow_read)
+    if (d.empty()) throw OptionError("a folder to read (--allow-read) must not be empty");
+  o.allow_read = s.allow_read;
   return o;
 }
 
@@ -132,17 +165,48 @@ struct MPVG_HIDDEN SvgDocument::Impl {
   std::mutex mutex;
   std::shared_ptr<const svg::ParseResult> parsed;
   Affine parsed_view;
+  // What else the parse depends on (fonts, languages, the read policy,
+  // the memory budget, which its scene stays charged to while it renders).
+  struct ParseKey {
+    std::vector<std::string> font_dirs, languages, allow_read;
+    uint64_t max_memory = 0;
+    bool operator==(const ParseKey& k) const {
+      return font_dirs == k.font_dirs && languages == k.languages && allow_read == k.allow_read &&
+             max_memory == k.max_memory;
+    }
+  };
+  ParseKey parsed_key;
+  std::shared_ptr<MemoryBudget> parsed_budget;
+
+  static ParseKey key_of(const cli::Options& o) { return {o.font_dirs, o.languages, o.allow_read, o.max_memory}; }
 
   // The document parsed for o's output (svg2png's steps: strokes converted
-  // for the view the output geometry gives), and that geometry.
-  std::shared_ptr<const svg::ParseResult> parse_for(const cli::Options& o, int* width, int* height, Affine* view) {
+  // for the view the output geometry gives), that geometry, and in
+  // *budget the budget the parse was charged to (its render's too).
+  std::shared_ptr<const svg::ParseResult> parse_for(const cli::Options& o, int* width, int* height, Affine* view,
+                                                    std::shared_ptr<MemoryBudget>* budget = nullptr) {
     std::lock_guard<std::mutex> lock(mutex);
-    if (parsed) {
+    const ParseKey key = key_of(o);
+    if (parsed && key == parsed_key) {
       cli::output_geometry(o, parsed->scene.width, parsed->scene.height, width, height, view);
-      if (same_view(*view, parsed_view)) return parsed;
+      if (same_view(*view, parsed_view)) {
+        if (budget) *budget = parsed_budget;
+        return parsed;
+      }
     }
+    // svg2png's parse_options_for (apps/svg2png.cpp): the read policy,
+    // the fonts, the images' share of the memory budget (RGBA8 and a mip
+    // chain of a third more, 16/3 bytes a texel; half of it for decoders
+    // that hold a whole image), one budget for the parse and the render.
     svg::ParseOptions po;
     po.allowed_dirs = allowed_dirs;
+    po.allowed_dirs.insert(po.allowed_dirs.end(), o.allow_read.begin(), o.allow_read.end());
+    po.font_dirs = o.font_dirs;
+    po.languages = o.languages;
+    const uint64_t images = memory_shares(cli::memory_budget(o)).images;
+    po.max_image_pixels = std::min<uint64_t>(po.max_image_pixels, images * 3 / 16);
+    po.max_whole_image_pixels = std::min<uint64_t>(po.max_whole_image_pixels, images / 8);
+    po.budget = cli::make_budget(o);
     po.view = [&o](double w, double h) {
       int pw, ph;
       Affine v;
@@ -153,6 +217,9 @@ struct MPVG_HIDDEN SvgDocument::Impl {
     cli::output_geometry(o, result->scene.width, result->scene.height, width, height, view);
     parsed = std::move(result);
     parsed_view = *view;
+    parsed_key = key;
+    parsed_budget = po.budget;
+    if (budget) *budget = parsed_budget;
     return parsed;
   }
 
@@ -259,12 +326,18 @@ pdf::PageBox to_box(PageBox b) {
     case PageBox::Trim: return pdf::PageBox::Trim;
     case PageBox::Art: return pdf::PageBox::Art;
   }
-  throw Error("unknown page box");
+  throw OptionError("unknown page box");
 }
 
 // pdf2png's options for these settings (its defaults where they agree).
 cli::Options to_cli(const PdfRenderSettings& s) {
-  if (!(std::isfinite(s.dpi) && s.dpi > 0)) throw Error("the resolution must be positive");
+  if (!(std::isfinite(s.dpi) && s.dpi > 0)) throw OptionError("the resolution must be positive");
+  // pdf2png's -ry, -scale-to, -scale-to-x/-y, checked as its parser does.
+  if (!(std::isfinite(s.dpi_y) && s.dpi_y >= 0)) throw OptionError("the vertical resolution must be positive");
+  if (s.scale_to < 0 || s.scale_to > (1 << 20)) throw OptionError("scale_to must be a positive number of pixels");
+  for (int v : {s.scale_to_x, s.scale_to_y})
+    if (v < -1 || v > (1 << 20))
+      throw OptionError("scale_to_x and scale_to_y take a number of pixels, or -1 (keep the aspect ratio)");
   RenderSettings r;
   r.antialiasing = s.antialiasing;
   r.seed = s.seed;
@@ -273,11 +346,13 @@ cli::Options to_cli(const PdfRenderSettings& s) {
   // Print preview (pdf2png --colorspace cmyk): ink amounts integrated as
   // they are, over paper (no ink).
   if (s.colorspace == OutputColorSpace::Cmyk) {
-    if (s.bits != 8) throw Error("CMYK pages are rendered with 8 bits a channel");
-    if (s.gamma == GammaMode::Linear) throw Error("CMYK integrates ink amounts as they are: not with linear gamma");
+    if (s.bits != 8) throw OptionError("CMYK pages are rendered with 8 bits a channel");
+    if (s.gamma == GammaMode::Linear)
+      throw OptionError("CMYK integrates ink amounts as they are: not with linear gamma");
     r.background = Color{0, 0, 0, 1};
   }
   r.bits = s.bits;
+  r.max_memory = s.max_memory;
   return to_cli(r);
 }
 
@@ -285,6 +360,10 @@ cli::Options to_cli(const PdfRenderSettings& s) {
 PdfPageRequest to_request(const PdfRenderSettings& s) {
   PdfPageRequest r;
   r.dpi = s.dpi;
+  r.dpi_y = s.dpi_y;
+  r.scale_to = s.scale_to;
+  r.scale_to_x = s.scale_to_x;
+  r.scale_to_y = s.scale_to_y;
   r.page = pdf::PageOptions(to_box(s.box));
   r.page.annotations = s.annotations;
   r.page.thin_lines = s.snap_thin_lines ? pdf::ThinLines::Snap : pdf::ThinLines::Exact;
@@ -294,8 +373,9 @@ PdfPageRequest to_request(const PdfRenderSettings& s) {
 
 // Device bitmaps hold what render_rgba8_device leaves: 8-bit RGBA.
 void check_device_output(const PdfRenderSettings& s) {
-  if (s.bits != 8) throw Error("device bitmaps hold 8 bits a channel");
-  if (s.colorspace != OutputColorSpace::Rgb) throw Error("device bitmaps hold RGBA pixels: render gray or CMYK to the host");
+  if (s.bits != 8) throw OptionError("device bitmaps hold 8 bits a channel");
+  if (s.colorspace != OutputColorSpace::Rgb)
+    throw OptionError("device bitmaps hold RGBA pixels: render gray or CMYK to the host");
 }
 
 void check_page(const pdf::Document& doc, int index) {
@@ -464,7 +544,10 @@ OutputSize PdfDocument::output_size(int index, const PdfRenderSettings& settings
   return guarded([&] {
     to_cli(settings);  // the same checks
     const auto [w, h] = page_size(index, settings.box);
-    return OutputSize{page_pixels(w, settings.dpi / 72.0), page_pixels(h, settings.dpi / 72.0)};
+    // pdf_page_job's sizing (pdftoppm's -r/-ry, -scale-to, -scale-to-x/-y).
+    double sx = 1, sy = 1;
+    page_scale(to_request(settings), w, h, &sx, &sy);
+    return OutputSize{page_pixels(w, sx), page_pixels(h, sy)};
   });
 #else
   (void)index, (void)settings;
@@ -589,11 +672,12 @@ struct MPVG_HIDDEN Renderer::Impl {
     const cli::Options o = to_cli(settings);
     int width, height;
     Affine view;
-    const std::shared_ptr<const svg::ParseResult> parsed = doc.parse_for(o, &width, &height, &view);
+    std::shared_ptr<MemoryBudget> budget;
+    const std::shared_ptr<const svg::ParseResult> parsed = doc.parse_for(o, &width, &height, &view, &budget);
     if (expect && (expect->width != width || expect->height != height))
-      throw Error("the buffer is " + std::to_string(expect->width) + "x" + std::to_string(expect->height) +
+      throw OptionError("the buffer is " + std::to_string(expect->width) + "x" + std::to_string(expect->height) +
                   " pixels, the output " + std::to_string(width) + "x" + std::to_string(height));
-    RenderOptions ro = cli::render_options(o, width, height, view);
+    RenderOptions ro = cli::render_options(o, width, height, view, budget);
     ro.aliased_paths = has_aliased_paths(parsed->scene);
     Bitmap out;
     out.width = width;
@@ -743,12 +827,13 @@ std::vector<uint8_t> download(const DeviceBitmap& bitmap) {
 
 DeviceBitmap Renderer::render_device(const SvgDocument& doc, const RenderSettings& settings) {
   return guarded([&] {
-    if (settings.bits != 8) throw Error("device bitmaps hold 8 bits a channel");
+    if (settings.bits != 8) throw OptionError("device bitmaps hold 8 bits a channel");
     const cli::Options o = to_cli(settings);
     int width, height;
     Affine view;
-    const std::shared_ptr<const svg::ParseResult> parsed = doc.impl_->parse_for(o, &width, &height, &view);
-    RenderOptions ro = cli::render_options(o, width, height, view);
+    std::shared_ptr<MemoryBudget> budget;
+    const std::shared_ptr<const svg::ParseResult> parsed = doc.impl_->parse_for(o, &width, &height, &view, &budget);
+    RenderOptions ro = cli::render_options(o, width, height, view, budget);
     ro.aliased_paths = has_aliased_paths(parsed->scene);
     const RenderPlan plan = plan_render(ro);
     const EncodedScene enc = encode_for(parsed->scene, plan, ro.gamma);
@@ -777,10 +862,10 @@ Bitmap Renderer::render(const SvgDocument& doc, const RenderSettings& settings) 
 void Renderer::render(const SvgDocument& doc, const RenderSettings& settings, void* pixels, std::size_t stride,
                       int width, int height) {
   guarded([&] {
-    if (!pixels || width <= 0 || height <= 0) throw Error("no pixel buffer given");
+    if (!pixels || width <= 0 || height <= 0) throw OptionError("no pixel buffer given");
     const size_t row = static_cast<size_t>(width) * 4 * (settings.bits / 8);
     if (stride < row)
-      throw Error("the stride (" + std::to_string(stride) + " bytes) is shorter than a row (" + std::to_string(row) +
+      throw OptionError("the stride (" + std::to_string(stride) + " bytes) is shorter than a row (" + std::to_string(row) +
                   " bytes)");
     const OutputSize expect{width, height};
     const Bitmap b = impl_->render(*doc.impl_, settings, &expect);

@@ -5,6 +5,8 @@
 # scripts/test.sh runs (scripts/fuzz.sh sanitized).
 # help2man writes the man pages from each program's --help and
 # bash-completion's helpers back packaging/bash-completion/ (and its test).
+# python3-dask and python3-distributed run the Dask batch example
+# (python/examples/dask_render.py, tests/python/test_dask.py).
 # Idempotent: when every package is already installed it does nothing
 # (no apt-get update, no network), so warm rebuilds stay fast.
 set -euo pipefail
@@ -21,6 +23,7 @@ PACKAGES=(
   catch2
   libpng-dev libdeflate-dev liblcms2-dev
   python3-dev python3-numpy pybind11-dev python3-venv python3-pytest
+  python3-dask python3-distributed
   time util-linux
   help2man bash-completion
   clang libclang-rt-14-dev ninja-build

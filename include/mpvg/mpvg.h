@@ -16,8 +16,9 @@
 // target_link_libraries(app PRIVATE mpvg::mpvg).
 //
 // Every failure (unreadable file, malformed XML, impossible size, a CUDA
-// backend asked for without a device) throws mpvg::Error with a one-line
-// message; running out of memory throws std::bad_alloc.
+// backend asked for without a device) throws mpvg::Error, or one of its
+// kinds below, with a one-line message; running out of memory throws
+// std::bad_alloc.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -66,6 +67,24 @@ class ResourceError : public Error {
   using Error::Error;
 };
 #endif
+// Finer kinds, which the library's own code throws (lib/mpvg_api.cpp; the
+// pipeline throws the kinds above): settings out of range or that cannot
+// go together; a PDF encrypted without its password or with a wrong one;
+// a render past its memory budget (RenderSettings::max_memory, --max-
+// memory's; the machine running out is still std::bad_alloc). Catching
+// the kind above still catches these.
+class OptionError : public Error {
+ public:
+  using Error::Error;
+};
+class PasswordError : public ParseError {
+ public:
+  using ParseError::ParseError;
+};
+class MemoryLimitError : public ResourceError {
+ public:
+  using ResourceError::ResourceError;
+};
 
 // Where frames are rendered. Auto takes CUDA when a device can be used and
 // the CPU otherwise (Renderer::note() says why): a Renderer pays CUDA's
@@ -110,6 +129,18 @@ struct RenderSettings {
   GammaMode gamma = GammaMode::Linear;
   Color background{0, 0, 0, 0};  // transparent
   int bits = 8;                  // per channel: 8 or 16
+
+  // As svg2png's --font-dir (fonts for <text>: every font file in these
+  // folders' trees, before the system's), --languages (the user's
+  // languages for systemLanguage and <switch>, BCP 47 tags), --max-memory
+  // (the budget of one parse and render in bytes; 0: half the machine's
+  // memory; past it MemoryLimitError) and --allow-read (folders whose
+  // files the document may read, added to the document's allowed_dirs).
+  // A render with other values of these parses the document again.
+  std::vector<std::string> font_dirs;
+  std::vector<std::string> languages{"en"};
+  std::uint64_t max_memory = 0;
+  std::vector<std::string> allow_read;
 };
 
 // Pixel dimensions of an output.
@@ -262,6 +293,18 @@ struct PdfRenderSettings {
   bool annotations = true;            // annotations and form fields, as printed
   bool snap_thin_lines = false;       // pdf2png --thin-lines snap
   OutputColorSpace colorspace = OutputColorSpace::Rgb;
+  // The size as pdf2png's (pdftoppm's) -ry, -scale-to, -scale-to-x and
+  // -scale-to-y give it: dpi_y > 0 the vertical resolution (0: dpi);
+  // scale_to > 0 the longer side in pixels (the aspect ratio kept; it wins
+  // over the others); scale_to_x (scale_to_y) > 0 the width (height) in
+  // pixels, the other axis at its resolution, or, when that one is -1,
+  // scaled alike (the aspect ratio kept). 0: not given.
+  double dpi_y = 0;
+  int scale_to = 0;
+  int scale_to_x = 0, scale_to_y = 0;
+  // pdf2png's --max-memory: the budget of one page's lowering and render in
+  // bytes (0: half the machine's memory); past it MemoryLimitError.
+  std::uint64_t max_memory = 0;
 };
 
 // A PDF document, interpreted by MuPDF (where the library was built with
