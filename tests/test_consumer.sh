@@ -77,7 +77,10 @@ fi
 programs="svg2png mpvg-compare"
 [ -x "$build/apps/pdf2png" ] && programs="$programs pdf2png"
 libdir=$(cd "$(dirname "${lib:-$prefix/lib/none}")" 2>/dev/null && pwd -P)
-run() { env -u LD_LIBRARY_PATH "$@"; }
+# (Folders of LD_LIBRARY_PATH outside the build tree and the prefix stay:
+# where the system's own libraries are carried so, as on the GPU host.)
+outside=$(tr ':' '\n' <<<"${LD_LIBRARY_PATH:-}" | grep -v -e '^$' -e "^$build" -e "^$prefix" | paste -sd: -)
+run() { if [ -n "$outside" ]; then env LD_LIBRARY_PATH="$outside" "$@"; else env -u LD_LIBRARY_PATH "$@"; fi; }
 for p in $programs; do
   exe=$prefix/bin/$p
   check "bin/$p is installed" test -x "$exe"
