@@ -362,7 +362,7 @@ void check_frame(const Options& o, int width, int height) {
   const uint64_t budget = memory_budget(o);
   const uint64_t need = frame_bytes(width, height, o.bits);
   if (need > memory_shares(budget).frame)
-    throw ResourceError("the output of " + std::to_string(width) + "x" + std::to_string(height) + " pixels needs " +
+    throw MemoryLimitError("the output of " + std::to_string(width) + "x" + std::to_string(height) + " pixels needs " +
                 byte_size(need) + ", the budget is " + byte_size(memory_shares(budget).frame) +
                 " (--max-memory " + byte_size(budget) + " of which half is for the output)");
 }

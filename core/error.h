@@ -32,6 +32,22 @@ class ResourceError : public Error {
  public:
   using Error::Error;
 };
+// Finer kinds: settings out of range or that cannot go together; a PDF
+// encrypted without its password or with a wrong one; a render past its
+// memory budget (--max-memory; the machine running out is still
+// std::bad_alloc). Catching the kind above still catches these.
+class OptionError : public Error {
+ public:
+  using Error::Error;
+};
+class PasswordError : public ParseError {
+ public:
+  using ParseError::ParseError;
+};
+class MemoryLimitError : public ResourceError {
+ public:
+  using ResourceError::ResourceError;
+};
 #endif
 
 // The one line an exception is reported with: its message, or for an

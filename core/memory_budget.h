@@ -7,7 +7,7 @@
 // and text runs among them), its encoding, the stroke stage's and the
 // abstraction's segments, mesh shadings' grids, filter graphs and their
 // layers, decoded images and the frame's buffers. A charge that does not
-// fit throws ResourceError with one line, "WHAT needs N, the budget is M"
+// fit throws MemoryLimitError (a ResourceError) with one line, "WHAT needs N, the budget is M"
 // (--max-memory), before the memory is taken; nothing is charged then.
 //
 // Within it, two consumers adapt instead of failing, from fixed shares of
@@ -94,7 +94,7 @@ class MemoryBudget {
     return true;
   }
   // Takes `bytes` for `what` ("a mesh shading's grid", "the strokes'
-  // segments"), or throws ResourceError: "the render needs 1.2 GiB or
+  // segments"), or throws MemoryLimitError: "the render needs 1.2 GiB or
   // more (WHAT: 900 MiB more), the budget is 1 GiB (--max-memory)".
   void charge(uint64_t bytes, const std::string& what) {
     if (try_charge(bytes)) return;
@@ -102,7 +102,7 @@ class MemoryBudget {
     // (Just past the limit, as charges that grow step by step end: "more".)
     const std::string needs = need / 101 * 100 < limit_ ? "more than " + byte_size(limit_)
                                                           : byte_size(need) + " or more";
-    throw ResourceError("the render needs " + needs + " (" + what + ": " + byte_size(bytes) + " more), the budget is " +
+    throw MemoryLimitError("the render needs " + needs + " (" + what + ": " + byte_size(bytes) + " more), the budget is " +
                         byte_size(limit_) + " (--max-memory)");
   }
   void release(uint64_t bytes) {

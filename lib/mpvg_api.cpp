@@ -48,32 +48,14 @@ static_assert(std::is_base_of_v<std::runtime_error, Error> && sizeof(Error) == s
 
 namespace {
 
-// The finer kinds of the public header (PasswordError, MemoryLimitError)
-// for failures the pipeline throws as a broader kind (a password refused
-// is a plain Error, a budget exceeded a ResourceError): told apart by
-// the one line it gives them (parsers/pdf/pdf_parser.cpp's refusals of a
-// password, core/memory_budget.h's and cli::check_frame's "..., the
-// budget is N").
-[[noreturn]] void rethrow_refined(const Error& e) {
-  const std::string what = e.what();
-  if (!dynamic_cast<const PasswordError*>(&e) &&
-      (what.find(": wrong password") != std::string::npos ||
-       what.find("the document is encrypted: give its password") != std::string::npos))
-    throw PasswordError(what);
-  if (dynamic_cast<const ResourceError*>(&e) && !dynamic_cast<const MemoryLimitError*>(&e) &&
-      what.find(", the budget is ") != std::string::npos)
-    throw MemoryLimitError(what);
-  throw;
-}
-
 // Runs f, turning any other std::exception (from the standard library or
 // an image decoder) into mpvg::Error, as the public header documents.
 template <class F>
 auto guarded(F&& f) -> decltype(f()) {
   try {
     return f();
-  } catch (const Error& e) {
-    rethrow_refined(e);
+  } catch (const Error&) {
+    throw;
   } catch (const std::bad_alloc&) {
     throw;
   } catch (const std::exception& e) {

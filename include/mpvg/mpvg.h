@@ -66,13 +66,11 @@ class ResourceError : public Error {
  public:
   using Error::Error;
 };
-#endif
-// Finer kinds, which the library's own code throws (lib/mpvg_api.cpp; the
-// pipeline throws the kinds above): settings out of range or that cannot
-// go together; a PDF encrypted without its password or with a wrong one;
-// a render past its memory budget (RenderSettings::max_memory, --max-
-// memory's; the machine running out is still std::bad_alloc). Catching
-// the kind above still catches these.
+// Finer kinds: settings out of range or that cannot go together; a PDF
+// encrypted without its password or with a wrong one; a render past its
+// memory budget (RenderSettings::max_memory, --max-memory's; the machine
+// running out is still std::bad_alloc). Catching the kind above still
+// catches these.
 class OptionError : public Error {
  public:
   using Error::Error;
@@ -85,6 +83,7 @@ class MemoryLimitError : public ResourceError {
  public:
   using ResourceError::ResourceError;
 };
+#endif
 
 // Where frames are rendered. Auto takes CUDA when a device can be used and
 // the CPU otherwise (Renderer::note() says why): a Renderer pays CUDA's

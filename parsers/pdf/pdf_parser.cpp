@@ -162,7 +162,7 @@ struct Document::Impl {
     doc = d;
     pages = n;
     if (message[0]) throw ParseError("cannot open '" + path + "': " + message);
-    if (failure) throw Error("cannot open '" + path + "': " + failure);
+    if (failure) throw PasswordError("cannot open '" + path + "': " + failure);
   }
 };
 
