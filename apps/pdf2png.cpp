@@ -643,6 +643,11 @@ int main(int argc, char** argv) {
   std::unique_ptr<pdf::Document> opened;
   try {
     opened = std::make_unique<pdf::Document>(opt.positional[0], pdf.password, opt.max_input);
+  } catch (const PasswordError& e) {
+    // (The library's message names no option: ours does.)
+    std::fprintf(stderr, "pdf2png: %s%s\n", e.what(), pdf.password.empty() ? " (give it with --password)" : "");
+    std::fflush(nullptr);
+    std::_Exit(kExitOpen);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "pdf2png: %s\n", error_message(e).c_str());
     std::fflush(nullptr);

@@ -59,6 +59,10 @@ PyObject* new_error(py::module_& m, const char* name, const char* doc, std::init
 
 // The library's failures as mpvg's exceptions, the narrowest kind first;
 // the message is the one line the CLIs print.
+// What a PasswordError adds for Python callers (python -m mpvg names its
+// --password instead).
+constexpr const char* kPasswordHint = " (give it with password=...)";
+
 void translate_error(std::exception_ptr p) {
   try {
     if (p) std::rethrow_exception(p);
@@ -67,7 +71,7 @@ void translate_error(std::exception_ptr p) {
   } catch (const mpvg::OptionError& e) {
     PyErr_SetString(errors.option, e.what());
   } catch (const mpvg::PasswordError& e) {
-    PyErr_SetString(errors.password, e.what());
+    PyErr_SetString(errors.password, (std::string(e.what()) + kPasswordHint).c_str());
   } catch (const mpvg::ParseError& e) {
     PyErr_SetString(errors.parse, e.what());
   } catch (const mpvg::MemoryLimitError& e) {

@@ -236,7 +236,7 @@ TEST_CASE("pdf: mesh and function-based shadings are interpolated per sample", "
 
 TEST_CASE("pdf: an encrypted document needs its password", "[pdf]") {
   const std::string path = std::string(MPVG_SOURCE_DIR) + "/testdata/pdf/encrypted-password-secret.pdf";
-  CHECK_THROWS_WITH(pdf::Document(path), Catch::Contains("encrypted: give its password with --password"));
+  CHECK_THROWS_WITH(pdf::Document(path), Catch::Contains("encrypted: it needs a password"));
   CHECK_THROWS_WITH(pdf::Document(path, "wrong"), Catch::Contains("wrong password"));
   const pdf::Document doc(path, "secret");
   REQUIRE(doc.page_count() == 1);

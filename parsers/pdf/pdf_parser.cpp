@@ -149,7 +149,7 @@ struct Document::Impl {
         d = fz_open_document(ctx, name);
       }
       if (fz_needs_password(ctx, d) && !fz_authenticate_password(ctx, d, pw))
-        failure = pw[0] ? "wrong password" : "the document is encrypted: give its password with --password";
+        failure = pw[0] ? "wrong password" : "the document is encrypted: it needs a password";
       else {
         n = fz_count_pages(ctx, d);
         if (pdf_document* pdf = pdf_document_from_fz_document(ctx, d)) n = page_tree_leaves(ctx, pdf, n);

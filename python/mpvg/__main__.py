@@ -56,8 +56,10 @@ def say(message):
 def open_message(e):
     """The line for a document that cannot be opened: a password failure names --password."""
     message = str(e)
-    if isinstance(e, mpvg.PasswordError) and "--password" not in message:
-        message += " (give the document's password with --password)"
+    if isinstance(e, mpvg.PasswordError):
+        message = message.replace(" (give it with password=...)", "")
+        if "wrong password" not in message:
+            message += " (give it with --password)"
     return message
 
 

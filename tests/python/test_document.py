@@ -170,7 +170,7 @@ def test_error_hierarchy():
     assert issubclass(mpvg.OptionError, ValueError) and issubclass(mpvg.MemoryLimitError, MemoryError)
     assert not issubclass(mpvg.PasswordError, mpvg.ParseError)
     locked = os.path.join(PDFS, "encrypted-password-secret.pdf")
-    with pytest.raises(mpvg.PasswordError, match="--password") as e:
+    with pytest.raises(mpvg.PasswordError, match="password=") as e:
         mpvg.Document(locked)
     assert "\n" not in str(e.value)
     with pytest.raises(mpvg.PasswordError, match="wrong password"):

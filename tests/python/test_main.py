@@ -87,7 +87,7 @@ def test_exit_codes(pdf2png, svg2png, tmp_path):
     r = mpvg_m(LOCKED, tmp_path / "o")
     assert "--password" in one_line(r.stderr)
     r = mpvg_m("--password", "guess", LOCKED, tmp_path / "o")
-    assert r.returncode == 1 and "wrong password" in one_line(r.stderr) and "--password" in r.stderr.decode()
+    assert r.returncode == 1 and "wrong password" in one_line(r.stderr)
     r = mpvg_m("--backend", "cpu", "--password", "secret", "-r", "10", LOCKED, tmp_path / "ok")
     assert r.returncode == 0 and os.path.exists(tmp_path / "ok-1.png")
     # 2: an output that cannot be written.
