@@ -976,6 +976,22 @@ PYBIND11_MODULE(_mpvg, m) {
   errors.closed = new_error(m, "ClosedError", "The Document was closed.", {errors.error, PyExc_ValueError});
   py::register_exception_translator(&translate_error);
 
+  // Classes that methods of others return, declared first so that their
+  // signatures name them (mpvg._mpvg.Page, not the C++ type); their
+  // methods are added below.
+  py::class_<PyPage> page(m, "Page",
+                          "A page of an mpvg.Document (doc[i], `for page in doc`), which it keeps open: its number,\n"
+                          "its size in points, and render().");
+  py::class_<PyDeviceArray> device_array(
+      m, "DeviceArray",
+      "An H x W x 4 uint8 image in CUDA memory owned by mpvg (render(..., device='cuda')),\n"
+      "exposed through DLPack and __cuda_array_interface__: torch.from_dlpack(a) or\n"
+      "cupy.asarray(a) take it without a copy. Ready on every stream when returned.");
+  py::class_<PyCompareResult> compare_result(m, "CompareResult",
+                                             "What mpvg.compare found (mpvg-compare's report). True when the images pass.");
+  py::class_<PyDocument::PageStream> page_stream(m, "PageStream",
+                                                 "The pages of Document.render_pages, in the order asked.");
+
   py::class_<PyRenderer>(m, "Renderer",
                          "Renders SVG documents on one backend, keeping its state (the CUDA context and device\n"
                          "buffers) from call to call. One per thread or worker: calls on one Renderer take turns.")
@@ -1084,10 +1100,7 @@ PYBIND11_MODULE(_mpvg, m) {
            "The GIL is released while it waits; Ctrl-C or dropping the iterator cancels the pages not yet\n"
            "started.");
 
-  py::class_<PyPage>(m, "Page",
-                     "A page of an mpvg.Document (doc[i], `for page in doc`), which it keeps open: its number,\n"
-                     "its size in points, and render().")
-      .def_property_readonly("number", &PyPage::number, "The page's index in the document, 0-based (PyMuPDF's).")
+  page.def_property_readonly("number", &PyPage::number, "The page's index in the document, 0-based (PyMuPDF's).")
       .def_property_readonly("parent", &PyPage::parent, "The Document it belongs to.")
       .def_property_readonly(
           "size", [](const PyPage& p) { return p.size("crop"); },
@@ -1113,11 +1126,7 @@ PYBIND11_MODULE(_mpvg, m) {
           MPVG_PDF_SIZE_DOC MPVG_PDF_RENDER_DOC)
       .def("__repr__", &PyPage::repr);
 
-  py::class_<PyDeviceArray>(m, "DeviceArray",
-                            "An H x W x 4 uint8 image in CUDA memory owned by mpvg (render(..., device='cuda')),\n"
-                            "exposed through DLPack and __cuda_array_interface__: torch.from_dlpack(a) or\n"
-                            "cupy.asarray(a) take it without a copy. Ready on every stream when returned.")
-      .def_property_readonly("shape", &PyDeviceArray::shape)
+  device_array.def_property_readonly("shape", &PyDeviceArray::shape)
       .def_property_readonly("dtype", [](const PyDeviceArray&) { return py::dtype::of<uint8_t>(); })
       .def_property_readonly("device", &PyDeviceArray::device, "The CUDA device it is on.")
       .def_property_readonly("__cuda_array_interface__", &PyDeviceArray::cuda_array_interface)
@@ -1125,9 +1134,7 @@ PYBIND11_MODULE(_mpvg, m) {
       .def("__dlpack_device__", &PyDeviceArray::dlpack_device)
       .def("to_host", &PyDeviceArray::to_host, "A NumPy copy (what device='cpu' renders).");
 
-  py::class_<PyCompareResult>(m, "CompareResult",
-                              "What mpvg.compare found (mpvg-compare's report). True when the images pass.")
-      .def_property_readonly("passed", &PyCompareResult::passed, "Equal within the thresholds (warnings pass).")
+  compare_result.def_property_readonly("passed", &PyCompareResult::passed, "Equal within the thresholds (warnings pass).")
       .def("__bool__", &PyCompareResult::passed)
       .def_property_readonly("verdict", &PyCompareResult::verdict, "'PASS', 'WARNING' or 'FAILURE'.")
       .def_property_readonly("same_size", [](const PyCompareResult& r) { return r.r.same_size; })
@@ -1178,8 +1185,7 @@ PYBIND11_MODULE(_mpvg, m) {
       "Writes an array (H x W [x C], C 1 to 4: grey, grey and alpha, RGB, RGBA; uint8 or uint16) as a PNG\n"
       "with mpvg's encoder (no varying metadata: equal pixels, equal files).");
 
-  py::class_<PyDocument::PageStream>(m, "PageStream", "The pages of Document.render_pages, in the order asked.")
-      .def("__iter__", [](py::object self) { return self; })
+  page_stream.def("__iter__", [](py::object self) { return self; })
       .def("__next__", &PyDocument::PageStream::next)
       .def("close", &PyDocument::PageStream::stop, "Cancels the pages not yet started and waits for the rest.");
 }
