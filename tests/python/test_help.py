@@ -99,3 +99,12 @@ def test_stub_matches_the_extension():
     for name in mpvg.__all__:
         if name not in ("open", "__version__"):
             assert name in stub, name
+
+
+def test_help_names_no_cpp_types():
+    """Every type a signature names is a Python one (mpvg._mpvg.PageStream), never the C++ type
+    behind it ('(anonymous namespace)::PyDocument::PageStream')."""
+    for obj in (mpvg, mpvg.Renderer, mpvg.Document, mpvg.Page, mpvg.PageStream, mpvg.DeviceArray,
+                mpvg.CompareResult):
+        text = pydoc.render_doc(obj, renderer=pydoc.plaintext)
+        assert "::" not in text and "anonymous namespace" not in text, obj
