@@ -49,7 +49,7 @@ struct Options {
   int threads = 0;                       // --threads: worker threads (0: per core)
   int render_threads = 0;                // --render-threads per device (0: default)
   // --frame-scenes: most small items a render thread renders as one frame
-  // (a forest, core/forest.h); 0: the default, 8 with CUDA and the PNG
+  // (a forest, core/tree/forest.h); 0: the default, 8 with CUDA and the PNG
   // stage on the device (--compression 1), else 1.
   int frame_scenes = 0;
   bool server = false;                   // --server: the persistent renderer (apps/server.h)

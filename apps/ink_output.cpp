@@ -9,7 +9,7 @@
 #include "apps/output_file.h"
 #include "apps/png_writer.h"
 #include "core/error.h"
-#include "core/inks.h"
+#include "core/inks/inks.h"
 
 namespace mpvg {
 

@@ -1,5 +1,5 @@
 // Print preview's files (pdf2png --colorspace cmyk, --separations): a page
-// drawn in inks (core/inks.h) comes back from the renderer as its passes
+// drawn in inks (core/inks/inks.h) comes back from the renderer as its passes
 // side by side in one RGBA image (pass p's three inks in r, g, b, opaque,
 // 0 no ink); this turns it into
 //   - a CMYK TIFF (--colorspace cmyk: the four process inks), or
@@ -7,7 +7,7 @@
 //     colours, separated, with their names), one grey TIFF per ink named
 //     "OUT(Name).tif" as Ghostscript's tiffsep names and writes them (255
 //     no ink, 0 full ink: the plate's film), and an RGB simulation of the
-//     press sheet, overprint included, as OUT.png (core/inks.h
+//     press sheet, overprint included, as OUT.png (core/inks/inks.h
 //     inks_to_rgb).
 #pragma once
 #include <cstdint>

@@ -10,7 +10,7 @@
 // (TreeParams::grid_levels; default: from each scene's density).
 // --min-segments N stops subdividing cells of N geometry entries or fewer
 // (TreeParams::min_segments, the paper's stopping rule) for every column;
-// default: the rule from each column's samples (stop_rule, core/tree.h:
+// default: the rule from each column's samples (stop_rule, core/tree/tree.h:
 // 1x8 4, 1x32 and 4x4x32 1), which the sweep over N was measured for. The
 // preprocessing columns are the 1x32 tree's.
 //

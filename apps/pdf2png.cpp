@@ -18,7 +18,7 @@
 // rendered, default crop; -cropbox is pdftoppm's spelling of --box crop),
 // -gray and -mono (a greyscale or 1-bit PNG or TIFF, as pdftoppm's; apps/
 // png_writer.h gives their formulas), --thin-lines exact|snap (snap:
-// core/stroke_adjust.h), --gamma srgb by default (PDF composites device
+// stroker/stroke_adjust.h), --gamma srgb by default (PDF composites device
 // values), --threads N (worker threads, default one per
 // core, less the render threads with CUDA), --render-threads N (default 3 with CUDA, 5 with --compression 1, 1 on the CPU), --repeat N
 // (the pages N times over, for benchmarks: later rounds run warm); IN.pdf
@@ -748,7 +748,7 @@ int main(int argc, char** argv) {
     c.color = pdf.mono ? png::Color::Mono : pdf.gray ? png::Color::Gray : png::Color::Rgb;
     c.format = pdf.format;
     c.encode = pdf.encode;
-    // Small pages waiting together share a frame (core/forest.h): one tree
+    // Small pages waiting together share a frame (core/tree/forest.h): one tree
     // build for several pages (--compression 1: pgfmanual 196-199 pages/s
     // against 172-178 with 3 render threads).
     c.forest_scenes = pipeline::forest_scenes_for(opt.frame_scenes, cuda, opt.compression);

@@ -8,7 +8,7 @@
 
 #include "apps/output_file.h"
 #include "core/error.h"
-#include "core/png_encode.h"
+#include "core/output/png_encode.h"
 
 #include <zlib.h>
 

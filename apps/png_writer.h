@@ -1,9 +1,9 @@
 // mpvg's PNG encoder: a PNG is a signature, an IHDR chunk, IDAT chunks
 // holding one zlib stream of filtered rows, and IEND (the PNG
 // specification's sections 5, 9 and 11). Rows are filtered by
-// core/png_filter.h; the compression level chooses what deflates them:
+// core/output/png_filter.h; the compression level chooses what deflates them:
 //   0     stored blocks, no compression;
-//   1     core/deflate.h's parallel deflate (the GPU's, FrameRenderer::
+//   1     core/output/deflate.h's parallel deflate (the GPU's, FrameRenderer::
 //         render_png; here its CPU executor, slower than libdeflate's 2);
 //   2-12  libdeflate's whole-buffer deflate where the build found it (two
 //         to four times zlib's speed at the same level, BENCHMARKS.md),
@@ -75,7 +75,7 @@ std::vector<uint8_t> encode_gray8(int width, int height, const uint8_t* rgba, Co
                                   const EncodeOptions& options = {});
 std::vector<uint8_t> encode_gray16(int width, int height, const uint16_t* rgba, const EncodeOptions& options = {});
 
-// The PNG of an image compressed elsewhere (core/png_encode.h's ImageData):
+// The PNG of an image compressed elsewhere (core/output/png_encode.h's ImageData):
 // bit_depth 1, 8 or 16, channels 1 (grey), 2 (grey, alpha), 3 (RGB) or 4
 // (RGBA), the zlib stream.
 std::vector<uint8_t> wrap(int width, int height, int bit_depth, int channels, const uint8_t* zlib, size_t n);

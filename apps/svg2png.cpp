@@ -32,7 +32,7 @@
 #include "apps/png_writer.h"
 #include "apps/server.h"
 #include "core/error.h"
-#include "core/filter_layers.h"
+#include "core/filters/filter_layers.h"
 #include "core/memory_budget.h"
 #include "core/parallel.h"
 #include "gpu/backend.h"
@@ -425,7 +425,7 @@ int run_batch(const cli::Options& opt, Renderers& renderers) {
   c.quiet = opt.quiet;
   c.bits = opt.bits;
   c.compression = opt.compression;
-  // Small files waiting together share a frame (core/forest.h).
+  // Small files waiting together share a frame (core/tree/forest.h).
   c.forest_scenes = pipeline::forest_scenes_for(opt.frame_scenes, cuda, opt.compression);
   c.gamma = opt.gamma;
   c.label = [&](int t) { return items[t].first; };

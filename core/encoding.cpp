@@ -8,7 +8,7 @@
 #include <unordered_map>
 
 #include "core/error.h"
-#include "core/mesh_build.h"
+#include "core/paint/mesh_build.h"
 #include "core/parallel.h"
 
 namespace mpvg {
@@ -324,7 +324,7 @@ class Encoder {
         }
         break;
       case PaintType::Filter:
-        // The renderer replaces filters by textures first (core/filter_layers.h).
+        // The renderer replaces filters by textures first (core/filters/filter_layers.h).
         throw Error("encoding: a filter effect was not resolved into its layer");
     }
     out = rec;
@@ -425,7 +425,7 @@ class Encoder {
     return opaque;
   }
 
-  // Fills in a mesh paint (core/mesh_build.h); false when no triangle has
+  // Fills in a mesh paint (core/paint/mesh_build.h); false when no triangle has
   // an area in pixels.
   bool mesh(const Mesh& m, const Affine& view, const MeshBounds& bounds, PaintRecord& rec) {
     MeshRecord mr{};
@@ -662,7 +662,7 @@ class Encoder {
           out.segments.push_back(in);
         }
       }
-      // Edges on the image's border go out past the frame (core/image_border.h).
+      // Edges on the image's border go out past the frame (core/paint/image_border.h).
       push_out_border_edges(border, out.segments, path_first);
     }
   }

@@ -1,7 +1,7 @@
 // Encoding: the host turns a Scene into the flat arrays every executor reads
 // (in the spirit of vello's scene encoding). Segments are transformed to
 // pixel space in double precision; every contour of a path is closed; paints
-// become the records of core/paint.h, in the colour space integration works
+// become the records of core/paint/paint.h, in the colour space integration works
 // in, with their transforms composed down to pixels; each pattern's tile
 // becomes a scene of its own, encoded in the grid its tree is built over.
 #pragma once
@@ -10,16 +10,16 @@
 #include <memory>
 #include <vector>
 
-#include "core/abstraction.h"
-#include "core/image_border.h"
+#include "core/geometry/abstraction.h"
+#include "core/paint/image_border.h"
 #include "core/memory_budget.h"
-#include "core/paint.h"
-#include "core/paint_data.h"
+#include "core/paint/paint.h"
+#include "core/paint/paint_data.h"
 #include "core/scene.h"
-#include "core/shortcut_tree.h"
-#include "core/srgb.h"
-#include "core/stroke_input.h"
-#include "core/tree.h"
+#include "core/tree/shortcut_tree.h"
+#include "core/output/srgb.h"
+#include "stroker/stroke_input.h"
+#include "core/tree/tree.h"
 
 namespace mpvg {
 
@@ -30,7 +30,7 @@ struct EncodedTile;
 struct EncodedScene {
   std::vector<InputSegment> segments;   // all filled paths, stream order, contours closed
   // Stroked paths' centrelines, styles and transforms to pixels: the stroke
-  // stage (core/stroke.h) builds their segments, which join `segments` in
+  // stage (stroker/stroke.h) builds their segments, which join `segments` in
   // path order before abstraction (stroke_input_segments, gpu::Context).
   StrokeBatch strokes;
   std::vector<PathRecord> paths;        // indexed by path id (stream order)
@@ -45,7 +45,7 @@ struct EncodedScene {
   // (PatternRecord::tree indexes them). Set on the top-level scene only.
   std::shared_ptr<const PaintData> paint;
   std::vector<EncodedTile> tiles;
-  // A forest frame's scenes, in order (core/forest.h); empty: one scene,
+  // A forest frame's scenes, in order (core/tree/forest.h); empty: one scene,
   // the whole stream, over the grid the tree is built for.
   std::vector<SceneRoot> roots;
 };
@@ -83,11 +83,11 @@ struct EncodeOptions {
   // shading's grid covers only that).
   int frame_width = 0, frame_height = 0;
   // The output image within the frame: the top-level scene's edges on its
-  // border are pushed out past the frame (core/image_border.h).
+  // border are pushed out past the frame (core/paint/image_border.h).
   ImageBorder border;
   // What the encoding holds is charged to it (core/memory_budget.h).
   MemoryBudget* budget = nullptr;
-  // Filter effects inside a pattern tile (core/filter_layers.h): the tile
+  // Filter effects inside a pattern tile (core/filters/filter_layers.h): the tile
   // with its filters made layers over the tile's grid (width x height
   // unit areas, `view` from tile units to them). Unset: such a tile is
   // refused.

@@ -1,6 +1,6 @@
 #include "core/renderer.h"
 
-#include "core/filter_layers.h"
+#include "core/filters/filter_layers.h"
 
 #include <algorithm>
 #include <chrono>
@@ -10,10 +10,10 @@
 #include <mutex>
 
 #include "core/error.h"
-#include "core/filter_layers.h"
-#include "core/forest.h"
-#include "core/integration.h"
-#include "core/rgba8.h"
+#include "core/filters/filter_layers.h"
+#include "core/tree/forest.h"
+#include "core/sampling/integration.h"
+#include "core/output/rgba8.h"
 
 namespace mpvg {
 
@@ -110,7 +110,7 @@ EncodedScene encode_for(const Scene& scene, const RenderPlan& plan, Gamma gamma,
                         const FilterExecutor* filters) {
   const auto t0 = std::chrono::steady_clock::now();
   if (has_filters(scene)) {
-    // Filter effects become layers first (core/filter_layers.h): their
+    // Filter effects become layers first (core/filters/filter_layers.h): their
     // sources rendered, their graphs run.
     std::vector<std::string> warnings;
     RenderOptions o = plan.options;

@@ -7,13 +7,13 @@
 #include <string>
 #include <vector>
 
-#include "core/cpu/cpu_stages.h"
+#include "cpu/cpu_stages.h"
 #include "core/encoding.h"
-#include "core/integration.h"
+#include "core/sampling/integration.h"
 #include "core/memory_budget.h"
-#include "core/png_encode.h"
+#include "core/output/png_encode.h"
 #include "core/scene.h"
-#include "core/tree.h"
+#include "core/tree/tree.h"
 
 namespace mpvg {
 
@@ -33,7 +33,7 @@ struct RenderOptions {
   int threads = 0;  // CPU threads, 0 = all cores
   // The scene has aliased paths (has_aliased_paths): a filter of even
   // support then integrates over an odd number of unit areas, which are
-  // pixels, so that those paths are drawn aliased (core/integration.h).
+  // pixels, so that those paths are drawn aliased (core/sampling/integration.h).
   // Set before planning: the frame, and so the encoding, depend on it.
   bool aliased_paths = false;
   // The render's memory budget (core/memory_budget.h), shared by the
@@ -49,7 +49,7 @@ struct RenderStats {
   double encode_ms = 0, stroke_ms = 0, abstract_ms = 0, subdivide_ms = 0, prune_ms = 0, schedule_ms = 0, sample_ms = 0;
   double total_ms = 0;
   double png_ms = 0;  // FrameRenderer::render_png's PNG stage (with CUDA: its kernels, timed on the device)
-  // Filter layers (core/filter_layers.h), inside encode_ms: the frame's own
+  // Filter layers (core/filters/filter_layers.h), inside encode_ms: the frame's own
   // layers made (theirs nested inside included), and the time taken.
   size_t filter_layers = 0;
   double filter_ms = 0;
@@ -85,7 +85,7 @@ RenderPlan plan_render(const RenderOptions& options);
 // What the encoder takes from a plan: the frame's unit areas, the budget.
 EncodeOptions encode_options(const RenderPlan& plan);
 
-// Filter effects' executor (core/filter_layers.h).
+// Filter effects' executor (core/filters/filter_layers.h).
 struct FilterExecutor;
 
 // encode_for and render_cpu with the plan already made: a frame plans once
@@ -96,7 +96,7 @@ EncodedScene encode_for(const Scene& scene, const RenderPlan& plan, Gamma gamma,
 ImageF render_cpu(const EncodedScene& scene, const RenderPlan& plan, const RenderOptions& options,
                   RenderStats* stats = nullptr);
 
-// Forest frames (core/forest.h): several scenes built into one tree, each
+// Forest frames (core/tree/forest.h): several scenes built into one tree, each
 // then rendered over its own grid, to the image it has alone.
 //
 // May scenes rendered with options a and b share a frame? Everything but
@@ -104,7 +104,7 @@ ImageF render_cpu(const EncodedScene& scene, const RenderPlan& plan, const Rende
 bool same_frame_options(const RenderOptions& a, const RenderOptions& b);
 
 // ... and planned as a and b: do their trees have root squares of one size?
-// A forest's roots all have the side of its largest (core/forest.h); a
+// A forest's roots all have the side of its largest (core/tree/forest.h); a
 // scene's tree, and so its image, is the one a frame of its own gives only
 // when that is its own side.
 bool same_frame_grid(const RenderPlan& a, const RenderPlan& b);

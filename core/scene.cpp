@@ -9,7 +9,7 @@
 #include <unordered_set>
 
 #include "core/error.h"
-#include "core/group.h"
+#include "core/paint/group.h"
 
 namespace mpvg {
 

@@ -10,7 +10,7 @@
 // where F is a filled path, C a clip test, and '(' '|' ')' are push, activate
 // and pop. A clip-path area is the union of the clip-paths before its '|';
 // nesting is intersection. '{' '}' begin and end a transparency group
-// (core/group.h): its content is composited on its own, then the result,
+// (core/paint/group.h): its content is composited on its own, then the result,
 // times its opacity and its mask, onto what lies below it with its blend
 // mode. A mask is a group whose result becomes a coverage value (luminance
 // or alpha) that multiplies the group it is the first content of.
@@ -30,10 +30,10 @@
 #include <string>
 #include <vector>
 
-#include "core/filter.h"
-#include "core/geometry.h"
+#include "core/filters/filter.h"
+#include "core/geometry/geometry.h"
 #include "core/memory_budget.h"
-#include "core/paint.h"
+#include "core/paint/paint.h"
 
 namespace mpvg {
 
@@ -118,13 +118,13 @@ struct RGBA {
 
 // ------------------------------------------------------------------ paints
 //
-// Every paint is evaluated per sample (core/paint.h), at the sample's
+// Every paint is evaluated per sample (core/paint/paint.h), at the sample's
 // position, on both executors. Geometry of a paint lives in its own space;
 // its transform maps that space to scene units (not to the path's user
 // space: a paint can be placed independently of the path it fills, as PDF's
 // shadings and patterns are).
 
-// Filter: the result of a filter effect (core/filter.h) over its region,
+// Filter: the result of a filter effect (core/filters/filter.h) over its region,
 // which the renderer resolves into a Texture before encoding.
 // SweepGradient comes last: the other values keep their numbers.
 enum class PaintType : uint8_t { Solid, LinearGradient, RadialGradient, Texture, Pattern, Mesh, Filter, SweepGradient };
@@ -187,7 +187,7 @@ struct Gradient {
 // An RGBA raster: straight alpha, sRGB-encoded, row-major, top row first,
 // 8 or 16 bits per channel (only the vector of that depth is used).
 // Texels an executor made for one frame (a filter layer's result,
-// core/filter_layers.h): premultiplied, already in that frame's integration
+// core/filters/filter_layers.h): premultiplied, already in that frame's integration
 // colour space, one level (they map texel for pixel, never minified). On
 // the host (`host`), or in device memory (`device`, kept by `owner`),
 // which only a frame of the same executor and device can read.
@@ -228,7 +228,7 @@ struct Scene;
 // content outside it is clipped. The tile gets its own shortcut tree and is
 // evaluated per sample at the sample's wrapped position, so a pattern stays
 // resolution independent. A tile's paints may be patterns again, nested at
-// most kMaxPatternDepth deep (core/paint.h).
+// most kMaxPatternDepth deep (core/paint/paint.h).
 struct Pattern {
   std::shared_ptr<const Scene> tile;
   Affine xf;  // tile space to scene units
@@ -239,7 +239,7 @@ struct Pattern {
 // function-based shadings sampled on a grid. The colour at a point is
 // interpolated linearly over the top-most (last) triangle containing it.
 // A mesh paints only inside its triangles: fill it with mesh_outline()
-// (core/mesh_build.h), the union of the triangles, and the colour is defined
+// (core/paint/mesh_build.h), the union of the triangles, and the colour is defined
 // wherever the fill is.
 struct MeshVertex {
   Vec2 p;
@@ -276,7 +276,7 @@ struct Paint {
 enum class LineJoin : uint8_t { Miter, MiterClip, Arcs, Round, Bevel };
 enum class LineCap : uint8_t { Butt, Round, Square };
 
-// How a path is stroked (core/stroke.h builds the stroke, in user space,
+// How a path is stroked (stroker/stroke.h builds the stroke, in user space,
 // when the scene is rendered).
 struct StrokeStyle {
   double width = 1;  // user units; > 0 and finite, or nothing is drawn
@@ -307,7 +307,7 @@ struct ScenePath {
 
 // ----------------------------------------------------- groups and masks
 
-// W3C Compositing and Blending Level 1's blend modes, in core/blend.h's
+// W3C Compositing and Blending Level 1's blend modes, in core/paint/blend.h's
 // order, then three Porter-Duff operators (premultiplied; Compositing 1
 // §9.1, Compositing 2 for plus-lighter) that COLR v1's PaintComposite needs:
 //   PlusLighter: co = min(1, cs + cb), ao = min(1, as + ab)
@@ -330,7 +330,7 @@ const char* blend_mode_name(BlendMode m);
 enum class MaskType : uint8_t { None, Luminance, Alpha };
 
 // How one colour channel of a group's result meets its backdrop, where the
-// channels are inks (print preview: core/inks.h): through the group's
+// channels are inks (print preview: core/inks/inks.h): through the group's
 // blend function (Blend), as the source whatever the mode (Source), or
 // kept as the backdrop has it (Backdrop: the channel is not painted, PDF
 // 32000-1 §11.7.4.3's compatible overprint, B = Cb). PDF's non-separable
@@ -362,7 +362,7 @@ struct Group {
   float luminance[3] = {0.2125f, 0.7154f, 0.0721f};
   RGBA backdrop{0, 0, 0, 0};
   ColorSpace luminance_space = ColorSpace::Srgb;
-  // Ink scenes (core/inks.h): per channel (r, g, b carry three inks), how
+  // Ink scenes (core/inks/inks.h): per channel (r, g, b carry three inks), how
   // it meets the backdrop; and whether the channels are subtractive (ink
   // amounts), which blend modes complement before and after blending
   // (PDF 32000-1 §11.3.4). A Backdrop channel makes the group blend even
@@ -434,7 +434,7 @@ class SceneBuilder {
   uint32_t add_texture(Texture t);
   uint32_t add_pattern(Pattern p);
   uint32_t add_mesh(Mesh m);
-  // A filter effect (core/filter.h): its source, region and primitives are
+  // A filter effect (core/filters/filter.h): its source, region and primitives are
   // checked (inputs refer to earlier primitives, finite parameters).
   uint32_t add_filter(FilterEffect f);
 
@@ -465,7 +465,7 @@ class SceneBuilder {
   // follows until end_group(). A group whose Group::mask is set is a mask:
   // it may only be the first content of another group, and holds fills.
   // Transparency groups and masks are evaluated per sample at most
-  // kMaxGroupDepth deep (core/group.h; a scene whose top level needs a
+  // kMaxGroupDepth deep (core/paint/group.h; a scene whose top level needs a
   // back-to-front group gets one around it, which counts too): finish()
   // dissolves groups nested deeper into their parents' lists, their
   // opacity folded into the paints of their content (exact where those

@@ -4,7 +4,7 @@
 // SEGMENT entries) is expanded in parallel over output entries.
 #include <algorithm>
 
-#include "core/abstraction.h"
+#include "core/geometry/abstraction.h"
 #include "gpu/context.cuh"
 #include "gpu/stroke.cuh"
 

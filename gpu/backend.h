@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "core/png_encode.h"
+#include "core/output/png_encode.h"
 #include "core/renderer.h"
 
 namespace mpvg {
@@ -74,13 +74,13 @@ class FrameRenderer {
   static void copy_on_device(const DeviceImage& image, uint8_t* to);
 
   // As render_rgba8(), the image filtered and deflated for a PNG by
-  // core/png_encode.h's stages (compression level 1): with CUDA on the
+  // core/output/png_encode.h's stages (compression level 1): with CUDA on the
   // device, so that only the compressed data is copied back; on the CPU by
   // their reference executor. The same bytes either way.
   png::ImageData render_png(const EncodedScene& scene, const RenderPlan& plan, const RenderOptions& options,
                             RenderStats* stats = nullptr);
 
-  // Several scenes as one frame (a forest, core/forest.h): one tree build
+  // Several scenes as one frame (a forest, core/tree/forest.h): one tree build
   // for all of them, then each rendered over its own grid, to the same
   // bytes render_rgba8 (or, with `png`, render_png) gives it alone.
   // options: the scenes' shared options (same_frame_options); each scene's

@@ -11,8 +11,8 @@
 #include <thread>
 
 #include "core/error.h"
-#include "core/forest.h"
-#include "core/filter_layers.h"
+#include "core/tree/forest.h"
+#include "core/filters/filter_layers.h"
 #include "gpu/backend.h"
 #include "gpu/cuda_util.h"
 #include "gpu/filter.h"
@@ -72,9 +72,9 @@ ImageF render_cuda(gpu::Context& ctx, const EncodedScene& enc, const RenderPlan&
 
 ImageF render_cuda(gpu::Context& ctx, const Scene& scene, const RenderOptions& options, RenderStats& st);
 
-// Filter layers on the device (core/filter_layers.h's FilterExecutor): the
+// Filter layers on the device (core/filters/filter_layers.h's FilterExecutor): the
 // sources encoded (their own filters resolved by this executor first),
-// those that can share a frame rendered as forest frames (core/forest.h:
+// those that can share a frame rendered as forest frames (core/tree/forest.h:
 // one tree build for all, each root to the image it has alone), every
 // root rendered straight into its layer's source plane on the device (a
 // source alone: a frame of one root); then all the

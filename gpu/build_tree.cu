@@ -1,11 +1,11 @@
 // Building the tree on the GPU: abstraction, the root, then breadth first,
 // level by level, subdivision and pruning -- the loop of
-// core/cpu/build_tree.cpp, with every per-cell and per-entry step a kernel.
+// cpu/build_tree.cpp, with every per-cell and per-entry step a kernel.
 // The host reads back a handful of counts per level to size the next one.
 #include <algorithm>
 
-#include "core/forest.h"
-#include "core/subdivision.h"
+#include "core/tree/forest.h"
+#include "core/tree/subdivision.h"
 #include "gpu/context.cuh"
 
 namespace mpvg::gpu {
@@ -212,7 +212,7 @@ void Context::Impl::build_tree(const EncodedScene& scene, int w, int h, const Tr
   std::swap(level, child);
   const int max_level = tree_max_level(root_size, params);
   // Levels [0, grid) are subdivided whole and not pruned (the coarse grid:
-  // core/tree.h); level `grid` is the first pruned. A forest's roots have a
+  // core/tree/tree.h); level `grid` is the first pruned. A forest's roots have a
   // grid each, from their own top-level cells (in_root_grid).
   grid_of_root = nullptr;
   if (roots.size() > 1) {

@@ -9,17 +9,17 @@
 #include <utility>
 #include <vector>
 
-#include "core/abstraction.h"
+#include "core/geometry/abstraction.h"
 #include "core/error.h"
-#include "core/paint.h"
-#include "core/paint_data.h"
-#include "core/png_encode.h"
-#include "core/rgba8.h"
+#include "core/paint/paint.h"
+#include "core/paint/paint_data.h"
+#include "core/output/png_encode.h"
+#include "core/output/rgba8.h"
 #include "core/scan.h"
-#include "core/shortcut_tree.h"
-#include "core/subdivision.h"
-#include "core/integration.h"
-#include "core/tree.h"
+#include "core/tree/shortcut_tree.h"
+#include "core/tree/subdivision.h"
+#include "core/sampling/integration.h"
+#include "core/tree/tree.h"
 #include "gpu/cuda_util.h"
 #include "gpu/gpu_backend.h"
 
@@ -281,7 +281,7 @@ struct Context::Impl {
   DeviceBuffer<SplitScan> split_items, splits;  // subdivide: the split's scan, in and out
   DeviceBuffer<Segmented<uint32_t>> link;
   DeviceBuffer<uint32_t> by_depth[3];  // prune: indices sorted by depth, their depths, the sort's input
-  // prune, rules 16, 19, 23 (core/pruning.h): depth and section deltas
+  // prune, rules 16, 19, 23 (core/tree/pruning.h): depth and section deltas
   // packed for one scan, section counts, indices sorted by them and their
   // counts, survivors before each sorted position, item weights and their
   // sums in depth order, the second elimination array.
@@ -302,7 +302,7 @@ struct Context::Impl {
   DeviceBuffer<double> totals;
   DeviceBuffer<unsigned long long> acc;  // fixed-point accumulators, 4 per pixel
   DeviceBuffer<unsigned long long> sample_count;  // samples evaluated by the last render (timed renders only)
-  DeviceBuffer<SrgbCodeTable> srgb_table;  // core/rgba8.h's, uploaded on first use
+  DeviceBuffer<SrgbCodeTable> srgb_table;  // core/output/rgba8.h's, uploaded on first use
   DeviceBuffer<uint32_t> rgba8;            // the image as 8-bit codes (rgba8.cu)
   // The codes in memory of their own, handed out (rgba8.cu).
   std::shared_ptr<uint8_t> device_rgba8(bool linear);
@@ -310,12 +310,12 @@ struct Context::Impl {
   int out_width = 0, out_height = 0;
   SamplerShape shape;
   int width = 0, height = 0;
-  // The built tree's roots (core/forest.h): one per scene of a forest,
+  // The built tree's roots (core/tree/forest.h): one per scene of a forest,
   // each over its own grid; root_stream holds their stream ranges.
   std::vector<SceneRoot> roots;
   DeviceBuffer<uint32_t> root_stream;
   DeviceBuffer<uint8_t> root_grid;
-  const uint8_t* grid_of_root = nullptr;  // a forest's root_grid (core/tree.h, in_root_grid); null for one scene
+  const uint8_t* grid_of_root = nullptr;  // a forest's root_grid (core/tree/tree.h, in_root_grid); null for one scene
   bool capped = false;                    // the last tree hit TreeParams::max_entries
 
   // The host copies of what the last render uploaded of its integration
@@ -385,7 +385,7 @@ struct Context::Impl {
                     const std::vector<float*>& images);
   void render(const Integration& integ, const IntegrationFrame& frame, const PaintRecord& background,
               GpuTimes* times, uint32_t root = 0);
-  // The rendered image as straight 8-bit codes (core/rgba8.h) in rgba8.
+  // The rendered image as straight 8-bit codes (core/output/rgba8.h) in rgba8.
   void convert_rgba8(bool linear);
   // ... copied back.
   std::vector<uint8_t> download_rgba8(bool linear, std::vector<uint8_t> storage);

@@ -1,6 +1,6 @@
-// The CUDA executor of filter graphs (core/filter_layers.h): the same ops
-// as core/cpu/filter.cpp, run by kernels over the per-pixel code of
-// core/filter_primitives.h, batched: the layers of a batch have graphs of
+// The CUDA executor of filter graphs (core/filters/filter_layers.h): the same ops
+// as cpu/filter.cpp, run by kernels over the per-pixel code of
+// core/filters/filter_primitives.h, batched: the layers of a batch have graphs of
 // one shape (the same ops wired the same way), so each step of the graph is
 // one launch over every layer of the batch (blockIdx.z the layer, each with
 // its own box, sizes and parameters). Layers stay on the device from the
@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "core/error.h"
-#include "core/filter.h"
-#include "core/filter_layers.h"
+#include "core/filters/filter.h"
+#include "core/filters/filter_layers.h"
 #include "gpu/cuda_util.h"
 #include "gpu/filter.h"
 

@@ -7,11 +7,11 @@
 #include <string>
 #include <vector>
 
-#include "core/cpu/cpu_stages.h"
+#include "cpu/cpu_stages.h"
 #include "core/encoding.h"
-#include "core/integration.h"
-#include "core/png_encode.h"
-#include "core/tree.h"
+#include "core/sampling/integration.h"
+#include "core/output/png_encode.h"
+#include "core/tree/tree.h"
 
 namespace mpvg::gpu {
 
@@ -20,7 +20,7 @@ struct GpuTimes {
   double stroke_ms = 0, abstract_ms = 0, subdivide_ms = 0, prune_ms = 0, schedule_ms = 0, sample_ms = 0;
   double integrate_ms = 0;  // wide filters: normalisation, prefilter, output
   double png_ms = 0;        // the PNG stage on the device (render_png)
-  uint64_t samples = 0;     // samples evaluated (adaptive sampling: core/sampling.h, unit_area_flat)
+  uint64_t samples = 0;     // samples evaluated (adaptive sampling: core/sampling/sampling.h, unit_area_flat)
   double preprocess_ms() const { return stroke_ms + abstract_ms + subdivide_ms + prune_ms; }
   double render_ms() const { return schedule_ms + sample_ms + integrate_ms; }
 };
@@ -59,7 +59,7 @@ class Context {
   // Renders the built tree (built over frame's unit-area grid): samples
   // every unit area with its class's pattern (integ.offsets), integrates as
   // integ says, composites over the background; returns the image in the
-  // integration colour space. A forest's tree (core/forest.h) renders one
+  // integration colour space. A forest's tree (core/tree/forest.h) renders one
   // root at a time, each over its own grid; every render below takes it.
   ImageF render(const Integration& integ, const IntegrationFrame& frame, const PaintRecord& background,
                 GpuTimes* times = nullptr, uint32_t root = 0);
@@ -74,7 +74,7 @@ class Context {
                               const PaintRecord& background, const std::vector<float*>& images);
 
   // As render(), returning the image as straight 8-bit codes, 4 bytes per
-  // pixel (core/rgba8.h; linear: the image was integrated in linear light),
+  // pixel (core/output/rgba8.h; linear: the image was integrated in linear light),
   // converted on the device: a quarter of the float image is copied back.
   // The result reuses storage's memory where it is large enough (batches
   // hand back the buffers of written pages: fresh pages of memory cost a
@@ -92,7 +92,7 @@ class Context {
                                                uint32_t root = 0);
 
   // As render_rgba8(), the image filtered and deflated on the device
-  // (core/png_encode.h's stages, gpu/png_encode.cu): only the PNG's
+  // (core/output/png_encode.h's stages, gpu/png_encode.cu): only the PNG's
   // compressed data is copied back; the same bytes as the CPU executor's
   // filter_image and deflate_zlib give.
   png::ImageData render_png(const Integration& integ, const IntegrationFrame& frame, const PaintRecord& background,

@@ -1,12 +1,12 @@
 // The GPU executor of the PNG stage's filtering and compression
-// (core/png_encode.h): the 8-bit image never leaves the device; its rows
-// are filtered (core/png_filter.h, a warp per row) and deflated
-// (core/deflate.h: a warp per piece parses, a thread per chunk builds its
+// (core/output/png_encode.h): the 8-bit image never leaves the device; its rows
+// are filtered (core/output/png_filter.h, a warp per row) and deflated
+// (core/output/deflate.h: a warp per piece parses, a thread per chunk builds its
 // codes, a block per chunk writes its bits, a block per chunk copies them
 // into one zlib stream), and only the stream is copied back. The same
 // bytes as the CPU executor gives.
-#include "core/deflate.h"
-#include "core/png_filter.h"
+#include "core/output/deflate.h"
+#include "core/output/png_filter.h"
 #include "gpu/context.cuh"
 #include "gpu/png_encode.cuh"
 #include "gpu/png_encode.h"

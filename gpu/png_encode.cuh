@@ -1,8 +1,8 @@
 // The PNG stage's filtering and compression on the device (png_encode.cu),
 // with the buffers it keeps from image to image.
 #pragma once
-#include "core/deflate.h"
-#include "core/png_encode.h"
+#include "core/output/deflate.h"
+#include "core/output/png_encode.h"
 #include "gpu/cuda_util.h"
 
 namespace mpvg::gpu {

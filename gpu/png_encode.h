@@ -4,7 +4,7 @@
 #pragma once
 #include <cstdint>
 
-#include "core/png_encode.h"
+#include "core/output/png_encode.h"
 
 namespace mpvg::gpu {
 

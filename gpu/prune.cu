@@ -3,7 +3,7 @@
 // delimiters, every element marking the elimination array with atomic
 // increments and decrements, an inclusive scan; with groups, rules 16, 19
 // and 23 on what those marks leave (section counts, a sort by them, two
-// prefix sums, two marking kernels: core/pruning.h); then an exclusive
+// prefix sums, two marking kernels: core/tree/pruning.h); then an exclusive
 // scan and an order-preserving compaction.
 #include <thrust/iterator/counting_iterator.h>
 #include <thrust/iterator/transform_iterator.h>
@@ -13,7 +13,7 @@
 
 #include <algorithm>
 
-#include "core/pruning.h"
+#include "core/tree/pruning.h"
 #include "gpu/context.cuh"
 
 namespace mpvg::gpu {
@@ -58,7 +58,7 @@ struct SplitDepthSection {
   }
 };
 
-// The link scan's input at sorted position p (core/pruning.h), read
+// The link scan's input at sorted position p (core/tree/pruning.h), read
 // through a transform iterator instead of written by a kernel of its own.
 struct LinkStart {
   const Entry* e;
@@ -89,7 +89,7 @@ __global__ void k_mark(const Entry* e, const uint32_t* entry_cell, size_t n, con
   prune_mark(e, term, links, static_cast<uint32_t>(i), c.begin, c.end, add);
 }
 
-// Rules 16, 19, 23 (core/pruning.h): what shows at each position of the
+// Rules 16, 19, 23 (core/tree/pruning.h): what shows at each position of the
 // section order (0 past the end, where the exclusive scan ends), ...
 struct Shows {
   const Entry* e;
@@ -156,7 +156,7 @@ __global__ void k_compact(const Entry* e, const uint32_t* entry_cell, size_t n, 
 }  // namespace
 
 void Context::Impl::prune(DeviceLevel& lv) {
-  // One round (core/pruning.h). Without clip groups or transparency groups
+  // One round (core/tree/pruning.h). Without clip groups or transparency groups
   // only rules 12 and 14 (at the top level) apply, and there is no depth to
   // scan.
   const size_t n = lv.nentries;
@@ -185,7 +185,7 @@ void Context::Impl::prune(DeviceLevel& lv) {
   uint32_t* sorted = nullptr;
   if (groups) {
     // Depths and section counts in one scan; then cross-links over all
-    // depths at once (core/pruning.h): a stable sort by depth, one
+    // depths at once (core/tree/pruning.h): a stable sort by depth, one
     // segmented scan, then each element's links.
     prim.inclusive_sum(packed, thrust::make_transform_output_iterator(thrust::make_zip_iterator(depth, sec),
                                                                       SplitDepthSection{}),

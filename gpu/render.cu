@@ -27,7 +27,7 @@
 // the carries between blocks are propagated, and each block is corrected.
 #include <algorithm>
 
-#include "core/sampling.h"
+#include "core/sampling/sampling.h"
 #include "gpu/context.cuh"
 
 namespace mpvg::gpu {
@@ -157,7 +157,7 @@ __global__ void k_sample(const Cell* leaves, uint32_t nleaves, const uint32_t* b
   // (tile_h + K - 1), the first at (ox - K + 1, oy - K + 1).
   const int acc_tw = tile_w + K - 1, acc_tn = a.acc ? acc_tw * (tile_h + K - 1) * 4 : 0;
   for (int i = tid; i < acc_tn; i += blockDim.x) tacc[i] = 0;
-  // Adaptive sampling (core/sampling.h, unit_area_flat): a flat unit area
+  // Adaptive sampling (core/sampling/sampling.h, unit_area_flat): a flat unit area
   // takes one sample, on a thread of its own, and goes to its pixel or to
   // the unit-area colours the normalisation gathers; the others are listed
   // in `work` (in any order: every sum is order-free) for the sample groups.
@@ -332,7 +332,7 @@ __global__ void k_normalize(const unsigned long long* acc, const float4* ua_colo
                        fixed_to_float(sum[3], norm));
 }
 
-// The cardinal prefilter (core/integration.h) on `lines` lines of n float4
+// The cardinal prefilter (core/sampling/integration.h) on `lines` lines of n float4
 // pixels: pixel k of line l at data[l * line_stride + k * elem_stride]. A
 // block takes kPrefilterLines lines (threadIdx.x), each cut into the
 // prefilter's kPrefilterBlocks blocks (threadIdx.y): the steps of
@@ -485,7 +485,7 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
   leaf_batches.resize(nleaves + 1);
   leaf_color.resize(nleaves + 1);
   uint32_t* nb = (u32[0].resize(nleaves + 1), u32[0].data());
-  const uint32_t kinds = roots[root].kinds[integ.support % 2 == 1];  // the root's own (core/tree.h, SceneRoot)
+  const uint32_t kinds = roots[root].kinds[integ.support % 2 == 1];  // the root's own (core/tree/tree.h, SceneRoot)
   auto leaf_info = (kinds & SAMPLE_GROUPS) ? k_leaf_info<SAMPLE_GROUPS> : k_leaf_info<PAINTS_SOLID>;
   leaf_info<<<grid_for(nleaves + 1, kBlock), kBlock>>>(leaves.data(), nleaves, leaf_entries.data(), in, root_size, width,
                                                        height, static_cast<uint32_t>(tile_w),

@@ -1,7 +1,7 @@
-// The PNG stage's 8-bit conversion on the device (core/rgba8.h): the
+// The PNG stage's 8-bit conversion on the device (core/output/rgba8.h): the
 // rendered float image becomes straight-alpha 8-bit codes before it is
 // copied back, a quarter of the bytes.
-#include "core/rgba8.h"
+#include "core/output/rgba8.h"
 #include "gpu/context.cuh"
 
 namespace mpvg::gpu {

@@ -13,7 +13,7 @@
 #include <deque>
 
 #include "core/error.h"
-#include "core/stroke.h"
+#include "stroker/stroke.h"
 #include "gpu/context.cuh"
 #include "gpu/stroke.cuh"
 #include "gpu/stroke.h"

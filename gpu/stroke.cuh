@@ -1,8 +1,8 @@
 // The stroke stage's device side (gpu/stroke.cu): buffers kept across
 // frames by gpu::Context, and the grouping of input segments by path.
 #pragma once
-#include "core/stroke.h"
-#include "core/stroke_input.h"
+#include "stroker/stroke.h"
+#include "stroker/stroke_input.h"
 #include "gpu/context.cuh"
 #include "gpu/stroke.h"
 

@@ -1,4 +1,4 @@
-// Stage "stroke" on the GPU (core/stroke.h, one thread per element): the
+// Stage "stroke" on the GPU (stroker/stroke.h, one thread per element): the
 // centreline goes up, the fill geometry is built on the device. Plain C++
 // interface for tools and tests; the frame's own use of the stage goes
 // through gpu::Context.
@@ -7,8 +7,8 @@
 #include <utility>
 #include <vector>
 
-#include "core/abstraction.h"
-#include "core/stroke_input.h"
+#include "core/geometry/abstraction.h"
+#include "stroker/stroke_input.h"
 
 namespace mpvg::gpu {
 

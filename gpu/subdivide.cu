@@ -4,7 +4,7 @@
 //   pair(i, c) = fanout * begin(k) + c * size(k) + (i - begin(k)).
 #include <algorithm>
 
-#include "core/subdivision.h"
+#include "core/tree/subdivision.h"
 #include "gpu/context.cuh"
 
 namespace mpvg::gpu {
@@ -21,7 +21,7 @@ __device__ __forceinline__ CellBox child_box(const Cell& pc, uint32_t c, bool ro
 
 // Kernel 1: splits of one parent entry into each child cell, as items of
 // the scan that consolidates windings and counts outputs (kernels 2 and 3
-// of §4.2 in one: SplitScan, core/subdivision.h). Thread 0 also writes the
+// of §4.2 in one: SplitScan, core/tree/subdivision.h). Thread 0 also writes the
 // scan's leading identity (splits[0]: the scan goes to splits + 1, so that
 // splits[j].count is pair j's offset) and zeroes the scatter's overflow
 // flag. With counts on the device (dev_n: the parent level's entries, n

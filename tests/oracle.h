@@ -8,8 +8,8 @@
 #include <random>
 #include <vector>
 
-#include "core/abstraction.h"
-#include "core/paint.h"
+#include "core/geometry/abstraction.h"
+#include "core/paint/paint.h"
 #include "core/scene.h"
 
 namespace mpvg::oracle {

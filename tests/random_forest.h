@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "core/mesh_build.h"
+#include "core/paint/mesh_build.h"
 #include "core/renderer.h"
 #include "tests/random_groups.h"
 #include "tests/random_meshes.h"

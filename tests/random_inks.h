@@ -1,4 +1,4 @@
-// Random ink pages (print preview, core/inks.h) as the reference
+// Random ink pages (print preview, core/inks/inks.h) as the reference
 // compositor's tree (tests/reference_compositor.h, namespace inks), and each
 // of their passes built into a SceneBuilder the way a frontend builds it:
 // a fill's colour is its three inks of the pass (0 where the pass has no
@@ -14,7 +14,7 @@
 #include <memory>
 #include <random>
 
-#include "core/inks.h"
+#include "core/inks/inks.h"
 #include "core/scene.h"
 #include "tests/random_scenes.h"
 #include "tests/reference_compositor.h"

@@ -36,7 +36,7 @@
 #include <memory>
 #include <vector>
 
-#include "core/blend.h"
+#include "core/paint/blend.h"
 #include "core/scene.h"
 
 namespace mpvg::reference {
@@ -274,7 +274,7 @@ class Compositor {
 //
 // The same compositor for pages in N inks (print preview; PDF 32000-1
 // §8.6.6 separations, §11.3.4-11.3.5 blending, §11.7.4 overprint), written
-// from the specification and not from core/inks.cpp's passes: one colour is
+// from the specification and not from core/inks/inks.cpp's passes: one colour is
 // N ink amounts (0: none, the paper; 1: full) and an alpha, premultiplied,
 // every point evaluated in all N channels at once, a buffer per group as
 // above (isolated / non-isolated with the backdrop's contribution removed,

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <random>
 
-#include "core/abstraction.h"
-#include "core/quadratic.h"
+#include "core/geometry/abstraction.h"
+#include "core/geometry/quadratic.h"
 #include "tests/catch.h"
 #include "tests/oracle.h"
 

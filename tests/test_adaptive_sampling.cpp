@@ -1,4 +1,4 @@
-// Adaptive sampling (core/sampling.h, unit_area_flat): a unit area that no
+// Adaptive sampling (core/sampling/sampling.h, unit_area_flat): a unit area that no
 // segment of its leaf touches, under solid paints, is sampled once. Checked
 // against brute force: every point of a flat unit area has the colour of its
 // one sample, renders equal the average of every sample taken one by one,
@@ -6,10 +6,10 @@
 #include <cmath>
 #include <random>
 
-#include "core/cpu/cpu_stages.h"
+#include "cpu/cpu_stages.h"
 #include "core/encoding.h"
-#include "core/integration.h"
-#include "core/sampling.h"
+#include "core/sampling/integration.h"
+#include "core/sampling/sampling.h"
 #include "tests/catch.h"
 #include "tests/random_scenes.h"
 

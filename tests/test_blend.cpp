@@ -1,5 +1,5 @@
 // Blend modes and the Porter-Duff operators plus-lighter, source-atop and
-// xor (core/blend.h) against W3C Compositing and Blending Level 1 (and
+// xor (core/paint/blend.h) against W3C Compositing and Blending Level 1 (and
 // Level 2's plus-lighter) transcribed in double precision, on random
 // premultiplied colours, plus values worked out by hand and the identities
 // the modes must keep.
@@ -9,7 +9,7 @@
 #include <memory>
 #include <random>
 
-#include "core/blend.h"
+#include "core/paint/blend.h"
 #include "core/scene.h"
 #include "tests/catch.h"
 #include "tests/reference_compositor.h"

@@ -6,8 +6,8 @@
 #include <functional>
 #include <random>
 
-#include "core/filter.h"
-#include "core/filter_layers.h"
+#include "core/filters/filter.h"
+#include "core/filters/filter_layers.h"
 #include "core/renderer.h"
 #include "tests/catch.h"
 
@@ -587,7 +587,7 @@ namespace spec_turbulence {
 
 // Filter Effects 1 §15.23's reference code, transcribed in its own form
 // (globals, setup by seed, lattice masked after stitching) as the oracle
-// of core/filter_primitives.h's per-pixel version.
+// of core/filters/filter_primitives.h's per-pixel version.
 constexpr int BSize = 0x100, BM = 0xff, PerlinN = 0x1000;
 int uLatticeSelector[BSize + BSize + 2];
 double fGradient[4][BSize + BSize + 2][2];

@@ -1,12 +1,12 @@
-// Forest frames (core/forest.h): several scenes built into one tree render,
+// Forest frames (core/tree/forest.h): several scenes built into one tree render,
 // scene by scene, to the images they have alone, bit for bit; no cell of
 // the forest holds another scene's elements.
 #include <random>
 
-#include "core/cpu/cpu_stages.h"
-#include "core/forest.h"
+#include "cpu/cpu_stages.h"
+#include "core/tree/forest.h"
 #include "core/renderer.h"
-#include "core/sampling.h"
+#include "core/sampling/sampling.h"
 #include "tests/catch.h"
 #include "tests/random_forest.h"
 

@@ -15,17 +15,17 @@
 #include <cstring>
 #include <filesystem>
 
-#include "core/cpu/cpu_stages.h"
+#include "cpu/cpu_stages.h"
 #include "core/error.h"
-#include "core/forest.h"
-#include "core/mesh_build.h"
+#include "core/tree/forest.h"
+#include "core/paint/mesh_build.h"
 #include "core/renderer.h"
-#include "core/filter_layers.h"
+#include "core/filters/filter_layers.h"
 #include "gpu/backend.h"
 #include "gpu/filter.h"
 #include "gpu/gpu_backend.h"
 #include "gpu/png_encode.h"
-#include "core/png_encode.h"
+#include "core/output/png_encode.h"
 #include "gpu/stroke.h"
 #include "parsers/svg/svg_parser.h"
 #include "tests/catch.h"
@@ -321,7 +321,7 @@ TEST_CASE("CPU and GPU agree within 1/255 under every preset, filter and colour 
         for (size_t i = 0; i < q_cpu.size(); i++) worst = std::max(worst, std::abs(q_cpu[i] - q_gpu[i]));
         INFO("largest 8-bit CPU/GPU difference " << worst << "/255");
         CHECK(worst <= 1);
-        // Converted to 8 bits on the device (core/rgba8.h in a kernel): the
+        // Converted to 8 bits on the device (core/output/rgba8.h in a kernel): the
         // bytes to_rgba8 gives on the host.
         const RenderPlan plan = plan_render(o);
         CHECK(frames.render_rgba8(encode_for(scene, plan, g), plan, o) == q_gpu);
@@ -458,7 +458,7 @@ TEST_CASE("stroke stage: stroked scenes render alike on the GPU and the CPU", "[
 }
 
 // The PNG stage on the device (gpu/png_encode.cu) against its CPU executor
-// (core/png_encode.h): the same bytes, for images of many sizes (one
+// (core/output/png_encode.h): the same bytes, for images of many sizes (one
 // row to several chunks), opaque or not, flat, smooth and noisy; and for a
 // rendered frame, FrameRenderer::render_png's bytes are those of the CPU
 // executor on the frame's 8-bit image.
@@ -503,7 +503,7 @@ TEST_CASE("png stage: GPU and CPU executors give the same bytes", "[gpu][png]") 
   }
 }
 
-// A forest frame (core/forest.h) on the device: each scene's 8-bit image
+// A forest frame (core/tree/forest.h) on the device: each scene's 8-bit image
 // and PNG are byte for byte what a frame of its own gives, with the box
 // filter and a wide one; the CPU's forest agrees within 1/255 with the box
 // filter. (Under the cardinal filter with 8 samples and aliased_paths, the
@@ -972,13 +972,13 @@ TEST_CASE("filter effects render alike through the CPU and the CUDA backends", "
   }
 }
 
-// Ink pages (print preview, core/inks.h): the passes of random pages of 4,
+// Ink pages (print preview, core/inks/inks.h): the passes of random pages of 4,
 // 5 and 7 inks (tests/random_inks.h: subtractive blend modes, the channel
 // rules of set_ink_blend, overprint groups, knockout and non-isolated
 // groups) give identical trees on both executors, and images over the
 // paper (no ink, alpha 1) within 1/255, the GPU's identical run to run.
 // test_inks holds the CPU's samples to the N-ink reference compositor.
-#include "core/inks.h"
+#include "core/inks/inks.h"
 #include "tests/random_inks.h"
 
 TEST_CASE("ink passes: CPU and GPU build identical trees and agree within 1/255", "[gpu][inks]") {

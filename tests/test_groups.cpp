@@ -1,4 +1,4 @@
-// Transparency groups and masks (core/group.h) on the CPU pipeline against
+// Transparency groups and masks (core/paint/group.h) on the CPU pipeline against
 // the reference compositor (a buffer per group, double precision), pruned
 // against unpruned trees, and values worked out by hand; groups with the
 // Porter-Duff operators (plus-lighter, source-atop, xor) the same ways.
@@ -8,7 +8,7 @@
 #include <random>
 #include <string>
 
-#include "core/cpu/cpu_stages.h"
+#include "cpu/cpu_stages.h"
 #include "core/encoding.h"
 #include "core/renderer.h"
 #include "tests/catch.h"
@@ -85,7 +85,7 @@ void compare_pruned(uint32_t first, uint32_t last, bool porter_duff) {
     for (int max_depth : {0, 3, -1}) {
       TreeParams on = params(true), off = params(false);
       on.max_depth = off.max_depth = max_depth;
-      TreeParams coarse = on;  // three levels of coarse grid, unpruned (core/tree.h)
+      TreeParams coarse = on;  // three levels of coarse grid, unpruned (core/tree/tree.h)
       coarse.grid_levels = 3;
       const ShortcutTree a = build_tree_cpu(enc, kSize, kSize, on);
       const ShortcutTree b = build_tree_cpu(enc, kSize, kSize, off);

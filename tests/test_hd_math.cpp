@@ -10,7 +10,7 @@
 #include <random>
 
 #include "core/hd_math.h"
-#include "core/srgb.h"
+#include "core/output/srgb.h"
 #include "tests/catch.h"
 
 using namespace mpvg;

@@ -1,4 +1,4 @@
-// The image's border (core/image_border.h): content that stops at the
+// The image's border (core/paint/image_border.h): content that stops at the
 // canvas edge stays opaque to it, content 3 px inside leaves the edge
 // clear, content that crosses the border is filtered as in a larger canvas
 // cropped; at every filter and sample count.
@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "core/image_border.h"
+#include "core/paint/image_border.h"
 #include "core/renderer.h"
 #include "parsers/svg/svg_parser.h"
 #include "tests/catch.h"

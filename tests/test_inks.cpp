@@ -1,4 +1,4 @@
-// Ink pages (core/inks.h: passes of three inks, set_ink_blend's channel
+// Ink pages (core/inks/inks.h: passes of three inks, set_ink_blend's channel
 // rules, overprint groups) on the CPU pipeline against the N-ink reference
 // compositor (tests/reference_compositor.h, namespace inks: PDF's
 // subtractive blending and compatible overprint in N channels at once,
@@ -9,9 +9,9 @@
 #include <random>
 #include <string>
 
-#include "core/cpu/cpu_stages.h"
+#include "cpu/cpu_stages.h"
 #include "core/encoding.h"
-#include "core/inks.h"
+#include "core/inks/inks.h"
 #include "tests/catch.h"
 #include "tests/oracle.h"
 #include "tests/probe_points.h"

@@ -1,4 +1,4 @@
-// Mesh paints (core/mesh.h, core/mesh_build.h) against references written
+// Mesh paints (core/paint/mesh.h, core/paint/mesh_build.h) against references written
 // from the definition in double precision:
 //   - mesh_outline: the non-zero area of the outline is the union of the
 //     triangles, point by point, and a lattice keeps only its border;
@@ -13,9 +13,9 @@
 
 #include "core/encoding.h"
 #include "core/error.h"
-#include "core/mesh.h"
-#include "core/mesh_build.h"
-#include "core/srgb.h"
+#include "core/paint/mesh.h"
+#include "core/paint/mesh_build.h"
+#include "core/output/srgb.h"
 #include "tests/catch.h"
 #include "tests/random_meshes.h"
 

@@ -1,5 +1,5 @@
-// Paints evaluated per sample (core/gradient.h, core/texture.h,
-// core/sampling.h) against references written from the definitions in
+// Paints evaluated per sample (core/paint/gradient.h, core/paint/texture.h,
+// core/sampling/sampling.h) against references written from the definitions in
 // double precision, independently of the encoder's normalisation:
 //   - gradients: t from the geometry (the two-point conical gradient by
 //     solving for every circle through the point, the sweep gradient by
@@ -17,12 +17,12 @@
 #include <optional>
 #include <random>
 
-#include "core/cpu/cpu_stages.h"
+#include "cpu/cpu_stages.h"
 #include "core/encoding.h"
 #include "core/error.h"
-#include "core/integration.h"
+#include "core/sampling/integration.h"
 #include "core/renderer.h"
-#include "core/sampling.h"
+#include "core/sampling/sampling.h"
 #include "tests/catch.h"
 
 using namespace mpvg;
@@ -580,7 +580,7 @@ TEST_CASE("sweep gradients in dumps, appended scenes and SceneBuilder's checks",
 
 TEST_CASE("a sweep gradient in a forest frame renders as it does alone", "[paint][gradient][sweep]") {
   // The second scene's gradient records sit after the first's in the
-  // merged tables (core/forest.cpp): its paint's index must follow them.
+  // merged tables (core/tree/forest.cpp): its paint's index must follow them.
   Gradient lin;
   lin.p0 = {0, 0};
   lin.p1 = {64, 0};

@@ -7,11 +7,11 @@
 #include <cmath>
 #include <random>
 
-#include "core/cpu/cpu_stages.h"
+#include "cpu/cpu_stages.h"
 #include "core/encoding.h"
-#include "core/flat_clipping.h"
-#include "core/pruning.h"
-#include "core/sampling.h"
+#include "core/tree/flat_clipping.h"
+#include "core/tree/pruning.h"
+#include "core/sampling/sampling.h"
 #include "tests/catch.h"
 #include "tests/oracle.h"
 #include "tests/random_scenes.h"
@@ -168,7 +168,7 @@ TEST_CASE("pruned and unpruned trees give identical samples", "[prune]") {
       off.prune = false;
       const ShortcutTree a = build_tree_cpu(enc, kSize, kSize, on);
       const ShortcutTree b = build_tree_cpu(enc, kSize, kSize, off);
-      // Three levels of coarse grid (core/tree.h): not pruned, subdivided
+      // Three levels of coarse grid (core/tree/tree.h): not pruned, subdivided
       // whole; the first level pruned then meets what they left.
       TreeParams coarse = on;
       coarse.grid_levels = 3;
@@ -200,7 +200,7 @@ TEST_CASE("pruned and unpruned trees give identical samples", "[prune]") {
   CHECK(pruned_entries < unpruned_entries);
 }
 
-// Cross-links over all depths at once (core/pruning.h: a stable sort by
+// Cross-links over all depths at once (core/tree/pruning.h: a stable sort by
 // depth, a segmented max-scan, each element's links), against a stack walk
 // of the stream: every element's group opening, each opening's '|' and ')',
 // and each opening's enclosing group, on the streams of random scenes

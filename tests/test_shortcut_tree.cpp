@@ -6,10 +6,10 @@
 #include <numeric>
 #include <random>
 
-#include "core/cpu/cpu_stages.h"
+#include "cpu/cpu_stages.h"
 #include "core/encoding.h"
-#include "core/sampling.h"
-#include "core/subdivision.h"
+#include "core/sampling/sampling.h"
+#include "core/tree/subdivision.h"
 #include "tests/catch.h"
 #include "tests/oracle.h"
 
@@ -179,7 +179,7 @@ TEST_CASE("tree windings are exact for extrema just beside cell edges", "[tree]"
   CHECK(c.points > 30000);
 }
 
-// The subdivision's one scan (SplitScan, core/subdivision.h) against its
+// The subdivision's one scan (SplitScan, core/tree/subdivision.h) against its
 // two passes (a segmented sum of windings, then the sum of the pairs'
 // output counts), on random runs of pairs with identity slots between
 // cells, scanned in order and as a parallel scan would: chunks scanned on

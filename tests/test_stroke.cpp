@@ -1,4 +1,4 @@
-// Stage "stroke" (core/stroke.h) on the CPU executor, as a whole: its
+// Stage "stroke" (stroker/stroke.h) on the CPU executor, as a whole: its
 // output is closed contours of finite segments for random centrelines under
 // every join, cap, miter limit and dash pattern; degenerate subpaths give
 // the dots and squares they should (rendered at 1x32 box against the shapes
@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "core/renderer.h"
-#include "core/stroke_input.h"
+#include "stroker/stroke_input.h"
 #include "tests/catch.h"
 #include "tests/random_paths.h"
 #include "tests/stroke_coverage.h"

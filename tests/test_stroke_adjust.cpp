@@ -1,4 +1,4 @@
-// Stroke adjustment (core/stroke_adjust.h): on random axis-aligned strokes
+// Stroke adjustment (stroker/stroke_adjust.h): on random axis-aligned strokes
 // and rectangles under random page maps (scale, quarter turns, flips,
 // translation), the adjusted geometry's edges fall on pixel boundaries in
 // device space, widths are whole pixels (at least one), abutting
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <random>
 
-#include "core/stroke_adjust.h"
+#include "stroker/stroke_adjust.h"
 #include "tests/catch.h"
 
 using namespace mpvg;

@@ -1,4 +1,4 @@
-// Stroke tests: the output of the stroke stage (core/stroke.h, run by
+// Stroke tests: the output of the stroke stage (stroker/stroke.h, run by
 // stroke_cpu on a one-stroke StrokeBatch), filled with the nonzero rule, is
 // compared point by point with independent definitions of the stroke.
 //
@@ -28,7 +28,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/stroke_input.h"
+#include "stroker/stroke_input.h"
 #include "tests/catch.h"
 #include "tests/oracle.h"
 #include "tests/random_paths.h"
@@ -1093,7 +1093,7 @@ TEST_CASE("dash: positions, offsets negative and larger than the pattern", "[str
 
 TEST_CASE("dash: dashes follow arc length across segments", "[stroke][dash]") {
   // A circle of radius 50 from (150, 100), four conics: the stage measures
-  // it (its dash table, core/stroke_curve.h) as 2 pi 50.
+  // it (its dash table, stroker/stroke_curve.h) as 2 pi 50.
   const Vec2 o{100, 100};
   const Path c = circle(o, 50);
   StrokeBatch batch;

@@ -2,7 +2,7 @@
 // is parsed for rendering at a width (1024 px by default, as the paper's
 // benchmark) and encoded for it; its strokes (centrelines, styles,
 // transforms to pixels) are then built by:
-//   - the stroke stage (core/stroke.h) on the CPU executor, one thread and
+//   - the stroke stage (stroker/stroke.h) on the CPU executor, one thread and
 //     every core;
 //   - in a CUDA build with a device, the stage on the GPU (device time of
 //     its kernels, per kernel, and the upload of the centrelines).
@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "core/encoding.h"
-#include "core/stroke_input.h"
+#include "stroker/stroke_input.h"
 #include "parsers/svg/svg_parser.h"
 #ifdef MPVG_WITH_CUDA
 #include "gpu/backend.h"

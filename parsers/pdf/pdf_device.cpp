@@ -23,8 +23,8 @@
 #include <vector>
 
 #include "core/error.h"
-#include "core/mesh_build.h"
-#include "core/stroke_adjust.h"
+#include "core/paint/mesh_build.h"
+#include "stroker/stroke_adjust.h"
 #include "parsers/pdf/pdf_device.h"
 
 namespace mpvg::pdf::detail {
@@ -230,7 +230,7 @@ struct Lowering {
     return p;
   }
 
-  // Print preview (core/inks.h): the page's inks and the pass drawn; null
+  // Print preview (core/inks/inks.h): the page's inks and the pass drawn; null
   // for RGB. Inside a soft mask's content (rgb_depth > 0) colours stay RGB:
   // its luminosity is the mask.
   const InkTarget* inks = nullptr;
@@ -317,7 +317,7 @@ struct Lowering {
 
   // Draws what draw() adds with the colour solid() converted last: where
   // it overprints inks of this pass, inside a group that keeps those
-  // channels as the backdrop has them (core/inks.h).
+  // channels as the backdrop has them (core/inks/inks.h).
   template <class F>
   void painting(F&& draw) {
     Group g;

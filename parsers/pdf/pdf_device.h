@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/inks.h"
+#include "core/inks/inks.h"
 #include "core/scene.h"
 #include "parsers/pdf/output_intent.h"
 #include "parsers/pdf/pdf_parser.h"
@@ -46,7 +46,7 @@ class GlyphCache {
   std::vector<fz_font*> fonts_;  // kept
 };
 
-// Print preview: a page drawn in inks (core/inks.h), one pass at a time:
+// Print preview: a page drawn in inks (core/inks/inks.h), one pass at a time:
 // the spot inks after C, M, Y, K (empty for InkModel::Cmyk), and the pass.
 struct InkTarget {
   std::vector<std::string> spots;

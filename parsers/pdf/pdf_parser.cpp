@@ -500,7 +500,7 @@ PageResult Document::page(int index, const std::function<double(double, double)>
       out.interpret_ms += l.run_ms - l.lower_ms;
       out.lower_ms = l.lower_ms;
     } else {
-      // Print preview: the page once per pass of its inks (core/inks.h).
+      // Print preview: the page once per pass of its inks (core/inks/inks.h).
       detail::InkTarget target;
       if (!impl_->intent_read) {
         impl_->intent_read = true;

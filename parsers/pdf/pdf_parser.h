@@ -35,11 +35,11 @@ enum class PageBox { Media, Crop, Bleed, Trim, Art };
 // How strokes and rules narrower than a pixel are drawn: at their exact
 // coverage (as MuPDF draws them), or snapped to the pixel grid and at least
 // a pixel wide (stroke adjustment, as Poppler and Acrobat draw them;
-// core/stroke_adjust.h).
+// stroker/stroke_adjust.h).
 enum class ThinLines { Exact, Snap };
 
 // The colour model a page is drawn in: RGB, or inks for print preview
-// (core/inks.h): CMYK (spot colours converted to their CMYK alternates, as
+// (core/inks/inks.h): CMYK (spot colours converted to their CMYK alternates, as
 // a CMYK proof shows them) or Separations (CMYK and the page's spot
 // colours as inks of their own). Overprint (OP, op, OPM) and blend modes
 // then composite per ink (PDF 32000-1 §11.7.4, §11.3.5).
@@ -67,7 +67,7 @@ struct PageResult {
   std::vector<std::string> warnings;  // one line each, deduplicated
   double pixels_per_point = 1;        // the output resolution it was lowered for
   // With PageOptions::inks: scene is empty, and the page is ink_passes
-  // (core/inks.h: pass p draws inks 3p .. 3p + 2 in r, g, b, over no ink),
+  // (core/inks/inks.h: pass p draws inks 3p .. 3p + 2 in r, g, b, over no ink),
   // inks named by ink_names ("Cyan", "Magenta", "Yellow", "Black", then
   // the spots'), each spot's CMYK equivalent in spot_cmyk (four a spot).
   std::vector<Scene> ink_passes;

@@ -7,7 +7,7 @@
 #include <cctype>
 #include <cmath>
 
-#include "core/stroke_input.h"
+#include "stroker/stroke_input.h"
 #include "parsers/svg/svg_converter.h"
 
 namespace mpvg::svg::detail {

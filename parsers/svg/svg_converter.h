@@ -840,7 +840,7 @@ class Converter {
   std::map<std::pair<const Scene*, std::array<double, 6>>, uint32_t> pattern_of_;  // patterns_ by tile and xf
   std::vector<Path> shapes_;
   // The styles of stroke operations (Op::stroke_style): the stroke stage
-  // builds them when the scene is rendered (core/stroke.h).
+  // builds them when the scene is rendered (stroker/stroke.h).
   std::vector<StrokeStyle> stroke_styles_;
   std::unordered_map<const Element*, int> shape_of_;
   // Per shape of a path with arcs: the segments that continue an arc

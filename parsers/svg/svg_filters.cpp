@@ -1,5 +1,5 @@
 // The filter property (W3C Filter Effects Module Level 1, "FE1" below)
-// as the core's filter effects (core/filter.h).
+// as the core's filter effects (core/filters/filter.h).
 //
 // A filtered element's content is converted by a converter of its own into
 // a scene in our scene units: the filter's SourceGraphic. In the content's

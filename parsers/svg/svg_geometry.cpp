@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "core/stroke_curve.h"
+#include "stroker/stroke_curve.h"
 #include "parsers/svg/svg_values.h"
 
 namespace mpvg::svg::detail {

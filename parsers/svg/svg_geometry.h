@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-#include "core/geometry.h"
+#include "core/geometry/geometry.h"
 #include "core/scene.h"
 
 namespace mpvg::svg::detail {
@@ -92,7 +92,7 @@ void add_path_bounds(const Path& path, const Affine& m, Bounds& b);
 std::array<Vec2, 4> segment_cubic(const Path& path, const Path::Segment& sg);
 
 // The length of `path` as the stroke stage measures it to place dashes
-// (core/stroke_curve.h's ArcTable, lines exactly): the sum of its segments'
+// (stroker/stroke_curve.h's ArcTable, lines exactly): the sum of its segments'
 // arc lengths, each closepath's line included. The "computed length" that
 // pathLength is compared with, so that dashes scaled by it end where the
 // author meant them to.

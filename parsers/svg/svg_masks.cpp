@@ -1,6 +1,6 @@
 // Group opacity, mix-blend-mode, isolation and masks (SVG 2 render.html
 // #ObjectAndGroupOpacityProperties, Compositing and Blending 1 §3, CSS
-// Masking 1 §7) as the core's transparency groups (core/group.h).
+// Masking 1 §7) as the core's transparency groups (core/paint/group.h).
 //
 // An element's converted content ops_[start, end) becomes, when it needs
 // one, a group: GroupBegin, its mask (a group of mask type, first), the

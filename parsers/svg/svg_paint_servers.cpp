@@ -20,7 +20,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/paint.h"
+#include "core/paint/paint.h"
 #include "parsers/svg/svg_converter.h"
 
 namespace mpvg::svg::detail {

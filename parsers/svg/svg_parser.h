@@ -13,7 +13,7 @@
 // stroke-dashoffset, paint-order, vector-effect, opacity, clip-path,
 // clip-rule, display, visibility, color and transform. Curves stay curves;
 // arcs, circles and rounded corners become exact rational quadratics.
-// Strokes become fill geometry (the stroke stage, core/stroke.h, builds it
+// Strokes become fill geometry (the stroke stage, stroker/stroke.h, builds it
 // from the centreline when the scene is rendered), painted with the nonzero
 // rule above or below the fill as paint-order says; they are not part of
 // clip paths or bounding boxes.
@@ -72,7 +72,7 @@ struct ParseResult {
 
 struct ParseOptions {
   // Hairlines (strokes thinner than a pixel) are drawn one pixel wide with
-  // their opacity scaled to keep the ink (hairline(), core/stroke_input.h),
+  // their opacity scaled to keep the ink (hairline(), stroker/stroke_input.h),
   // which needs to know what a pixel is. `view`, when set, is called once
   // with the document's size (scene units) and returns the scene-to-pixel
   // transform the document will be rendered with (svg2png passes the one

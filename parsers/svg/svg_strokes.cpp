@@ -1,7 +1,7 @@
 // Strokes: each painted stroke becomes a stroke operation, its centreline
 // and style, which the scene carries (SceneBuilder::stroke) and the stroke
 // stage builds when the scene is rendered.
-#include "core/stroke_input.h"
+#include "stroker/stroke_input.h"
 #include "parsers/svg/svg_converter.h"
 
 namespace mpvg::svg::detail {
@@ -10,7 +10,7 @@ namespace mpvg::svg::detail {
 // or nothing when it paints nothing (SVG 2 painting.html#StrokeProperties:
 // stroke none, zero width, invisible or fully transparent). `bbox` is the
 // shape's, for paint servers. The outline itself is built when the scene is
-// rendered (core/stroke.h), in user space, to 1/16 of an output pixel.
+// rendered (stroker/stroke.h), in user space, to 1/16 of an output pixel.
 std::optional<Op> Converter::shape_stroke(uint32_t shape, const Style& st, const Affine& space, ShapeBox& bbox,
                                           const Element* element) {
   const Inherited& inh = st.inh;

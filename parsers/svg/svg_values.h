@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/geometry.h"
+#include "core/geometry/geometry.h"
 #include "core/scene.h"
 
 namespace mpvg::svg::detail {

@@ -1,0 +1,284 @@
+// Stages "schedule", "sample" and "integrate" on the CPU. Cells are aligned
+// to unit areas, so the unit areas of a leaf are the unit-area grid squares
+// it covers (the non-warped scheduler of §5.3); threads take strips of one
+// leaf at a time, so a cell's stream stays in cache while its samples are
+// evaluated.
+//
+// Integration (integration.h): with the box filter a unit area is its pixel
+// and the average of its samples is written directly. Wider filters send one
+// weighted sum per covered pixel into fixed-point accumulators (atomic, so
+// the order of arrival does not matter), which are then normalised, passed
+// through the cardinal prefilter if asked, clamped and cropped.
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+
+#include "cpu/cpu_stages.h"
+#include "core/parallel.h"
+#include "core/sampling/sampling.h"
+
+namespace mpvg {
+
+namespace {
+
+struct Task {
+  uint32_t leaf;
+  uint32_t x0, x1, y0, y1;
+};
+
+constexpr uint32_t kMaxTaskPixels = 256;
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Schedule: every leaf's unit areas inside the w x h grid, in strips (the
+// leaves of one root of a forest).
+std::vector<Task> schedule(const ShortcutTree& tree, int w, int h, uint32_t root) {
+  std::vector<Task> tasks;
+  for (uint32_t l = 0; l < tree.leaves.size(); l++) {
+    const Cell& c = tree.leaves[l];
+    if (c.root != root) continue;
+    const uint32_t s = tree.root_size >> c.level;
+    const uint32_t x0 = c.ix * s, y0 = c.iy * s;
+    const uint32_t x1 = std::min<uint32_t>(x0 + s, static_cast<uint32_t>(w));
+    const uint32_t y1 = std::min<uint32_t>(y0 + s, static_cast<uint32_t>(h));
+    if (x0 >= x1 || y0 >= y1) continue;
+    const uint32_t rows = std::max<uint32_t>(1, kMaxTaskPixels / (x1 - x0));
+    for (uint32_t y = y0; y < y1; y += rows) tasks.push_back({l, x0, x1, y, std::min(y1, y + rows)});
+  }
+  return tasks;
+}
+
+// Leaves without geometry or position-dependent paints have one colour
+// everywhere.
+std::vector<char> uniform_leaves(const ShortcutTree& tree, uint32_t root) {
+  std::vector<char> uniform(tree.leaves.size(), 1);
+  for (size_t l = 0; l < tree.leaves.size(); l++)
+    if (tree.leaves[l].root == root)
+      for (uint32_t i = tree.leaves[l].begin; i < tree.leaves[l].end && uniform[l]; i++)
+        uniform[l] = !entry_varies(tree.leaf_entries[i], tree.paths.data());
+  return uniform;
+}
+
+void composite(const float* p, const PaintRecord& bg, float* out) {
+  const float under = 1.0f - p[3];
+  out[0] = p[0] + under * bg.r;
+  out[1] = p[1] + under * bg.g;
+  out[2] = p[2] + under * bg.b;
+  out[3] = p[3] + under * bg.a;
+}
+
+// A tree's paint tables as the sampler reads them: views of the tables and
+// of the pattern tiles' trees (not copyable: tables points into tiles).
+struct TreePaint {
+  explicit TreePaint(const ShortcutTree& tree) : data(tree.paint ? *tree.paint : no_paints()) {
+    for (const ShortcutTree& t : tree.tiles) tiles.push_back(t.view());
+    tables = data.view(tiles.data());
+  }
+  TreePaint(const TreePaint&) = delete;
+  TreePaint& operator=(const TreePaint&) = delete;
+
+  static const PaintData& no_paints() {
+    static const PaintData none;
+    return none;
+  }
+
+  const PaintData& data;
+  std::vector<TreeView> tiles;
+  PaintTables tables;
+};
+
+}  // namespace
+
+Rgba4 sample_tree_cpu(const ShortcutTree& tree, float px, float py, uint32_t root) {
+  const TreePaint paint(tree);
+  const SampleInputs in{tree.leaf_entries.data(), tree.segments.data(), tree.paths.data(), &paint.tables};
+  const Cell& c = tree.leaves[tree_find_leaf(tree.nodes.data(), tree.root_size, uint32_t(px), uint32_t(py), root)];
+  return sample_cell(in, c.begin, c.end, px, py);
+}
+
+ImageF render_tree_cpu(const ShortcutTree& tree, int width, int height, const std::vector<SampleOffset>& pattern,
+                       const PaintRecord& background, int threads, RenderTimes* times) {
+  const Integration box = make_integration(Filter::Box, pattern);
+  return render_tree_cpu(tree, box, integration_frame(box, width, height), background, threads, times);
+}
+
+ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const IntegrationFrame& frame,
+                       const PaintRecord& background, int threads, RenderTimes* times, uint32_t root) {
+  const std::vector<SampleOffset>& pattern = integ.offsets;  // class 0 first
+  auto t0 = std::chrono::steady_clock::now();
+  ImageF img;
+  img.width = frame.width;
+  img.height = frame.height;
+  img.rgba.assign(size_t(frame.width) * size_t(frame.height) * 4, 0.0f);
+  const std::vector<Task> tasks = schedule(tree, frame.ua_w, frame.ua_h, root);
+  const std::vector<char> uniform = uniform_leaves(tree, root);
+  if (times) times->schedule_ms += ms_since(t0);
+  // Samples evaluated (--stats): one per uniform leaf of the frame, one per
+  // flat unit area, integ.samples per other unit area.
+  std::atomic<uint64_t> samples{0};
+  for (size_t l = 0; l < tree.leaves.size(); l++)
+    if (uniform[l] && tree.leaves[l].root == root) samples.fetch_add(1, std::memory_order_relaxed);
+
+  t0 = std::chrono::steady_clock::now();
+  const TreePaint paint(tree);
+  const SampleInputs in{tree.leaf_entries.data(), tree.segments.data(), tree.paths.data(), &paint.tables};
+  // Threads worth starting for `work` samples (or weighted pixel values):
+  // one per ~64k, so that a small frame does not pay for starting every
+  // core's thread in each pass (a 10x10 image at 4x4x32 took 4.6 ms on 16
+  // cores, 0.3 ms on one).
+  const int all = threads > 0 ? threads : hardware_threads();
+  auto threads_for = [all](double work) { return std::max(1, std::min(all, static_cast<int>(work / 65536)));
+  };
+  // Uniform leaves hold solid paints only (entry_varies); the rest is
+  // sampled by the specialisation the scene's paints need.
+  // The root's own specialisation (a forest's scenes each render as they
+  // would alone); trees made without roots (tests) take the paints'.
+  const bool aliasing = integ.support % 2 == 1;
+  const uint32_t root_kinds =
+      root < tree.roots.size() ? tree.roots[root].kinds[aliasing] : sampler_kinds(paint.data, aliasing);
+  ImageF image = with_sampler_kinds(root_kinds, [&](auto kinds) {
+    constexpr uint32_t Kinds = decltype(kinds)::value;
+    const int n = integ.samples;
+    const bool direct = integ.support == 1 && integ.pad == 0;
+    if (direct) {
+      // Box filter: each unit area is its pixel.
+      const float w = box_weight(n);
+      parallel_for(tasks.size(), threads_for(double(frame.ua_w) * frame.ua_h * n), [&](size_t ti) {
+        const Task& task = tasks[ti];
+        const Cell& c = tree.leaves[task.leaf];
+        if (uniform[task.leaf]) {
+          const Rgba4 col = sample_cell<0, kUniformKinds<Kinds>>(in, c.begin, c.end, float(task.x0), float(task.y0));
+          const float p[4] = {col.r, col.g, col.b, col.a};
+          for (uint32_t y = task.y0; y < task.y1; y++)
+            for (uint32_t x = task.x0; x < task.x1; x++)
+              composite(p, background, &img.rgba[(size_t(y) * size_t(frame.width) + x) * 4]);
+          return;
+        }
+        uint64_t evaluated = 0;
+        for (uint32_t y = task.y0; y < task.y1; y++) {
+          for (uint32_t x = task.x0; x < task.x1; x++) {
+            float* out = &img.rgba[(size_t(y) * size_t(frame.width) + x) * 4];
+            if (unit_area_flat(in, c.begin, c.end, x, y)) {
+              const Rgba4 col = sample_cell<0, Kinds>(in, c.begin, c.end, float(x) + pattern[0].x, float(y) + pattern[0].y);
+              const float p[4] = {col.r, col.g, col.b, col.a};
+              composite(p, background, out);
+              evaluated++;
+              continue;
+            }
+            evaluated += uint64_t(n);
+            float acc[4] = {0, 0, 0, 0};
+            for (int k = 0; k < n; k++) {
+              const Rgba4 col =
+                  sample_cell<0, Kinds>(in, c.begin, c.end, float(x) + pattern[k].x, float(y) + pattern[k].y);
+              acc[0] += col.r;
+              acc[1] += col.g;
+              acc[2] += col.b;
+              acc[3] += col.a;
+            }
+            const float p[4] = {acc[0] * w, acc[1] * w, acc[2] * w, acc[3] * w};
+            composite(p, background, out);
+          }
+        }
+        samples.fetch_add(evaluated, std::memory_order_relaxed);
+      });
+      if (times) times->sample_ms += ms_since(t0);
+      return img;
+    }
+
+    // Shared samples: every unit area sends K x K weighted sums. Unit areas
+    // of uniform leaves are gathered in the normalisation instead (as on the
+    // GPU): their flat colours go to ua_color.
+    const int K = integ.support, T = K * K;
+    std::vector<std::atomic<long long>> acc(size_t(frame.acc_w) * frame.acc_h * 4);
+    for (auto& a : acc) a.store(0, std::memory_order_relaxed);
+    std::vector<Rgba4> ua_color(size_t(frame.ua_w) * frame.ua_h, Rgba4{0, 0, 0, -1});
+    const int pass_threads = threads_for(double(frame.acc_w) * frame.acc_h * T);
+    parallel_for(tasks.size(), threads_for(double(frame.ua_w) * frame.ua_h * n * T), [&](size_t ti) {
+      const Task& task = tasks[ti];
+      const Cell& c = tree.leaves[task.leaf];
+      if (uniform[task.leaf]) {
+        const Rgba4 flat =
+            sample_cell<0, kUniformKinds<Kinds>>(in, c.begin, c.end, float(task.x0), float(task.y0));
+        for (uint32_t uy = task.y0; uy < task.y1; uy++)
+          for (uint32_t ux = task.x0; ux < task.x1; ux++) ua_color[size_t(uy) * frame.ua_w + ux] = flat;
+        return;
+      }
+      std::vector<Rgba4> col(static_cast<size_t>(n));
+      std::vector<float> sums(size_t(T) * 4);
+      static_assert(sizeof(Rgba4) == 4 * sizeof(float), "Rgba4 is four floats");
+      uint64_t evaluated = 0;
+      for (uint32_t uy = task.y0; uy < task.y1; uy++) {
+        for (uint32_t ux = task.x0; ux < task.x1; ux++) {
+          const int cls = unit_area_class(ux, uy, integ.class_mod);
+          const SampleOffset* o = &integ.offsets[size_t(cls) * n];
+          if (unit_area_flat(in, c.begin, c.end, ux, uy)) {
+            // Gathered in the normalisation, as a uniform leaf's unit areas.
+            ua_color[size_t(uy) * frame.ua_w + ux] =
+                sample_cell<0, Kinds>(in, c.begin, c.end, float(ux) + o[0].x, float(uy) + o[0].y);
+            evaluated++;
+            continue;
+          }
+          evaluated += uint64_t(n);
+          for (int i = 0; i < n; i++)
+            col[i] = sample_cell<0, Kinds>(in, c.begin, c.end, float(ux) + o[i].x, float(uy) + o[i].y);
+          integrate_unit_area_all(integ.weights.data() + size_t(cls) * n * T, T, n, &col[0].r, sums.data());
+          for (int ey = 0; ey < K; ey++) {
+            const int ay = static_cast<int>(uy) - ey;
+            if (ay < 0 || ay >= frame.acc_h) continue;
+            for (int ex = 0; ex < K; ex++) {
+              const int ax = static_cast<int>(ux) - ex;
+              if (ax < 0 || ax >= frame.acc_w) continue;
+              const float* s = &sums[size_t(ey * K + ex) * 4];
+              std::atomic<long long>* a = &acc[(size_t(ay) * frame.acc_w + ax) * 4];
+              for (int ch = 0; ch < 4; ch++) a[ch].fetch_add(to_fixed(s[ch]), std::memory_order_relaxed);
+            }
+          }
+        }
+      }
+      samples.fetch_add(evaluated, std::memory_order_relaxed);
+    });
+    // Normalise (adding the uniform unit areas), prefilter rows then columns,
+    // clamp, crop, composite.
+    std::vector<float> buf(acc.size());
+    parallel_for(size_t(frame.acc_h), pass_threads, [&](size_t ay) {
+      for (int ax = 0; ax < frame.acc_w; ax++) {
+        const size_t px = ay * size_t(frame.acc_w) + ax;
+        long long sum[4];
+        for (int ch = 0; ch < 4; ch++) sum[ch] = acc[px * 4 + ch].load(std::memory_order_relaxed);
+        for (int e = 0; e < T; e++) {
+          const uint32_t ux = uint32_t(ax + e % K), uy = uint32_t(ay + e / K);
+          const Rgba4& u = ua_color[size_t(uy) * frame.ua_w + ux];
+          if (u.a < 0.0f) continue;
+          float s[4];
+          integrate_unit_area(nullptr, 0, integ.weight_sums[unit_area_class(ux, uy, integ.class_mod) * T + e], 0, true,
+                              &u.r, nullptr, s);
+          for (int ch = 0; ch < 4; ch++) sum[ch] += to_fixed(s[ch]);
+        }
+        const double norm = kFixedScale * integ.totals[unit_area_class(uint32_t(ax), uint32_t(ay), integ.class_mod)];
+        for (int ch = 0; ch < 4; ch++) buf[px * 4 + ch] = fixed_to_float(sum[ch], norm);
+      }
+    });
+    if (integ.prefilter) {
+      parallel_for(size_t(frame.acc_h), pass_threads,
+                   [&](size_t y) { cardinal_prefilter_line(&buf[y * frame.acc_w * 4], frame.acc_w, 4); });
+      parallel_for(size_t(frame.acc_w), pass_threads,
+                   [&](size_t x) { cardinal_prefilter_line(&buf[x * 4], frame.acc_h, frame.acc_w * 4); });
+    }
+    for (int y = 0; y < frame.height; y++)
+      for (int x = 0; x < frame.width; x++) {
+        float p[4];
+        const float* q = &buf[((size_t(y) + integ.pad) * frame.acc_w + x + integ.pad) * 4];
+        std::copy(q, q + 4, p);
+        clamp_premultiplied(p);
+        composite(p, background, &img.rgba[(size_t(y) * frame.width + x) * 4]);
+      }
+    if (times) times->sample_ms += ms_since(t0);
+    return img;
+  });
+  if (times) times->samples += samples.load(std::memory_order_relaxed);
+  return image;
+}
+
+}  // namespace mpvg
