@@ -33,7 +33,6 @@
 #include "apps/ink_output.h"
 #include "apps/pdf_page_job.h"
 #include "apps/pipeline.h"
-#include "apps/png_writer.h"
 #include "parsers/pdf/pdf_parser.h"
 #endif
 
