@@ -1,6 +1,6 @@
 // mpvg-compare: compares two images, as a golden-image test in CI does, with
 // OpenImageIO idiff's thresholds and an antialiasing-aware mode
-// (apps/image_compare.h). Exit status: 0 equal within the thresholds (a
+// (lib/compare/image_compare.h). Exit status: 0 equal within the thresholds (a
 // warning included), 1 different, 2 an error (unreadable file, bad
 // option).
 #include <cerrno>
@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "apps/image_compare.h"
-#include "apps/image_io.h"
-#include "apps/image_writer.h"
+#include "lib/compare/image_compare.h"
+#include "lib/output/image_io.h"
+#include "lib/output/image_writer.h"
 #include "core/error.h"
 #include "core/scene.h"
 #include "parsers/svg/svg_parser.h"

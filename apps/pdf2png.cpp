@@ -4,7 +4,7 @@
 //
 // or to TIFFs or JPEGs with pdftoppm's -tiff (-tiffcompression) and -jpeg
 // (-jpegopt), named .tif and .jpg as pdftoppm names them, encoded by
-// OpenImageIO in a module loaded on first need (apps/image_writer.h;
+// OpenImageIO in a module loaded on first need (lib/output/image_writer.h;
 // without it -tiff and -jpeg are refused before any page is rendered).
 // They record the page's resolution; a JPEG has no alpha (--transparent is
 // ignored) and 8 bits only.
@@ -54,10 +54,10 @@
 #include <string>
 #include <vector>
 
-#include "apps/cli.h"
-#include "apps/image_writer.h"
-#include "apps/pdf_page_job.h"
-#include "apps/pipeline.h"
+#include "lib/pipeline/cli.h"
+#include "lib/output/image_writer.h"
+#include "lib/pipeline/pdf_page_job.h"
+#include "lib/pipeline/pipeline.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "gpu/backend.h"

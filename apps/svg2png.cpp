@@ -25,11 +25,11 @@
 #include <thread>
 #include <unistd.h>
 
-#include "apps/cli.h"
-#include "apps/image_io.h"
-#include "apps/json.h"
-#include "apps/pipeline.h"
-#include "apps/png_writer.h"
+#include "lib/pipeline/cli.h"
+#include "lib/output/image_io.h"
+#include "lib/pipeline/json.h"
+#include "lib/pipeline/pipeline.h"
+#include "lib/output/png_writer.h"
 #include "apps/server.h"
 #include "core/error.h"
 #include "core/filters/filter_layers.h"
@@ -386,7 +386,7 @@ std::vector<std::pair<std::string, std::string>> batch_items(const cli::Options&
   return mine;
 }
 
-// svg2png -o OUTDIR IN... / --batch LIST: the pipeline of apps/pipeline.h,
+// svg2png -o OUTDIR IN... / --batch LIST: the pipeline of lib/pipeline/pipeline.h,
 // parsing and PNG on worker threads, rendering on every device asked for.
 int run_batch(const cli::Options& opt, Renderers& renderers) {
   const std::vector<std::pair<std::string, std::string>> items = batch_items(opt);

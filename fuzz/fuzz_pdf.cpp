@@ -4,7 +4,7 @@
 // device (parsers/pdf/pdf_device.cpp) at the resolution pdf2png
 // --scale-to 32 would choose, and rendered on the CPU at most 32 x 32
 // pixels (fuzz_render.h); page 1 also lowered for --separations, its
-// plates named (apps/ink_output.h). mpvg::Error (broken file, failing page) is an
+// plates named (lib/output/ink_output.h). mpvg::Error (broken file, failing page) is an
 // expected outcome; anything else escaping is a finding.
 #include <unistd.h>
 
@@ -15,7 +15,7 @@
 #include <cstdio>
 #include <string>
 
-#include "apps/ink_output.h"
+#include "lib/output/ink_output.h"
 #include "core/error.h"
 #include "fuzz/fuzz_render.h"
 #include "parsers/pdf/pdf_parser.h"

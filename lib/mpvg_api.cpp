@@ -1,6 +1,6 @@
 // The public API (include/mpvg/mpvg.h) over the internal pipeline. Each
 // step is the one svg2png takes, in the same order and with the same
-// helpers (cli::output_geometry, cli::render_options from apps/cli.cpp,
+// helpers (cli::output_geometry, cli::render_options from lib/pipeline/cli.cpp,
 // which this library compiles too), so that a Bitmap is byte for byte the
 // PNG's pixels.
 #include "core/error.h"  // mpvg::Error (the public header's copy is skipped)
@@ -18,9 +18,9 @@
 #include <type_traits>
 #include <utility>
 
-#include "apps/cli.h"
-#include "apps/image_compare.h"
-#include "apps/png_writer.h"
+#include "lib/pipeline/cli.h"
+#include "lib/compare/image_compare.h"
+#include "lib/output/png_writer.h"
 #include "core/memory_budget.h"
 #include "core/renderer.h"
 #include "gpu/backend.h"
@@ -30,9 +30,9 @@
 #ifdef MPVG_HAVE_PDF
 #include <thread>
 
-#include "apps/ink_output.h"
-#include "apps/pdf_page_job.h"
-#include "apps/pipeline.h"
+#include "lib/output/ink_output.h"
+#include "lib/pipeline/pdf_page_job.h"
+#include "lib/pipeline/pipeline.h"
 #include "parsers/pdf/pdf_parser.h"
 #endif
 
@@ -275,7 +275,7 @@ struct MPVG_HIDDEN PdfDocument::Impl {
   std::mutex mutex;  // MuPDF: one thread at a time per document handle
   std::vector<std::string> warnings;
 
-  // Page `index` as pdf2png's pipeline job (apps/pdf_page_job.h), its
+  // Page `index` as pdf2png's pipeline job (lib/pipeline/pdf_page_job.h), its
   // warnings kept as the latest.
   std::unique_ptr<pipeline::Job> job(int index, const PdfPageRequest& request, const cli::Options& o);
 };
@@ -695,7 +695,7 @@ std::string Renderer::note() const { return impl_->frames->note(); }
 Bitmap Renderer::render(const PdfDocument& doc, int index, const PdfRenderSettings& settings) {
 #ifdef MPVG_HAVE_PDF
   return guarded([&] {
-    // pdf2png's steps: the page as its pipeline job (apps/pdf_page_job.h),
+    // pdf2png's steps: the page as its pipeline job (lib/pipeline/pdf_page_job.h),
     // rendered as its render threads render it.
     const cli::Options o = to_cli(settings);
     const std::unique_ptr<pipeline::Job> job = doc.impl_->job(index, to_request(settings), o);

@@ -1,7 +1,7 @@
 // mpvg's OpenImageIO modules, opened on first need so that the converters
 // start without loading OpenImageIO's ~260 libraries: the decoder of SVG
 // images (svg/svg_image_decode_oiio.cpp, mpvg_oiio_decoder.so) and the
-// TIFF/JPEG encoder (apps/image_encode_oiio.cpp, mpvg_oiio_encoder.so),
+// TIFF/JPEG encoder (lib/output/image_encode_oiio.cpp, mpvg_oiio_encoder.so),
 // built where MPVG_IMAGE_IO=oiio.
 #pragma once
 #include <string>

@@ -30,14 +30,6 @@ KNOWN = {
     "gpu/gpu_backend.h -> cpu/cpu_stages.h",
     # A dev tool inside gpu/ that parses SVG.
     "gpu/tools/stroke_stats.cpp -> parsers/svg/svg_parser.h",
-    # The library borrows the programs' pipeline, writers and comparison.
-    "lib/mpvg_api.cpp -> apps/cli.h",
-    "lib/mpvg_api.cpp -> apps/image_compare.h",
-    "lib/mpvg_api.cpp -> apps/png_writer.h",
-    "lib/mpvg_api.cpp -> apps/pipeline.h",
-    "lib/mpvg_api.cpp -> apps/pdf_page_job.h",
-    "lib/mpvg_api.cpp -> apps/ink_output.h",
-    "fuzz/fuzz_pdf.cpp -> apps/ink_output.h",
 }
 
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)

@@ -3,7 +3,7 @@
 // way to regenerate.
 //
 // A reference is an 8-bit RGBA PNG reviewed by eye when it was made. The
-// comparison is mpvg-compare's (apps/image_compare.h), premultiplied, in
+// comparison is mpvg-compare's (lib/compare/image_compare.h), premultiplied, in
 // 1/255 steps: it passes when no channel is off by more than 2 and at most
 // 0.1 % of the pixels are off by more than 1. A mismatch writes expected | |difference| x 8 | actual into the given
 // panel path and reports the numbers. MPVG_UPDATE_GOLDEN=1 rewrites the
@@ -20,8 +20,8 @@
 #include <string>
 #include <vector>
 
-#include "apps/image_compare.h"
-#include "apps/image_io.h"
+#include "lib/compare/image_compare.h"
+#include "lib/output/image_io.h"
 #include "core/renderer.h"
 #include "parsers/svg/svg_parser.h"
 #include "parsers/svg/svg_resources.h"
@@ -98,7 +98,7 @@ inline void check_golden(const std::string& name, const std::filesystem::path& r
   REQUIRE(ref_image->width == w);
   REQUIRE(ref_image->height == h);
   const std::vector<uint8_t>& expected = ref_image->rgba8;
-  // Premultiplied, in 1/255 steps (apps/image_compare.h: mpvg-compare's
+  // Premultiplied, in 1/255 steps (lib/compare/image_compare.h: mpvg-compare's
   // comparison): no channel off by more than 2, at most 0.1 % of the
   // pixels off by more than 1.
   image_compare::Options o;

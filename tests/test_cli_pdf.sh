@@ -231,7 +231,7 @@ check "/Rotate 90: the MediaBox 200x300 and the CropBox 180x260, their corners a
 "$bin" -q --backend cpu -r 144 --box art -f 1 -l 1 "$boxes" "$tmp/art144"
 check "--box art at 144 dpi: 500x240" test "$(png_size "$tmp/art144-1.png")" = 500x240
 
-# -gray and -mono (apps/png_writer.h): colour type and depth from the
+# -gray and -mono (lib/output/png_writer.h): colour type and depth from the
 # header, grey = round(0.30 R + 0.59 G + 0.11 B) of the RGB output of the
 # same page, mono = that grey against the thresholds of
 # poppler's SplashScreen below 300 dpi, a 4x4 dispersed-dot matrix (white
@@ -390,7 +390,7 @@ check "--help lists --box, -cropbox, -hide-annotations, -gray, -mono and --thin-
   -a -n "$(echo "$out" | grep -e '-hide-annotations')" \
   -a -n "$(echo "$out" | grep -e '-gray, --gray')" -a -n "$(echo "$out" | grep -e '-mono, --mono')" -a -n "$(echo "$out" | grep -e '--thin-lines M')"
 
-# -tiff and -jpeg (apps/image_writer.h: OpenImageIO's module). A TIFF is
+# -tiff and -jpeg (lib/output/image_writer.h: OpenImageIO's module). A TIFF is
 # read here (python3's zlib: none, packbits or deflate, the horizontal
 # predictor) and must hold the PNG's samples exactly; a JPEG's header its
 # size, density and scan type (tests/test_image_writer.cpp reads both back

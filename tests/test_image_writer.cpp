@@ -1,4 +1,4 @@
-// TIFF and JPEG output (apps/image_writer.h): known rasters encoded by
+// TIFF and JPEG output (lib/output/image_writer.h): known rasters encoded by
 // image::encode and read back by OpenImageIO's readers (linked here, not
 // through the module) give the same samples, exactly for TIFF (every
 // compression but jpeg), within a tolerance for JPEG at quality 95; the
@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "apps/image_writer.h"
+#include "lib/output/image_writer.h"
 #include "core/error.h"
 #include "tests/catch.h"
 

@@ -1,10 +1,10 @@
-// Print preview's files (apps/ink_output.h): plate names made from ink
+// Print preview's files (lib/output/ink_output.h): plate names made from ink
 // names that a document chooses, which must name a file in the output's
 // folder and nothing else, stay readable, and stay apart.
 #include <set>
 #include <string>
 
-#include "apps/ink_output.h"
+#include "lib/output/ink_output.h"
 #include "tests/catch.h"
 
 using namespace mpvg;

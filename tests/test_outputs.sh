@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Outputs appear whole or not at all (apps/output_file.h), in single runs
+# Outputs appear whole or not at all (lib/output/output_file.h), in single runs
 # and batches: a full disk leaves no file under the final name and says
 # why, a kill never leaves a truncated PNG, new files follow the caller's
 # umask and replaced ones keep their mode; batches end with a summary line

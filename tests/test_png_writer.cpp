@@ -1,4 +1,4 @@
-// The PNG encoder (apps/png_writer.h): what it writes, read back by the
+// The PNG encoder (lib/output/png_writer.h): what it writes, read back by the
 // project's image decoder (OpenImageIO or libpng, neither of which shares
 // code with the encoder), equals what it was given; opaque images become
 // RGB; each row's filter is Sub or Up as the specification's heuristic
@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "apps/png_writer.h"
+#include "lib/output/png_writer.h"
 #include "core/error.h"
 #include "parsers/svg/svg_resources.h"
 #include "tests/catch.h"

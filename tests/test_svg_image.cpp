@@ -11,8 +11,8 @@
 
 #include <unistd.h>
 
-#include "apps/output_file.h"
-#include "apps/png_writer.h"
+#include "lib/output/output_file.h"
+#include "lib/output/png_writer.h"
 #include "parsers/svg/svg_parser.h"
 #include "tests/catch.h"
 #include "tests/svg_test_util.h"

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "apps/png_writer.h"
+#include "lib/output/png_writer.h"
 #include "parsers/svg/svg_resources.h"
 #include "tests/catch.h"
 

@@ -4,7 +4,7 @@
 // per-piece and per-chunk code in loops. The GPU executor
 // (gpu/png_encode.cu) runs the same code before the image is copied back,
 // so that only compressed bytes cross the bus: both give the same bytes.
-// apps/png_writer.h wraps the stream in the PNG container.
+// lib/output/png_writer.h wraps the stream in the PNG container.
 #pragma once
 #include <cstddef>
 #include <cstdint>

@@ -109,7 +109,7 @@ def pdf_main(argv):
     ap.add_argument("--backend", default="auto", choices=["auto", "cpu", "cuda"])
     ap.add_argument("-q", "--quiet", action="store_true", help="no warnings")
     args = ap.parse_args(argv)
-    # -scale-to-x/-y as pdftoppm takes them (apps/pdf_page_job.h): the
+    # -scale-to-x/-y as pdftoppm takes them (lib/pipeline/pdf_page_job.h): the
     # other axis keeps its resolution unless it is -1. render() takes
     # width/height (aspect kept when alone) and scale_to; the resolution
     # of an axis not given is dpi (or -rx/-ry).

@@ -1,4 +1,4 @@
-#include "apps/output_file.h"
+#include "lib/output/output_file.h"
 
 #include <fcntl.h>
 #include <limits.h>

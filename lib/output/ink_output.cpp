@@ -1,13 +1,13 @@
-// Print preview's files (apps/ink_output.h).
-#include "apps/ink_output.h"
+// Print preview's files (lib/output/ink_output.h).
+#include "lib/output/ink_output.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 
-#include "apps/output_file.h"
-#include "apps/png_writer.h"
+#include "lib/output/output_file.h"
+#include "lib/output/png_writer.h"
 #include "core/error.h"
 #include "core/inks/inks.h"
 

@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "apps/image_writer.h"
-#include "apps/ink_output.h"
-#include "apps/png_writer.h"
+#include "lib/output/image_writer.h"
+#include "lib/output/ink_output.h"
+#include "lib/output/png_writer.h"
 #include "core/output/png_encode.h"
 #include "core/renderer.h"
 #include "gpu/backend.h"
@@ -33,7 +33,7 @@ struct Job {
   // density; 0: none); dpi_y where the vertical one differs (0: dpi).
   double dpi = 0, dpi_y = 0;
   // Print preview: the image holds ink passes side by side, written as
-  // apps/ink_output.h writes them (8 bits).
+  // lib/output/ink_output.h writes them (8 bits).
   std::shared_ptr<const InkPage> inks;
   int width = 0, height = 0;
   RenderOptions options;

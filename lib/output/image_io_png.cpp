@@ -1,6 +1,6 @@
 // The image writer of builds without OpenImageIO: mpvg's own PNG encoder.
-#include "apps/image_io.h"
-#include "apps/png_writer.h"
+#include "lib/output/image_io.h"
+#include "lib/output/png_writer.h"
 
 namespace mpvg {
 

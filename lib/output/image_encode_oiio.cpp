@@ -30,7 +30,7 @@
 
 #include <jpeglib.h>
 
-#include "apps/image_writer.h"
+#include "lib/output/image_writer.h"
 
 namespace {
 

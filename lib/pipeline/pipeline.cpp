@@ -1,4 +1,4 @@
-#include "apps/pipeline.h"
+#include "lib/pipeline/pipeline.h"
 
 #include <algorithm>
 #include <chrono>
@@ -13,9 +13,9 @@
 #include <set>
 #include <thread>
 
-#include "apps/cli.h"
-#include "apps/json.h"
-#include "apps/png_writer.h"
+#include "lib/pipeline/cli.h"
+#include "lib/pipeline/json.h"
+#include "lib/output/png_writer.h"
 #include "core/error.h"
 
 namespace mpvg::pipeline {

@@ -1,10 +1,10 @@
-// A PDF page as a pipeline job (apps/pdf_page_job.h).
-#include "apps/pdf_page_job.h"
+// A PDF page as a pipeline job (lib/pipeline/pdf_page_job.h).
+#include "lib/pipeline/pdf_page_job.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "apps/ink_output.h"
+#include "lib/output/ink_output.h"
 #include "core/encoding.h"
 
 namespace mpvg {

@@ -1,5 +1,5 @@
 // PNG output for the command-line tools and tests, through mpvg's own
-// encoder (apps/png_writer.h): no image library to load at start-up.
+// encoder (lib/output/png_writer.h): no image library to load at start-up.
 #pragma once
 #include <cstdint>
 #include <string>

@@ -1,4 +1,4 @@
-#include "apps/image_compare.h"
+#include "lib/compare/image_compare.h"
 
 #include <algorithm>
 #include <cmath>

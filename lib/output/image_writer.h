@@ -1,17 +1,17 @@
 // Image files other than PNG: TIFF and JPEG (pdf2png's -tiff and -jpeg, as
 // pdftoppm's; TIFFs read back for mpvg-compare), encoded by OpenImageIO in a module opened on first need
-// (apps/image_encode_oiio.cpp, mpvg_oiio_encoder.so; built where
+// (lib/output/image_encode_oiio.cpp, mpvg_oiio_encoder.so; built where
 // MPVG_IMAGE_IO=oiio), as SVG images are decoded: a process that writes
 // only PNGs never loads OpenImageIO's ~260 libraries. PNG goes through
-// mpvg's own encoder (apps/png_writer.h). Bytes are encoded in memory; the
-// caller writes them with write_output() (apps/output_file.h), whole or
+// mpvg's own encoder (lib/output/png_writer.h). Bytes are encoded in memory; the
+// caller writes them with write_output() (lib/output/output_file.h), whole or
 // not at all.
 #pragma once
 #include <cstdint>
 #include <string>
 #include <vector>
 
-#include "apps/png_writer.h"
+#include "lib/output/png_writer.h"
 
 namespace mpvg::image {
 

@@ -24,7 +24,7 @@ struct Options {
   Gamma gamma = Gamma::Linear;
   Backend backend = Backend::Auto;
   int bits = 8;
-  // --compression 0..9 (apps/png_writer.h); -1: png::kDefaultCpuLevel,
+  // --compression 0..9 (lib/output/png_writer.h); -1: png::kDefaultCpuLevel,
   // the same bytes on every backend (level 1 compresses on the device).
   int compression = -1;
   bool stats = false;

@@ -1,8 +1,8 @@
-// TIFF and JPEG output (apps/image_writer.h): OpenImageIO in a module
+// TIFF and JPEG output (lib/output/image_writer.h): OpenImageIO in a module
 // opened on first need (image_encode_oiio.cpp, mpvg_oiio_encoder.so), as
 // parsers/svg/svg_image_decode.cpp opens the decoder's, so that the
 // converters start without loading OpenImageIO's ~260 libraries.
-#include "apps/image_writer.h"
+#include "lib/output/image_writer.h"
 
 #include <algorithm>
 

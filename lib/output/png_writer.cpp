@@ -1,4 +1,4 @@
-#include "apps/png_writer.h"
+#include "lib/output/png_writer.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "apps/output_file.h"
+#include "lib/output/output_file.h"
 #include "core/error.h"
 #include "core/output/png_encode.h"
 

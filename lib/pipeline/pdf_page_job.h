@@ -1,7 +1,7 @@
-// A PDF page as a job of the batch pipeline (apps/pipeline.h): interpreted
+// A PDF page as a job of the batch pipeline (lib/pipeline/pipeline.h): interpreted
 // and lowered for its resolution, sized (with pdftoppm's crop window),
 // encoded; print preview's ink passes side by side in one frame
-// (apps/ink_output.h). pdf2png's pages and libmpvg's PdfDocument renders
+// (lib/output/ink_output.h). pdf2png's pages and libmpvg's PdfDocument renders
 // are made here, so that both give the same pixels.
 #pragma once
 #include <algorithm>
@@ -9,8 +9,8 @@
 #include <memory>
 #include <string>
 
-#include "apps/cli.h"
-#include "apps/pipeline.h"
+#include "lib/pipeline/cli.h"
+#include "lib/pipeline/pipeline.h"
 #include "parsers/pdf/pdf_parser.h"
 
 namespace mpvg {

@@ -1,4 +1,4 @@
-#include "apps/cli.h"
+#include "lib/pipeline/cli.h"
 
 #include <charconv>
 #include <cmath>

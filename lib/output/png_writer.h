@@ -85,7 +85,7 @@ std::vector<uint8_t> wrap(int width, int height, int bit_depth, int channels, co
 void set_resolution(std::vector<uint8_t>& png, double dpi_x, double dpi_y = 0);
 
 // Writes bytes to path ("-": standard output), whole or not at all
-// (apps/output_file.h). Throws mpvg::Error.
+// (lib/output/output_file.h). Throws mpvg::Error.
 void write_file(const std::string& path, const std::vector<uint8_t>& bytes);
 
 // "libdeflate 1.14" or "zlib 1.2.13".

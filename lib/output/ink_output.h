@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "apps/image_writer.h"
+#include "lib/output/image_writer.h"
 
 namespace mpvg {
 
