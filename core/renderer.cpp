@@ -1,5 +1,7 @@
 #include "core/renderer.h"
 
+#include "cpu/cpu_stages.h"  // (the CPU frame: to cpu/, issue 48)
+
 #include "core/filters/filter_layers.h"
 
 #include <algorithm>

@@ -8,6 +8,7 @@
 #include "core/encoding.h"
 #include "core/sampling/integration.h"
 #include "core/memory_budget.h"
+#include "core/output/image.h"
 #include "core/tree/tree.h"
 
 namespace mpvg {
@@ -75,10 +76,6 @@ std::vector<InputSegment> stroke_input_segments(const EncodedScene& scene, int t
 ShortcutTree build_tree_cpu(const EncodedScene& scene, int width, int height, const TreeParams& params,
                             BuildTimes* times = nullptr, MemoryBudget* budget = nullptr);
 
-struct ImageF {
-  int width = 0, height = 0;
-  std::vector<float> rgba;  // premultiplied, integration colour space, row-major
-};
 
 struct RenderTimes {
   double schedule_ms = 0, sample_ms = 0;

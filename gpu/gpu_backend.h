@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "cpu/cpu_stages.h"
+#include "core/output/image.h"
 #include "core/encoding.h"
 #include "core/sampling/integration.h"
 #include "core/output/png_encode.h"

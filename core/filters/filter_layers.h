@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "cpu/cpu_stages.h"
+#include "core/output/image.h"
 #include "core/filters/filter_primitives.h"
 #include "core/renderer.h"
 #include "core/scene.h"
