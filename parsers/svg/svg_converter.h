@@ -636,11 +636,11 @@ class Converter {
   bool place(const Element& e, Kind kind, const Context& ctx, Placed& out);
   void render(const Element& e, const Context& ctx, int depth);
   // render()'s work: the element with its effects. render() itself decides
-  // what --export-id leaves out and measures the boxes --query lists.
-  void render_element(const Element& e, const Context& ctx, int depth);
-  // An ancestor of the element --export-id draws: its transform and the
-  // properties it passes down, none of its effects, no other children.
-  void render_ancestor(const Element& e, const Context& ctx, int depth);
+  // what --export-id leaves out and measures the boxes --query lists. An
+  // `ancestor` of the element --export-id draws gives its transform and the
+  // properties it passes down, none of its effects; its children are
+  // rendered (render() skips those off the path).
+  void render_element(const Element& e, const Context& ctx, int depth, bool ancestor = false);
   // What ops_[begin, end) paints, in scene units: strokes with their width,
   // markers, filter regions, embedded documents; invisible shapes (bounds
   // operations) and clip and mask content not.

@@ -477,7 +477,7 @@ void Converter::render(const Element& e, const Context& ctx, int depth) {
     // --export-id: the element itself, the path down to it, nothing else.
     if (&e != s_.export_target) {
       for (const Element* a = s_.export_target->parent; a; a = a->parent)
-        if (a == &e) render_ancestor(e, ctx, depth);
+        if (a == &e) render_element(e, ctx, depth, true);
       return;
     }
     s_.exporting = true;
@@ -510,19 +510,6 @@ void Converter::render(const Element& e, const Context& ctx, int depth) {
   box.height = b.height();
 }
 
-void Converter::render_ancestor(const Element& e, const Context& ctx, int depth) {
-  const Kind kind = classify(e);
-  if (kind == Kind::Ignored || !conditions_pass(e)) return;
-  if (e.name == "svg" && e.parent) {
-    render_viewport(e, ctx, depth, nullptr);
-    return;
-  }
-  if (!enter(depth)) return;
-  Placed pl;
-  if (!place(e, kind, ctx, pl)) return;
-  if (kind == Kind::Container) draw_content(e, kind, pl, child_context(pl.st, pl.space, false), depth);
-}
-
 Bounds Converter::drawn_bounds(size_t begin, size_t end) const {
   Bounds b;
   for_each_content(begin, end, [&](const Op& op) {
@@ -539,11 +526,11 @@ Bounds Converter::drawn_bounds(size_t begin, size_t end) const {
   return b;
 }
 
-void Converter::render_element(const Element& e, const Context& ctx, int depth) {
+void Converter::render_element(const Element& e, const Context& ctx, int depth, bool ancestor) {
   const Kind kind = classify(e);
   if (kind == Kind::Ignored || !conditions_pass(e)) return;
   if (kind == Kind::Unsupported) {
-    warn("<" + e.name + "> elements are not supported: ignored");
+    if (!ancestor) warn("<" + e.name + "> elements are not supported: ignored");
     return;
   }
   if (e.name == "svg" && e.parent) {
@@ -553,6 +540,10 @@ void Converter::render_element(const Element& e, const Context& ctx, int depth) 
   if (!enter(depth)) return;
   Placed pl;
   if (!place(e, kind, ctx, pl)) return;
+  if (ancestor) {
+    if (kind == Kind::Container) draw_content(e, kind, pl, child_context(pl.st, pl.space, false), depth);
+    return;
+  }
   const auto& [st, space, target, clip] = pl;
 
   const size_t start = ops_.size();
