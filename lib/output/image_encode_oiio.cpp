@@ -211,6 +211,10 @@ bool read(const std::vector<uint8_t>& bytes, size_t max_pixels, mpvg::image::Dec
   }
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) return fail(why, "an image without pixels");
+  // (Before its samples are allocated: CMYK, spot inks and alpha fit.)
+  if (spec.nchannels > mpvg::image::kMaxDecodedChannels)
+    return fail(why, "an image of " + std::to_string(spec.nchannels) + " channels (at most " +
+                         std::to_string(mpvg::image::kMaxDecodedChannels) + ")");
   if (size_t(spec.width) * size_t(spec.height) > max_pixels)
     return fail(why, "image of " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
                          " pixels is over the limit of " + std::to_string(max_pixels) + " pixels");

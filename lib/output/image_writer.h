@@ -80,8 +80,12 @@ struct Decoded {
   std::vector<float> samples;
 };
 
+// The most channels decode() reads (CMYK, spot colours, alpha).
+constexpr int kMaxDecodedChannels = 16;
+
 // Reads a TIFF (or any file OpenImageIO reads) of at most max_pixels
-// pixels through the module. Throws mpvg::Error with one line.
+// pixels and kMaxDecodedChannels channels through the module. Throws
+// mpvg::Error with one line.
 Decoded decode(const std::vector<uint8_t>& bytes, size_t max_pixels);
 
 // The file name extension pdftoppm gives the format: "png", "jpg", "tif".
