@@ -42,12 +42,14 @@
 #include <string>
 #include <vector>
 
-#include "core/encoding.h"
+#include "frame/encoding.h"
 #include "core/error.h"
-#include "core/renderer.h"
-#include "gpu/backend.h"
+#include "frame/frame.h"
+#include "lib/backend/backend.h"
 #include "gpu/gpu_backend.h"
 #include "parsers/svg/svg_parser.h"
+#include "cpu/cpu_frame.h"
+#include "frame/scene_info.h"
 
 using namespace mpvg;
 

@@ -60,7 +60,7 @@
 #include "lib/pipeline/pipeline.h"
 #include "core/error.h"
 #include "core/parallel.h"
-#include "gpu/backend.h"
+#include "lib/backend/backend.h"
 #include "parsers/pdf/output_intent.h"
 #include "parsers/pdf/pdf_parser.h"
 
@@ -748,7 +748,7 @@ int main(int argc, char** argv) {
     c.color = pdf.mono ? png::Color::Mono : pdf.gray ? png::Color::Gray : png::Color::Rgb;
     c.format = pdf.format;
     c.encode = pdf.encode;
-    // Small pages waiting together share a frame (core/tree/forest.h): one tree
+    // Small pages waiting together share a frame (frame/forest.h): one tree
     // build for several pages (--compression 1: pgfmanual 196-199 pages/s
     // against 172-178 with 3 render threads).
     c.forest_scenes = pipeline::forest_scenes_for(opt.frame_scenes, cuda, opt.compression);

@@ -18,11 +18,11 @@
 #include <string>
 #include <vector>
 
-#include "core/encoding.h"
+#include "frame/encoding.h"
 #include "stroker/stroke_input.h"
 #include "parsers/svg/svg_parser.h"
 #ifdef MPVG_WITH_CUDA
-#include "gpu/backend.h"
+#include "lib/backend/backend.h"
 #include "gpu/stroke.h"
 #endif
 

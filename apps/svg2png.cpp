@@ -1,9 +1,9 @@
 // svg2png: renders an SVG document to a PNG.
 //
 // The path from command to file, in order: CUDA's start-up begins on a
-// thread of its own (gpu/backend.h GpuStartup) unless --backend cpu; the
+// thread of its own (lib/backend/backend.h GpuStartup) unless --backend cpu; the
 // document is read, parsed and stroked meanwhile; the scene is encoded; the
-// backend is chosen (--backend auto: gpu/cost_model.cpp, the CPU when it
+// backend is chosen (--backend auto: lib/backend/cost_model.cpp, the CPU when it
 // would finish before the GPU is ready); the frame is rendered, converted
 // to 8 or 16 bits and written by mpvg's PNG encoder (no image library is
 // loaded unless the document holds a JPEG, GIF or WebP image).
@@ -30,13 +30,15 @@
 #include "lib/pipeline/json.h"
 #include "lib/pipeline/pipeline.h"
 #include "lib/output/png_writer.h"
-#include "apps/server.h"
+#include "lib/server/server.h"
 #include "core/error.h"
-#include "core/filters/filter_layers.h"
+#include "frame/filter_layers.h"
 #include "core/memory_budget.h"
 #include "core/parallel.h"
-#include "gpu/backend.h"
+#include "lib/backend/backend.h"
 #include "parsers/svg/svg_parser.h"
+#include "cpu/cpu_frame.h"
+#include "frame/scene_info.h"
 
 namespace {
 
@@ -222,7 +224,7 @@ int run(const cli::Options& opt, const Document& source, Renderers& renderers, c
     if (!gpu) throw Error("CUDA backend unavailable: " + why);
   } else if (opt.backend == Backend::Auto) {
     CostInputs in;
-    in.input_segments = filtered ? doc.scene.segment_count() : enc.input_segment_count;
+    in.input_segments = filtered ? segment_count(doc.scene) : enc.input_segment_count;
     in.unit_areas = double(plan.frame.ua_w) * plan.frame.ua_h;
     in.samples = plan.integ.samples;
     in.support = plan.integ.support;
@@ -425,7 +427,7 @@ int run_batch(const cli::Options& opt, Renderers& renderers) {
   c.quiet = opt.quiet;
   c.bits = opt.bits;
   c.compression = opt.compression;
-  // Small files waiting together share a frame (core/tree/forest.h).
+  // Small files waiting together share a frame (frame/forest.h).
   c.forest_scenes = pipeline::forest_scenes_for(opt.frame_scenes, cuda, opt.compression);
   c.gamma = opt.gamma;
   c.label = [&](int t) { return items[t].first; };

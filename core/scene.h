@@ -20,10 +20,10 @@
 // evaluated back to front (blend modes other than normal meet their
 // backdrop there, Group::back_to_front) are stored in painter's order.
 //
-// Frontends never write the stream directly: they use SceneBuilder, which
-// takes content in painter's (back-to-front) order, checks the grammar,
-// decides which groups run back to front, and reverses every other fill*
-// list when it finishes.
+// Frontends never write the stream directly: they use SceneBuilder
+// (frame/scene_builder.h), which takes content in painter's (back-to-front)
+// order, checks the grammar, decides which groups run back to front, and
+// reverses every other fill* list when it finishes.
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -187,7 +187,7 @@ struct Gradient {
 // An RGBA raster: straight alpha, sRGB-encoded, row-major, top row first,
 // 8 or 16 bits per channel (only the vector of that depth is used).
 // Texels an executor made for one frame (a filter layer's result,
-// core/filters/filter_layers.h): premultiplied, already in that frame's integration
+// frame/filter_layers.h): premultiplied, already in that frame's integration
 // colour space, one level (they map texel for pixel, never minified). On
 // the host (`host`), or in device memory (`device`, kept by `owner`),
 // which only a frame of the same executor and device can read.
@@ -404,124 +404,9 @@ struct Scene {
   std::vector<FilterEffect> filters;  // PaintType::Filter
   std::vector<Group> groups;
   std::vector<Element> stream;   // top-most first (see the grammar above)
-
-  // Number of input segments over all path instances (an instance counts its
-  // geometry again), plus the closing lines that fills add.
-  size_t segment_count() const;
-};
-
-// Builds a Scene from painter's-order content, enforcing the grammar above.
-// Misuse (e.g. fill() inside a clip section, unbalanced push/pop) throws
-// mpvg::Error.
-class SceneBuilder {
- public:
-  SceneBuilder(double width, double height);
-  // Charges what the scene holds to `budget` as it grows, before it grows
-  // (frontends that build into the builder as they read: PDF pages);
-  // null (the default): nothing is counted. Throws ResourceError past it.
-  void set_budget(MemoryBudget* budget) { budget_ = budget; }
-  MemoryBudget* budget() const { return budget_; }
-  ~SceneBuilder();
-  SceneBuilder(const SceneBuilder&) = delete;
-  SceneBuilder& operator=(const SceneBuilder&) = delete;
-
-  uint32_t add_geometry(Path p);
-
-  // Paint servers, referred to by Paint::index. Invalid ones (no stops,
-  // non-finite numbers, a missing or inconsistent image, an empty tile)
-  // throw mpvg::Error.
-  uint32_t add_gradient(Gradient g);
-  uint32_t add_texture(Texture t);
-  uint32_t add_pattern(Pattern p);
-  uint32_t add_mesh(Mesh m);
-  // A filter effect (core/filters/filter.h): its source, region and primitives are
-  // checked (inputs refer to earlier primitives, finite parameters).
-  uint32_t add_filter(FilterEffect f);
-
-  // A filled path, drawn over what came before it. `aliased`: see
-  // ScenePath::aliased (clip tests take it too).
-  void fill(uint32_t geometry, const Affine& xf, FillRule rule, const Paint& paint, bool aliased = false);
-  // The stroke of a path (its centreline `geometry`, in the user space xf
-  // maps to scene units), drawn like a fill.
-  void stroke(uint32_t geometry, const Affine& xf, const StrokeStyle& style, const Paint& paint, bool aliased = false);
-
-  // push(): start a clip group. Until activate(), the group's clip-path area
-  // is the union of clip() tests and nested groups. After activate(), its
-  // content follows: fills (in a fill context) or clip-paths (when the group
-  // is itself a clip-path). pop() ends the group.
-  void push();
-  void clip(uint32_t geometry, const Affine& xf, FillRule rule, bool aliased = false);
-  // A clip test with the stroke of a centreline (PDF's stroked text and
-  // paths as clips).
-  void clip_stroke(uint32_t geometry, const Affine& xf, const StrokeStyle& style, bool aliased = false);
-  void activate();
-  void pop();
-
-  // Nesting depth of open clip groups and transparency groups (0 at the
-  // top level).
-  size_t depth() const;
-
-  // begin_group(): a transparency group, in a fill context, whose content
-  // follows until end_group(). A group whose Group::mask is set is a mask:
-  // it may only be the first content of another group, and holds fills.
-  // Transparency groups and masks are evaluated per sample at most
-  // kMaxGroupDepth deep (core/paint/group.h; a scene whose top level needs a
-  // back-to-front group gets one around it, which counts too): finish()
-  // dissolves groups nested deeper into their parents' lists, their
-  // opacity folded into the paints of their content (exact where those
-  // fills do not overlap), their blend modes, knockout and masks dropped,
-  // and counts them (flattened_groups(): frontends warn). A non-finite
-  // opacity or a misplaced mask throw mpvg::Error.
-  //
-  // finish() dissolves groups that change nothing (opacity 1, normal
-  // blending, no mask, not knockout, in a parent that is not knockout, and
-  // isolated only where nothing inside blends), marks non-isolated groups
-  // whose content does not blend as isolated (the same result), and sets
-  // Group::back_to_front.
-  void begin_group(const Group& g);
-  void end_group();
-
-  // Appends the whole content of `other`, mapped by `xf` (other's units to
-  // ours), in a fill context: its geometry, paints and paint servers (their
-  // transforms composed with xf), clip groups and fills, in the same order.
-  // Embeds one document in another (an SVG <image> of an SVG file).
-  void append(const Scene& other, const Affine& xf);
-
-  Scene finish();
-  // Groups and masks the last finish() flattened or dropped for nesting
-  // past kMaxGroupDepth.
-  size_t flattened_groups() const { return flattened_groups_; }
-
- private:
-  struct Node;
-  struct Frame;
-  Node* current();
-  Frame& frame();
-
-  // Charges for n elements (their nodes, paths and paints) and b bytes more.
-  void charge_elements(size_t n, size_t b = 0);
-
-  Scene scene_;
-  MemoryBudget* budget_ = nullptr;
-  std::vector<Node*> pool_;
-  std::vector<Frame> frames_;
-  Node* root_ = nullptr;
-  size_t flattened_groups_ = 0;
 };
 
 // The memory a path's arrays hold: what the memory budget is charged for it.
 size_t path_bytes(const Path& p);
-
-// The warning frontends give when SceneBuilder::flattened_groups() is n > 0.
-std::string flattened_groups_warning(size_t n);
-
-// A text dump of a scene: sizes, every path with its geometry, its paint
-// servers (pattern tiles dumped inside, indented), and the stream, one
-// element a line. Parser tests compare dumps with expected text.
-std::string dump(const Scene& scene);
-
-// Does the scene, or a pattern tile or filter source in it, have an
-// aliased path (ScenePath::aliased)?
-bool has_aliased_paths(const Scene& scene);
 
 }  // namespace mpvg

@@ -5,7 +5,7 @@
 
 #include "cpu/cpu_stages.h"
 #include "core/memory_budget.h"
-#include "core/tree/forest.h"
+#include "frame/forest.h"
 #include "core/tree/subdivision.h"
 
 namespace mpvg {

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/encoding.h"
+#include "frame/encoding.h"
 #include "core/sampling/integration.h"
 #include "core/memory_budget.h"
 #include "core/output/image.h"
@@ -69,7 +69,7 @@ std::vector<InputSegment> stroke_input_segments(const EncodedScene& scene, int t
 
 // The whole tree: abstraction, root, then level by level subdivision and
 // pruning until the stopping criteria hold everywhere. A forest's (scene.
-// roots, core/tree/forest.h) has one root per scene; width x height is then
+// roots, frame/forest.h) has one root per scene; width x height is then
 // forest_grid's.
 // What the build holds is charged to `budget` (if any): its scratch while
 // it runs, the tree's arrays for as long as the budget lives.

@@ -1,4 +1,4 @@
-// The CPU executor of filter graphs (core/filters/filter_layers.h): every op in a
+// The CPU executor of filter graphs (frame/filter_layers.h): every op in a
 // loop over its box's rows, on all cores, with the per-pixel code of
 // core/filter_primitives.h.
 #include <algorithm>
@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "core/filters/filter.h"
-#include "core/filters/filter_layers.h"
+#include "frame/filter_layers.h"
 #include "core/parallel.h"
 
 namespace mpvg {

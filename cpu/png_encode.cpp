@@ -1,7 +1,7 @@
 // The CPU executor of the PNG stage's filtering and compression
-// (core/output/png_encode.h): core/output/png_filter.h's and core/output/deflate.h's functions in
+// (cpu/png_encode.h): core/output/png_filter.h's and core/output/deflate.h's functions in
 // loops, chunk after chunk (chunks in parallel where given threads).
-#include "core/output/png_encode.h"
+#include "cpu/png_encode.h"
 
 #include <algorithm>
 #include <cstring>

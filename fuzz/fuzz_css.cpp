@@ -13,6 +13,7 @@
 
 #include "parsers/svg/svg_css.h"
 #include "parsers/svg/svg_dom.h"
+#include "parsers/svg/svg_declarations.h"
 
 namespace {
 

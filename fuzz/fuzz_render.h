@@ -10,9 +10,11 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/renderer.h"
+#include "frame/frame.h"
 #include "core/scene.h"
 #include "fuzz/fuzz_common.h"
+#include "cpu/cpu_frame.h"
+#include "frame/scene_info.h"
 
 namespace mpvg::fuzz {
 

@@ -4,7 +4,7 @@
 // The host reads back a handful of counts per level to size the next one.
 #include <algorithm>
 
-#include "core/tree/forest.h"
+#include "frame/forest.h"
 #include "core/tree/subdivision.h"
 #include "gpu/context.cuh"
 

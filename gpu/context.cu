@@ -185,4 +185,13 @@ std::string device_name() {
   return p.name;
 }
 
+png::ImageData Context::Impl::download_png(bool linear) {
+  convert_rgba8(linear);
+  if (!png_stage) png_stage = std::make_unique<PngStage>();
+  png::ImageData data = png_stage->run(rgba8.data(), out_width, out_height);
+  launches += png_stage->launches;
+  syncs += png_stage->syncs;
+  return data;
+}
+
 }  // namespace mpvg::gpu

@@ -1,4 +1,4 @@
-// The CUDA executor of filter graphs (core/filters/filter_layers.h): the same ops
+// The CUDA executor of filter graphs (frame/filter_layers.h): the same ops
 // as cpu/filter.cpp, run by kernels over the per-pixel code of
 // core/filters/filter_primitives.h, batched: the layers of a batch have graphs of
 // one shape (the same ops wired the same way), so each step of the graph is
@@ -13,7 +13,7 @@
 
 #include "core/error.h"
 #include "core/filters/filter.h"
-#include "core/filters/filter_layers.h"
+#include "frame/filter_layers.h"
 #include "gpu/cuda_util.h"
 #include "gpu/filter.h"
 

@@ -4,7 +4,7 @@
 #include <memory>
 #include <vector>
 
-#include "core/filters/filter_layers.h"
+#include "frame/filter_layers.h"
 
 namespace mpvg::gpu {
 

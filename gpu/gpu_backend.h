@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "core/output/image.h"
-#include "core/encoding.h"
+#include "frame/encoding.h"
 #include "core/sampling/integration.h"
 #include "core/output/png_encode.h"
 #include "core/tree/tree.h"
@@ -59,7 +59,7 @@ class Context {
   // Renders the built tree (built over frame's unit-area grid): samples
   // every unit area with its class's pattern (integ.offsets), integrates as
   // integ says, composites over the background; returns the image in the
-  // integration colour space. A forest's tree (core/tree/forest.h) renders one
+  // integration colour space. A forest's tree (frame/forest.h) renders one
   // root at a time, each over its own grid; every render below takes it.
   ImageF render(const Integration& integ, const IntegrationFrame& frame, const PaintRecord& background,
                 GpuTimes* times = nullptr, uint32_t root = 0);

@@ -7,7 +7,6 @@
 // bytes as the CPU executor gives.
 #include "core/output/deflate.h"
 #include "core/output/png_filter.h"
-#include "gpu/context.cuh"
 #include "gpu/png_encode.cuh"
 #include "gpu/png_encode.h"
 
@@ -418,15 +417,6 @@ png::ImageData PngStage::run(const uint32_t* rgba, int width, int height) {
   result.zlib.resize(head[1]);
   MPVG_CUDA(cudaMemcpy(result.zlib.data(), out_.data(), head[1], cudaMemcpyDeviceToHost));
   return result;
-}
-
-png::ImageData Context::Impl::download_png(bool linear) {
-  convert_rgba8(linear);
-  if (!png_stage) png_stage = std::make_unique<PngStage>();
-  png::ImageData data = png_stage->run(rgba8.data(), out_width, out_height);
-  launches += png_stage->launches;
-  syncs += png_stage->syncs;
-  return data;
 }
 
 png::ImageData compress_rgba8_gpu(const uint8_t* rgba, int width, int height) {

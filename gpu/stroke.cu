@@ -14,7 +14,7 @@
 
 #include "core/error.h"
 #include "stroker/stroke.h"
-#include "gpu/context.cuh"
+#include "gpu/gpu_backend.h"
 #include "gpu/stroke.cuh"
 #include "gpu/stroke.h"
 

@@ -3,7 +3,7 @@
 #pragma once
 #include "stroker/stroke.h"
 #include "stroker/stroke_input.h"
-#include "gpu/context.cuh"
+#include "gpu/primitives.cuh"
 #include "gpu/stroke.h"
 
 namespace mpvg::gpu {

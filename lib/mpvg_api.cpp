@@ -22,8 +22,8 @@
 #include "lib/compare/image_compare.h"
 #include "lib/output/png_writer.h"
 #include "core/memory_budget.h"
-#include "core/renderer.h"
-#include "gpu/backend.h"
+#include "frame/frame.h"
+#include "lib/backend/backend.h"
 #include "parsers/svg/svg_parser.h"
 #include "parsers/svg/svg_resources.h"
 #include "parsers/svg/svg_values.h"
@@ -34,6 +34,8 @@
 #include "lib/pipeline/pdf_page_job.h"
 #include "lib/pipeline/pipeline.h"
 #include "parsers/pdf/pdf_parser.h"
+#include "cpu/cpu_frame.h"
+#include "frame/scene_info.h"
 #endif
 
 #define MPVG_HIDDEN __attribute__((visibility("hidden")))
@@ -668,7 +670,7 @@ struct MPVG_HIDDEN Renderer::Impl {
       const EncodedScene enc = encode_for(parsed->scene, ro);
       out.pixels16 = to_rgba16(frames->render(enc, ro), ro.gamma);
     } else {
-      // The same bytes as to_rgba8(render(...)) (gpu/backend.h), converted
+      // The same bytes as to_rgba8(render(...)) (lib/backend/backend.h), converted
       // on the device with CUDA.
       const RenderPlan plan = plan_render(ro);
       const EncodedScene enc = encode_for(parsed->scene, plan, ro.gamma);

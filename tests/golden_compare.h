@@ -22,7 +22,7 @@
 
 #include "lib/compare/image_compare.h"
 #include "lib/output/image_io.h"
-#include "core/renderer.h"
+#include "frame/frame.h"
 #include "parsers/svg/svg_parser.h"
 #include "parsers/svg/svg_resources.h"
 #include "tests/catch.h"

@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <string>
 
-#include "gpu/backend.h"
+#include "lib/backend/backend.h"
 
 #if __has_include(<catch2/catch_session.hpp>) && !defined(MPVG_CATCH2_V2)
 #include <catch2/catch_session.hpp>

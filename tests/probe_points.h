@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/encoding.h"
+#include "frame/encoding.h"
 #include "core/scene.h"
 #include "tests/oracle.h"
 #include "tests/reference_compositor.h"

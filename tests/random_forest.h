@@ -9,10 +9,12 @@
 #include <vector>
 
 #include "core/paint/mesh_build.h"
-#include "core/renderer.h"
+#include "frame/frame.h"
 #include "tests/random_groups.h"
 #include "tests/random_meshes.h"
 #include "tests/random_scenes.h"
+#include "cpu/cpu_frame.h"
+#include "frame/scene_builder.h"
 
 namespace mpvg::random_forest {
 

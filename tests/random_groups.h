@@ -15,6 +15,7 @@
 #include "core/scene.h"
 #include "tests/random_scenes.h"
 #include "tests/reference_compositor.h"
+#include "frame/scene_builder.h"
 
 namespace mpvg::random_groups {
 

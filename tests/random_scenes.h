@@ -8,6 +8,7 @@
 
 #include "core/scene.h"
 #include "tests/oracle.h"
+#include "frame/scene_builder.h"
 
 namespace mpvg::random_scenes {
 

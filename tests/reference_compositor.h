@@ -38,6 +38,7 @@
 
 #include "core/paint/blend.h"
 #include "core/scene.h"
+#include "frame/scene_builder.h"
 
 namespace mpvg::reference {
 

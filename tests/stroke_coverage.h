@@ -5,9 +5,11 @@
 #include <cmath>
 #include <vector>
 
-#include "core/renderer.h"
+#include "frame/frame.h"
 #include "core/scene.h"
 #include "tests/catch.h"
+#include "cpu/cpu_frame.h"
+#include "frame/scene_builder.h"
 
 namespace mpvg::test {
 

@@ -7,6 +7,7 @@
 
 #include "core/scene.h"
 #include "parsers/svg/svg_parser.h"
+#include "frame/scene_info.h"
 
 namespace svg_test {
 

@@ -7,7 +7,7 @@
 #include <random>
 
 #include "cpu/cpu_stages.h"
-#include "core/encoding.h"
+#include "frame/encoding.h"
 #include "core/sampling/integration.h"
 #include "core/sampling/sampling.h"
 #include "tests/catch.h"

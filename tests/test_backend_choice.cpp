@@ -1,8 +1,8 @@
-// --backend auto's cost model (gpu/cost_model.cpp): the decisions it must
+// --backend auto's cost model (lib/backend/cost_model.cpp): the decisions it must
 // take whatever its constants, and the start-up object without a device.
 #include <cmath>
 
-#include "gpu/backend.h"
+#include "lib/backend/backend.h"
 #include "tests/catch.h"
 
 using namespace mpvg;

@@ -13,6 +13,7 @@
 #include "core/scene.h"
 #include "tests/catch.h"
 #include "tests/reference_compositor.h"
+#include "frame/scene_builder.h"
 
 using namespace mpvg;
 

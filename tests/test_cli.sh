@@ -154,7 +154,7 @@ check "batch with a broken file: the others written" test -s "$tmp/bout/arcs.png
 "$bin" -q --aa 1x32 "$tmp/batch/gradient_repeat.svg" "$tmp/single.png"
 "$bin" -q --aa 1x32 -o "$tmp/bout32" "$tmp/batch/gradient_repeat.svg" "$tmp/batch/arcs.svg"
 check "batch output is the single run's, byte for byte" cmp -s "$tmp/single.png" "$tmp/bout32/gradient_repeat.png"
-# Forest frames (core/tree/forest.h): one render thread, files rendered together
+# Forest frames (frame/forest.h): one render thread, files rendered together
 # as they queue up; the same bytes as one frame each.
 mkdir -p "$tmp/forest"
 for f in arcs gradient_repeat nested_clips opacity pattern_nested stroke_dashes image_svg; do

@@ -182,7 +182,7 @@ check "--report: a JSON line a page, the failed one with its error ($got)" \
 "$bin" -q --backend cpu -r 72 - "$tmp/in" < "$pdf"
 check "- reads the document from stdin, the same image" cmp -s "$tmp/r-1.png" "$tmp/in-1.png"
 
-# Forest frames (core/tree/forest.h): pages rendered together as they queue up,
+# Forest frames (frame/forest.h): pages rendered together as they queue up,
 # the same bytes as a frame per page.
 "$bin" -q --backend cpu -r 72 --render-threads 1 --threads 3 --frame-scenes 3 "$src/testdata/pdf/three-pages.pdf" "$tmp/fr3"
 "$bin" -q --backend cpu -r 72 --render-threads 1 --frame-scenes 1 "$src/testdata/pdf/three-pages.pdf" "$tmp/fr1"

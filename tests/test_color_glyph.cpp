@@ -25,11 +25,13 @@
 #include <string>
 #include <vector>
 
-#include "core/renderer.h"
+#include "frame/frame.h"
 #include "core/scene.h"
 #include "tests/catch.h"
 #include "text/color_glyph.h"
 #include "text/text.h"
+#include "cpu/cpu_frame.h"
+#include "frame/scene_builder.h"
 
 using namespace mpvg;
 namespace tx = mpvg::text;

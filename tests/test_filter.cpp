@@ -7,9 +7,12 @@
 #include <random>
 
 #include "core/filters/filter.h"
-#include "core/filters/filter_layers.h"
-#include "core/renderer.h"
+#include "frame/filter_layers.h"
+#include "frame/frame.h"
 #include "tests/catch.h"
+#include "cpu/cpu_frame.h"
+#include "frame/scene_builder.h"
+#include "frame/scene_info.h"
 
 using namespace mpvg;
 

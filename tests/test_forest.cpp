@@ -1,14 +1,16 @@
-// Forest frames (core/tree/forest.h): several scenes built into one tree render,
+// Forest frames (frame/forest.h): several scenes built into one tree render,
 // scene by scene, to the images they have alone, bit for bit; no cell of
 // the forest holds another scene's elements.
 #include <random>
 
 #include "cpu/cpu_stages.h"
-#include "core/tree/forest.h"
-#include "core/renderer.h"
+#include "frame/forest.h"
+#include "frame/frame.h"
 #include "core/sampling/sampling.h"
 #include "tests/catch.h"
 #include "tests/random_forest.h"
+#include "cpu/cpu_frame.h"
+#include "frame/scene_builder.h"
 
 using namespace mpvg;
 

@@ -11,10 +11,11 @@
 #include <filesystem>
 #include <string>
 
-#include "core/renderer.h"
+#include "frame/frame.h"
 #include "parsers/svg/svg_parser.h"
 #include "tests/catch.h"
 #include "tests/golden_compare.h"
+#include "cpu/cpu_frame.h"
 
 using namespace mpvg;
 namespace fs = std::filesystem;

@@ -15,17 +15,20 @@
 #include <cstring>
 #include <filesystem>
 
+#include "cpu/cpu_frame.h"
 #include "cpu/cpu_stages.h"
 #include "core/error.h"
-#include "core/tree/forest.h"
+#include "frame/forest.h"
 #include "core/paint/mesh_build.h"
-#include "core/renderer.h"
-#include "core/filters/filter_layers.h"
-#include "gpu/backend.h"
+#include "frame/frame.h"
+#include "frame/filter_layers.h"
+#include "frame/scene_builder.h"
+#include "frame/scene_info.h"
+#include "lib/backend/backend.h"
 #include "gpu/filter.h"
 #include "gpu/gpu_backend.h"
 #include "gpu/png_encode.h"
-#include "core/output/png_encode.h"
+#include "cpu/png_encode.h"
 #include "gpu/stroke.h"
 #include "parsers/svg/svg_parser.h"
 #include "tests/catch.h"
@@ -458,7 +461,7 @@ TEST_CASE("stroke stage: stroked scenes render alike on the GPU and the CPU", "[
 }
 
 // The PNG stage on the device (gpu/png_encode.cu) against its CPU executor
-// (core/output/png_encode.h): the same bytes, for images of many sizes (one
+// (cpu/png_encode.h): the same bytes, for images of many sizes (one
 // row to several chunks), opaque or not, flat, smooth and noisy; and for a
 // rendered frame, FrameRenderer::render_png's bytes are those of the CPU
 // executor on the frame's 8-bit image.
@@ -503,7 +506,7 @@ TEST_CASE("png stage: GPU and CPU executors give the same bytes", "[gpu][png]") 
   }
 }
 
-// A forest frame (core/tree/forest.h) on the device: each scene's 8-bit image
+// A forest frame (frame/forest.h) on the device: each scene's 8-bit image
 // and PNG are byte for byte what a frame of its own gives, with the box
 // filter and a wide one; the CPU's forest agrees within 1/255 with the box
 // filter. (Under the cardinal filter with 8 samples and aliased_paths, the

@@ -9,12 +9,15 @@
 #include <string>
 
 #include "cpu/cpu_stages.h"
-#include "core/encoding.h"
-#include "core/renderer.h"
+#include "frame/encoding.h"
+#include "frame/frame.h"
 #include "tests/catch.h"
 #include "tests/oracle.h"
 #include "tests/probe_points.h"
 #include "tests/random_groups.h"
+#include "cpu/cpu_frame.h"
+#include "frame/scene_builder.h"
+#include "frame/scene_info.h"
 
 using namespace mpvg;
 

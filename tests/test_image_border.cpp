@@ -8,9 +8,10 @@
 #include <vector>
 
 #include "core/paint/image_border.h"
-#include "core/renderer.h"
+#include "frame/frame.h"
 #include "parsers/svg/svg_parser.h"
 #include "tests/catch.h"
+#include "cpu/cpu_frame.h"
 
 using namespace mpvg;
 

@@ -10,12 +10,13 @@
 #include <string>
 
 #include "cpu/cpu_stages.h"
-#include "core/encoding.h"
+#include "frame/encoding.h"
 #include "core/inks/inks.h"
 #include "tests/catch.h"
 #include "tests/oracle.h"
 #include "tests/probe_points.h"
 #include "tests/random_inks.h"
+#include "frame/scene_info.h"
 
 using namespace mpvg;
 using reference::inks::Ink;

@@ -6,11 +6,13 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "core/encoding.h"
-#include "core/renderer.h"
+#include "frame/encoding.h"
+#include "frame/frame.h"
 #include "parsers/svg/svg_parser.h"
 #include "tests/catch.h"
 #include "tests/oracle.h"
+#include "cpu/cpu_frame.h"
+#include "frame/scene_builder.h"
 
 using namespace mpvg;
 

@@ -11,13 +11,14 @@
 #include <optional>
 #include <random>
 
-#include "core/encoding.h"
+#include "frame/encoding.h"
 #include "core/error.h"
 #include "core/paint/mesh.h"
 #include "core/paint/mesh_build.h"
 #include "core/output/srgb.h"
 #include "tests/catch.h"
 #include "tests/random_meshes.h"
+#include "frame/scene_builder.h"
 
 using namespace mpvg;
 

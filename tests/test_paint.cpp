@@ -18,12 +18,15 @@
 #include <random>
 
 #include "cpu/cpu_stages.h"
-#include "core/encoding.h"
+#include "frame/encoding.h"
 #include "core/error.h"
 #include "core/sampling/integration.h"
-#include "core/renderer.h"
+#include "frame/frame.h"
 #include "core/sampling/sampling.h"
 #include "tests/catch.h"
+#include "cpu/cpu_frame.h"
+#include "frame/scene_builder.h"
+#include "frame/scene_info.h"
 
 using namespace mpvg;
 
@@ -580,7 +583,7 @@ TEST_CASE("sweep gradients in dumps, appended scenes and SceneBuilder's checks",
 
 TEST_CASE("a sweep gradient in a forest frame renders as it does alone", "[paint][gradient][sweep]") {
   // The second scene's gradient records sit after the first's in the
-  // merged tables (core/tree/forest.cpp): its paint's index must follow them.
+  // merged tables (frame/forest.cpp): its paint's index must follow them.
   Gradient lin;
   lin.p0 = {0, 0};
   lin.p1 = {64, 0};

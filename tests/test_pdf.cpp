@@ -8,10 +8,11 @@
 #include <vector>
 
 #include "core/error.h"
-#include "core/renderer.h"
+#include "frame/frame.h"
 #include "parsers/pdf/pdf_device.h"
 #include "parsers/pdf/pdf_parser.h"
 #include "tests/catch.h"
+#include "cpu/cpu_frame.h"
 
 using namespace mpvg;
 

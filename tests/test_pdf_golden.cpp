@@ -21,10 +21,11 @@
 #include <string>
 #include <vector>
 
-#include "core/renderer.h"
+#include "frame/frame.h"
 #include "parsers/pdf/pdf_parser.h"
 #include "tests/catch.h"
 #include "tests/golden_compare.h"
+#include "cpu/cpu_frame.h"
 
 using namespace mpvg;
 namespace fs = std::filesystem;

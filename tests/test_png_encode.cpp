@@ -1,5 +1,5 @@
 // The PNG stage's filtering and compression (core/output/png_filter.h,
-// core/output/deflate.h, their CPU executor core/output/png_encode.h), each part against
+// core/output/deflate.h, their CPU executor cpu/png_encode.h), each part against
 // an independent oracle: the symbol tables against RFC 1951's, code lengths
 // against a brute-force Huffman and Kraft's equality, Adler-32 parts
 // against zlib's adler32, the filters against the specification's formulas
@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "core/output/deflate.h"
-#include "core/output/png_encode.h"
+#include "cpu/png_encode.h"
 #include "core/output/png_filter.h"
 #include "tests/catch.h"
 

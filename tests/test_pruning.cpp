@@ -8,13 +8,14 @@
 #include <random>
 
 #include "cpu/cpu_stages.h"
-#include "core/encoding.h"
+#include "frame/encoding.h"
 #include "core/tree/flat_clipping.h"
 #include "core/tree/pruning.h"
 #include "core/sampling/sampling.h"
 #include "tests/catch.h"
 #include "tests/oracle.h"
 #include "tests/random_scenes.h"
+#include "frame/scene_info.h"
 
 using namespace mpvg;
 

@@ -5,6 +5,8 @@
 #include "core/scene.h"
 #include "tests/catch.h"
 #include "tests/random_scenes.h"
+#include "frame/scene_builder.h"
+#include "frame/scene_info.h"
 
 using namespace mpvg;
 

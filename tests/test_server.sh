@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The persistent renderer (svg2png --server, MPVG_SERVER=1; apps/server.h):
+# The persistent renderer (svg2png --server, MPVG_SERVER=1; lib/server/server.h):
 # its outputs are the in-process ones byte for byte (files, standard
 # streams, relative paths and read policy), written by the client (its
 # umask), errors keep their exit status, batches render in-process, a

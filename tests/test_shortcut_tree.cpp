@@ -7,11 +7,12 @@
 #include <random>
 
 #include "cpu/cpu_stages.h"
-#include "core/encoding.h"
+#include "frame/encoding.h"
 #include "core/sampling/sampling.h"
 #include "core/tree/subdivision.h"
 #include "tests/catch.h"
 #include "tests/oracle.h"
+#include "frame/scene_builder.h"
 
 using namespace mpvg;
 

@@ -16,11 +16,13 @@
 #include <utility>
 #include <vector>
 
-#include "core/renderer.h"
+#include "frame/frame.h"
 #include "stroker/stroke_input.h"
 #include "tests/catch.h"
 #include "tests/random_paths.h"
 #include "tests/stroke_coverage.h"
+#include "cpu/cpu_frame.h"
+#include "frame/scene_builder.h"
 
 using namespace mpvg;
 using namespace mpvg::test;

@@ -8,12 +8,14 @@
 #include <string>
 #include <vector>
 
-#include "core/renderer.h"
+#include "frame/frame.h"
 #include "parsers/svg/svg_parser.h"
 #include "tests/catch.h"
 #include "tests/svg_test_util.h"
 #include "text/color_glyph.h"
 #include "text/text.h"
+#include "cpu/cpu_frame.h"
+#include "frame/scene_builder.h"
 
 using namespace mpvg;
 

@@ -7,10 +7,12 @@
 #include <vector>
 
 #include "parsers/svg/svg_css.h"
+#include "parsers/svg/svg_declarations.h"
 #include "parsers/svg/svg_parser.h"
 #include "parsers/svg/svg_values.h"
 #include "tests/catch.h"
 #include "tests/svg_test_util.h"
+#include "frame/scene_info.h"
 
 namespace {
 

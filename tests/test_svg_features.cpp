@@ -10,10 +10,11 @@
 #include <string>
 #include <vector>
 
-#include "core/renderer.h"
+#include "frame/frame.h"
 #include "parsers/svg/svg_parser.h"
 #include "tests/catch.h"
 #include "tests/svg_test_util.h"
+#include "cpu/cpu_frame.h"
 
 using namespace mpvg;
 

@@ -9,6 +9,7 @@
 #include "parsers/svg/svg_parser.h"
 #include "tests/catch.h"
 #include "tests/svg_test_util.h"
+#include "frame/scene_info.h"
 
 namespace {
 

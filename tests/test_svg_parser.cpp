@@ -15,6 +15,7 @@
 #include "parsers/svg/xml_syntax.h"
 #include "tests/catch.h"
 #include "tests/svg_test_util.h"
+#include "frame/scene_info.h"
 
 namespace {
 

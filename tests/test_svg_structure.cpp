@@ -7,6 +7,7 @@
 #include "parsers/svg/svg_values.h"
 #include "tests/catch.h"
 #include "tests/svg_test_util.h"
+#include "frame/scene_info.h"
 
 namespace {
 

@@ -10,6 +10,7 @@
 
 #include "parsers/svg/svg_parser.h"
 #include "tests/catch.h"
+#include "frame/scene_info.h"
 
 namespace {
 

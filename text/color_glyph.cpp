@@ -18,6 +18,7 @@
 #include <optional>
 
 #include "core/error.h"
+#include "frame/scene_builder.h"
 
 namespace mpvg::text {
 

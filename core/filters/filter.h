@@ -5,7 +5,7 @@
 // A filtered element is a FilterEffect: its content (the SourceGraphic) is
 // a sub-scene in the parent's scene units, and a graph of primitives runs
 // on it. The parent fills the filter region with PaintType::Filter, which
-// the renderer resolves before encoding (core/filters/filter_layers.h): the source
+// the renderer resolves before encoding (frame/filter_layers.h): the source
 // is rendered by the same pipeline into an offscreen layer at the output's
 // resolution, the graph runs on that layer (core/filters/filter_primitives.h, per
 // pixel on either executor), and the result re-enters the parent scene as

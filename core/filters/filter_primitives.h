@@ -1,7 +1,7 @@
 // Filter primitives per pixel (Filter Effects Module Level 1, §9-§15),
 // written once for both executors: cpu/filter.cpp runs them in loops,
 // the CUDA executor in kernels. A primitive works on layers: premultiplied
-// RGBA floats over the filter layer's pixels (core/filters/filter_layers.h), in
+// RGBA floats over the filter layer's pixels (frame/filter_layers.h), in
 // the primitive's colour space (linearRGB or sRGB, premultiplied there).
 //
 // FilterOp is a primitive of core/filters/filter.h resolved to the layer's pixels:
@@ -608,10 +608,10 @@ MPVG_HD_INLINE Rgba4 filter_turbulence(const FilterOp& op, const double* noise, 
 // ------------------------------------------------------------ result
 
 // A graph's result pixel (premultiplied, in linear light when
-// result_linear) as the texel that paints it (core/filters/filter_layers.h):
+// result_linear) as the texel that paints it (frame/filter_layers.h):
 // straight sRGB rounded to 16 bits, then premultiplied in the integration
 // space (linear light when integ_linear) and rounded again, the encoder's
-// conversion of a 16-bit image (core/encoding.cpp, base_level). Rounding
+// conversion of a 16-bit image (frame/encoding.cpp, base_level). Rounding
 // is half up: every value is non-negative and below 2^23.
 MPVG_HD_INLINE Texel16 filter_texel(Rgba4 p, bool result_linear, bool integ_linear) {
   p = filter_valid(p);

@@ -1,7 +1,7 @@
 // Gradients evaluated per sample: t from the sample's position (linear,
 // the general two-point conical radial gradient, or the sweep around a
 // centre), the spread mode, then the colour ramp. Host/device code shared by both executors; the encoder
-// (core/encoding.cpp) prepares the records.
+// (frame/encoding.cpp) prepares the records.
 #pragma once
 #include <cmath>
 #include <cstdint>

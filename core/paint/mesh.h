@@ -4,7 +4,7 @@
 // the sample's triangle is found through the mesh's grid (MeshRecord), and
 // its colour interpolated linearly over that triangle, then, for shadings
 // with a Function, looked up in the ramp. Host/device code shared by both
-// executors; the encoder (core/encoding.cpp) prepares the records.
+// executors; the encoder (frame/encoding.cpp) prepares the records.
 //
 // Invariants (set up by the encoder, relied on here):
 //   - a cell lists every triangle that meets it, from the top-most down

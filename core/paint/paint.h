@@ -2,7 +2,7 @@
 // sample (paper abstract and §5.2: paths painted "with semi-transparent
 // colors, gradients, or textures", each paint evaluated at the sample).
 //
-// The encoder (core/encoding.cpp) turns a Scene's paints into these records
+// The encoder (frame/encoding.cpp) turns a Scene's paints into these records
 // in the colour space integration works in; gradient.h, texture.h and
 // sampling.h evaluate them as host/device code. Everything here crosses the
 // host/device boundary; records refer to each other by index.

@@ -92,7 +92,7 @@ MPVG_HD_INLINE bool entry_same_path(Entry a, Entry b) {
 // aligned to the pixel grid: cell (ix, iy) covers samples in
 // [ix*s, (ix+1)*s) x [iy*s, (iy+1)*s) of its scene's grid. Its entries are
 // [begin, end) of its level's entry array. `root` is the scene of a forest
-// frame it belongs to (core/tree/forest.h; 0 for a frame of one scene): every
+// frame it belongs to (frame/forest.h; 0 for a frame of one scene): every
 // cell descends from that scene's root and holds only its elements.
 struct Cell {
   uint32_t begin, end;
@@ -112,7 +112,7 @@ MPVG_HD_INLINE CellBox cell_box(uint16_t ix, uint16_t iy, uint16_t level, uint32
 }
 
 // Tree node for descending with a sample position; a forest's roots are
-// nodes 0 .. roots - 1 (core/tree/forest.h). Children of a node are
+// nodes 0 .. roots - 1 (frame/forest.h). Children of a node are
 // four consecutive nodes in quadrant order q = (y bit << 1) | x bit:
 // 0 = (low x, low y), 1 = (high x, low y), 2 = (low x, high y), 3 = (high x,
 // high y).

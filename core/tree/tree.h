@@ -63,7 +63,7 @@ struct TreeLevel {
   std::vector<Entry> entries;
 };
 
-// One scene of a forest frame (core/tree/forest.h): its elements in the stream,
+// One scene of a forest frame (frame/forest.h): its elements in the stream,
 // the grid of unit areas it is rendered over, and the sampler
 // specialisations its own paints need (sampler_kinds without and with
 // aliasing): a scene renders with its own, as in a frame of its own, not
@@ -77,7 +77,7 @@ struct SceneRoot {
 
 struct ShortcutTree {
   uint32_t root_size = 1;  // power of two, >= image width and height
-  std::vector<SceneRoot> roots;  // the tree's scenes (core/tree/forest.h): nodes 0 .. roots.size() - 1
+  std::vector<SceneRoot> roots;  // the tree's scenes (frame/forest.h): nodes 0 .. roots.size() - 1
   int depth = 0;           // deepest level that has cells
   std::vector<AbstractSegment> segments;
   std::vector<PathRecord> paths;
@@ -146,7 +146,7 @@ inline int tree_grid_levels(size_t entries, int max_level, const TreeParams& p) 
   return grid_levels_for(entries, max_level, p.min_segments, p.grid_levels);
 }
 
-// A forest (core/tree/forest.h) cannot subdivide whole levels: each root has the
+// A forest (frame/forest.h) cannot subdivide whole levels: each root has the
 // coarse grid of its own scene, root_grid[r] levels (tree_grid_levels of
 // its own top level), so that its tree is the one a frame of its own
 // builds. Its cells inside that grid are subdivided whatever they hold and

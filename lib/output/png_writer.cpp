@@ -8,7 +8,7 @@
 
 #include "lib/output/output_file.h"
 #include "core/error.h"
-#include "core/output/png_encode.h"
+#include "cpu/png_encode.h"
 
 #include <zlib.h>
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "core/renderer.h"
+#include "frame/frame.h"
 
 namespace mpvg::cli {
 
@@ -49,10 +49,10 @@ struct Options {
   int threads = 0;                       // --threads: worker threads (0: per core)
   int render_threads = 0;                // --render-threads per device (0: default)
   // --frame-scenes: most small items a render thread renders as one frame
-  // (a forest, core/tree/forest.h); 0: the default, 8 with CUDA and the PNG
+  // (a forest, frame/forest.h); 0: the default, 8 with CUDA and the PNG
   // stage on the device (--compression 1), else 1.
   int frame_scenes = 0;
-  bool server = false;                   // --server: the persistent renderer (apps/server.h)
+  bool server = false;                   // --server: the persistent renderer (lib/server/server.h)
   double timeout_s = 0;                  // --timeout S: per item of a batch (0: none)
   // --max-memory: the budget of one render (core/memory_budget.h); 0: half
   // of the machine's memory (or of the control group's limit).

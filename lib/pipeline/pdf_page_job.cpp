@@ -5,7 +5,9 @@
 #include <cmath>
 
 #include "lib/output/ink_output.h"
-#include "core/encoding.h"
+#include "frame/encoding.h"
+#include "cpu/cpu_frame.h"
+#include "frame/scene_builder.h"
 
 namespace mpvg {
 

@@ -26,7 +26,7 @@ using Clock = std::chrono::steady_clock;
 
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-// Forest frames (core/tree/forest.h): small items waiting together are rendered
+// Forest frames (frame/forest.h): small items waiting together are rendered
 // as one frame, one tree build for all of them, up to Config::forest_scenes.
 // An item is small with at most kForestItemSegments input segments and
 // kForestItemPixels pixels; a frame takes items while their sums stay

@@ -4,7 +4,7 @@
 // stroked) and encode their scenes; render threads (each with its own
 // FrameRenderer: with CUDA its own context state and stream, on the device
 // it was made for) render them, lowest index first, several small ones
-// waiting together as one forest frame (core/tree/forest.h); the workers turn
+// waiting together as one forest frame (frame/forest.h); the workers turn
 // rendered images into PNG files before they take new items, so that at
 // most `workers + 4 + render threads x forest_scenes` items are in flight.
 // An item that fails is reported and every other one is still written.
@@ -19,8 +19,8 @@
 #include "lib/output/ink_output.h"
 #include "lib/output/png_writer.h"
 #include "core/output/png_encode.h"
-#include "core/renderer.h"
-#include "gpu/backend.h"
+#include "frame/frame.h"
+#include "lib/backend/backend.h"
 
 namespace mpvg::pipeline {
 
@@ -85,7 +85,7 @@ struct Config {
   // with Job::dpi. compression and the device's PNG stage apply to PNG only.
   image::Format format = image::Format::Png;
   image::EncodeOptions encode;
-  // Most items a render thread renders as one forest frame (core/tree/forest.h:
+  // Most items a render thread renders as one forest frame (frame/forest.h:
   // one tree build for several small items waiting together); 1: each
   // item its own frame.
   int forest_scenes = 1;

@@ -26,6 +26,7 @@
 #include "core/paint/mesh_build.h"
 #include "stroker/stroke_adjust.h"
 #include "parsers/pdf/pdf_device.h"
+#include "frame/scene_builder.h"
 
 namespace mpvg::pdf::detail {
 

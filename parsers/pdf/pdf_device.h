@@ -12,7 +12,8 @@
 #include "core/inks/inks.h"
 #include "core/scene.h"
 #include "parsers/pdf/output_intent.h"
-#include "parsers/pdf/pdf_parser.h"
+#include "parsers/pdf/pdf_options.h"
+#include "frame/scene_builder.h"
 
 namespace mpvg::pdf::detail {
 

@@ -21,6 +21,7 @@
 #include "core/error.h"
 #include "core/memory_budget.h"
 #include "parsers/pdf/pdf_device.h"
+#include "frame/scene_builder.h"
 
 namespace mpvg::pdf {
 

@@ -6,6 +6,7 @@
 #include <functional>
 #include <optional>
 
+#include "parsers/svg/svg_declarations.h"
 #include "parsers/svg/svg_values.h"
 
 namespace mpvg::svg::detail {
@@ -52,20 +53,6 @@ struct Rule {
   std::vector<CssDeclaration> declarations;
   int order = 0;
 };
-
-std::string strip_comments(std::string_view s) {
-  std::string out;
-  for (size_t i = 0; i < s.size(); i++) {
-    if (s[i] == '/' && i + 1 < s.size() && s[i + 1] == '*') {
-      const size_t end = s.find("*/", i + 2);
-      if (end == std::string_view::npos) break;
-      i = end + 1;
-      continue;
-    }
-    out += s[i];
-  }
-  return out;
-}
 
 bool ident_char(char c) {
   return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_' ||
@@ -441,58 +428,6 @@ void parse_sheet(std::string_view text, std::vector<Rule>& rules, int& order, co
 
 }  // namespace
 
-std::vector<CssDeclaration> parse_declarations(std::string_view block) {
-  const std::string text = strip_comments(block);
-  std::vector<CssDeclaration> out;
-  auto declaration = [&](std::string_view d) {
-    const size_t colon = d.find(':');
-    if (colon == std::string_view::npos) return;
-    std::string name(trim(d.substr(0, colon)));
-    std::transform(name.begin(), name.end(), name.begin(), [](char c) { return char(std::tolower(c)); });
-    std::string_view value = trim(d.substr(colon + 1));
-    bool important = false;
-    const size_t bang = value.rfind('!');
-    if (bang != std::string_view::npos && iequals(trim(value.substr(bang + 1)), "important")) {
-      value = trim(value.substr(0, bang));
-      important = true;
-    }
-    if (name.empty() || value.empty()) return;
-    // Shorthands become their longhands where they stand, so that the
-    // cascade orders each longhand among the others' declarations (CSS
-    // Cascade 4 §1.2): marker sets marker-start, -mid and -end; font its
-    // font-* longhands (an invalid font is dropped whole).
-    if (name == "marker") {
-      for (const char* m : {"marker-start", "marker-mid", "marker-end"})
-        out.push_back({m, std::string(value), important});
-      return;
-    }
-    if (name == "font") {
-      if (const auto longhands = split_font_shorthand(value))
-        for (const auto& [n, v] : *longhands) out.push_back({n, v, important});
-      return;
-    }
-    out.push_back({std::move(name), std::string(value), important});
-  };
-  size_t start = 0;
-  int depth = 0;
-  char quote = 0;
-  for (size_t i = 0; i <= text.size(); i++) {
-    const char c = i < text.size() ? text[i] : ';';
-    if (quote) {
-      if (c == quote) quote = 0;
-      continue;
-    }
-    if (c == '"' || c == '\'') quote = c;
-    else if (c == '(') depth++;
-    else if (c == ')') depth--;
-    else if (c == ';' && depth <= 0) {
-      declaration(std::string_view(text).substr(start, i - start));
-      start = i + 1;
-    }
-  }
-  return out;
-}
-
 void apply_style_sheets(Document& doc, const Loader& load) {
   if (!doc.root) return;
   std::vector<Rule> rules;
@@ -531,6 +466,13 @@ void apply_style_sheets(Document& doc, const Loader& load) {
     for (auto& c : e.children) apply(*c);
   };
   apply(*doc.root);
+}
+
+Document parse_document(std::string_view text,
+                        const std::function<std::optional<std::string>(std::string_view)>& load) {
+  Document doc = build_document(text);
+  apply_style_sheets(doc, load);
+  return doc;
 }
 
 }  // namespace mpvg::svg::detail

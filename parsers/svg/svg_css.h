@@ -37,13 +37,11 @@ namespace mpvg::svg::detail {
 void apply_style_sheets(Document& doc,
                         const std::function<std::optional<std::string>(std::string_view)>& load = nullptr);
 
-// One declaration block's declarations with their !important flag. The
-// shorthands marker and font come as the longhands they set, in their
-// place (an invalid font shorthand sets none).
-struct CssDeclaration {
-  std::string name, value;
-  bool important = false;
-};
-std::vector<CssDeclaration> parse_declarations(std::string_view block);
+// An SVG document's element tree (build_document, svg_dom.h) with its CSS
+// sheets applied (apply_style_sheets): <style>, and with `load`
+// <?xml-stylesheet?> and @import of the files it gives (href to CSS text,
+// nullopt when refused). Throws as build_document does.
+Document parse_document(std::string_view text,
+                        const std::function<std::optional<std::string>(std::string_view)>& load = nullptr);
 
 }  // namespace mpvg::svg::detail

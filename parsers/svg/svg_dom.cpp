@@ -1,6 +1,6 @@
 #include "parsers/svg/svg_dom.h"
 
-#include "parsers/svg/svg_css.h"
+#include "parsers/svg/svg_declarations.h"
 
 #include <tinyxml2.h>
 
@@ -203,17 +203,6 @@ const std::string* Element::attribute(std::string_view n) const {
   for (const auto& [k, v] : attributes)
     if (k == n) return &v;
   return nullptr;
-}
-
-std::vector<std::pair<std::string, std::string>> parse_style_attribute(std::string_view style) {
-  // The block's declarations (svg_css.cpp), the !important ones after the
-  // others: later entries win, and an important declaration beats any
-  // normal one of the block.
-  std::vector<std::pair<std::string, std::string>> out, important;
-  for (CssDeclaration& d : parse_declarations(style))
-    (d.important ? important : out).emplace_back(std::move(d.name), std::move(d.value));
-  out.insert(out.end(), std::make_move_iterator(important.begin()), std::make_move_iterator(important.end()));
-  return out;
 }
 
 std::string expand_internal_entities(std::string_view text) {
@@ -459,8 +448,7 @@ XmlPieces split_deep_xml(const std::string& text, int piece_depth, int max_depth
   return out;
 }
 
-Document parse_document(std::string_view raw,
-                        const std::function<std::optional<std::string>(std::string_view)>& load) {
+Document build_document(std::string_view raw) {
   std::string text = mark_white_space_text(expand_internal_entities(xml_to_utf8(raw)));
   XmlPieces pieces = split_deep_xml(text);
   if (!pieces.pieces.empty()) text = std::move(pieces.pieces[0]);
@@ -494,7 +482,6 @@ Document parse_document(std::string_view raw,
                            " levels: left out with their content");
   TreeBuilder builder(doc, pieces, raw);
   doc.root = builder.build(root, nullptr);
-  apply_style_sheets(doc, load);
   if (!doc.root || doc.root->name != "svg") {
     const auto [prefix, local] = split_qname(root->Name());
     if (local == "svg") {

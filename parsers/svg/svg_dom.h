@@ -63,17 +63,12 @@ struct XmlPieces {
 };
 XmlPieces split_deep_xml(const std::string& text, int piece_depth = kXmlPieceDepth, int max_depth = kMaxXmlDepth);
 
-// Parses XML text. Throws mpvg::Error on malformed XML ("XML parse error at
-// line N: ...") and when the root element is not an SVG <svg>.
-// CSS sheets (<style>, and with `load` <?xml-stylesheet?> and @import of
-// the files it gives: href to CSS text, nullopt when refused) are applied
-// to the tree (svg_css.h).
-Document parse_document(std::string_view text,
-                        const std::function<std::optional<std::string>(std::string_view)>& load = nullptr);
-
-// The declarations of a style attribute (CSS Syntax: "name: value; ...",
-// comments allowed), in cascade order: !important ones last.
-std::vector<std::pair<std::string, std::string>> parse_style_attribute(std::string_view style);
+// Parses XML text into the element tree, style attributes read as
+// declarations (svg_declarations.h); style sheets are applied by
+// parse_document (svg_css.h). Throws mpvg::Error on malformed XML ("XML
+// parse error at line N: ...") and when the root element is not an SVG
+// <svg>.
+Document build_document(std::string_view text);
 
 // Expands the general entities declared in the document's internal DTD
 // subset (<!DOCTYPE svg [ <!ENTITY name "value"> ]>), which tinyxml2 does not

@@ -27,6 +27,8 @@
 #include <cmath>
 
 #include "parsers/svg/svg_converter.h"
+#include "parsers/svg/svg_style.h"
+#include "frame/scene_builder.h"
 
 namespace mpvg::svg::detail {
 

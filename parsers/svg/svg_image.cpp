@@ -31,6 +31,8 @@
 
 #include "core/error.h"
 #include "parsers/svg/svg_converter.h"
+#include "parsers/svg/svg_css.h"
+#include "frame/scene_info.h"
 
 namespace mpvg::svg::detail {
 
@@ -323,7 +325,7 @@ std::optional<Converter::Embedded> Converter::embed_document(const LoadedImage& 
     if (!sized) return std::nullopt;
     // What this embedding adds, the documents it embeds in turn included
     // (they are part of its scene).
-    const size_t segments = out.scene.segment_count();
+    const size_t segments = segment_count(out.scene);
     if (s_.embedded_segments + segments > kMaxEmbeddedSegments) {
       warn("embedded SVG documents would add more than " + std::to_string(kMaxEmbeddedSegments) +
            " segments: further ones are not rendered");

@@ -11,6 +11,7 @@
 #include <algorithm>
 
 #include "parsers/svg/svg_converter.h"
+#include "parsers/svg/svg_style.h"
 
 namespace mpvg::svg::detail {
 

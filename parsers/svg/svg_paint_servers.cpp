@@ -22,6 +22,8 @@
 
 #include "core/paint/paint.h"
 #include "parsers/svg/svg_converter.h"
+#include "parsers/svg/svg_style.h"
+#include "frame/scene_builder.h"
 
 namespace mpvg::svg::detail {
 

@@ -17,6 +17,9 @@
 #include "core/memory_budget.h"
 #include "parsers/svg/svg_converter.h"
 #include "parsers/svg/svg_resources.h"
+#include "parsers/svg/svg_style.h"
+#include "parsers/svg/svg_css.h"
+#include "frame/scene_builder.h"
 
 namespace mpvg::svg {
 

@@ -3,6 +3,7 @@
 // stage builds when the scene is rendered.
 #include "stroker/stroke_input.h"
 #include "parsers/svg/svg_converter.h"
+#include "frame/scene_builder.h"
 
 namespace mpvg::svg::detail {
 

@@ -34,6 +34,8 @@
 #include "parsers/svg/svg_text_path.h"
 #include "parsers/svg/svg_values.h"
 #include "parsers/svg/xml_encoding.h"
+#include "parsers/svg/svg_style.h"
+#include "parsers/svg/svg_css.h"
 #include "text/color_glyph.h"
 #include "text/text.h"
 

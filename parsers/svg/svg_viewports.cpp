@@ -8,6 +8,7 @@
 // viewport (its viewBox when it has one).
 #include "parsers/svg/svg_converter.h"
 #include "parsers/svg/svg_values.h"
+#include "parsers/svg/svg_style.h"
 
 namespace mpvg::svg::detail {
 

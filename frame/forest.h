@@ -19,7 +19,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "core/encoding.h"
+#include "frame/encoding.h"
 
 namespace mpvg {
 

@@ -8,7 +8,8 @@
 #include <vector>
 
 #include "core/output/png_encode.h"
-#include "core/renderer.h"
+#include "frame/frame.h"
+#include "cpu/cpu_frame.h"
 
 namespace mpvg {
 
@@ -80,7 +81,7 @@ class FrameRenderer {
   png::ImageData render_png(const EncodedScene& scene, const RenderPlan& plan, const RenderOptions& options,
                             RenderStats* stats = nullptr);
 
-  // Several scenes as one frame (a forest, core/tree/forest.h): one tree build
+  // Several scenes as one frame (a forest, frame/forest.h): one tree build
   // for all of them, then each rendered over its own grid, to the same
   // bytes render_rgba8 (or, with `png`, render_png) gives it alone.
   // options: the scenes' shared options (same_frame_options); each scene's
@@ -134,7 +135,7 @@ class GpuStartup {
   std::chrono::steady_clock::time_point t0_;
 };
 
-// --backend auto's cost model (gpu/cost_model.cpp; its constants are
+// --backend auto's cost model (lib/backend/cost_model.cpp; its constants are
 // measurements, BENCHMARKS.md "End to end"): the CPU when it would finish
 // before the GPU, counting what is left of CUDA's start-up.
 struct CostInputs {

@@ -1,4 +1,4 @@
-#include "core/encoding.h"
+#include "frame/encoding.h"
 
 #include <algorithm>
 #include <cmath>
@@ -324,7 +324,7 @@ class Encoder {
         }
         break;
       case PaintType::Filter:
-        // The renderer replaces filters by textures first (core/filters/filter_layers.h).
+        // The renderer replaces filters by textures first (frame/filter_layers.h).
         throw Error("encoding: a filter effect was not resolved into its layer");
     }
     out = rec;

@@ -45,7 +45,7 @@ struct EncodedScene {
   // (PatternRecord::tree indexes them). Set on the top-level scene only.
   std::shared_ptr<const PaintData> paint;
   std::vector<EncodedTile> tiles;
-  // A forest frame's scenes, in order (core/tree/forest.h); empty: one scene,
+  // A forest frame's scenes, in order (frame/forest.h); empty: one scene,
   // the whole stream, over the grid the tree is built for.
   std::vector<SceneRoot> roots;
 };
@@ -87,7 +87,7 @@ struct EncodeOptions {
   ImageBorder border;
   // What the encoding holds is charged to it (core/memory_budget.h).
   MemoryBudget* budget = nullptr;
-  // Filter effects inside a pattern tile (core/filters/filter_layers.h): the tile
+  // Filter effects inside a pattern tile (frame/filter_layers.h): the tile
   // with its filters made layers over the tile's grid (width x height
   // unit areas, `view` from tile units to them). Unset: such a tile is
   // refused.

@@ -1,4 +1,4 @@
-#include "apps/server.h"
+#include "lib/server/server.h"
 
 #include <fcntl.h>
 #include <poll.h>

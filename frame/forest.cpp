@@ -1,5 +1,5 @@
-// Forest frames: the merge of encoded scenes (core/tree/forest.h).
-#include "core/tree/forest.h"
+// Forest frames: the merge of encoded scenes (frame/forest.h).
+#include "frame/forest.h"
 
 #include <algorithm>
 #include <memory>

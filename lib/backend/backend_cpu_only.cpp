@@ -1,6 +1,8 @@
 // The backend dispatcher of a build without CUDA.
 #include "core/error.h"
-#include "gpu/backend.h"
+#include "cpu/png_encode.h"
+#include "lib/backend/backend.h"
+#include "cpu/cpu_frame.h"
 
 namespace mpvg {
 

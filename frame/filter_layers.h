@@ -23,7 +23,7 @@
 
 #include "core/output/image.h"
 #include "core/filters/filter_primitives.h"
-#include "core/renderer.h"
+#include "frame/render_options.h"
 #include "core/scene.h"
 
 namespace mpvg {
@@ -123,9 +123,9 @@ struct FilterExecutor {
   std::function<std::vector<std::shared_ptr<const Image>>(std::vector<LayerJob>& jobs)> run_layers;
 };
 
-// The CPU's: each source rendered by render_cpu, each graph by
-// run_filter_cpu.
-FilterExecutor cpu_filters(int threads = 0);
+// A planned layer's element pictures and source, rendered by `render`
+// (an executor's run_layers, before it runs the graph).
+void render_layer_inputs(LayerJob& job, const LayerRenderer& render);
 
 // A graph's result as texels of a frame integrated as `gamma`, on the host.
 std::vector<Texel16> result_texels(const FilterResult& r, Gamma gamma, int threads = 0);
@@ -141,8 +141,5 @@ bool has_filters(const Scene& scene);
 // are resampled (a pattern tile's grid drawn rotated or scaled).
 Scene resolve_filters(const Scene& scene, const RenderOptions& options, const FilterExecutor& ex,
                       std::vector<std::string>* warnings = nullptr, TextureFilter lookup = TextureFilter::Nearest);
-
-// The CPU executor's graph (cpu/filter.cpp).
-FilterResult run_filter_cpu(const FilterLayer& layer, int threads = 0);
 
 }  // namespace mpvg

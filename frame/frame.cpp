@@ -1,8 +1,4 @@
-#include "core/renderer.h"
-
-#include "cpu/cpu_stages.h"  // (the CPU frame: to cpu/, issue 48)
-
-#include "core/filters/filter_layers.h"
+#include "frame/frame.h"
 
 #include <algorithm>
 #include <chrono>
@@ -12,8 +8,8 @@
 #include <mutex>
 
 #include "core/error.h"
-#include "core/filters/filter_layers.h"
-#include "core/tree/forest.h"
+#include "frame/filter_layers.h"
+#include "frame/forest.h"
 #include "core/sampling/integration.h"
 #include "core/output/rgba8.h"
 
@@ -107,17 +103,16 @@ EncodeOptions encode_options(const RenderPlan& plan) {
   eo.budget = plan.options.budget.get();
   return eo;
 }
-
-EncodedScene encode_for(const Scene& scene, const RenderPlan& plan, Gamma gamma, RenderStats* stats,
-                        const FilterExecutor* filters) {
+EncodedScene encode_frame(const Scene& scene, const RenderPlan& plan, Gamma gamma, const FilterExecutor& filters,
+                          RenderStats* stats) {
   const auto t0 = std::chrono::steady_clock::now();
   if (has_filters(scene)) {
-    // Filter effects become layers first (core/filters/filter_layers.h): their
+    // Filter effects become layers first (frame/filter_layers.h): their
     // sources rendered, their graphs run.
     std::vector<std::string> warnings;
     RenderOptions o = plan.options;
     o.gamma = gamma;
-    const FilterExecutor ex = filters ? *filters : cpu_filters(o.threads);
+    const FilterExecutor& ex = filters;
     const Scene resolved = resolve_filters(scene, o, ex, &warnings);
     double filter_ms = ms_since(t0);
     size_t tile_layers = 0;
@@ -150,65 +145,6 @@ EncodedScene encode_for(const Scene& scene, const RenderPlan& plan, Gamma gamma,
   return enc;
 }
 
-EncodedScene encode_for(const Scene& scene, const RenderOptions& o, RenderStats* stats) {
-  return encode_for(scene, plan_render(o), o.gamma, stats);
-}
-
-ImageF render_cpu(const Scene& scene, const RenderOptions& options, RenderStats* stats) {
-  RenderStats local;
-  RenderStats& st = stats ? *stats : local;
-  const auto t_all = std::chrono::steady_clock::now();
-  RenderOptions o = options;
-  o.aliased_paths = o.aliased_paths || has_aliased_paths(scene);
-  const RenderPlan plan = plan_render(o);
-  const EncodedScene enc = encode_for(scene, plan, o.gamma, &st);
-  const double encode_ms = ms_since(t_all);
-  ImageF img = render_cpu(enc, plan, o, &st);
-  st.total_ms += encode_ms;
-  return img;
-}
-
-ImageF render_cpu(const EncodedScene& enc, const RenderOptions& o, RenderStats* stats) {
-  return render_cpu(enc, plan_render(o), o, stats);
-}
-
-ImageF render_cpu(const EncodedScene& enc, const RenderPlan& plan, const RenderOptions& o, RenderStats* stats) {
-  RenderStats local;
-  RenderStats& st = stats ? *stats : local;
-  st.backend = "cpu";
-  if (enc.paint && !enc.paint->device_texels.empty())
-    throw Error("a scene encoded with device texels (filter layers rendered on a GPU) cannot render on the CPU");
-  const auto t_all = std::chrono::steady_clock::now();
-  BuildTimes bt;
-  MemoryBudget* budget = o.budget.get();
-  const ShortcutTree tree = build_tree_cpu(enc, plan.frame.ua_w, plan.frame.ua_h, plan.tree, &bt, budget);
-  // The frame's buffers while it renders: the image, and for wide filters
-  // the unit areas' colours and the fixed-point sums.
-  const IntegrationFrame& f = plan.frame;
-  const BudgetCharge frame(budget,
-                           uint64_t(f.width) * f.height * 16 + uint64_t(f.ua_w) * f.ua_h * 16 +
-                               uint64_t(f.acc_w) * f.acc_h * 32,
-                           "the frame");
-  st.stroke_ms += bt.stroke_ms;
-  st.abstract_ms += bt.abstract_ms;
-  st.subdivide_ms += bt.subdivide_ms;
-  st.prune_ms += bt.prune_ms;
-  RenderTimes rt;
-  ImageF img = render_tree_cpu(tree, plan.integ, plan.frame, background_paint(o.background, o.gamma), o.threads, &rt);
-  st.schedule_ms += rt.schedule_ms;
-  st.sample_ms += rt.sample_ms;
-  st.samples += rt.samples;
-  st.pixels += uint64_t(f.width) * uint64_t(f.height);
-  st.total_ms += ms_since(t_all);
-  st.input_segments = enc.input_segment_count;
-  st.abstract_segments = tree.segments.size();
-  st.leaves = tree.leaves.size();
-  st.leaf_entries = tree.leaf_entries.size();
-  st.tree_bytes = tree.memory_bytes();
-  st.depth = tree.depth;
-  return img;
-}
-
 bool same_frame_options(const RenderOptions& a, const RenderOptions& b) {
   const TreeParams &ta = a.tree, &tb = b.tree;
   return a.background.r == b.background.r && a.background.g == b.background.g && a.background.b == b.background.b &&
@@ -232,63 +168,6 @@ EncodedScene forest_of(const std::vector<FrameScene>& scenes) {
   for (const FrameScene& s : scenes)
     fs.push_back(ForestScene{s.scene, s.plan->frame.ua_w, s.plan->frame.ua_h});
   return make_forest(fs);
-}
-
-std::vector<ImageF> render_forest_cpu(const std::vector<FrameScene>& scenes, const RenderOptions& o) {
-  const auto t_all = std::chrono::steady_clock::now();
-  const EncodedScene forest = forest_of(scenes);
-  int w = 0, h = 0;
-  forest_grid(forest, w, h);
-  BuildTimes bt;
-  const ShortcutTree tree = build_tree_cpu(forest, w, h, resolve_stop_rule(o.tree, o.samples), &bt);
-  if (tree.capped) throw Error(kForestCapped);
-  const double share = 1.0 / std::max<size_t>(1, scenes.size());
-  const double build_ms = ms_since(t_all);
-  const PaintRecord bg = background_paint(o.background, o.gamma);
-  std::vector<ImageF> out;
-  for (size_t k = 0; k < scenes.size(); k++) {
-    const auto t0 = std::chrono::steady_clock::now();
-    RenderTimes rt;
-    out.push_back(render_tree_cpu(tree, scenes[k].plan->integ, scenes[k].plan->frame, bg, o.threads, &rt,
-                                  static_cast<uint32_t>(k)));
-    if (!scenes[k].stats) continue;
-    RenderStats& st = *scenes[k].stats;
-    st.backend = "cpu";
-    st.stroke_ms += bt.stroke_ms * share;
-    st.abstract_ms += bt.abstract_ms * share;
-    st.subdivide_ms += bt.subdivide_ms * share;
-    st.prune_ms += bt.prune_ms * share;
-    st.schedule_ms += rt.schedule_ms;
-    st.sample_ms += rt.sample_ms;
-    st.samples += rt.samples;
-    st.pixels += uint64_t(scenes[k].plan->frame.width) * uint64_t(scenes[k].plan->frame.height);
-    st.total_ms += build_ms * share + ms_since(t0);
-    st.input_segments = scenes[k].scene->input_segment_count;
-    st.abstract_segments = static_cast<size_t>(tree.segments.size() * share);
-    st.leaves = static_cast<size_t>(tree.leaves.size() * share);
-    st.leaf_entries = static_cast<size_t>(tree.leaf_entries.size() * share);
-    st.tree_bytes = tree.memory_bytes();
-    st.depth = tree.depth;
-  }
-  return out;
-}
-
-std::vector<FrameOutput> render_forest_cpu_8bit(const std::vector<FrameScene>& scenes, const RenderOptions& options,
-                                                bool png) {
-  std::vector<ImageF> images = render_forest_cpu(scenes, options);
-  std::vector<FrameOutput> out(images.size());
-  for (size_t k = 0; k < images.size(); k++) {
-    const auto t0 = std::chrono::steady_clock::now();
-    std::vector<uint8_t> rgba8 = to_rgba8(images[k], options.gamma);
-    if (png) {
-      out[k].png = png::compress_rgba8(rgba8.data(), images[k].width, images[k].height);
-      if (scenes[k].stats) scenes[k].stats->png_ms += ms_since(t0);
-    } else {
-      out[k].rgba8 = std::move(rgba8);
-    }
-    images[k] = ImageF{};
-  }
-  return out;
 }
 
 const SrgbCodeTable& srgb_code_table() {

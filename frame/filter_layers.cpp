@@ -1,6 +1,6 @@
 // Filter effects as layers: regions to pixel boxes, primitives to ops, the
-// source rendered, the result as a texture (core/filters/filter_layers.h).
-#include "core/filters/filter_layers.h"
+// source rendered, the result as a texture (frame/filter_layers.h).
+#include "frame/filter_layers.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include "core/error.h"
 #include "core/parallel.h"
-#include "core/renderer.h"
+#include "frame/scene_info.h"
 
 namespace mpvg {
 
@@ -338,22 +338,17 @@ LayerJob plan_layer(const FilterEffect& f, const RenderOptions& o, std::string* 
   return job;
 }
 
-namespace {
-
-// A planned layer's element pictures and source, rendered by `render`.
-void render_inputs(LayerJob& job, const LayerRenderer& render) {
+void render_layer_inputs(LayerJob& job, const LayerRenderer& render) {
   for (const LayerJob::Element& e : job.elements) job.layer.images[e.image] = render(*e.scene, e.options);
   job.layer.source = render(*job.source, job.source_options);
 }
-
-}  // namespace
 
 FilterLayer filter_layer(const FilterEffect& f, const RenderOptions& o, const LayerRenderer& render, FilterBox& box,
                          std::string* warning) {
   LayerJob job = plan_layer(f, o, warning);
   box = job.box;
   if (job.layer.width <= 0 || job.layer.height <= 0) return FilterLayer{};
-  render_inputs(job, render);
+  render_layer_inputs(job, render);
   return std::move(job.layer);
 }
 
@@ -369,35 +364,6 @@ std::vector<Texel16> result_texels(const FilterResult& r, Gamma gamma, int threa
     }
   });
   return out;
-}
-
-FilterExecutor cpu_filters(int threads) {
-  return FilterExecutor{[threads](std::vector<LayerJob>& jobs) {
-    std::vector<std::shared_ptr<const Image>> out(jobs.size());
-    for (size_t k = 0; k < jobs.size(); k++) {
-      LayerJob& job = jobs[k];
-      FilterLayer& l = job.layer;
-      if (l.width <= 0 || l.height <= 0) continue;
-      // The result's texels stay; the source's frame is charged by its
-      // render, then its image and the graph's working set while it runs.
-      MemoryBudget* budget = job.source_options.budget.get();
-      const uint64_t pixels = uint64_t(l.width) * l.height;
-      charge(budget, pixels * sizeof(Texel16), "a filter layer's result");
-      render_inputs(job, [](const Scene& s, const RenderOptions& so) { return render_cpu(s, so); });
-      const BudgetCharge working(budget, pixels * (l.bytes_per_pixel - 8), "a filter layer");
-      const FilterResult r = run_filter_cpu(l, threads);
-      auto texels = std::make_shared<ExecutorTexels>();
-      texels->host = r.rgba.empty() ? std::vector<Texel16>(size_t(l.width) * l.height, Texel16{0, 0, 0, 0})
-                                    : result_texels(r, job.source_options.gamma, threads);
-      auto img = std::make_shared<Image>();
-      img->width = l.width;
-      img->height = l.height;
-      img->texels = std::move(texels);
-      out[k] = std::move(img);
-      l.source = ImageF{};
-    }
-    return out;
-  }};
 }
 
 bool has_filters(const Scene& scene) {

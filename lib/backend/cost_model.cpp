@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "gpu/backend.h"
+#include "lib/backend/backend.h"
 
 namespace mpvg {
 

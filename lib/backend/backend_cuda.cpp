@@ -11,12 +11,16 @@
 #include <thread>
 
 #include "core/error.h"
-#include "core/tree/forest.h"
-#include "core/filters/filter_layers.h"
-#include "gpu/backend.h"
+#include "cpu/png_encode.h"
+#include "frame/forest.h"
+#include "frame/filter_layers.h"
+#include "lib/backend/backend.h"
 #include "gpu/cuda_util.h"
 #include "gpu/filter.h"
 #include "gpu/gpu_backend.h"
+#include "cpu/cpu_frame.h"
+#include "frame/scene_builder.h"
+#include "frame/scene_info.h"
 
 namespace mpvg {
 
@@ -72,9 +76,9 @@ ImageF render_cuda(gpu::Context& ctx, const EncodedScene& enc, const RenderPlan&
 
 ImageF render_cuda(gpu::Context& ctx, const Scene& scene, const RenderOptions& options, RenderStats& st);
 
-// Filter layers on the device (core/filters/filter_layers.h's FilterExecutor): the
+// Filter layers on the device (frame/filter_layers.h's FilterExecutor): the
 // sources encoded (their own filters resolved by this executor first),
-// those that can share a frame rendered as forest frames (core/tree/forest.h:
+// those that can share a frame rendered as forest frames (frame/forest.h:
 // one tree build for all, each root to the image it has alone), every
 // root rendered straight into its layer's source plane on the device (a
 // source alone: a frame of one root); then all the
