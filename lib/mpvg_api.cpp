@@ -23,6 +23,7 @@
 #include "lib/output/png_writer.h"
 #include "core/memory_budget.h"
 #include "frame/frame.h"
+#include "frame/scene_info.h"
 #include "lib/backend/backend.h"
 #include "parsers/svg/svg_parser.h"
 #include "parsers/svg/svg_resources.h"
@@ -35,7 +36,6 @@
 #include "lib/pipeline/pipeline.h"
 #include "parsers/pdf/pdf_parser.h"
 #include "cpu/cpu_frame.h"
-#include "frame/scene_info.h"
 #endif
 
 #define MPVG_HIDDEN __attribute__((visibility("hidden")))
