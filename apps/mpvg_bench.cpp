@@ -261,6 +261,41 @@ int main(int argc, char** argv) {
       }
       const double mib = ctx.tree_bytes() / 1048576.0;
       const gpu::Context::BuildCounts bc = ctx.build_counts();
+      // A frame as a pipeline runs it (no stage timers): the build alone
+      // (events around it), then build + render + the 8-bit codes back,
+      // host wall; with its round trips and launches; host-driven, then
+      // device-driven (gpu::GpuDrive), in the same run.
+      struct FrameRun {
+        double pre_wall = 0, frame = 0;
+        size_t syncs = 0, launches = 0;
+        bool driven = false;
+      };
+      auto frame_run = [&](gpu::GpuDrive d) {
+        ctx.set_drive(d);
+        FrameRun fr;
+        std::vector<double> pw, fw;
+        for (int r = 0; r < runs + 2; r++) {
+          const double b = ctx.build_timed(enc, w, h, params, nullptr);
+          const size_t s0 = ctx.host_syncs(), l0 = ctx.kernel_launches();
+          const auto t0 = std::chrono::steady_clock::now();
+          ctx.build(enc, w, h, params, nullptr, /*render_follows=*/true);
+          const std::vector<uint8_t> px = ctx.render_rgba8(p32.integ, p32.frame, bg, false);
+          const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+          fr.syncs = ctx.host_syncs() - s0;
+          fr.launches = ctx.kernel_launches() - l0;
+          const gpu::Context::BuildCounts k = ctx.build_counts();
+          fr.driven = k.driven && !k.fallback;
+          if (r >= 2) pw.push_back(b), fw.push_back(ms);
+        }
+        fr.pre_wall = median(pw);
+        fr.frame = median(fw);
+        return fr;
+      };
+      const FrameRun fh = frame_run(gpu::GpuDrive::Host), fd = frame_run(gpu::GpuDrive::Auto);
+      std::printf("    frame 1x32, host-driven: pre-wall %.3f ms, frame %.3f ms, %zu round trips, %zu launches; "
+                  "device-driven%s: pre-wall %.3f ms, frame %.3f ms, %zu round trips, %zu launches\n",
+                  fh.pre_wall, fh.frame, fh.syncs, fh.launches, fd.driven ? "" : " (fell back)", fd.pre_wall, fd.frame,
+                  fd.syncs, fd.launches);
       // End to end: the command-line tool, parse and PNG writing included.
       std::vector<double> e2e;
       const std::string cmd = svg2png + " -q --backend cuda --aa 1x32 --gamma srgb -w 1024 '" + f + "' /tmp/mpvg_bench_out.png";
@@ -299,11 +334,16 @@ int main(int argc, char** argv) {
                     "\"preprocess_wall_ms\": %.4f, \"schedule_1x32_ms\": %.4f, \"sample_integrate_1x32_ms\": %.4f, "
                     "\"render_1x8_ms\": %.4f, \"render_1x32_ms\": %.4f, \"render_4x4x32_ms\": %.4f, "
                     "\"integrate_4x4x32_ms\": %.4f, \"tree_mib\": %.3f, \"svg2png_ms\": %.2f, "
-                    "\"depth\": %d, \"launches\": %zu, \"cub_calls\": %zu, \"host_round_trips\": %zu}",
+                    "\"depth\": %d, \"launches\": %zu, \"cub_calls\": %zu, \"host_round_trips\": %zu, "
+                    "\"host_driven\": {\"preprocess_wall_ms\": %.4f, \"frame_ms\": %.4f, \"frame_round_trips\": %zu, "
+                    "\"frame_launches\": %zu}, \"device_driven\": {\"driven\": %s, \"preprocess_wall_ms\": %.4f, "
+                    "\"frame_ms\": %.4f, \"frame_round_trips\": %zu, \"frame_launches\": %zu}}",
                     name.c_str(), w, h, enc.input_segment_count, median(sk), median(ab), median(sd), median(pr), median(pre),
                     median(prew), median(sch32), median(sam32), median(t8), median(t32), median(t4432),
                     median(integ4432), mib,
-                    e2e.empty() ? -1.0 : median(e2e), bc.depth, bc.launches, bc.cub_calls, bc.syncs);
+                    e2e.empty() ? -1.0 : median(e2e), bc.depth, bc.launches, bc.cub_calls, bc.syncs, fh.pre_wall,
+                    fh.frame, fh.syncs, fh.launches, fd.driven ? "true" : "false", fd.pre_wall, fd.frame, fd.syncs,
+                    fd.launches);
       rows.push_back(js);
       // Sampler shapes (threads S, chunk I, batch U), 1x32 render time.
       for (const gpu::SamplerShape& sh : parse_shapes(shapes_arg)) {

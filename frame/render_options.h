@@ -59,6 +59,10 @@ struct RenderStats {
   // Samples evaluated (adaptive sampling: one per flat unit area and per
   // uniform leaf), and the output pixels they were for.
   uint64_t samples = 0, pixels = 0;
+  // Time the device's stages (CUDA events: the host waits for each frame's
+  // last one); off, a device-driven frame's host only enqueues and waits
+  // for its result (pipelines without --stats).
+  bool stage_times = true;
 };
 
 }  // namespace mpvg

@@ -53,11 +53,14 @@ __global__ void k_stream_lengths(const Entry* placeholders, size_t m, const uint
 // Output entry j belongs to the stream element whose range holds it, and
 // to the virtual cell of the root whose range holds that element (roots
 // cover the stream in order: root_stream[2r] is root r's first element).
+// Driven (pieces non-null), total bounds the stream, which is pos[m] long,
+// and nothing is written if the pieces or the stream outgrow their pools.
 __global__ void k_stream_expand(const Entry* placeholders, size_t m, const uint32_t* pos, const uint32_t* path_input,
                                 const uint32_t* seg_offset, const uint32_t* root_stream, uint32_t nroots, size_t total,
-                                Entry* out, uint32_t* out_cell) {
+                                Entry* out, uint32_t* out_cell, const uint32_t* pieces, size_t max_pieces) {
   const size_t j = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
   if (j >= total) return;
+  if (pieces && (*pieces > max_pieces || pos[m] > total || j >= pos[m])) return;
   size_t lo = 0, hi = m;  // last s with pos[s] <= j
   while (hi - lo > 1) {
     const size_t mid = (lo + hi) / 2;
@@ -85,6 +88,19 @@ __global__ void k_root_cells(const uint32_t* pos, const uint32_t* root_stream, u
   cells[r] = Cell{pos[root_stream[2 * r]], pos[root_stream[2 * r + 1]], 0, 0, 0, static_cast<uint16_t>(r)};
 }
 
+// Driven: level 0's counts and the segments' (none if they outgrew their
+// pools).
+__global__ void k_stream_size(const uint32_t* pieces, size_t max_pieces, const uint32_t* total, size_t max_total,
+                              uint32_t nroots, uint32_t* size, uint32_t* drive) {
+  const bool over = *pieces > max_pieces || *total > max_total;
+  if (over) drive[DRIVE_OVERFLOW] = 1;
+  drive[DRIVE_SEGMENTS] = over ? 0u : *pieces;
+  drive[DRIVE_MOST_ENTRIES] = max(drive[DRIVE_MOST_ENTRIES], *total);
+  drive[DRIVE_MOST_CELLS] = max(drive[DRIVE_MOST_CELLS], nroots);
+  size[0] = over ? 0u : *total;
+  size[1] = over ? 0u : nroots;
+}
+
 }  // namespace
 
 // Stage "stroke": the fills' segments uploaded, the strokes' built after
@@ -99,7 +115,7 @@ void Context::Impl::stroke(const EncodedScene& scene) {
   group_by_path(input, ninput, scene.paths.size(), path_input, prim);
 }
 
-void Context::Impl::abstract(const EncodedScene& scene) {
+void Context::Impl::abstract_upload(const EncodedScene& scene) {
   paths.upload(scene.paths);
   placeholders.upload(scene.stream);
   npaths = scene.paths.size();
@@ -120,6 +136,10 @@ void Context::Impl::abstract(const EncodedScene& scene) {
     staging.put(input, scene.segments);
     staging.put(path_input, first);
   }
+}
+
+void Context::Impl::abstract(const EncodedScene& scene) {
+  abstract_upload(scene);
   const size_t n = ninput;
 
   uint32_t* count = (u32[0].resize(n + 1), u32[0].data());
@@ -160,21 +180,71 @@ void Context::Impl::abstract(const EncodedScene& scene) {
   }
   nsegments = pieces;
   segments.resize(pieces);
+  most_entries = std::max(most_entries, size_t(total));
+  most_cells = std::max(most_cells, roots.size());
 
   // The initial stream, as one virtual cell per root.
   const uint32_t nroots = static_cast<uint32_t>(roots.size());
   level.entries.resize(total);
   level.entry_cell.resize(total);
   level.nentries = total;
+  level.driven = false;
   if (total) {
     k_stream_expand<<<grid_for(total, kBlock), kBlock>>>(placeholders.data(), m, pos, path_input.data(), offset,
                                                          root_stream.data(), nroots, total, level.entries.data(),
-                                                         level.entry_cell.data());
+                                                         level.entry_cell.data(), nullptr, 0);
     launched();
   }
   level.cells.resize(nroots);
   level.ncells = nroots;
   k_root_cells<<<grid_for(nroots, kBlock), kBlock>>>(pos, root_stream.data(), nroots, level.cells.data());
+  launched();
+}
+
+// Driven: the same kernels into pools of max_segments pieces and a level 0
+// of max_entries; the counts stay on the device.
+void Context::Impl::abstract_driven(const EncodedScene& scene, size_t max_segments, size_t max_entries) {
+  abstract_upload(scene);
+  const size_t n = ninput;
+  uint32_t* count = (u32[0].resize(n + 1), u32[0].data());
+  uint32_t* offset = (u32[1].resize(n + 1), u32[1].data());
+  MPVG_CUDA(cudaMemsetAsync(count + n, 0, sizeof(uint32_t)));
+  if (n) {
+    k_abstract_count<<<grid_for(n, kBlock), kBlock>>>(input.data(), n, count);
+    launched();
+  }
+  prim.exclusive_sum(count, offset, n + 1);
+  segments.resize(max_segments);
+  nsegments = max_segments;  // a bound until settle()
+  if (n) {
+    k_abstract_write<<<grid_for(n, kBlock), kBlock>>>(input.data(), n, offset, max_segments, segments.data(),
+                                                      drive.data() + DRIVE_OVERFLOW);
+    launched();
+  }
+  const size_t m = scene.stream.size();
+  uint32_t* len = (u32[2].resize(m + 1), u32[2].data());
+  uint32_t* pos = (u32[3].resize(m + 1), u32[3].data());
+  k_stream_lengths<<<grid_for(m + 1, kBlock), kBlock>>>(placeholders.data(), m, path_input.data(), offset, len);
+  launched();
+  prim.exclusive_sum(len, pos, m + 1);
+  const uint32_t nroots = static_cast<uint32_t>(roots.size());
+  level.entries.resize(max_entries);
+  level.entry_cell.resize(max_entries);
+  level.nentries = max_entries;
+  level.size.resize(2);
+  level.driven = true;
+  level.bound = false;
+  if (max_entries) {
+    k_stream_expand<<<grid_for(max_entries, kBlock), kBlock>>>(
+        placeholders.data(), m, pos, path_input.data(), offset, root_stream.data(), nroots, max_entries,
+        level.entries.data(), level.entry_cell.data(), offset + n, max_segments);
+    launched();
+  }
+  level.cells.resize(nroots);
+  level.ncells = nroots;
+  k_root_cells<<<grid_for(nroots, kBlock), kBlock>>>(pos, root_stream.data(), nroots, level.cells.data());
+  launched();
+  k_stream_size<<<1, 1>>>(offset + n, max_segments, pos + m, max_entries, nroots, level.size.data(), drive.data());
   launched();
 }
 

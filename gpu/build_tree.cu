@@ -1,8 +1,21 @@
 // Building the tree on the GPU: abstraction, the root, then breadth first,
 // level by level, subdivision and pruning -- the loop of
 // cpu/build_tree.cpp, with every per-cell and per-entry step a kernel.
-// The host reads back a handful of counts per level to size the next one.
+// Two drivers run the same kernels. Host-driven (a context's first build,
+// and any frame that outgrew its pools), the host reads back a handful of
+// counts per level to size the next one. Device-driven, every level's
+// buffers come from pools sized ahead (DrivePlan: the most a build of
+// this context needed per input segment, with a margin), every kernel
+// reads its counts from the device (Count), the coarse grid is every
+// root's own (in_root_grid, as a forest's), every level up to the depth
+// cap is launched (empty ones exit at once), and the host reads the
+// totals once, with the frame's first result (settle). A stage that would
+// outgrow a pool raises DRIVE_OVERFLOW and empties the levels after it;
+// the frame is then built again host-driven, so the tree is always the
+// host-driven one.
 #include <algorithm>
+#include <cstdlib>
+#include <cstring>
 
 #include "frame/forest.h"
 #include "core/tree/subdivision.h"
@@ -20,12 +33,14 @@ constexpr unsigned kBlock = 256;
 // are all it reads: a level's entry count is not needed before the counts
 // come back (pruning leaves it on the device).
 constexpr unsigned kDecideWarps = kBlock / 32;
-__global__ void k_decide(const Entry* e, const Cell* cells, size_t ncells, bool may_subdivide, uint32_t min_segments,
+// Cells from the count to the bound (thread ncells.n) count nothing, so
+// that the scan's total is at the bound.
+__global__ void k_decide(const Entry* e, const Cell* cells, Count ncells, bool may_subdivide, uint32_t min_segments,
                          const uint8_t* root_grid, LevelCounts* counts) {
   const size_t k = blockIdx.x * size_t(kDecideWarps) + threadIdx.x / 32;
   const uint32_t lane = threadIdx.x % 32;
-  if (k > ncells) return;
-  if (k == ncells) {
+  if (k > ncells.n) return;
+  if (k >= ncells.get()) {
     if (lane == 0) counts[k] = LevelCounts{0, 0, 0, 0};
     return;
   }
@@ -47,13 +62,33 @@ __global__ void k_decide(const Entry* e, const Cell* cells, size_t ncells, bool 
 // parent level or in the leaf stream (after the leaves of earlier levels),
 // and every cell (threads below ncells) to the parent level or the leaves,
 // with its node. n bounds the level's entries (pruning leaves their count
-// on the device): the counts' totals, pos[ncells], give it.
-__global__ void k_place(const Entry* e, const uint32_t* entry_cell, size_t n, const Cell* cells, size_t ncells,
+// on the device): the counts' totals, pos[ncells.n], give it. Driven
+// (drive non-null), the leaf and node bases are the device's running
+// totals, and a level that would outgrow the leaf or node pools raises
+// the overflow flag instead.
+struct PlacePools {
+  size_t leaves, leaf_entries, nodes;
+};
+__global__ void k_place(const Entry* e, const uint32_t* entry_cell, size_t n, const Cell* cells, Count ncells,
                         const LevelCounts* pos, const LevelCounts* counts, Entry* parent, uint32_t* parent_cell,
                         Entry* leaf_entries, Cell* parent_cells, Cell* leaves, size_t leaf_base,
-                        size_t leaf_entry_base, Node* nodes, size_t node_base, size_t child_base) {
+                        size_t leaf_entry_base, Node* nodes, size_t node_base, size_t child_base, uint32_t* drive,
+                        PlacePools pools) {
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
-  if (i < n && i < size_t(pos[ncells].parent_entries) + pos[ncells].leaf_entries) {
+  const LevelCounts tot = pos[ncells.n];
+  const size_t nc = ncells.get();
+  if (drive) {
+    leaf_base = drive[DRIVE_LEAVES];
+    leaf_entry_base = drive[DRIVE_LEAF_ENTRIES];
+    node_base = drive[DRIVE_NODE_BASE];
+    child_base = node_base + nc;
+    if (leaf_base + tot.leaves > pools.leaves || leaf_entry_base + tot.leaf_entries > pools.leaf_entries ||
+        child_base + 4 * size_t(tot.sub) > pools.nodes) {
+      if (i == 0) atomicOr(&drive[DRIVE_OVERFLOW], 1u);
+      return;
+    }
+  }
+  if (i < n && i < size_t(tot.parent_entries) + tot.leaf_entries) {
     const uint32_t k = entry_cell[i];
     const uint32_t within = static_cast<uint32_t>(i) - cells[k].begin;
     if (counts[k].sub) {
@@ -64,7 +99,7 @@ __global__ void k_place(const Entry* e, const uint32_t* entry_cell, size_t n, co
     }
   }
   const size_t k = i;
-  if (k >= ncells) return;
+  if (k >= nc) return;
   Cell c = cells[k];
   const uint32_t size = c.end - c.begin;
   if (counts[k].sub) {
@@ -78,6 +113,26 @@ __global__ void k_place(const Entry* e, const uint32_t* entry_cell, size_t n, co
     leaves[leaf_base + pos[k].leaves] = c;
     nodes[node_base + k] = Node{-1, static_cast<uint32_t>(leaf_base + pos[k].leaves)};
   }
+}
+
+// Driven: after a level's placement, the running totals move past it and
+// the parent level gets its counts (none once a pool has overflowed).
+__global__ void k_advance(const LevelCounts* tot_at, Count ncells, uint32_t* parent_size, uint32_t* drive, uint32_t lv) {
+  const LevelCounts t = *tot_at;
+  const uint32_t nc = static_cast<uint32_t>(ncells.get());
+  const bool over = drive[DRIVE_OVERFLOW] != 0;
+  if (!over && nc) {
+    const uint32_t exact = t.parent_entries + t.leaf_entries;  // the level's entries after pruning
+    drive[DRIVE_LEAVES] += t.leaves;
+    drive[DRIVE_LEAF_ENTRIES] += t.leaf_entries;
+    drive[DRIVE_NODES] = drive[DRIVE_NODE_BASE] + nc + 4 * t.sub;
+    drive[DRIVE_NODE_BASE] += nc;
+    drive[DRIVE_DEPTH] = lv;
+    drive[DRIVE_PEAK] = max(drive[DRIVE_PEAK], exact);
+    drive[DRIVE_TOTAL] += exact;
+  }
+  parent_size[0] = over ? 0u : t.parent_entries;
+  parent_size[1] = over ? 0u : t.sub;
 }
 
 // A level of the coarse grid (TreeParams::grid_levels): every cell is
@@ -152,8 +207,12 @@ void Context::Impl::stash_tile(TileTree& t) {
   t.height = static_cast<uint32_t>(height);
 }
 
-void Context::Impl::build(const EncodedScene& scene, int w, int h, const TreeParams& params, GpuTimes* times) {
+void Context::Impl::build(const EncodedScene& scene, int w, int h, const TreeParams& params, GpuTimes* times,
+                          bool render_follows) {
   check_stop_rule(params);
+  // A driven build nobody rendered: its counts are not needed any more.
+  pending = false;
+  pending_scene = nullptr;
   const size_t launches0 = launches, syncs0 = syncs, calls0 = prim.calls;
   if (builds++ > 0) host_words.pin();  // a reused context
   host_paint = scene.paint ? scene.paint : std::make_shared<const PaintData>();
@@ -174,10 +233,117 @@ void Context::Impl::build(const EncodedScene& scene, int w, int h, const TreePar
   }
   tile_views.upload(views);
   paint_view.upload(std::vector<PaintTables>{paint_tables()});
-  build_tree(scene, w, h, params, times);
+  last_driven = last_fallback = false;
+  if (may_drive(scene, params) && build_tree_driven(scene, w, h, params, times)) {
+    last_driven = pending = true;
+    pending_scene = &scene;
+    pending_w = w, pending_h = h;
+    pending_params = params;
+    pending_times = times;
+    if (!render_follows) settle();
+  } else {
+    build_tree(scene, w, h, params, times);
+    learn(scene);
+  }
   build_launches = launches - launches0;
   build_syncs = syncs - syncs0;
   build_cub_calls = prim.calls - calls0;
+}
+
+bool Context::Impl::may_drive(const EncodedScene& scene, const TreeParams& params) const {
+  if (drive_mode == GpuDrive::Host || !scene.tiles.empty() || params.keep_levels) return false;
+  return drive_mode == GpuDrive::Device || plan.builds > 0;
+}
+
+void Context::Impl::learn(const EncodedScene& scene) {
+  (void)scene;
+  if (!capped) plan.learn(ninput, nsegments, most_entries, most_cells, nleaves, nleaf_entries, nnodes);
+}
+
+bool Context::Impl::settle(std::initializer_list<HostWords::Word> extra) {
+  if (!pending) {
+    if (extra.size()) read_words(extra);
+    return true;
+  }
+  pending = false;
+  uint32_t w[DRIVE_WORDS] = {};
+  std::vector<HostWords::Word> words(extra.begin(), extra.end());
+  for (uint32_t k = 0; k < DRIVE_WORDS; k++) words.push_back({drive.data() + k, &w[k]});
+  host_words.read(words.data(), words.size());
+  syncs++;
+  if (w[DRIVE_OVERFLOW]) {
+    // Outgrew a pool (or met the memory cap): the host-driven build, whose
+    // counts grow the plan.
+    last_fallback = true;
+    fallbacks++;
+    const EncodedScene& scene = *pending_scene;
+    pending_scene = nullptr;
+    build_tree(scene, pending_w, pending_h, pending_params, pending_times);
+    learn(scene);
+    return false;
+  }
+  pending_scene = nullptr;
+  nsegments = w[DRIVE_SEGMENTS];
+  nleaves = w[DRIVE_LEAVES];
+  nleaf_entries = w[DRIVE_LEAF_ENTRIES];
+  nnodes = w[DRIVE_NODES];
+  depth = static_cast<int>(w[DRIVE_DEPTH]);
+  peak_level_entries = w[DRIVE_PEAK];
+  capped = false;
+  segments.resize(nsegments);
+  leaves.resize(nleaves);
+  leaf_entries.resize(nleaf_entries);
+  nodes.resize(nnodes);
+  plan.learn(ninput, nsegments, w[DRIVE_MOST_ENTRIES], w[DRIVE_MOST_CELLS], nleaves, nleaf_entries, nnodes);
+  return true;
+}
+
+namespace {
+
+// Driven: the counts of a level made by the root's subdivision or a
+// level's (splits' total, its parent's cells times the fanout), or none
+// once a pool has overflowed or the memory cap is passed.
+__global__ void k_child_size(const SplitScan* total_at, Count parent_cells, uint32_t fanout, size_t pool_entries,
+                             size_t pool_cells, size_t max_entries, uint32_t* size, uint32_t* drive) {
+  const uint32_t n = total_at->count;
+  const size_t nc = fanout * parent_cells.get();
+  const bool over = drive[DRIVE_OVERFLOW] || n > pool_entries || nc > pool_cells ||
+                    size_t(drive[DRIVE_TOTAL]) + n > max_entries;
+  if (over) drive[DRIVE_OVERFLOW] = 1;
+  size[0] = over ? 0u : n;
+  size[1] = over ? 0u : static_cast<uint32_t>(nc);
+  drive[DRIVE_MOST_ENTRIES] = max(drive[DRIVE_MOST_ENTRIES], n);
+  drive[DRIVE_MOST_CELLS] = max(drive[DRIVE_MOST_CELLS], static_cast<uint32_t>(nc));
+}
+
+}  // namespace
+
+void Context::Impl::subdivide_driven(const DeviceLevel& from, DeviceLevel& to, bool root, size_t to_entries,
+                                     size_t to_cells, const TreeParams& params) {
+  const uint32_t fanout = root ? 1u : 4u;
+  const Count n = from.entry_count();
+  const size_t pairs = fanout * n.n;
+  uint32_t* flags = (u32[0].resize(pairs + 1), u32[0].data());
+  split_items.resize(pairs + 1);
+  splits.resize(pairs + 1);
+  if (n.n == 0) {
+    MPVG_CUDA(cudaMemsetAsync(splits.data(), 0, sizeof(SplitScan)));
+  } else {
+    subdivide_split(from, n, fanout, root, flags, nullptr);
+    prim.inclusive_scan(split_items.data(), splits.data() + 1, SplitScanOp{}, pairs);
+  }
+  to.entries.resize(to_entries);
+  to.entry_cell.resize(to_entries);
+  to.cells.resize(to_cells);
+  to.size.resize(2);
+  to.nentries = to_entries;
+  to.ncells = to_cells;
+  to.driven = true;
+  to.bound = false;
+  subdivide_scatter(from, n, from.cell_count(), nullptr, fanout, root, flags, to, drive.data() + DRIVE_OVERFLOW);
+  k_child_size<<<1, 1>>>(splits.data() + pairs, from.cell_count(), fanout, to_entries, to_cells,
+                         root ? ~size_t{0} : params.max_entries, to.size.data(), drive.data());
+  launched();
 }
 
 void Context::Impl::build_tree(const EncodedScene& scene, int w, int h, const TreeParams& params, GpuTimes* times) {
@@ -196,6 +362,8 @@ void Context::Impl::build_tree(const EncodedScene& scene, int w, int h, const Tr
   kept_levels.clear();
   host_paths = scene.paths;
   peak_level_entries = 0;
+  most_entries = most_cells = 0;
+  level.driven = parent.driven = child.driven = false;
 
   if (!scene.strokes.empty()) {
     timer.start(&t.stroke_ms);
@@ -275,8 +443,8 @@ void Context::Impl::build_tree(const EncodedScene& scene, int w, int h, const Tr
     LevelCounts tot{};
     size_t child_entries = 0;
     for (int attempt = 0; attempt < 2; attempt++) {
-      k_decide<<<grid_for(ncells + 1, kDecideWarps), kBlock>>>(level.entries.data(), level.cells.data(), ncells,
-                                                               may_subdivide, params.min_segments, grid_of_root,
+      k_decide<<<grid_for(ncells + 1, kDecideWarps), kBlock>>>(level.entries.data(), level.cells.data(),
+                                                               Count{ncells}, may_subdivide, params.min_segments, grid_of_root,
                                                                cnt);
       launched();
       prim.exclusive_scan(cnt, pos, LevelCountsAdd{}, LevelCounts{0, 0, 0, 0}, ncells + 1);
@@ -294,9 +462,9 @@ void Context::Impl::build_tree(const EncodedScene& scene, int w, int h, const Tr
       const size_t child_base = node_base + ncells;
       nodes.grow_keep(child_base + 4 * ncells);
       k_place<<<grid_for(std::max(level.nentries, ncells), kBlock), kBlock>>>(
-          level.entries.data(), level.entry_cell.data(), level.nentries, level.cells.data(), ncells, pos, cnt,
+          level.entries.data(), level.entry_cell.data(), level.nentries, level.cells.data(), Count{ncells}, pos, cnt,
           parent.entries.data(), parent.entry_cell.data(), leaf_entries.data(), parent.cells.data(), leaves.data(),
-          nleaves, nleaf_entries, nodes.data(), node_base, child_base);
+          nleaves, nleaf_entries, nodes.data(), node_base, child_base, nullptr, PlacePools{});
       launched();
       if (may_subdivide) {
         subdivide(parent, child, false, pos + ncells, &tot);
@@ -338,6 +506,113 @@ void Context::Impl::build_tree(const EncodedScene& scene, int w, int h, const Tr
     std::swap(level, child);
   }
   timer.collect();
+}
+
+bool Context::Impl::build_tree_driven(const EncodedScene& scene, int w, int h, const TreeParams& params,
+                                      GpuTimes* times) {
+  StageTimer timer(times != nullptr);
+  GpuTimes local;
+  GpuTimes& t = times ? *times : local;
+  width = w;
+  height = h;
+  root_size = tree_root_size(w, h);
+  roots = scene_roots(scene, w, h);
+  {
+    std::vector<uint32_t> rs;
+    for (const SceneRoot& r : roots) rs.insert(rs.end(), {r.stream_begin, r.stream_end});
+    root_stream.upload(rs);
+  }
+  kept_levels.clear();
+  host_paths = scene.paths;
+  const size_t nroots = roots.size();
+  const size_t nin0 = scene.segments.size();
+  // Pools from the plan. A scene whose pools would pass the memory cap, or
+  // a plan that would make them huge, goes the host-driven way.
+  auto pools_fit = [&](size_t nin) {
+    const size_t e = plan.bound(plan.entries, nin);
+    return e <= params.max_entries && e < (size_t(1) << 31) / 4;
+  };
+  if (!pools_fit(nin0)) return false;
+  drive.resize(DRIVE_WORDS);
+  MPVG_CUDA(cudaMemsetAsync(drive.data(), 0, DRIVE_WORDS * sizeof(uint32_t)));
+  if (!scene.strokes.empty()) {  // host-driven still: its counts come back
+    timer.start(&t.stroke_ms);
+    stroke(scene);
+    timer.stop();
+  }
+  const size_t nin = scene.strokes.empty() ? nin0 : ninput;
+  const size_t E = plan.bound(plan.entries, nin), C = std::max(plan.bound(plan.cells, nin), nroots);
+  const size_t S = plan.bound(plan.segments, nin), L = plan.bound(plan.leaves, nin);
+  const size_t LE = plan.bound(plan.leaf_entries, nin), N = std::max(plan.bound(plan.nodes, nin), nroots);
+  timer.start(&t.abstract_ms);
+  abstract_driven(scene, S, E);
+  timer.stop();
+  timer.start(&t.subdivide_ms);
+  subdivide_driven(level, child, true, E, nroots, params);
+  timer.stop();
+  std::swap(level, child);
+  const int max_level = tree_max_level(root_size, params);
+  // Every root's coarse grid its own, from its top-level cell (as a
+  // forest's): the level loop needs no count from the host.
+  root_grid.resize(nroots);
+  k_root_grid<<<grid_for(nroots, kBlock), kBlock>>>(level.cells.data(), nroots, max_level, params.min_segments,
+                                                   params.grid_levels, root_grid.data());
+  launched();
+  grid_of_root = root_grid.data();
+  capped = false;
+  if (params.prune) {
+    timer.start(&t.prune_ms);
+    prune(level);
+    timer.stop();
+  }
+  nodes.resize(N);
+  leaves.resize(L);
+  leaf_entries.resize(LE);
+  nnodes = N, nleaves = L, nleaf_entries = LE;  // bounds until settle()
+  parent.size.resize(2);
+  size_t cells_bound = nroots;  // level lv's cells: nroots 4^lv at most, and C
+  for (int lv = 0; lv <= max_level; lv++) {
+    const size_t ncells = level.ncells;
+    counts.resize(2 * (ncells + 1));
+    LevelCounts* cnt = counts.data();
+    LevelCounts* pos = counts.data() + ncells + 1;
+    timer.start(&t.subdivide_ms);
+    const bool may_subdivide = lv < max_level;
+    k_decide<<<grid_for(ncells + 1, kDecideWarps), kBlock>>>(level.entries.data(), level.cells.data(),
+                                                             level.cell_count(), may_subdivide, params.min_segments,
+                                                             grid_of_root, cnt);
+    launched();
+    prim.exclusive_scan(cnt, pos, LevelCountsAdd{}, LevelCounts{0, 0, 0, 0}, ncells + 1);
+    parent.entries.resize(level.nentries);
+    parent.entry_cell.resize(level.nentries);
+    parent.cells.resize(ncells);
+    parent.nentries = level.nentries;
+    parent.ncells = ncells;
+    parent.driven = true;
+    parent.bound = false;
+    k_place<<<grid_for(std::max(level.nentries, ncells), kBlock), kBlock>>>(
+        level.entries.data(), level.entry_cell.data(), level.nentries, level.cells.data(), level.cell_count(), pos,
+        cnt, parent.entries.data(), parent.entry_cell.data(), leaf_entries.data(), parent.cells.data(),
+        leaves.data(), 0, 0, nodes.data(), 0, 0, drive.data(), PlacePools{L, LE, N});
+    launched();
+    k_advance<<<1, 1>>>(pos + ncells, level.cell_count(), parent.size.data(), drive.data(), static_cast<uint32_t>(lv));
+    launched();
+    if (!may_subdivide) {
+      timer.stop();
+      break;
+    }
+    cells_bound = std::min(C, 4 * cells_bound);
+    subdivide_driven(parent, child, false, E, cells_bound, params);
+    timer.stop();
+    if (params.prune) {
+      timer.start(&t.prune_ms);
+      prune(child);
+      timer.stop();
+    }
+    std::swap(level, child);
+  }
+  timer.collect();
+  return true;
 }
 
 }  // namespace mpvg::gpu

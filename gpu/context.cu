@@ -3,17 +3,37 @@
 #include "gpu/png_encode.cuh"
 #include "gpu/stroke.cuh"
 
+#include <cstdlib>
 #include <mutex>
+#include <string>
 
 namespace mpvg::gpu {
 
-Context::Context() : impl_(std::make_unique<Impl>()) { use_retaining_pool(); }
+Context::Context() : impl_(std::make_unique<Impl>()) {
+  use_retaining_pool();
+  if (const char* d = std::getenv("MPVG_GPU_DRIVE")) {
+    const std::string v = d;
+    if (v == "host") impl_->drive_mode = GpuDrive::Host;
+    else if (v == "device") impl_->drive_mode = GpuDrive::Device;
+    else if (v != "auto" && !v.empty()) throw Error("MPVG_GPU_DRIVE: expected host, device or auto, not '" + v + "'");
+  }
+}
 Context::~Context() = default;
 
-void Context::build(const EncodedScene& scene, int width, int height, const TreeParams& params, GpuTimes* times) {
+void Context::build(const EncodedScene& scene, int width, int height, const TreeParams& params, GpuTimes* times,
+                    bool render_follows) {
   if (scene.segments.size() >= (size_t(1) << 31)) throw Error("scene too large for the CUDA backend");
-  impl_->build(scene, width, height, params, times);
+  impl_->build(scene, width, height, params, times, render_follows);
 }
+
+void Context::set_drive(GpuDrive mode, double pool_scale) {
+  if (!(pool_scale > 0)) throw Error("set_drive: the pools' scale must be positive");
+  impl_->drive_mode = mode;
+  impl_->plan.scale = pool_scale;
+}
+
+size_t Context::host_syncs() const { return impl_->syncs; }
+size_t Context::kernel_launches() const { return impl_->launches; }
 
 namespace {
 
@@ -47,6 +67,7 @@ double Context::render_on_device(const Integration& integ, const IntegrationFram
 }
 
 ShortcutTree Context::download_tree() const {
+  impl_->settle();
   const Impl& m = *impl_;
   ShortcutTree t;
   t.root_size = m.root_size;
@@ -93,6 +114,7 @@ ImageF Context::render(const Integration& integ, const IntegrationFrame& frame, 
   img.height = impl_->out_height;
   img.rgba.resize(size_t(img.width) * img.height * 4);
   MPVG_CUDA(cudaMemcpy(img.rgba.data(), impl_->image.data(), img.rgba.size() * sizeof(float), cudaMemcpyDeviceToHost));
+  impl_->syncs++;
   return img;
 }
 
@@ -127,9 +149,10 @@ png::ImageData Context::render_png(const Integration& integ, const IntegrationFr
 }
 
 Context::BuildCounts Context::build_counts() const {
+  impl_->settle();
   const Impl& m = *impl_;
-  return BuildCounts{m.depth,     m.build_launches, m.build_cub_calls, m.build_syncs, m.nsegments,
-                     m.nleaves,   m.nleaf_entries,  m.capped};
+  return BuildCounts{m.depth,   m.build_launches, m.build_cub_calls, m.build_syncs, m.nsegments,    m.nleaves,
+                     m.nleaf_entries, m.capped,   m.last_driven,     m.last_fallback};
 }
 
 void Context::set_sampler_shape(const SamplerShape& shape) {
@@ -140,6 +163,7 @@ void Context::set_sampler_shape(const SamplerShape& shape) {
 }
 
 size_t Context::tree_bytes() const {
+  impl_->settle();
   const Impl& m = *impl_;
   size_t n = m.nsegments * sizeof(AbstractSegment) + m.nnodes * sizeof(Node) + m.nleaves * sizeof(Cell) +
              m.nleaf_entries * sizeof(Entry) + m.host_paths.size() * sizeof(PathRecord);

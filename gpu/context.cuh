@@ -30,6 +30,20 @@ namespace mpvg::gpu {
 class StrokeStage;  // gpu/stroke.cuh
 class PngStage;     // gpu/png_encode.cuh
 
+// An element count a kernel is launched over: exact on the host (dev
+// null), or, in a frame the device drives (build_tree.cu), a bound the host
+// sized the launch and the buffers to, with the exact count at *dev.
+struct Count {
+  size_t n = 0;
+  const uint32_t* dev = nullptr;
+  __host__ __device__ size_t get() const {
+#ifdef __CUDA_ARCH__
+    if (dev) return *dev < n ? size_t(*dev) : n;
+#endif
+    return n;
+  }
+};
+
 // One tree level on the device: cells, their entries, and each entry's cell.
 struct DeviceLevel {
   DeviceBuffer<Cell> cells;
@@ -39,6 +53,52 @@ struct DeviceLevel {
   // nentries is only a bound: pruning leaves the count of its survivors on
   // the device, and the level's counts (build_tree.cu) bring it back.
   bool bound = false;
+  // A device-driven frame: nentries and ncells are bounds, the counts
+  // themselves at size[0] and size[1].
+  DeviceBuffer<uint32_t> size;
+  bool driven = false;
+  Count entry_count() const { return Count{nentries, driven ? size.data() : nullptr}; }
+  Count cell_count() const { return Count{ncells, driven ? size.data() + 1 : nullptr}; }
+};
+
+// The words of a device-driven build (build_tree.cu): the overflow flag
+// every stage raises instead of writing past a pool, and the totals the
+// host reads once, with the frame's first result.
+enum DriveWord : uint32_t {
+  DRIVE_OVERFLOW,      // a pool was too small (or the memory cap was hit): the frame runs again, host-driven
+  DRIVE_SEGMENTS,      // abstract segments
+  DRIVE_LEAVES,        // leaves placed so far
+  DRIVE_LEAF_ENTRIES,  // their entries
+  DRIVE_NODE_BASE,     // the current level's first node
+  DRIVE_NODES,         // nodes made so far
+  DRIVE_DEPTH,         // deepest level with cells
+  DRIVE_PEAK,          // most entries of a level after pruning (ShortcutTree::peak_level_entries)
+  DRIVE_TOTAL,         // entries of all levels so far, after pruning (TreeParams::max_entries)
+  DRIVE_MOST_ENTRIES,  // most entries any level's buffer held (the pools' bound)
+  DRIVE_MOST_CELLS,    // most cells of a level
+  DRIVE_WORDS
+};
+
+// The pools of a device-driven build, per input segment: the most any
+// build of the context needed (DrivePlan::learn), grown by a margin.
+struct DrivePlan {
+  double segments = 0, entries = 0, cells = 0, leaves = 0, leaf_entries = 0, nodes = 0;
+  size_t builds = 0;  // builds it has learnt from
+  double scale = 1.5;  // margin over the most seen (tests shrink it to force overflows)
+  void learn(size_t ninput, size_t nsegments, size_t most_entries, size_t most_cells, size_t nleaves,
+             size_t nleaf_entries, size_t nnodes) {
+    const double d = double(std::max<size_t>(ninput, 1));
+    segments = std::max(segments, nsegments / d);
+    entries = std::max(entries, most_entries / d);
+    cells = std::max(cells, most_cells / d);
+    leaves = std::max(leaves, nleaves / d);
+    leaf_entries = std::max(leaf_entries, nleaf_entries / d);
+    nodes = std::max(nodes, nnodes / d);
+    builds++;
+  }
+  size_t bound(double per_input, size_t ninput) const {
+    return static_cast<size_t>(scale * per_input * double(ninput)) + (scale >= 1 ? 1024 : 16);
+  }
 };
 
 // Four counters scanned together when a level is split into subdivided
@@ -167,6 +227,33 @@ struct Context::Impl {
   const uint8_t* grid_of_root = nullptr;  // a forest's root_grid (core/tree/tree.h, in_root_grid); null for one scene
   bool capped = false;                    // the last tree hit TreeParams::max_entries
 
+  // Device-driven builds (build_tree.cu): after the first build of a
+  // context, a frame's levels run from pools sized ahead (plan), every
+  // kernel reading its counts from the device, and the host reads the
+  // counts once, with the frame's first result (settle()); a frame that
+  // outgrew its pools is built again the host-driven way.
+  GpuDrive drive_mode = GpuDrive::Auto;
+  DrivePlan plan;
+  DeviceBuffer<uint32_t> drive;  // DriveWord
+  bool pending = false;          // a driven build whose counts the host has not read
+  bool last_driven = false, last_fallback = false;
+  size_t most_entries = 0, most_cells = 0;  // of a host-driven build, for the plan
+  // What a pending build needs to run again host-driven.
+  const EncodedScene* pending_scene = nullptr;
+  int pending_w = 0, pending_h = 0;
+  TreeParams pending_params;
+  GpuTimes* pending_times = nullptr;
+  size_t fallbacks = 0;
+  bool may_drive(const EncodedScene& scene, const TreeParams& params) const;
+  void learn(const EncodedScene& scene);  // the plan, from a host-driven build's counts
+  // The driven tree, launched: false if the pools cannot be sized (the
+  // host-driven build runs instead).
+  bool build_tree_driven(const EncodedScene& scene, int w, int h, const TreeParams& params, GpuTimes* times);
+  // Reads a pending build's counts (with `extra` words, in the same round
+  // trip); false if it overflowed, in which case the tree has been built
+  // again host-driven.
+  bool settle(std::initializer_list<HostWords::Word> extra = {});
+
   // The host copies of what the last render uploaded of its integration
   // (pattern, weights): a forest's roots and a run of frames with the same
   // options upload them once.
@@ -211,15 +298,27 @@ struct Context::Impl {
   // Stages (abstract.cu, subdivide.cu, prune.cu, build_tree.cu, render.cu).
   void stroke(const EncodedScene& scene);  // before abstract(), for scenes with strokes
   void abstract(const EncodedScene& scene);
+  void abstract_upload(const EncodedScene& scene);  // the scene's arrays, to the device
+  // The same, device-driven: segments and level 0 sized to the bounds.
+  void abstract_driven(const EncodedScene& scene, size_t max_segments, size_t max_entries);
   // `counted`: the device's counts of the level `from` was placed from,
   // from's entry and cell counts only bounds; they come back into *tot
   // with the subdivision's total, in one round trip.
   void subdivide(const DeviceLevel& from, DeviceLevel& to, bool root, const LevelCounts* counted = nullptr,
                  LevelCounts* tot = nullptr);
+  // The same, device-driven: to's bounds (entries, cells) given, its counts
+  // left on the device.
+  void subdivide_split(const DeviceLevel& from, Count n, uint32_t fanout, bool root, uint32_t* flags,
+                       uint32_t* zero_overflow);
+  void subdivide_scatter(const DeviceLevel& from, Count n, Count ncells, const LevelCounts* counted, uint32_t fanout,
+                         bool root, const uint32_t* flags, DeviceLevel& to, uint32_t* overflow_flag);
+  void subdivide_driven(const DeviceLevel& from, DeviceLevel& to, bool root, size_t to_entries, size_t to_cells,
+                        const TreeParams& params);
   void prune(DeviceLevel& lv);
   // The whole frame's trees: paint tables uploaded, tiles built and put
   // aside, then the scene's tree.
-  void build(const EncodedScene& scene, int width, int height, const TreeParams& params, GpuTimes* times);
+  void build(const EncodedScene& scene, int width, int height, const TreeParams& params, GpuTimes* times,
+             bool render_follows = false);
   // One tree (the scene's or a tile's) into the working buffers.
   void build_tree(const EncodedScene& scene, int width, int height, const TreeParams& params, GpuTimes* times);
   void upload_paints(const PaintData& p);

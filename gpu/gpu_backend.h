@@ -36,6 +36,16 @@ struct SamplerShape {
   int batch = 32;
 };
 
+// Who drives a frame's tree build. Host: the host reads each level's
+// counts back to size the next (a round trip per level). Device: the
+// levels run from pools sized ahead, every kernel reading its counts on
+// the device, the host waiting once, with the frame's first result; a
+// frame that outgrows its pools is built again host-driven. Auto (the
+// default): device-driven from a context's second build, once its first
+// has measured what the pools need. MPVG_GPU_DRIVE=host|device|auto
+// overrides it (measurements).
+enum class GpuDrive { Auto, Host, Device };
+
 // Device state, reused across frames: buffers grow to the largest scene seen
 // and are kept, so repeated frames measure the pipeline, not cudaMalloc.
 class Context {
@@ -47,7 +57,11 @@ class Context {
 
   // Uploads an encoded scene and builds its shortcut tree on the GPU. The
   // tree stays on the device; times, if given, receive per-stage GPU times.
-  void build(const EncodedScene& scene, int width, int height, const TreeParams& params, GpuTimes* times = nullptr);
+  // render_follows: the caller renders the tree before `scene` goes away,
+  // so that a device-driven build's counts come back with the render's
+  // first read (one round trip fewer) and an overflow can build again.
+  void build(const EncodedScene& scene, int width, int height, const TreeParams& params, GpuTimes* times = nullptr,
+             bool render_follows = false);
 
   // As build(); returns the GPU time of the whole build, host round trips
   // between kernels included, in ms (events around it).
@@ -111,8 +125,19 @@ class Context {
     size_t launches = 0, cub_calls = 0, syncs = 0;
     size_t abstract_segments = 0, leaves = 0, leaf_entries = 0;
     bool capped = false;  // a level was not made (TreeParams::max_entries)
+    bool driven = false;    // the device drove the build (GpuDrive) ...
+    bool fallback = false;  // ... and it outgrew its pools: built again host-driven
   };
   BuildCounts build_counts() const;
+
+  // GpuDrive; pool_scale: the margin of the pools over the most a build
+  // of this context needed per input segment (1.5; below 1 forces
+  // overflows, for tests).
+  void set_drive(GpuDrive mode, double pool_scale = 1.5);
+  // Host round trips and kernel launches since the context was made (a
+  // frame's: the difference around it).
+  size_t host_syncs() const;
+  size_t kernel_launches() const;
 
   void set_sampler_shape(const SamplerShape& shape);
   size_t tree_bytes() const;

@@ -22,7 +22,8 @@ namespace mpvg::gpu {
 // one-shot run would not earn back: the owner pins from its second frame).
 class HostWords {
  public:
-  static constexpr size_t kMax = 8;
+  static constexpr size_t kMax = 32;
+  using Word = std::pair<const uint32_t*, uint32_t*>;
   HostWords() = default;
   ~HostWords() {
     if (words_) cudaFreeHost(words_);
@@ -33,17 +34,18 @@ class HostWords {
     if (!words_) MPVG_CUDA(cudaMallocHost(&words_, kMax * sizeof(uint32_t)));
   }
   // *host = *device for each pair (at most kMax), in one round trip.
-  void read(std::initializer_list<std::pair<const uint32_t*, uint32_t*>> words) {
+  void read(std::initializer_list<Word> words) { read(words.begin(), words.size()); }
+  void read(const Word* w, size_t n) {
+    if (n > kMax) throw Error("HostWords: more words than one read holds");
     if (!words_) {
-      for (const auto& w : words) MPVG_CUDA(cudaMemcpy(w.second, w.first, sizeof(uint32_t), cudaMemcpyDeviceToHost));
+      for (size_t k = 0; k < n; k++)
+        MPVG_CUDA(cudaMemcpy(w[k].second, w[k].first, sizeof(uint32_t), cudaMemcpyDeviceToHost));
       return;
     }
-    size_t k = 0;
-    for (const auto& w : words)
-      MPVG_CUDA(cudaMemcpyAsync(words_ + k++, w.first, sizeof(uint32_t), cudaMemcpyDeviceToHost));
+    for (size_t k = 0; k < n; k++)
+      MPVG_CUDA(cudaMemcpyAsync(words_ + k, w[k].first, sizeof(uint32_t), cudaMemcpyDeviceToHost));
     MPVG_CUDA(cudaStreamSynchronize(0));
-    k = 0;
-    for (const auto& w : words) *w.second = words_[k++];
+    for (size_t k = 0; k < n; k++) *w[k].second = words_[k];
   }
 
  private:

@@ -64,13 +64,15 @@ __device__ __forceinline__ float4 composite(float r, float g, float b, float a, 
 // uniform leaves (entry_varies) get their colour instead. Kinds:
 // kUniformKinds of the scene's (groups or not).
 template <uint32_t Kinds>
-__global__ void k_leaf_info(const Cell* leaves, size_t nleaves, const Entry* entries, SampleInputs in,
+// Leaves from the count to its bound (a device-driven build not yet
+// settled) and thread nleaves.n have no batches.
+__global__ void k_leaf_info(const Cell* leaves, Count nleaves, const Entry* entries, SampleInputs in,
                             uint32_t root_size, int width, int height, uint32_t tile_w, uint32_t tile_h,
                             uint32_t root, uint32_t* batches, float4* color, const RootPass* by_root,
                             uint32_t pass_kinds, unsigned long long* samples) {
   const size_t l = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
-  if (l > nleaves) return;
-  if (l == nleaves) {
+  if (l > nleaves.n) return;
+  if (l >= nleaves.get()) {
     batches[l] = 0;
     return;
   }
@@ -482,18 +484,33 @@ void Context::Impl::render(const Integration& integ, const IntegrationFrame& fra
   }
 
   timer.start(&t.schedule_ms);
-  leaf_batches.resize(nleaves + 1);
-  leaf_color.resize(nleaves + 1);
-  uint32_t* nb = (u32[0].resize(nleaves + 1), u32[0].data());
+  // A device-driven build not yet settled: nleaves is a bound, the count
+  // on the device; it comes back with the batches' total, one round trip.
+  const bool deferred = pending;
+  const Count leaf_count{nleaves, deferred ? drive.data() + DRIVE_LEAVES : nullptr};
+  const size_t L = nleaves;
+  leaf_batches.resize(L + 1);
+  leaf_color.resize(L + 1);
+  uint32_t* nb = (u32[0].resize(L + 1), u32[0].data());
   const uint32_t kinds = roots[root].kinds[integ.support % 2 == 1];  // the root's own (core/tree/tree.h, SceneRoot)
   auto leaf_info = (kinds & SAMPLE_GROUPS) ? k_leaf_info<SAMPLE_GROUPS> : k_leaf_info<PAINTS_SOLID>;
-  leaf_info<<<grid_for(nleaves + 1, kBlock), kBlock>>>(leaves.data(), nleaves, leaf_entries.data(), in, root_size, width,
-                                                       height, static_cast<uint32_t>(tile_w),
-                                                       static_cast<uint32_t>(tile_h), root, nb, leaf_color.data(), nullptr,
-                                                       0, acc_args.samples);
+  leaf_info<<<grid_for(L + 1, kBlock), kBlock>>>(leaves.data(), leaf_count, leaf_entries.data(), in, root_size, width,
+                                                 height, static_cast<uint32_t>(tile_w), static_cast<uint32_t>(tile_h),
+                                                 root, nb, leaf_color.data(), nullptr, 0, acc_args.samples);
   launched();
-  prim.exclusive_sum(nb, leaf_batches.data(), nleaves + 1);
-  const uint32_t total_batches = read_u32(leaf_batches.data() + nleaves);
+  prim.exclusive_sum(nb, leaf_batches.data(), L + 1);
+  uint32_t total_batches = 0;
+  if (deferred) {
+    if (!settle({{leaf_batches.data() + L, &total_batches}})) {
+      // Outgrew its pools: built again host-driven; render that tree.
+      timer.stop();
+      timer.collect();
+      render(integ, frame, bg, times, root);
+      return;
+    }
+  } else {
+    total_batches = read_u32(leaf_batches.data() + nleaves);
+  }
   const size_t nua = size_t(width) * height;
   timer.stop();
 
@@ -559,6 +576,7 @@ void Context::Impl::render_roots(const Integration& integ, const std::vector<Int
   if (frames.size() > roots.size() || images.size() != frames.size())
     throw Error("render of roots the built tree does not have");
   if (frames.empty()) return;
+  settle();
   const bool direct = integ.support == 1 && integ.pad == 0;
   const bool odd = integ.support % 2 == 1;
   upload_changed(pattern, pattern_host, integ.offsets);
@@ -624,7 +642,7 @@ void Context::Impl::render_roots(const Integration& integ, const std::vector<Int
   // all colours and each sampler's round schedules its batches again.
   auto leaf_info_pass = [&](uint32_t kinds) {
     auto leaf_info = (kinds & SAMPLE_GROUPS) ? k_leaf_info<SAMPLE_GROUPS> : k_leaf_info<PAINTS_SOLID>;
-    leaf_info<<<grid_for(nleaves + 1, kBlock), kBlock>>>(leaves.data(), nleaves, leaf_entries.data(), in, root_size, 0,
+    leaf_info<<<grid_for(nleaves + 1, kBlock), kBlock>>>(leaves.data(), Count{nleaves}, leaf_entries.data(), in, root_size, 0,
                                                          0, static_cast<uint32_t>(tile_w),
                                                          static_cast<uint32_t>(tile_h), 0, nb, leaf_color.data(),
                                                          by_root, kinds, nullptr);

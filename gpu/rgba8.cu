@@ -37,6 +37,7 @@ std::shared_ptr<uint8_t> Context::Impl::device_rgba8(bool linear) {
   std::shared_ptr<uint8_t> out(static_cast<uint8_t*>(p), [](uint8_t* q) { cudaFree(q); });
   if (bytes) MPVG_CUDA(cudaMemcpyAsync(p, rgba8.data(), bytes, cudaMemcpyDeviceToDevice, cudaStreamPerThread));
   MPVG_CUDA(cudaStreamSynchronize(cudaStreamPerThread));
+  syncs++;
   return out;
 }
 
@@ -45,6 +46,7 @@ std::vector<uint8_t> Context::Impl::download_rgba8(bool linear, std::vector<uint
   const size_t n = size_t(out_width) * out_height;
   out.resize(4 * n);
   if (n) MPVG_CUDA(cudaMemcpy(out.data(), rgba8.data(), 4 * n, cudaMemcpyDeviceToHost));
+  syncs++;
   return out;
 }
 

@@ -24,20 +24,20 @@ __device__ __forceinline__ CellBox child_box(const Cell& pc, uint32_t c, bool ro
 // of §4.2 in one: SplitScan, core/tree/subdivision.h). Thread 0 also writes the
 // scan's leading identity (splits[0]: the scan goes to splits + 1, so that
 // splits[j].count is pair j's offset) and zeroes the scatter's overflow
-// flag. With counts on the device (dev_n: the parent level's entries, n
-// only bounding them), threads past them write identity items: the pairs
-// of the level's entries are the first fanout * *dev_n.
-__global__ void k_split(const Entry* entries, const uint32_t* entry_cell, size_t n, const uint32_t* dev_n,
-                        const Cell* cells, const AbstractSegment* segments, uint32_t fanout, bool root,
-                        uint32_t root_size, uint32_t* flags, SplitScan* items, SplitScan* splits,
-                        uint32_t* overflow) {
+// flag (a device-driven frame's flag, overflow null, is never zeroed).
+// With counts on the device (n only bounding the parent level's entries),
+// threads past them write identity items: the pairs of the level's
+// entries are the first fanout * n.get().
+__global__ void k_split(const Entry* entries, const uint32_t* entry_cell, Count n, const Cell* cells,
+                        const AbstractSegment* segments, uint32_t fanout, bool root, uint32_t root_size,
+                        uint32_t* flags, SplitScan* items, SplitScan* splits, uint32_t* overflow) {
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
   if (i == 0) {
     splits[0] = SplitScan{0, 0, 0, 0};
-    *overflow = 0;
+    if (overflow) *overflow = 0;
   }
-  if (i >= n) return;
-  if (dev_n && i >= *dev_n) {
+  if (i >= n.n) return;
+  if (i >= n.get()) {
     for (uint32_t c = 0; c < fanout; c++) items[fanout * i + c] = SplitScan{0, 0, 0, 0};
     return;
   }
@@ -57,20 +57,23 @@ __global__ void k_split(const Entry* entries, const uint32_t* entry_cell, size_t
 // Scatter (kernel 4) into the child level, whose buffers hold `capacity`
 // entries: a pair that would write past them raises the overflow flag.
 // Threads below the parent level's cell count also write those cells'
-// children (a launch saved).
+// children (a launch saved), if the child level's `cells_capacity` holds
+// them (a driven frame's k_child_size flags the level otherwise).
 __device__ void child_cells(const Cell* cells, size_t k, uint32_t fanout, bool root, const SplitScan* splits,
                             Cell* out);
 
-__global__ void k_scatter(const Entry* entries, const uint32_t* entry_cell, size_t n, const Cell* cells,
-                          size_t ncells, const LevelCounts* dev_counts, bool root, const AbstractSegment* segments,
+__global__ void k_scatter(const Entry* entries, const uint32_t* entry_cell, Count n_count, const Cell* cells,
+                          Count cell_count, const LevelCounts* dev_counts, bool root, const AbstractSegment* segments,
                           uint32_t fanout, const uint32_t* flags, const SplitScan* splits, size_t capacity,
-                          Entry* out, uint32_t* out_cell, uint32_t* overflow, Cell* out_cells) {
+                          Entry* out, uint32_t* out_cell, uint32_t* overflow, Cell* out_cells,
+                          size_t cells_capacity) {
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
+  size_t n = n_count.get(), ncells = cell_count.get();
   if (dev_counts) {  // n and ncells only bound them
     n = n < dev_counts->parent_entries ? n : dev_counts->parent_entries;
     ncells = ncells < dev_counts->sub ? ncells : dev_counts->sub;
   }
-  if (i < ncells) child_cells(cells, i, fanout, root, splits, out_cells);
+  if (i < ncells && fanout * ncells <= cells_capacity) child_cells(cells, i, fanout, root, splits, out_cells);
   if (i >= n) return;
   const uint32_t k = entry_cell[i];
   const Cell pc = cells[k];
@@ -107,6 +110,25 @@ __device__ void child_cells(const Cell* cells, size_t k, uint32_t fanout, bool r
 
 }  // namespace
 
+void Context::Impl::subdivide_split(const DeviceLevel& from, Count n, uint32_t fanout, bool root, uint32_t* flags,
+                                    uint32_t* zero_overflow) {
+  k_split<<<grid_for(n.n, kBlock), kBlock>>>(from.entries.data(), from.entry_cell.data(), n, from.cells.data(),
+                                             segments.data(), fanout, root, root_size, flags, split_items.data(),
+                                             splits.data(), zero_overflow);
+  launched();
+}
+
+void Context::Impl::subdivide_scatter(const DeviceLevel& from, Count n, Count ncells, const LevelCounts* counted,
+                                      uint32_t fanout, bool root, const uint32_t* flags, DeviceLevel& to,
+                                      uint32_t* overflow_flag) {
+  if (n.n == 0 && ncells.n == 0) return;
+  k_scatter<<<grid_for(std::max(n.n, ncells.n), kBlock), kBlock>>>(
+      from.entries.data(), from.entry_cell.data(), n, from.cells.data(), ncells, counted, root, segments.data(),
+      fanout, flags, splits.data(), to.entries.size(), to.entries.data(), to.entry_cell.data(), overflow_flag,
+      to.cells.data(), to.cells.size());
+  launched();
+}
+
 void Context::Impl::subdivide(const DeviceLevel& from, DeviceLevel& to, bool root, const LevelCounts* counted,
                               LevelCounts* tot) {
   const uint32_t fanout = root ? 1u : 4u;
@@ -120,11 +142,8 @@ void Context::Impl::subdivide(const DeviceLevel& from, DeviceLevel& to, bool roo
     MPVG_CUDA(cudaMemsetAsync(splits.data(), 0, sizeof(SplitScan)));
     MPVG_CUDA(cudaMemsetAsync(overflow.data(), 0, sizeof(uint32_t)));
   } else {
-    k_split<<<grid_for(n, kBlock), kBlock>>>(from.entries.data(), from.entry_cell.data(), n,
-                                             counted ? &counted->parent_entries : nullptr, from.cells.data(),
-                                             segments.data(), fanout, root, root_size, flags, split_items.data(),
-                                             splits.data(), overflow.data());
-    launched();
+    subdivide_split(from, Count{n, counted ? &counted->parent_entries : nullptr}, fanout, root, flags,
+                    overflow.data());
     // Windings consolidated and outputs counted in one scan, into splits[1 ..].
     prim.inclusive_scan(split_items.data(), splits.data() + 1, SplitScanOp{}, pairs);
   }
@@ -137,16 +156,11 @@ void Context::Impl::subdivide(const DeviceLevel& from, DeviceLevel& to, bool roo
   to.entry_cell.resize(estimate);
   to.ncells = fanout * from.ncells;
   to.cells.resize(to.ncells);
+  to.driven = false;
   uint32_t total = 0, failed = 0;
   for (int attempt = 0;; attempt++) {
     if (attempt > 0) MPVG_CUDA(cudaMemsetAsync(overflow.data(), 0, sizeof(uint32_t)));
-    if (n || from.ncells) {
-      k_scatter<<<grid_for(std::max(n, from.ncells), kBlock), kBlock>>>(
-          from.entries.data(), from.entry_cell.data(), n, from.cells.data(), from.ncells, counted, root,
-          segments.data(), fanout, flags, splits.data(), to.entries.size(), to.entries.data(), to.entry_cell.data(),
-          overflow.data(), to.cells.data());
-      launched();
-    }
+    subdivide_scatter(from, Count{n}, Count{from.ncells}, counted, fanout, root, flags, to, overflow.data());
     if (counted) {  // the level's counts come back with the total
       read_words({{&splits.data()[pairs].count, &total},
                   {overflow.data(), &failed},
@@ -167,6 +181,8 @@ void Context::Impl::subdivide(const DeviceLevel& from, DeviceLevel& to, bool roo
   to.entry_cell.resize(total);
   to.nentries = total;
   to.bound = false;
+  most_entries = std::max(most_entries, size_t(total));
+  most_cells = std::max(most_cells, to.ncells);
 }
 
 }  // namespace mpvg::gpu

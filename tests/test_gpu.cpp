@@ -248,6 +248,69 @@ TEST_CASE("CPU and GPU images agree within 1/255; GPU images are deterministic",
   }
 }
 
+// Device-driven builds (gpu/build_tree.cu): the levels from pools sized
+// ahead, counts read once. The same tree and the same bytes as the
+// host-driven build, with ample pools and with pools too small (every
+// frame overflows and is built again); and a frame of a scene without
+// strokes waits for the device at most twice (the render's first read,
+// which brings the build's counts, and the result).
+TEST_CASE("device-driven builds give the host-driven tree and bytes, pools overflowing or not", "[gpu][drive]") {
+  gpu::Context host, driven, tiny;
+  host.set_drive(gpu::GpuDrive::Host);
+  tiny.set_drive(gpu::GpuDrive::Device, 0.05);
+  size_t n_driven = 0, n_fallback = 0, n_tiny_fallback = 0, n_cases = 0, worst_syncs = 0;
+  const std::vector<SampleOffset> pattern = stratified_pattern(32, 3);
+  const PaintRecord bg = background_paint(RGBA{1, 1, 1, 0.5f}, Gamma::Srgb);
+  for (int pass = 0; pass < 2; pass++) {  // the second with the plan every case taught
+    for (const Case& c : cases()) {
+      for (const int min_segments : {1, 4}) {
+        INFO(c.name << ", min_segments " << min_segments);
+        TreeParams params;
+        params.min_segments = min_segments;
+        n_cases++;
+        host.build(c.enc, c.width, c.height, params);
+        const ShortcutTree a = host.download_tree();
+        REQUIRE_FALSE(host.build_counts().driven);
+        const ImageF ia = host.render(pattern, bg);
+        for (gpu::Context* ctx : {&driven, &tiny}) {
+          const bool small = ctx == &tiny;
+          INFO((small ? "tiny pools" : "ample pools"));
+          const size_t s0 = ctx->host_syncs();
+          ctx->build(c.enc, c.width, c.height, params, nullptr, /*render_follows=*/true);
+          const ImageF ib = ctx->render(pattern, bg);
+          const size_t frame_syncs = ctx->host_syncs() - s0;
+          const gpu::Context::BuildCounts k = ctx->build_counts();
+          REQUIRE(same_bytes(ia.rgba, ib.rgba));
+          const ShortcutTree b = ctx->download_tree();
+          REQUIRE(same_bytes(a.segments, b.segments));
+          REQUIRE(same_bytes(a.nodes, b.nodes));
+          REQUIRE(same_bytes(a.leaves, b.leaves));
+          REQUIRE(same_bytes(a.leaf_entries, b.leaf_entries));
+          CHECK(a.depth == b.depth);
+          CHECK(a.peak_level_entries == b.peak_level_entries);
+          CHECK(a.capped == b.capped);
+          if (small) {
+            n_tiny_fallback += k.driven && k.fallback;
+          } else if (k.driven) {
+            n_driven += !k.fallback;
+            n_fallback += k.fallback;
+            if (!k.fallback && c.enc.strokes.empty() && c.enc.tiles.empty()) {
+              INFO("host round trips of the frame: " << frame_syncs);
+              CHECK(frame_syncs <= 2);
+              worst_syncs = std::max(worst_syncs, frame_syncs);
+            }
+          }
+        }
+      }
+    }
+  }
+  std::printf("device-driven builds: %zu of %zu frames driven (%zu outgrew their pools); tiny pools: %zu fell back; "
+              "most round trips of a driven frame %zu\n",
+              n_driven, n_cases, n_fallback, n_tiny_fallback, worst_syncs);
+  CHECK(n_driven > n_cases / 2);
+  CHECK(n_tiny_fallback > n_cases / 2);
+}
+
 TEST_CASE("backend choice: auto renders on the GPU here, cuda and cpu agree", "[gpu]") {
   const Scene s = random_scenes::clip_scene(5, 2, 64);
   RenderOptions o;

@@ -46,8 +46,9 @@ auto render_cuda(gpu::Context& ctx, const EncodedScene& enc, const RenderPlan& p
   st.backend = "cuda";
   const auto t_all = std::chrono::steady_clock::now();
   gpu::GpuTimes gt;
-  ctx.build(enc, plan.frame.ua_w, plan.frame.ua_h, plan.tree, &gt);
-  auto img = finish(background_paint(o.background, o.gamma), &gt);
+  gpu::GpuTimes* times = st.stage_times ? &gt : nullptr;
+  ctx.build(enc, plan.frame.ua_w, plan.frame.ua_h, plan.tree, times, /*render_follows=*/true);
+  auto img = finish(background_paint(o.background, o.gamma), times);
   st.stroke_ms += gt.stroke_ms;
   st.abstract_ms += gt.abstract_ms;
   st.subdivide_ms += gt.subdivide_ms;
@@ -111,6 +112,7 @@ FilterExecutor cuda_filters(gpu::Context& ctx) {
       LayerJob& j = jobs[k];
       for (const LayerJob::Element& e : j.elements) {
         RenderStats ignored;
+        ignored.stage_times = false;
         j.layer.images[e.image] = render_cuda(ctx, *e.scene, e.options, ignored);
       }
       plans[k] = plan_render(j.source_options);
@@ -207,6 +209,7 @@ ImageF render_cuda(const Scene& scene, const RenderOptions& options, RenderStats
 
 ImageF render(const Scene& scene, const RenderOptions& options, RenderStats* stats) {
   RenderStats local;
+  local.stage_times = false;  // nobody reads them
   RenderStats& st = stats ? *stats : local;
   if (options.backend == Backend::Cpu) return render_cpu(scene, options, &st);
   std::string why;
@@ -284,6 +287,7 @@ EncodedScene FrameRenderer::encode(const Scene& scene, const RenderPlan& plan, c
 
 ImageF FrameRenderer::render(const EncodedScene& scene, const RenderOptions& options, RenderStats* stats) {
   RenderStats local;
+  local.stage_times = false;  // nobody reads them
   RenderStats& st = stats ? *stats : local;
   st.note = impl_->note;
   if (impl_->backend == Backend::Cpu) return render_cpu(scene, options, &st);
@@ -295,6 +299,7 @@ std::vector<uint8_t> FrameRenderer::render_rgba8(const EncodedScene& scene, cons
                                                 const RenderOptions& options, RenderStats* stats,
                                                 std::vector<uint8_t> storage) {
   RenderStats local;
+  local.stage_times = false;  // nobody reads them
   RenderStats& st = stats ? *stats : local;
   st.note = impl_->note;
   if (impl_->backend == Backend::Cpu) return to_rgba8(render_cpu(scene, plan, options, &st), options.gamma);
@@ -309,6 +314,7 @@ FrameRenderer::DeviceImage FrameRenderer::render_rgba8_device(const EncodedScene
                                                               const RenderOptions& options, RenderStats* stats) {
   if (impl_->backend == Backend::Cpu) throw UnsupportedError("device output needs the CUDA backend (rendering on the CPU)");
   RenderStats local;
+  local.stage_times = false;  // nobody reads them
   RenderStats& st = stats ? *stats : local;
   st.note = impl_->note;
   cudaSetDevice(impl_->device);
@@ -351,6 +357,7 @@ std::vector<uint8_t> FrameRenderer::download(const DeviceImage& image) {
 png::ImageData FrameRenderer::render_png(const EncodedScene& scene, const RenderPlan& plan, const RenderOptions& options,
                                          RenderStats* stats) {
   RenderStats local;
+  local.stage_times = false;  // nobody reads them
   RenderStats& st = stats ? *stats : local;
   st.note = impl_->note;
   if (impl_->backend == Backend::Cpu) {
@@ -364,7 +371,7 @@ png::ImageData FrameRenderer::render_png(const EncodedScene& scene, const Render
   gpu::Context& ctx = *impl_->ctx;
   return render_cuda(ctx, scene, plan, options, st, [&](const PaintRecord& bg, gpu::GpuTimes* gt) {
     png::ImageData data = ctx.render_png(plan.integ, plan.frame, bg, options.gamma == Gamma::Linear, gt);
-    st.png_ms += gt->png_ms;
+    if (gt) st.png_ms += gt->png_ms;
     return data;
   });
 }
@@ -383,10 +390,11 @@ std::vector<FrameRenderer::Output> FrameRenderer::render_forest(const std::vecto
   const auto t_all = std::chrono::steady_clock::now();
   int w = 0, h = 0;
   gpu::GpuTimes gt;
+  const bool timed = !scenes.empty() && scenes[0].stats && scenes[0].stats->stage_times;
   {
     const EncodedScene forest = forest_of(scenes);
     forest_grid(forest, w, h);
-    ctx.build(forest, w, h, resolve_stop_rule(options.tree, options.samples), &gt);
+    ctx.build(forest, w, h, resolve_stop_rule(options.tree, options.samples), timed ? &gt : nullptr);
   }
   const double share = 1.0 / std::max<size_t>(1, scenes.size());
   const double build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_all).count();
@@ -400,9 +408,10 @@ std::vector<FrameRenderer::Output> FrameRenderer::render_forest(const std::vecto
     const RenderPlan& plan = *scenes[k].plan;
     const uint32_t root = static_cast<uint32_t>(k);
     gpu::GpuTimes rt;
-    if (png) out[k].png = ctx.render_png(plan.integ, plan.frame, bg, linear, &rt, root);
+    gpu::GpuTimes* rtp = timed ? &rt : nullptr;
+    if (png) out[k].png = ctx.render_png(plan.integ, plan.frame, bg, linear, rtp, root);
     else
-      out[k].rgba8 = ctx.render_rgba8(plan.integ, plan.frame, bg, linear, &rt,
+      out[k].rgba8 = ctx.render_rgba8(plan.integ, plan.frame, bg, linear, rtp,
                                       k < storage.size() ? std::move(storage[k]) : std::vector<uint8_t>{}, root);
     if (!scenes[k].stats) continue;
     RenderStats& st = *scenes[k].stats;

@@ -297,6 +297,7 @@ struct State {
 
   // Renders one item in a frame of its own; the error message, or empty.
   std::string render_one(FrameRenderer& renderer, Job& job, std::vector<uint8_t> storage) {
+    job.stats.stage_times = c.stats;
     try {
       if (job.filtered) {
         job.scene = renderer.encode(*job.filtered, job.plan, job.options, &job.stats);
@@ -385,7 +386,10 @@ struct State {
       if (jobs.size() > 1) {
         try {
           std::vector<FrameScene> frame;
-          for (const auto& j : jobs) frame.push_back(FrameScene{&j->scene, &j->plan, &j->stats});
+          for (const auto& j : jobs) {
+            j->stats.stage_times = c.stats;
+            frame.push_back(FrameScene{&j->scene, &j->plan, &j->stats});
+          }
           const bool png = png_on_device(*renderer);
           std::vector<FrameRenderer::Output> out =
               renderer->render_forest(frame, jobs.front()->options, png, std::move(storage));
