@@ -62,7 +62,7 @@ __global__ void k_decide(const Entry* e, const Cell* cells, Count ncells, bool m
 // parent level or in the leaf stream (after the leaves of earlier levels),
 // and every cell (threads below ncells) to the parent level or the leaves,
 // with its node. n bounds the level's entries (pruning leaves their count
-// on the device): the counts' totals, pos[ncells.n], give it. Driven
+// on the device): the counts' totals, pos[ncells], give it. Driven
 // (drive non-null), the leaf and node bases are the device's running
 // totals, and a level that would outgrow the leaf or node pools raises
 // the overflow flag instead.
@@ -75,8 +75,8 @@ __global__ void k_place(const Entry* e, const uint32_t* entry_cell, size_t n, co
                         size_t leaf_entry_base, Node* nodes, size_t node_base, size_t child_base, uint32_t* drive,
                         PlacePools pools) {
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
-  const LevelCounts tot = pos[ncells.n];
   const size_t nc = ncells.get();
+  const LevelCounts tot = pos[nc];
   if (drive) {
     leaf_base = drive[DRIVE_LEAVES];
     leaf_entry_base = drive[DRIVE_LEAF_ENTRIES];
@@ -117,9 +117,9 @@ __global__ void k_place(const Entry* e, const uint32_t* entry_cell, size_t n, co
 
 // Driven: after a level's placement, the running totals move past it and
 // the parent level gets its counts (none once a pool has overflowed).
-__global__ void k_advance(const LevelCounts* tot_at, Count ncells, uint32_t* parent_size, uint32_t* drive, uint32_t lv) {
-  const LevelCounts t = *tot_at;
+__global__ void k_advance(const LevelCounts* pos, Count ncells, uint32_t* parent_size, uint32_t* drive, uint32_t lv) {
   const uint32_t nc = static_cast<uint32_t>(ncells.get());
+  const LevelCounts t = pos[nc];
   const bool over = drive[DRIVE_OVERFLOW] != 0;
   if (!over && nc) {
     const uint32_t exact = t.parent_entries + t.leaf_entries;  // the level's entries after pruning
@@ -257,7 +257,7 @@ bool Context::Impl::may_drive(const EncodedScene& scene, const TreeParams& param
 
 void Context::Impl::learn(const EncodedScene& scene) {
   (void)scene;
-  if (!capped) plan.learn(ninput, nsegments, most_entries, most_cells, nleaves, nleaf_entries, nnodes);
+  if (!capped) plan.learn(ninput, {nsegments, most_entries, most_cells, nleaves, nleaf_entries, nnodes});
 }
 
 bool Context::Impl::settle(std::initializer_list<HostWords::Word> extra) {
@@ -294,7 +294,7 @@ bool Context::Impl::settle(std::initializer_list<HostWords::Word> extra) {
   leaves.resize(nleaves);
   leaf_entries.resize(nleaf_entries);
   nodes.resize(nnodes);
-  plan.learn(ninput, nsegments, w[DRIVE_MOST_ENTRIES], w[DRIVE_MOST_CELLS], nleaves, nleaf_entries, nnodes);
+  plan.learn(ninput, {nsegments, w[DRIVE_MOST_ENTRIES], w[DRIVE_MOST_CELLS], nleaves, nleaf_entries, nnodes});
   return true;
 }
 
@@ -303,9 +303,10 @@ namespace {
 // Driven: the counts of a level made by the root's subdivision or a
 // level's (splits' total, its parent's cells times the fanout), or none
 // once a pool has overflowed or the memory cap is passed.
-__global__ void k_child_size(const SplitScan* total_at, Count parent_cells, uint32_t fanout, size_t pool_entries,
-                             size_t pool_cells, size_t max_entries, uint32_t* size, uint32_t* drive) {
-  const uint32_t n = total_at->count;
+__global__ void k_child_size(const SplitScan* splits, Count pairs, Count parent_cells, uint32_t fanout,
+                             size_t pool_entries, size_t pool_cells, size_t max_entries, uint32_t* size,
+                             uint32_t* drive) {
+  const uint32_t n = splits[pairs.get()].count;
   const size_t nc = fanout * parent_cells.get();
   const bool over = drive[DRIVE_OVERFLOW] || n > pool_entries || nc > pool_cells ||
                     size_t(drive[DRIVE_TOTAL]) + n > max_entries;
@@ -329,8 +330,9 @@ void Context::Impl::subdivide_driven(const DeviceLevel& from, DeviceLevel& to, b
   if (n.n == 0) {
     MPVG_CUDA(cudaMemsetAsync(splits.data(), 0, sizeof(SplitScan)));
   } else {
-    subdivide_split(from, n, fanout, root, flags, nullptr);
-    prim.inclusive_scan(split_items.data(), splits.data() + 1, SplitScanOp{}, pairs);
+    subdivide_split(from, n, fanout, root, flags, nullptr, /*pad=*/false);
+    prim.counted_inclusive(split_items.data(), splits.data() + 1, SplitScanOp{}, SplitScan{0, 0, 0, 0},
+                           n.times(fanout));
   }
   to.entries.resize(to_entries);
   to.entry_cell.resize(to_entries);
@@ -341,7 +343,7 @@ void Context::Impl::subdivide_driven(const DeviceLevel& from, DeviceLevel& to, b
   to.driven = true;
   to.bound = false;
   subdivide_scatter(from, n, from.cell_count(), nullptr, fanout, root, flags, to, drive.data() + DRIVE_OVERFLOW);
-  k_child_size<<<1, 1>>>(splits.data() + pairs, from.cell_count(), fanout, to_entries, to_cells,
+  k_child_size<<<1, 1>>>(splits.data(), n.times(fanout), from.cell_count(), fanout, to_entries, to_cells,
                          root ? ~size_t{0} : params.max_entries, to.size.data(), drive.data());
   launched();
 }
@@ -529,7 +531,7 @@ bool Context::Impl::build_tree_driven(const EncodedScene& scene, int w, int h, c
   // Pools from the plan. A scene whose pools would pass the memory cap, or
   // a plan that would make them huge, goes the host-driven way.
   auto pools_fit = [&](size_t nin) {
-    const size_t e = plan.bound(plan.entries, nin);
+    const size_t e = plan.bound(DrivePlan::ENTRIES, nin);
     return e <= params.max_entries && e < (size_t(1) << 31) / 4;
   };
   if (!pools_fit(nin0)) return false;
@@ -541,9 +543,10 @@ bool Context::Impl::build_tree_driven(const EncodedScene& scene, int w, int h, c
     timer.stop();
   }
   const size_t nin = scene.strokes.empty() ? nin0 : ninput;
-  const size_t E = plan.bound(plan.entries, nin), C = std::max(plan.bound(plan.cells, nin), nroots);
-  const size_t S = plan.bound(plan.segments, nin), L = plan.bound(plan.leaves, nin);
-  const size_t LE = plan.bound(plan.leaf_entries, nin), N = std::max(plan.bound(plan.nodes, nin), nroots);
+  const size_t E = plan.bound(DrivePlan::ENTRIES, nin), C = std::max(plan.bound(DrivePlan::CELLS, nin), nroots);
+  const size_t S = plan.bound(DrivePlan::SEGMENTS, nin), L = plan.bound(DrivePlan::LEAVES, nin);
+  const size_t LE = plan.bound(DrivePlan::LEAF_ENTRIES, nin);
+  const size_t N = std::max(plan.bound(DrivePlan::NODES, nin), nroots);
   timer.start(&t.abstract_ms);
   abstract_driven(scene, S, E);
   timer.stop();
@@ -582,7 +585,7 @@ bool Context::Impl::build_tree_driven(const EncodedScene& scene, int w, int h, c
                                                              level.cell_count(), may_subdivide, params.min_segments,
                                                              grid_of_root, cnt);
     launched();
-    prim.exclusive_scan(cnt, pos, LevelCountsAdd{}, LevelCounts{0, 0, 0, 0}, ncells + 1);
+    prim.counted_exclusive(cnt, pos, LevelCountsAdd{}, LevelCounts{0, 0, 0, 0}, level.cell_count().and_one());
     parent.entries.resize(level.nentries);
     parent.entry_cell.resize(level.nentries);
     parent.cells.resize(ncells);
@@ -595,7 +598,7 @@ bool Context::Impl::build_tree_driven(const EncodedScene& scene, int w, int h, c
         cnt, parent.entries.data(), parent.entry_cell.data(), leaf_entries.data(), parent.cells.data(),
         leaves.data(), 0, 0, nodes.data(), 0, 0, drive.data(), PlacePools{L, LE, N});
     launched();
-    k_advance<<<1, 1>>>(pos + ncells, level.cell_count(), parent.size.data(), drive.data(), static_cast<uint32_t>(lv));
+    k_advance<<<1, 1>>>(pos, level.cell_count(), parent.size.data(), drive.data(), static_cast<uint32_t>(lv));
     launched();
     if (!may_subdivide) {
       timer.stop();

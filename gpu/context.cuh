@@ -33,16 +33,6 @@ class PngStage;     // gpu/png_encode.cuh
 // An element count a kernel is launched over: exact on the host (dev
 // null), or, in a frame the device drives (build_tree.cu), a bound the host
 // sized the launch and the buffers to, with the exact count at *dev.
-struct Count {
-  size_t n = 0;
-  const uint32_t* dev = nullptr;
-  __host__ __device__ size_t get() const {
-#ifdef __CUDA_ARCH__
-    if (dev) return *dev < n ? size_t(*dev) : n;
-#endif
-    return n;
-  }
-};
 
 // One tree level on the device: cells, their entries, and each entry's cell.
 struct DeviceLevel {
@@ -79,25 +69,27 @@ enum DriveWord : uint32_t {
   DRIVE_WORDS
 };
 
-// The pools of a device-driven build, per input segment: the most any
-// build of the context needed (DrivePlan::learn), grown by a margin.
+// The pools of a device-driven build: per input segment, the most any
+// build of the context needed (learn), with a margin (scale), and never
+// more than 2 scale times the most any needed at all (a scene of few
+// segments and many entries must not size the pools of a large one).
 struct DrivePlan {
-  double segments = 0, entries = 0, cells = 0, leaves = 0, leaf_entries = 0, nodes = 0;
-  size_t builds = 0;  // builds it has learnt from
+  enum { SEGMENTS, ENTRIES, CELLS, LEAVES, LEAF_ENTRIES, NODES, KINDS };
+  double per_input[KINDS] = {};
+  size_t most[KINDS] = {};
+  size_t builds = 0;   // builds it has learnt from
   double scale = 1.5;  // margin over the most seen (tests shrink it to force overflows)
-  void learn(size_t ninput, size_t nsegments, size_t most_entries, size_t most_cells, size_t nleaves,
-             size_t nleaf_entries, size_t nnodes) {
+  void learn(size_t ninput, const size_t (&v)[KINDS]) {
     const double d = double(std::max<size_t>(ninput, 1));
-    segments = std::max(segments, nsegments / d);
-    entries = std::max(entries, most_entries / d);
-    cells = std::max(cells, most_cells / d);
-    leaves = std::max(leaves, nleaves / d);
-    leaf_entries = std::max(leaf_entries, nleaf_entries / d);
-    nodes = std::max(nodes, nnodes / d);
+    for (int k = 0; k < KINDS; k++) {
+      per_input[k] = std::max(per_input[k], v[k] / d);
+      most[k] = std::max(most[k], v[k]);
+    }
     builds++;
   }
-  size_t bound(double per_input, size_t ninput) const {
-    return static_cast<size_t>(scale * per_input * double(ninput)) + (scale >= 1 ? 1024 : 16);
+  size_t bound(int kind, size_t ninput) const {
+    const double by_input = scale * per_input[kind] * double(ninput), cap = 2 * scale * double(most[kind]);
+    return static_cast<size_t>(std::min(by_input, cap)) + (scale >= 1 ? 1024 : 16);
   }
 };
 
@@ -309,7 +301,7 @@ struct Context::Impl {
   // The same, device-driven: to's bounds (entries, cells) given, its counts
   // left on the device.
   void subdivide_split(const DeviceLevel& from, Count n, uint32_t fanout, bool root, uint32_t* flags,
-                       uint32_t* zero_overflow);
+                       uint32_t* zero_overflow, bool pad);
   void subdivide_scatter(const DeviceLevel& from, Count n, Count ncells, const LevelCounts* counted, uint32_t fanout,
                          bool root, const uint32_t* flags, DeviceLevel& to, uint32_t* overflow_flag);
   void subdivide_driven(const DeviceLevel& from, DeviceLevel& to, bool root, size_t to_entries, size_t to_cells,

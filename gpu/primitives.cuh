@@ -103,6 +103,122 @@ class HostStaging {
   bool staged_ = false;
 };
 
+// An element count a kernel is launched over: exact on the host (dev
+// null), or, in a frame the device drives (build_tree.cu), a bound the host
+// sized the launch and the buffers to, with the exact count on the device:
+// scale * *dev + plus (a level's pairs are four per entry; a scan that
+// ends on a total has one item more than the count).
+struct Count {
+  size_t n = 0;
+  const uint32_t* dev = nullptr;
+  uint32_t scale = 1, plus = 0;
+  __host__ __device__ size_t get() const {
+#ifdef __CUDA_ARCH__
+    if (dev) {
+      const size_t v = size_t(*dev) * scale + plus;
+      return v < n ? v : n;
+    }
+#endif
+    return n;
+  }
+  Count times(uint32_t k) const { return Count{n * k, dev, scale * k, plus * k}; }
+  Count and_one() const { return Count{n + 1, dev, scale, plus + 1}; }
+};
+
+// The sum, as an operator of the counted scans.
+struct Plus {
+  template <class T>
+  __host__ __device__ T operator()(T a, T b) const {
+    return a + b;
+  }
+};
+
+// Scans whose length is on the device (Count): tiles of kTile items, each
+// block's total, an exclusive scan of the totals by one block, then each
+// tile scanned from its prefix. Blocks past the count's tiles exit at
+// once, so the work is the count's, not the bound's. For the integer
+// operators of the pipeline (sums, SplitScanOp, SegmentedMax, LevelCounts)
+// any association gives the same bits as CUB's device scans.
+namespace counted_scan {
+constexpr int kThreads = 256, kItems = 8;
+constexpr size_t kTile = size_t(kThreads) * kItems;
+
+template <class T, class In>
+__device__ __forceinline__ void load_tile(In in, size_t base, size_t count, T identity, T (&items)[kItems]) {
+  for (int k = 0; k < kItems; k++) {
+    const size_t i = base + size_t(threadIdx.x) * kItems + k;
+    items[k] = i < count ? T(in[i]) : identity;
+  }
+}
+
+template <class T, class In, class Op>
+__global__ void __launch_bounds__(kThreads) k_tile_totals(In in, Count n, Op op, T identity, T* totals) {
+  const size_t count = n.get(), base = size_t(blockIdx.x) * kTile;
+  if (base >= count) return;
+  T items[kItems];
+  load_tile(in, base, count, identity, items);
+  T acc = items[0];
+  for (int k = 1; k < kItems; k++) acc = op(acc, items[k]);
+  using Scan = cub::BlockScan<T, kThreads>;
+  __shared__ typename Scan::TempStorage tmp;
+  T ignored, total;
+  Scan(tmp).InclusiveScan(acc, ignored, op, total);
+  if (threadIdx.x == 0) totals[blockIdx.x] = total;
+}
+
+template <class T, class Op>
+struct RunningPrefix {
+  T total;
+  Op op;
+  __device__ T operator()(T block_total) {
+    const T before = total;
+    total = op(total, block_total);
+    return before;
+  }
+};
+
+template <class T, class Op>
+__global__ void __launch_bounds__(kThreads) k_scan_totals(T* totals, Count n, Op op, T identity) {
+  const size_t tiles = (n.get() + kTile - 1) / kTile;
+  using Scan = cub::BlockScan<T, kThreads>;
+  __shared__ typename Scan::TempStorage tmp;
+  RunningPrefix<T, Op> prefix{identity, op};
+  for (size_t b = 0; b < tiles; b += kThreads) {
+    const size_t i = b + threadIdx.x;
+    const T v = i < tiles ? totals[i] : identity;
+    T out;
+    Scan(tmp).ExclusiveScan(v, out, op, prefix);
+    __syncthreads();
+    if (i < tiles) totals[i] = out;
+  }
+}
+
+template <class T>
+struct FixedPrefix {
+  T value;
+  __device__ T operator()(T) const { return value; }
+};
+
+template <bool Inclusive, class T, class In, class Out, class Op>
+__global__ void __launch_bounds__(kThreads) k_scan_tiles(In in, Out out, Count n, Op op, T identity,
+                                                         const T* prefix) {
+  const size_t count = n.get(), base = size_t(blockIdx.x) * kTile;
+  if (base >= count) return;
+  T items[kItems];
+  load_tile(in, base, count, identity, items);
+  using Scan = cub::BlockScan<T, kThreads>;
+  __shared__ typename Scan::TempStorage tmp;
+  FixedPrefix<T> p{prefix[blockIdx.x]};
+  if (Inclusive) Scan(tmp).InclusiveScan(items, items, op, p);
+  else Scan(tmp).ExclusiveScan(items, items, op, p);
+  for (int k = 0; k < kItems; k++) {
+    const size_t i = base + size_t(threadIdx.x) * kItems + k;
+    if (i < count) out[i] = items[k];
+  }
+}
+
+}  // namespace counted_scan
+
 // The bits a radix sort needs for keys up to max_key (at least one).
 inline int key_bits(uint64_t max_key) {
   int bits = 1;
@@ -155,6 +271,31 @@ class Primitives {
     MPVG_CUDA(cub::DeviceRadixSort::SortPairs(temp(bytes), bytes, keys_in, keys_out, values_in, values_out,
                                               static_cast<int>(n), 0, bits));
   }
+  // Scans of n.get() items (identity: the operator's), n.n bounding them
+  // (counted_scan); the same results as the device scans above.
+  template <class T, bool Inclusive, class In, class Out, class Op>
+  void counted(In in, Out out, Op op, T identity, Count n) {
+    calls++;
+    if (n.n == 0) return;
+    namespace cs = counted_scan;
+    const size_t tiles = (n.n + cs::kTile - 1) / cs::kTile;
+    T* totals = static_cast<T*>(counted_temp(tiles * sizeof(T)));
+    const unsigned grid = static_cast<unsigned>(tiles);
+    cs::k_tile_totals<T><<<grid, cs::kThreads>>>(in, n, op, identity, totals);
+    MPVG_LAUNCHED();
+    cs::k_scan_totals<T><<<1, cs::kThreads>>>(totals, n, op, identity);
+    MPVG_LAUNCHED();
+    cs::k_scan_tiles<Inclusive, T><<<grid, cs::kThreads>>>(in, out, n, op, identity, totals);
+    MPVG_LAUNCHED();
+  }
+  template <class T, class In, class Out, class Op>
+  void counted_inclusive(In in, Out out, Op op, T identity, Count n) {
+    counted<T, true>(in, out, op, identity, n);
+  }
+  template <class T, class In, class Out, class Op>
+  void counted_exclusive(In in, Out out, Op op, T identity, Count n) {
+    counted<T, false>(in, out, op, identity, n);
+  }
   template <class In, class Out>
   void reduce_max(In in, Out out, size_t n) {
     calls++;
@@ -168,7 +309,13 @@ class Primitives {
     temp_.resize(bytes);
     return temp_.data();
   }
-  DeviceBuffer<uint8_t> temp_;
+  // The counted scans' tile totals: a buffer of their own, so that a CUB
+  // call's temporary storage never moves under a counted scan in flight.
+  void* counted_temp(size_t bytes) {
+    counted_temp_.resize(std::max<size_t>(bytes, 16));
+    return counted_temp_.data();
+  }
+  DeviceBuffer<uint8_t> temp_, counted_temp_;
 };
 
 }  // namespace mpvg::gpu

@@ -36,13 +36,14 @@ __global__ void k_round_init(const Entry* e, const uint32_t* entry_cell, Count c
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
   const size_t n = count.get();
   if (i > count.n) return;
+  if (i > n) {  // the sorts' padding (counted scans read nothing past n)
+    if (groups && i < count.n) index[i] = static_cast<uint32_t>(i);
+    return;
+  }
   elim[i] = 0;
   if (groups) elim2[i] = 0;
-  if (i >= n) {
-    if (groups && i < count.n) {
-      depth_section[i] = 0;
-      index[i] = static_cast<uint32_t>(i);
-    }
+  if (i == n) {
+    if (groups && i < count.n) index[i] = static_cast<uint32_t>(i);
     return;
   }
   const Cell c = cells[entry_cell[i]];
@@ -179,7 +180,7 @@ __global__ void k_compact(const Entry* e, const uint32_t* entry_cell, Count n, c
 }
 
 // Driven: the level's count after the sweep.
-__global__ void k_pruned_size(const uint32_t* survivors, uint32_t* size) { size[0] = *survivors; }
+__global__ void k_pruned_size(const uint32_t* kpos, Count n, uint32_t* size) { size[0] = kpos[n.get()]; }
 
 }  // namespace
 
@@ -221,9 +222,10 @@ void Context::Impl::prune(DeviceLevel& lv) {
     // Depths and section counts in one scan; then cross-links over all
     // depths at once (core/tree/pruning.h): a stable sort by depth, one
     // segmented scan, then each element's links.
-    prim.inclusive_sum(packed, thrust::make_transform_output_iterator(thrust::make_zip_iterator(depth, sec),
-                                                                      SplitDepthSection{}),
-                       n);
+    const auto split = thrust::make_transform_output_iterator(thrust::make_zip_iterator(depth, sec),
+                                                              SplitDepthSection{});
+    if (lv.driven) prim.counted_inclusive(packed, split, Plus{}, uint64_t{0}, cn);
+    else prim.inclusive_sum(packed, split, n);
     if (lv.driven) {
       k_pad_keys<<<grid, kBlock>>>(depth, cn, pad);
       launched();
@@ -235,7 +237,8 @@ void Context::Impl::prune(DeviceLevel& lv) {
     prim.sort_pairs(reinterpret_cast<const uint32_t*>(depth), sorted_depth, index, sorted, n, bits);
     link.resize(n);
     const auto start = thrust::make_transform_iterator(thrust::counting_iterator<uint32_t>(0), LinkStart{e, sorted, depth});
-    prim.inclusive_scan(start, link.data(), SegmentedMax<uint32_t>{}, n);
+    if (lv.driven) prim.counted_inclusive(start, link.data(), SegmentedMax<uint32_t>{}, LinkSeg{0, 0}, cn);
+    else prim.inclusive_scan(start, link.data(), SegmentedMax<uint32_t>{}, n);
     k_link<<<grid, kBlock>>>(e, sorted, depth, link.data(), cn, open, bar, close, parent_of);
     launched();
   }
@@ -246,7 +249,8 @@ void Context::Impl::prune(DeviceLevel& lv) {
   }
   k_mark<<<grid, kBlock>>>(e, lv.entry_cell.data(), cn, lv.cells.data(), term, links, elim);
   launched();
-  prim.inclusive_sum(elim, elim, n + 1);
+  if (lv.driven) prim.counted_inclusive(elim, elim, Plus{}, int32_t{0}, cn.and_one());
+  else prim.inclusive_sum(elim, elim, n + 1);
 
   if (groups) {
     // Rules 16 and 19, then 23, on what those marks leave.
@@ -256,7 +260,8 @@ void Context::Impl::prune(DeviceLevel& lv) {
     uint32_t* shown_before = (shown.resize(n + 1), shown.data());
     const auto shows = thrust::make_transform_iterator(thrust::counting_iterator<uint32_t>(0),
                                                        Shows{e, elim, by_sec, cn});
-    prim.exclusive_sum(shows, shown_before, n + 1);
+    if (lv.driven) prim.counted_exclusive(shows, shown_before, Plus{}, uint32_t{0}, cn.and_one());
+    else prim.exclusive_sum(shows, shown_before, n + 1);
     uint64_t* w = (weight.resize(n), weight.data());
     k_empty<<<grid, kBlock>>>(e, lv.entry_cell.data(), cn, lv.cells.data(), elim, links,
                               PruneShown{sec, by_sec, shown_before, static_cast<uint32_t>(n)}, w, elim_b);
@@ -264,17 +269,20 @@ void Context::Impl::prune(DeviceLevel& lv) {
     uint64_t* item_sums = (items.resize(n + 1), items.data());
     const auto weighs = thrust::make_transform_iterator(thrust::counting_iterator<uint32_t>(0),
                                                         Weighs{w, sorted, cn});
-    prim.exclusive_sum(weighs, item_sums, n + 1);
+    if (lv.driven) prim.counted_exclusive(weighs, item_sums, Plus{}, uint64_t{0}, cn.and_one());
+    else prim.exclusive_sum(weighs, item_sums, n + 1);
     k_unwrap<<<grid, kBlock>>>(e, cn, term, links, PruneItems{sorted, item_sums, static_cast<uint32_t>(n)}, elim_b);
     launched();
-    prim.inclusive_sum(elim_b, elim_b, n + 1);
+    if (lv.driven) prim.counted_inclusive(elim_b, elim_b, Plus{}, int32_t{0}, cn.and_one());
+    else prim.inclusive_sum(elim_b, elim_b, n + 1);
   }
 
   // Sweep: the exclusive scan of the keep flags gives every survivor its
   // slot and every cell its new range (item n only completes the scan).
   uint32_t* kpos = term;
   const auto keep = thrust::make_transform_iterator(thrust::counting_iterator<uint32_t>(0), Kept{elim, elim_b, lv.entry_cell.data(), lv.cells.data(), grid_of_root, cn});
-  prim.exclusive_sum(keep, kpos, n + 1);
+  if (lv.driven) prim.counted_exclusive(keep, kpos, Plus{}, uint32_t{0}, cn.and_one());
+  else prim.exclusive_sum(keep, kpos, n + 1);
   // No round trip: the survivors' count stays on the device, n bounds it,
   // and the level's counts bring it back (build_tree.cu).
   DeviceLevel& out = parent;  // scratch level
@@ -287,7 +295,7 @@ void Context::Impl::prune(DeviceLevel& lv) {
   lv.entries.swap(out.entries);
   lv.entry_cell.swap(out.entry_cell);
   if (lv.driven) {
-    k_pruned_size<<<1, 1>>>(kpos + n, lv.size.data());
+    k_pruned_size<<<1, 1>>>(kpos, cn, lv.size.data());
     launched();
   } else {
     lv.bound = true;

@@ -26,11 +26,12 @@ __device__ __forceinline__ CellBox child_box(const Cell& pc, uint32_t c, bool ro
 // splits[j].count is pair j's offset) and zeroes the scatter's overflow
 // flag (a device-driven frame's flag, overflow null, is never zeroed).
 // With counts on the device (n only bounding the parent level's entries),
-// threads past them write identity items: the pairs of the level's
-// entries are the first fanout * n.get().
+// threads past them write identity items (pad: a device scan over the
+// bound follows; a counted one reads no padding): the pairs of the
+// level's entries are the first fanout * n.get().
 __global__ void k_split(const Entry* entries, const uint32_t* entry_cell, Count n, const Cell* cells,
                         const AbstractSegment* segments, uint32_t fanout, bool root, uint32_t root_size,
-                        uint32_t* flags, SplitScan* items, SplitScan* splits, uint32_t* overflow) {
+                        uint32_t* flags, SplitScan* items, SplitScan* splits, uint32_t* overflow, bool pad) {
   const size_t i = blockIdx.x * size_t(blockDim.x) + threadIdx.x;
   if (i == 0) {
     splits[0] = SplitScan{0, 0, 0, 0};
@@ -38,6 +39,7 @@ __global__ void k_split(const Entry* entries, const uint32_t* entry_cell, Count 
   }
   if (i >= n.n) return;
   if (i >= n.get()) {
+    if (!pad) return;  // a counted scan reads no padding
     for (uint32_t c = 0; c < fanout; c++) items[fanout * i + c] = SplitScan{0, 0, 0, 0};
     return;
   }
@@ -111,10 +113,10 @@ __device__ void child_cells(const Cell* cells, size_t k, uint32_t fanout, bool r
 }  // namespace
 
 void Context::Impl::subdivide_split(const DeviceLevel& from, Count n, uint32_t fanout, bool root, uint32_t* flags,
-                                    uint32_t* zero_overflow) {
+                                    uint32_t* zero_overflow, bool pad) {
   k_split<<<grid_for(n.n, kBlock), kBlock>>>(from.entries.data(), from.entry_cell.data(), n, from.cells.data(),
                                              segments.data(), fanout, root, root_size, flags, split_items.data(),
-                                             splits.data(), zero_overflow);
+                                             splits.data(), zero_overflow, pad);
   launched();
 }
 
@@ -143,7 +145,7 @@ void Context::Impl::subdivide(const DeviceLevel& from, DeviceLevel& to, bool roo
     MPVG_CUDA(cudaMemsetAsync(overflow.data(), 0, sizeof(uint32_t)));
   } else {
     subdivide_split(from, Count{n, counted ? &counted->parent_entries : nullptr}, fanout, root, flags,
-                    overflow.data());
+                    overflow.data(), /*pad=*/true);
     // Windings consolidated and outputs counted in one scan, into splits[1 ..].
     prim.inclusive_scan(split_items.data(), splits.data() + 1, SplitScanOp{}, pairs);
   }
