@@ -224,7 +224,7 @@ struct Context::Impl {
   // kernel reading its counts from the device, and the host reads the
   // counts once, with the frame's first result (settle()); a frame that
   // outgrew its pools is built again the host-driven way.
-  GpuDrive drive_mode = GpuDrive::Auto;
+  GpuDrive drive_mode = GpuDrive::Host;  // measured slower driven (BENCHMARKS.md): not the default yet
   DrivePlan plan;
   DeviceBuffer<uint32_t> drive;  // DriveWord
   bool pending = false;          // a driven build whose counts the host has not read

@@ -40,9 +40,10 @@ struct SamplerShape {
 // counts back to size the next (a round trip per level). Device: the
 // levels run from pools sized ahead, every kernel reading its counts on
 // the device, the host waiting once, with the frame's first result; a
-// frame that outgrows its pools is built again host-driven. Auto (the
-// default): device-driven from a context's second build, once its first
-// has measured what the pools need. MPVG_GPU_DRIVE=host|device|auto
+// frame that outgrows its pools is built again host-driven. Auto:
+// device-driven from a context's second build, once its first has
+// measured what the pools need. The default is Host: on the H200 the
+// driven build measured slower (BENCHMARKS.md, issue 49). MPVG_GPU_DRIVE=host|device|auto
 // overrides it (measurements).
 enum class GpuDrive { Auto, Host, Device };
 

@@ -257,6 +257,7 @@ TEST_CASE("CPU and GPU images agree within 1/255; GPU images are deterministic",
 TEST_CASE("device-driven builds give the host-driven tree and bytes, pools overflowing or not", "[gpu][drive]") {
   gpu::Context host, driven, tiny;
   host.set_drive(gpu::GpuDrive::Host);
+  driven.set_drive(gpu::GpuDrive::Auto);
   tiny.set_drive(gpu::GpuDrive::Device, 0.05);
   size_t n_driven = 0, n_fallback = 0, n_tiny_fallback = 0, n_cases = 0, worst_syncs = 0;
   const std::vector<SampleOffset> pattern = stratified_pattern(32, 3);
