@@ -129,14 +129,17 @@ std::vector<ImageF> render_forest_cpu(const std::vector<FrameScene>& scenes, con
 }
 
 std::vector<FrameOutput> render_forest_cpu_8bit(const std::vector<FrameScene>& scenes, const RenderOptions& options,
-                                                bool png) {
+                                                FrameOutputKind kind) {
   std::vector<ImageF> images = render_forest_cpu(scenes, options);
   std::vector<FrameOutput> out(images.size());
   for (size_t k = 0; k < images.size(); k++) {
     const auto t0 = std::chrono::steady_clock::now();
     std::vector<uint8_t> rgba8 = to_rgba8(images[k], options.gamma);
-    if (png) {
+    if (kind == FrameOutputKind::Png) {
       out[k].png = png::compress_rgba8(rgba8.data(), images[k].width, images[k].height);
+      if (scenes[k].stats) scenes[k].stats->png_ms += ms_since(t0);
+    } else if (kind == FrameOutputKind::Filtered) {
+      out[k].filtered.channels = png::filter_image(rgba8.data(), images[k].width, images[k].height, 1, out[k].filtered.rows);
       if (scenes[k].stats) scenes[k].stats->png_ms += ms_since(t0);
     } else {
       out[k].rgba8 = std::move(rgba8);
@@ -144,6 +147,16 @@ std::vector<FrameOutput> render_forest_cpu_8bit(const std::vector<FrameScene>& s
     images[k] = ImageF{};
   }
   return out;
+}
+
+png::FilteredRows filter_rows_cpu(const ImageF& image, Gamma gamma, RenderStats* stats, std::vector<uint8_t> storage) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<uint8_t> rgba8 = to_rgba8(image, gamma);
+  png::FilteredRows rows;
+  rows.rows = std::move(storage);
+  rows.channels = png::filter_image(rgba8.data(), image.width, image.height, 1, rows.rows);
+  if (stats) stats->png_ms += ms_since(t0);
+  return rows;
 }
 
 FilterExecutor cpu_filters(int threads) {

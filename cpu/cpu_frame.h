@@ -35,7 +35,13 @@ std::vector<ImageF> render_forest_cpu(const std::vector<FrameScene>& scenes, con
 // render_forest_cpu, converted: what either backend's FrameRenderer gives
 // for a forest frame on the CPU.
 std::vector<FrameOutput> render_forest_cpu_8bit(const std::vector<FrameScene>& scenes, const RenderOptions& options,
-                                                bool png);
+                                                FrameOutputKind kind);
+
+// An image's PNG rows filtered on the CPU (to_rgba8, png::filter_image on
+// one thread), into storage's memory: what render_filtered gives on the
+// CPU; stats->png_ms, if given, receives the time.
+png::FilteredRows filter_rows_cpu(const ImageF& image, Gamma gamma, RenderStats* stats = nullptr,
+                                  std::vector<uint8_t> storage = {});
 
 // The CPU's filter executor: each source rendered by render_cpu, each graph
 // by run_filter_cpu.

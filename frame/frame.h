@@ -79,11 +79,14 @@ struct FrameScene {
 // mpvg::Error unless same_frame_grid holds for them all.
 EncodedScene forest_of(const std::vector<FrameScene>& scenes);
 
-// A forest frame's image as 8-bit codes (to_rgba8), or with `png` filtered
-// and deflated at level 1 (png::compress_rgba8, FrameRenderer::render_png's
-// bytes).
+// What a frame gives back for each of its scenes: the image as 8-bit codes
+// (to_rgba8), its PNG rows filtered (png::filter_image, FrameRenderer::
+// render_filtered's), or filtered and deflated at level 1
+// (png::compress_rgba8, FrameRenderer::render_png's bytes).
+enum class FrameOutputKind { Rgba8, Filtered, Png };
 struct FrameOutput {
   std::vector<uint8_t> rgba8;
+  png::FilteredRows filtered;
   png::ImageData png;
 };
 

@@ -148,6 +148,18 @@ png::ImageData Context::render_png(const Integration& integ, const IntegrationFr
   return data;
 }
 
+png::FilteredRows Context::render_filtered(const Integration& integ, const IntegrationFrame& frame,
+                                           const PaintRecord& background, bool linear, GpuTimes* times,
+                                           std::vector<uint8_t> storage, uint32_t root) {
+  impl_->render(integ, frame, background, times, root);
+  StageTimer timer(times != nullptr);
+  timer.start(times ? &times->png_ms : nullptr);
+  png::FilteredRows rows = impl_->download_filtered(linear, std::move(storage));
+  timer.stop();
+  timer.collect();
+  return rows;
+}
+
 Context::BuildCounts Context::build_counts() const {
   impl_->settle();
   const Impl& m = *impl_;
@@ -216,6 +228,15 @@ png::ImageData Context::Impl::download_png(bool linear) {
   launches += png_stage->launches;
   syncs += png_stage->syncs;
   return data;
+}
+
+png::FilteredRows Context::Impl::download_filtered(bool linear, std::vector<uint8_t> storage) {
+  convert_rgba8(linear);
+  if (!png_stage) png_stage = std::make_unique<PngStage>();
+  png::FilteredRows rows = png_stage->filter(rgba8.data(), out_width, out_height, std::move(storage));
+  launches += png_stage->launches;
+  syncs += png_stage->syncs;
+  return rows;
 }
 
 }  // namespace mpvg::gpu

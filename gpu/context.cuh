@@ -207,7 +207,7 @@ struct Context::Impl {
   DeviceBuffer<uint32_t> rgba8;            // the image as 8-bit codes (rgba8.cu)
   // The codes in memory of their own, handed out (rgba8.cu).
   std::shared_ptr<uint8_t> device_rgba8(bool linear);
-  std::unique_ptr<PngStage> png_stage;     // made for the first render_png
+  std::unique_ptr<PngStage> png_stage;     // made for the first render_png or render_filtered
   int out_width = 0, out_height = 0;
   SamplerShape shape;
   int width = 0, height = 0;
@@ -332,6 +332,8 @@ struct Context::Impl {
   // ... filtered and deflated on the device (png_encode.cu): the PNG's
   // channels and IDAT stream, copied back.
   png::ImageData download_png(bool linear);
+  // ... filtered on the device, the rows copied back (into storage).
+  png::FilteredRows download_filtered(bool linear, std::vector<uint8_t> storage);
 };
 
 }  // namespace mpvg::gpu

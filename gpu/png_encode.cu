@@ -419,6 +419,44 @@ png::ImageData PngStage::run(const uint32_t* rgba, int width, int height) {
   return result;
 }
 
+png::FilteredRows PngStage::filter(const uint32_t* rgba, int width, int height, std::vector<uint8_t> storage) {
+  const size_t pixels = size_t(width) * height;
+  if (!pixels) throw Error("PNG: empty image");
+  launches = syncs = 0;
+  png::FilterLayout l;
+  l.width = width;
+  l.height = height;
+  l.channels = 4;
+  const size_t n4 = l.size();
+  l.channels = 3;
+  const size_t n3 = l.size();
+  flag_.resize(1);
+  filtered_.resize(n4);
+  MPVG_CUDA(cudaMemsetAsync(flag_.data(), 0, sizeof(uint32_t)));
+  k_png_translucent<<<grid_for(pixels, 256), 256>>>(rgba, pixels, flag_.data());
+  MPVG_LAUNCHED();
+  k_png_filter<<<grid_for(size_t(height) * kWarp, 128), 128>>>(reinterpret_cast<const uint8_t*>(rgba), width, height,
+                                                                flag_.data(), filtered_.data());
+  MPVG_LAUNCHED();
+  launches += 2;
+  // The flag with the opaque layout's bytes: what every opaque page needs.
+  png::FilteredRows out;
+  out.rows = std::move(storage);
+  out.rows.resize(n3);
+  uint32_t translucent = 0;
+  MPVG_CUDA(cudaMemcpyAsync(&translucent, flag_.data(), sizeof(uint32_t), cudaMemcpyDeviceToHost));
+  MPVG_CUDA(cudaMemcpyAsync(out.rows.data(), filtered_.data(), n3, cudaMemcpyDeviceToHost));
+  MPVG_CUDA(cudaStreamSynchronize(0));
+  syncs++;
+  out.channels = translucent ? 4 : 3;
+  if (translucent) {
+    out.rows.resize(n4);
+    MPVG_CUDA(cudaMemcpy(out.rows.data() + n3, filtered_.data() + n3, n4 - n3, cudaMemcpyDeviceToHost));
+    syncs++;
+  }
+  return out;
+}
+
 png::ImageData compress_rgba8_gpu(const uint8_t* rgba, int width, int height) {
   const size_t pixels = size_t(width) * height;
   DeviceBuffer<uint32_t> image(pixels);

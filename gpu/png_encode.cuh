@@ -14,6 +14,12 @@ class PngStage {
   // and the zlib stream, copied back. The same bytes as
   // png::compress_rgba8 on the CPU.
   png::ImageData run(const uint32_t* rgba, int width, int height);
+  // The first half only: the rows filtered on the device and copied back
+  // (into storage's memory where it is large enough), for the CPU to
+  // deflate (png::encode_filtered). One round trip for an opaque image,
+  // two for a translucent one (its rows are longer than the opaque size
+  // copied with the flag). The same rows as png::filter_image.
+  png::FilteredRows filter(const uint32_t* rgba, int width, int height, std::vector<uint8_t> storage = {});
 
   size_t launches = 0, syncs = 0;  // issued by the last run
 

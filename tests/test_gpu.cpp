@@ -30,6 +30,7 @@
 #include "gpu/png_encode.h"
 #include "cpu/png_encode.h"
 #include "gpu/stroke.h"
+#include "lib/output/png_writer.h"
 #include "parsers/svg/svg_parser.h"
 #include "tests/catch.h"
 #include "tests/golden_compare.h"
@@ -596,12 +597,25 @@ TEST_CASE("forest: each scene renders on the GPU as it does alone", "[gpu][fores
       const std::vector<FrameScene>& frame = e.frame;
       std::vector<std::vector<uint8_t>> alone;
       std::vector<png::ImageData> alone_png;
+      std::vector<png::FilteredRows> alone_rows;
       for (size_t k = 0; k < ps.size(); k++) {
         alone.push_back(r.render_rgba8(e.scenes[k], e.plans[k], ps[k].options));
         alone_png.push_back(r.render_png(e.scenes[k], e.plans[k], ps[k].options));
+        alone_rows.push_back(r.render_filtered(e.scenes[k], e.plans[k], ps[k].options));
+        // the device's filtered rows are the CPU's filter of the codes
+        png::FilteredRows cpu_rows;
+        cpu_rows.channels =
+            png::filter_image(alone[k].data(), ps[k].options.width, ps[k].options.height, 1, cpu_rows.rows);
+        CHECK(alone_rows[k].channels == cpu_rows.channels);
+        CHECK(alone_rows[k].rows == cpu_rows.rows);
+        // and deflated on the CPU they are encode_rgba8's PNG
+        CHECK(png::encode_filtered(ps[k].options.width, ps[k].options.height, alone_rows[k]) ==
+              png::encode_rgba8(ps[k].options.width, ps[k].options.height, alone[k].data()));
       }
-      const std::vector<FrameRenderer::Output> together = r.render_forest(frame, like, false);
-      const std::vector<FrameRenderer::Output> together_png = r.render_forest(frame, like, true);
+      const std::vector<FrameRenderer::Output> together = r.render_forest(frame, like, FrameOutputKind::Rgba8);
+      const std::vector<FrameRenderer::Output> together_png = r.render_forest(frame, like, FrameOutputKind::Png);
+      const std::vector<FrameRenderer::Output> together_rows =
+          r.render_forest(frame, like, FrameOutputKind::Filtered);
       RenderOptions cpu_like = like;
       cpu_like.backend = Backend::Cpu;
       const std::vector<ImageF> cpu = render_forest_cpu(frame, cpu_like);
@@ -610,6 +624,8 @@ TEST_CASE("forest: each scene renders on the GPU as it does alone", "[gpu][fores
         INFO("scene " << k);
         CHECK(together[k].rgba8 == alone[k]);
         CHECK(together_png[k].png.zlib == alone_png[k].zlib);
+        CHECK(together_rows[k].filtered.channels == alone_rows[k].channels);
+        CHECK(together_rows[k].filtered.rows == alone_rows[k].rows);
         const std::vector<uint8_t> c = to_rgba8(cpu[k], like.gamma);
         REQUIRE(c.size() == alone[k].size());
         int worst = 0;
@@ -640,7 +656,7 @@ TEST_CASE("forest: each scene renders on the GPU as it does alone", "[gpu][fores
        {std::vector<const EncodedScene*>{&e0, &e1, &e0}, {&e1}, {&e0}}) {
     std::vector<FrameScene> frame;
     for (const EncodedScene* e : order) frame.push_back(FrameScene{e, &plan, nullptr});
-    const std::vector<FrameRenderer::Output> together = r.render_forest(frame, o, false);
+    const std::vector<FrameRenderer::Output> together = r.render_forest(frame, o, FrameOutputKind::Rgba8);
     REQUIRE(together.size() == order.size());
     for (size_t k = 0; k < order.size(); k++) CHECK(together[k].rgba8 == r.render_rgba8(*order[k], plan, o));
   }

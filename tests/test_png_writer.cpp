@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "lib/output/png_writer.h"
+#include "cpu/png_encode.h"
 #include "core/error.h"
 #include "parsers/svg/svg_resources.h"
 #include "tests/catch.h"
@@ -189,6 +190,35 @@ TEST_CASE("png writer: strips deflated in parallel join into the same rows", "[p
   o.threads = 4;
   const auto png16 = encode_rgba16(w, h, px16.data(), o);
   CHECK(decode(png16)->rgba16 == px16);
+}
+
+TEST_CASE("png writer: rows filtered elsewhere give encode_rgba8's bytes", "[png]") {
+  // png::encode_filtered (the rows filtered where the image was rendered,
+  // deflated here): the same file as encode_rgba8 at every level, opaque
+  // (RGB) or not, one thread or strips; rows of the wrong size are refused.
+  const int w = 300, h = 170;
+  for (bool opaque : {true, false}) {
+    std::vector<uint8_t> px = random_rgba8(w, h, opaque, 31);
+    for (int y = 0; y < h; y += 2)
+      for (int x = 0; x < w; x++) px[(size_t(y) * w + x) * 4 + 1] = static_cast<uint8_t>(x / 5);
+    mpvg::png::FilteredRows rows;
+    rows.channels = mpvg::png::filter_image(px.data(), w, h, 1, rows.rows);
+    CHECK(rows.channels == (opaque ? 3 : 4));
+    for (int level : {0, 1, 2, 6}) {
+      for (int threads : {1, 3}) {
+        INFO("opaque " << opaque << ", level " << level << ", threads " << threads);
+        mpvg::png::EncodeOptions o;
+        o.level = level;
+        o.threads = threads;
+        const auto png = mpvg::png::encode_filtered(w, h, rows, o);
+        CHECK(png == encode_rgba8(w, h, px.data(), o));
+        CHECK(decode(png)->rgba8 == px);
+      }
+    }
+    mpvg::png::FilteredRows short_rows = rows;
+    short_rows.rows.pop_back();
+    CHECK_THROWS_AS(mpvg::png::encode_filtered(w, h, short_rows), mpvg::Error);
+  }
 }
 
 TEST_CASE("png writer: an unwritable path is an error", "[png]") {

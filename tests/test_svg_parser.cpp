@@ -2,15 +2,21 @@
 // compares mpvg::dump() of the scene with the exact expected text. Remember
 // that the dump lists paths in stream order, which is top-most first: fills
 // appear in reverse document order, clip tests in document order.
+#include <charconv>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <random>
 #include <string>
 
 #include "core/error.h"
 #include "parsers/svg/svg_geometry.h"
 #include "parsers/svg/svg_parser.h"
+#include "parsers/svg/svg_values.h"
 #include "parsers/svg/xml_encoding.h"
 #include "parsers/svg/xml_syntax.h"
 #include "tests/catch.h"
@@ -1455,4 +1461,52 @@ TEST_CASE("svg encodings: UTF-32 and undecodable declared encodings are one clea
   // Declared otherwise but valid UTF-8 (a common mislabel): read as UTF-8.
   CHECK_NOTHROW(mpvg::svg::parse_svg_string("<?xml version=\"1.0\" encoding=\"Shift_JIS\"?><svg "
                                             "xmlns=\"http://www.w3.org/2000/svg\" width=\"1\" height=\"1\"/>"));
+}
+
+TEST_CASE("svg numbers: the fast path reads the double from_chars reads", "[svg][values]") {
+  // Scanner::number reads short significands with small exponents by one
+  // exact operation (Clinger's fast path); every number must still be the
+  // correctly rounded double std::from_chars gives. Random numbers of every
+  // form path data holds: signs, leading and trailing zeros, fractions
+  // without an integer part, exponents, long significands past 2^53.
+  std::mt19937_64 rng(7);
+  auto digits = [&](int n) {
+    std::string d;
+    for (int k = 0; k < n; k++) d += char('0' + rng() % 10);
+    return d;
+  };
+  int fast = 0;
+  for (int t = 0; t < 200000; t++) {
+    std::string text;
+    const int sign = int(rng() % 3);
+    if (sign == 1) text += '-';
+    if (sign == 2) text += '+';
+    const int int_len = int(rng() % 12), frac_len = int(rng() % (rng() % 4 == 0 ? 24 : 9));
+    text += digits(int_len);
+    if (frac_len > 0 || int_len == 0) {
+      text += '.';
+      text += digits(std::max(frac_len, int_len == 0 ? 1 : 0));
+    }
+    if (rng() % 4 == 0) {
+      text += rng() % 2 ? 'e' : 'E';
+      if (rng() % 2) text += rng() % 2 ? '-' : '+';
+      text += std::to_string(rng() % 40);
+    }
+    INFO(text);
+    mpvg::svg::detail::Scanner s(text, 1e300);
+    const std::optional<double> got = s.number();
+    REQUIRE(got);
+    CHECK(s.at_end());
+    double want = 0;
+    const char* first = text.data() + (text[0] == '-' || text[0] == '+');
+    const auto r = std::from_chars(first, text.data() + text.size(), want);
+    REQUIRE(r.ec == std::errc());
+    if (text[0] == '-') want = -want;
+    uint64_t a, b;
+    std::memcpy(&a, &*got, 8);
+    std::memcpy(&b, &want, 8);
+    CHECK(a == b);
+    fast += int_len + frac_len <= 15;
+  }
+  CHECK(fast > 50000);
 }

@@ -16,4 +16,13 @@ struct ImageData {
   std::vector<uint8_t> zlib;
 };
 
+// A PNG's rows filtered (core/output/png_filter.h: a filter type byte, then
+// the row's filtered bytes), not yet deflated: what the PNG stage's first
+// half gives where the image was rendered (FrameRenderer::render_filtered),
+// so that only deflate is left for the CPU (png::encode_filtered).
+struct FilteredRows {
+  int channels = 4;           // 3: every pixel opaque, written as RGB; 4: RGBA
+  std::vector<uint8_t> rows;  // height rows of 1 + width * channels bytes
+};
+
 }  // namespace mpvg::png

@@ -80,15 +80,25 @@ class FrameRenderer {
   // their reference executor. The same bytes either way.
   png::ImageData render_png(const EncodedScene& scene, const RenderPlan& plan, const RenderOptions& options,
                             RenderStats* stats = nullptr);
+  // As render_png(), the first half only: the image's PNG rows filtered
+  // (core/output/png_filter.h), with CUDA on the device, so that only the
+  // rows are copied back (a quarter fewer bytes than the RGBA codes of an
+  // opaque image) and the CPU is left with deflate (png::encode_filtered:
+  // the bytes png::encode_rgba8 gives). Reuses storage's memory as
+  // render_rgba8 does.
+  png::FilteredRows render_filtered(const EncodedScene& scene, const RenderPlan& plan, const RenderOptions& options,
+                                    RenderStats* stats = nullptr, std::vector<uint8_t> storage = {});
 
   // Several scenes as one frame (a forest, frame/forest.h): one tree build
   // for all of them, then each rendered over its own grid, to the same
-  // bytes render_rgba8 (or, with `png`, render_png) gives it alone.
-  // options: the scenes' shared options (same_frame_options); each scene's
-  // size and view are in its plan. As render_rgba8, the 8-bit images reuse
-  // the memory of `storage`'s buffers, one per scene, where given.
+  // bytes render_rgba8 (render_filtered, render_png: as `kind` says)
+  // gives it alone. options: the scenes' shared options
+  // (same_frame_options); each scene's size and view are in its plan. As
+  // render_rgba8, the 8-bit images (filtered rows) reuse the memory of
+  // `storage`'s buffers, one per scene, where given.
   using Output = FrameOutput;
-  std::vector<Output> render_forest(const std::vector<FrameScene>& scenes, const RenderOptions& options, bool png,
+  std::vector<Output> render_forest(const std::vector<FrameScene>& scenes, const RenderOptions& options,
+                                    FrameOutputKind kind,
                                     std::vector<std::vector<uint8_t>> storage = {});
   // Readies the first real frame: reserves device memory in the pool the
   // buffers come from (`pool_bytes`), and renders a small built-in scene

@@ -80,11 +80,19 @@ png::ImageData FrameRenderer::render_png(const EncodedScene& scene, const Render
   return data;
 }
 
+png::FilteredRows FrameRenderer::render_filtered(const EncodedScene& scene, const RenderPlan& plan,
+                                                 const RenderOptions& options, RenderStats* stats,
+                                                 std::vector<uint8_t> storage) {
+  png::FilteredRows rows = filter_rows_cpu(render_cpu(scene, plan, options, stats), options.gamma, stats, std::move(storage));
+  if (stats) stats->note = impl_->note;
+  return rows;
+}
+
 std::vector<FrameRenderer::Output> FrameRenderer::render_forest(const std::vector<FrameScene>& scenes,
-                                                               const RenderOptions& options, bool png,
+                                                               const RenderOptions& options, FrameOutputKind kind,
                                                                std::vector<std::vector<uint8_t>> storage) {
   (void)storage;
-  std::vector<Output> out = render_forest_cpu_8bit(scenes, options, png);
+  std::vector<Output> out = render_forest_cpu_8bit(scenes, options, kind);
   for (const FrameScene& s : scenes)
     if (s.stats) s.stats->note = impl_->note;
   return out;

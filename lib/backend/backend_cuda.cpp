@@ -376,11 +376,30 @@ png::ImageData FrameRenderer::render_png(const EncodedScene& scene, const Render
   });
 }
 
+png::FilteredRows FrameRenderer::render_filtered(const EncodedScene& scene, const RenderPlan& plan,
+                                                 const RenderOptions& options, RenderStats* stats,
+                                                 std::vector<uint8_t> storage) {
+  RenderStats local;
+  local.stage_times = false;  // nobody reads them
+  RenderStats& st = stats ? *stats : local;
+  st.note = impl_->note;
+  if (impl_->backend == Backend::Cpu)
+    return filter_rows_cpu(render_cpu(scene, plan, options, &st), options.gamma, &st, std::move(storage));
+  cudaSetDevice(impl_->device);
+  gpu::Context& ctx = *impl_->ctx;
+  return render_cuda(ctx, scene, plan, options, st, [&](const PaintRecord& bg, gpu::GpuTimes* gt) {
+    png::FilteredRows rows =
+        ctx.render_filtered(plan.integ, plan.frame, bg, options.gamma == Gamma::Linear, gt, std::move(storage));
+    if (gt) st.png_ms += gt->png_ms;
+    return rows;
+  });
+}
+
 std::vector<FrameRenderer::Output> FrameRenderer::render_forest(const std::vector<FrameScene>& scenes,
-                                                               const RenderOptions& options, bool png,
+                                                               const RenderOptions& options, FrameOutputKind kind,
                                                                std::vector<std::vector<uint8_t>> storage) {
   if (impl_->backend == Backend::Cpu) {
-    std::vector<Output> out = render_forest_cpu_8bit(scenes, options, png);
+    std::vector<Output> out = render_forest_cpu_8bit(scenes, options, kind);
     for (const FrameScene& s : scenes)
       if (s.stats) s.stats->note = impl_->note;
     return out;
@@ -409,10 +428,12 @@ std::vector<FrameRenderer::Output> FrameRenderer::render_forest(const std::vecto
     const uint32_t root = static_cast<uint32_t>(k);
     gpu::GpuTimes rt;
     gpu::GpuTimes* rtp = timed ? &rt : nullptr;
-    if (png) out[k].png = ctx.render_png(plan.integ, plan.frame, bg, linear, rtp, root);
+    std::vector<uint8_t> mine = k < storage.size() ? std::move(storage[k]) : std::vector<uint8_t>{};
+    if (kind == FrameOutputKind::Png) out[k].png = ctx.render_png(plan.integ, plan.frame, bg, linear, rtp, root);
+    else if (kind == FrameOutputKind::Filtered)
+      out[k].filtered = ctx.render_filtered(plan.integ, plan.frame, bg, linear, rtp, std::move(mine), root);
     else
-      out[k].rgba8 = ctx.render_rgba8(plan.integ, plan.frame, bg, linear, rtp,
-                                      k < storage.size() ? std::move(storage[k]) : std::vector<uint8_t>{}, root);
+      out[k].rgba8 = ctx.render_rgba8(plan.integ, plan.frame, bg, linear, rtp, std::move(mine), root);
     if (!scenes[k].stats) continue;
     RenderStats& st = *scenes[k].stats;
     st.backend = "cuda";

@@ -68,8 +68,7 @@ Scratch& scratch() {
 
 // The zlib stream (RFC 1950) of the filtered rows, into s.deflated;
 // returns its length.
-size_t deflate_all(Scratch& s, int level) {
-  const std::vector<uint8_t>& in = s.filtered;
+size_t deflate_all(Scratch& s, const uint8_t* data, size_t size, int level) {
 #if MPVG_HAVE_LIBDEFLATE
   level = level < 1 ? 1 : level > 12 ? 12 : level;
   if (!s.compressor || s.level != level) {
@@ -78,15 +77,15 @@ size_t deflate_all(Scratch& s, int level) {
     s.level = level;
     if (!s.compressor) throw Error("PNG: out of memory");
   }
-  const size_t bound = libdeflate_zlib_compress_bound(s.compressor, in.size());
+  const size_t bound = libdeflate_zlib_compress_bound(s.compressor, size);
   if (s.deflated.size() < bound) s.deflated.resize(bound);
-  const size_t n = libdeflate_zlib_compress(s.compressor, in.data(), in.size(), s.deflated.data(), s.deflated.size());
+  const size_t n = libdeflate_zlib_compress(s.compressor, data, size, s.deflated.data(), s.deflated.size());
   if (n == 0) throw Error("PNG: compression failed");
   return n;
 #else
-  uLongf n = compressBound(static_cast<uLong>(in.size()));
+  uLongf n = compressBound(static_cast<uLong>(size));
   if (s.deflated.size() < n) s.deflated.resize(n);
-  if (compress2(s.deflated.data(), &n, in.data(), static_cast<uLong>(in.size()), level < 1 ? 1 : level > 9 ? 9 : level) !=
+  if (compress2(s.deflated.data(), &n, data, static_cast<uLong>(size), level < 1 ? 1 : level > 9 ? 9 : level) !=
       Z_OK)
     throw Error("PNG: compression failed");
   return n;
@@ -115,25 +114,26 @@ void deflate_strip(const uint8_t* data, size_t at, size_t end, bool last, int le
   if (!ok) throw Error("PNG: compression failed");
 }
 
-// The zlib stream of sc.filtered by libdeflate or zlib at `level` (2 and
-// up), into sc.deflated; returns its length. With several threads, a large
-// image is deflated in strips by zlib.
-size_t deflate_filtered(Scratch& sc, int height, size_t stride, int level, int threads) {
+// The zlib stream of the filtered rows (height rows of `stride` bytes) by
+// libdeflate or zlib at `level` (2 and up), into sc.deflated; returns its
+// length. With several threads, a large image is deflated in strips by zlib.
+size_t deflate_filtered(Scratch& sc, const uint8_t* data, int height, size_t stride, int level, int threads) {
+  const size_t size = stride * size_t(height);
   const int cores = hardware_threads();
   threads = threads > 0 ? threads : cores;
   // Strips of at least 64 rows and 256 KiB: below that, threads cost more
   // than they save.
-  const int strips = std::max(1, std::min({threads, height / 64, static_cast<int>(sc.filtered.size() >> 18)}));
-  if (strips == 1) return deflate_all(sc, level);
+  const int strips = std::max(1, std::min({threads, height / 64, static_cast<int>(size >> 18)}));
+  if (strips == 1) return deflate_all(sc, data, size, level);
   auto first_row = [&](int k) { return static_cast<int>(int64_t(height) * k / strips); };
   sc.strips.resize(strips);
   std::vector<uint32_t> adler(strips);
   std::vector<size_t> lengths(strips);
   parallel_for(size_t(strips), strips, [&](size_t k) {
     const size_t at = size_t(first_row(int(k))) * stride, end = size_t(first_row(int(k) + 1)) * stride;
-    adler[k] = static_cast<uint32_t>(::adler32(1, sc.filtered.data() + at, static_cast<uInt>(end - at)));
+    adler[k] = static_cast<uint32_t>(::adler32(1, data + at, static_cast<uInt>(end - at)));
     lengths[k] = end - at;
-    deflate_strip(sc.filtered.data(), at, end, k + 1 == size_t(strips), level, sc.strips[k]);
+    deflate_strip(data, at, end, k + 1 == size_t(strips), level, sc.strips[k]);
   });
   // The zlib stream: header (deflate, 32 KiB window, fastest), the strips,
   // the Adler-32 of all the data.
@@ -154,6 +154,26 @@ size_t deflate_filtered(Scratch& sc, int height, size_t stride, int level, int t
   return total;
 }
 
+// The PNG of filtered rows (height rows of 1 + width * channels *
+// bit_depth / 8 bytes), deflated at options.level: stored (0), the PNG
+// stage's deflate (1), libdeflate or zlib (2 and up).
+std::vector<uint8_t> deflate_rows(Scratch& sc, int width, int height, int bit_depth, int channels,
+                                  const uint8_t* rows, const EncodeOptions& options) {
+  const uint32_t bpp = static_cast<uint32_t>(std::max(1, channels * bit_depth / 8));
+  const size_t stride = (size_t(width) * channels * bit_depth + 7) / 8 + 1;
+  const size_t size = stride * size_t(height);
+  ImageData data;
+  if (options.level <= 0) {
+    store_zlib(rows, size, data.zlib);
+  } else if (options.level == 1) {
+    deflate_zlib(rows, size, bpp, static_cast<uint32_t>(stride), options.threads, data.zlib);
+  } else {
+    const size_t zlen = deflate_filtered(sc, rows, height, stride, options.level, options.threads);
+    return wrap(width, height, bit_depth, channels, sc.deflated.data(), zlen);
+  }
+  return wrap(width, height, bit_depth, channels, data.zlib.data(), data.zlib.size());
+}
+
 // Samples of 8 or 16 bits -> the PNG bytes.
 template <class Sample>
 std::vector<uint8_t> encode(int width, int height, const Sample* rgba, const EncodeOptions& options) {
@@ -161,19 +181,7 @@ std::vector<uint8_t> encode(int width, int height, const Sample* rgba, const Enc
   constexpr int bytes = sizeof(Sample);
   Scratch& sc = scratch();
   const int channels = filter_image(rgba, width, height, options.threads, sc.filtered);
-  const size_t stride = size_t(width) * channels * bytes + 1;
-  ImageData data;
-  data.channels = channels;
-  if (options.level <= 0) {
-    store_zlib(sc.filtered.data(), sc.filtered.size(), data.zlib);
-  } else if (options.level == 1) {
-    deflate_zlib(sc.filtered.data(), sc.filtered.size(), static_cast<uint32_t>(channels * bytes),
-                 static_cast<uint32_t>(stride), options.threads, data.zlib);
-  } else {
-    const size_t zlen = deflate_filtered(sc, height, stride, options.level, options.threads);
-    return wrap(width, height, 8 * bytes, channels, sc.deflated.data(), zlen);
-  }
-  return wrap(width, height, 8 * bytes, channels, data.zlib.data(), data.zlib.size());
+  return deflate_rows(sc, width, height, 8 * bytes, channels, sc.filtered.data(), options);
 }
 
 // The PNG of the unfiltered rows in sc.filtered's place: `raw` (height
@@ -196,18 +204,7 @@ std::vector<uint8_t> encode_raw(int width, int height, int bit_depth, int channe
       for (size_t i = 0; i < row_bytes; i++) out[1 + i] = static_cast<uint8_t>(row[i] - up[i]);
     }
   });
-  const uint32_t bpp = static_cast<uint32_t>(std::max(1, channels * bit_depth / 8));
-  ImageData data;
-  if (options.level <= 0) {
-    store_zlib(sc.filtered.data(), sc.filtered.size(), data.zlib);
-  } else if (options.level == 1) {
-    deflate_zlib(sc.filtered.data(), sc.filtered.size(), bpp, static_cast<uint32_t>(stride), options.threads,
-                 data.zlib);
-  } else {
-    const size_t zlen = deflate_filtered(sc, height, stride, options.level, options.threads);
-    return wrap(width, height, bit_depth, channels, sc.deflated.data(), zlen);
-  }
-  return wrap(width, height, bit_depth, channels, data.zlib.data(), data.zlib.size());
+  return deflate_rows(sc, width, height, bit_depth, channels, sc.filtered.data(), options);
 }
 
 template <class Sample>
@@ -219,6 +216,14 @@ bool opaque(const Sample* rgba, size_t pixels) {
 }
 
 }  // namespace
+
+std::vector<uint8_t> encode_filtered(int width, int height, const FilteredRows& rows, const EncodeOptions& options) {
+  if (width <= 0 || height <= 0) throw Error("PNG: empty image");
+  if ((rows.channels != 3 && rows.channels != 4) ||
+      rows.rows.size() != (size_t(width) * rows.channels + 1) * size_t(height))
+    throw Error("PNG: filtered rows of the wrong size");
+  return deflate_rows(scratch(), width, height, 8, rows.channels, rows.rows.data(), options);
+}
 
 std::vector<uint8_t> encode_gray8(int width, int height, const uint8_t* rgba, Color color,
                                   const EncodeOptions& options) {

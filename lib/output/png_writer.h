@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "core/output/png_encode.h"
+
 namespace mpvg::png {
 
 // The default level: libdeflate's 2, the same bytes whichever backend
@@ -36,6 +38,11 @@ struct EncodeOptions {
 // mutool write pages. 16-bit values are taken in native byte order.
 std::vector<uint8_t> encode_rgba8(int width, int height, const uint8_t* rgba, const EncodeOptions& options = {});
 std::vector<uint8_t> encode_rgba16(int width, int height, const uint16_t* rgba, const EncodeOptions& options = {});
+
+// The PNG of 8-bit RGB or RGBA rows filtered elsewhere (FrameRenderer::
+// render_filtered: on the device, where the image was rendered), deflated
+// here at options.level: the same bytes as encode_rgba8 of the image.
+std::vector<uint8_t> encode_filtered(int width, int height, const FilteredRows& rows, const EncodeOptions& options = {});
 
 // Greyscale output (pdf2png's -gray and -mono, as pdftoppm's). Grey is
 // weighted from the rendered sRGB values with the weights of PDF 32000-1

@@ -201,7 +201,9 @@ struct State {
       job.png_ms = ms_since(t0);
       return;
     }
-    if (c.format != image::Format::Png) {
+    if (!job.png_rows.rows.empty()) {
+      bytes = png::encode_filtered(job.width, job.height, job.png_rows, options);
+    } else if (c.format != image::Format::Png) {
       bytes = c.bits == 16 ? image::encode_rgba16(c.format, job.width, job.height,
                                                   to_rgba16(job.image, c.gamma).data(), c.color, encode)
                            : image::encode_rgba8(c.format, job.width, job.height, job.rgba8.data(), c.color, encode);
@@ -243,7 +245,7 @@ struct State {
         job->image = ImageF{};
         lock.lock();
         if (!error.empty()) result.write_failed++;
-        spare_rgba8.push_back(std::move(job->rgba8));
+        spare_rgba8.push_back(std::move(job->rgba8.empty() ? job->png_rows.rows : job->rgba8));
         finish(job.get(), error);
         continue;
       }
@@ -294,6 +296,20 @@ struct State {
     return renderer.backend() == Backend::Cuda && c.compression == 1 && c.color == png::Color::Rgb &&
            c.format == image::Format::Png;
   }
+  // Or its first half, the rows' filtering (at every other level, RGB
+  // PNGs from CUDA render threads): a worker is left with deflate, about
+  // half of its PNG time (BENCHMARKS.md, issue 49), and a quarter fewer
+  // bytes come back from the device for an opaque page. Not for print
+  // preview's ink passes, which the workers write from the 8-bit codes.
+  bool filter_on_device(const FrameRenderer& renderer, const Job& job) const {
+    return renderer.backend() == Backend::Cuda && c.compression != 1 && c.color == png::Color::Rgb &&
+           c.format == image::Format::Png && c.bits == 8 && !c.deliver && !job.inks;
+  }
+  FrameOutputKind output_kind(const FrameRenderer& renderer, const Job& job) const {
+    return png_on_device(renderer)           ? FrameOutputKind::Png
+           : filter_on_device(renderer, job) ? FrameOutputKind::Filtered
+                                             : FrameOutputKind::Rgba8;
+  }
 
   // Renders one item in a frame of its own; the error message, or empty.
   std::string render_one(FrameRenderer& renderer, Job& job, std::vector<uint8_t> storage) {
@@ -323,7 +339,9 @@ struct State {
           // again, compressed by a worker
           job.rgba8 = renderer.render_rgba8(job.scene, job.plan, job.options, &job.stats, std::move(storage));
         }
-      } else
+      } else if (filter_on_device(renderer, job))
+        job.png_rows = renderer.render_filtered(job.scene, job.plan, job.options, &job.stats, std::move(storage));
+      else
         job.rgba8 = renderer.render_rgba8(job.scene, job.plan, job.options, &job.stats, std::move(storage));
     } catch (const std::exception& e) {
       return job.label + ": " + error_message(e);
@@ -390,12 +408,17 @@ struct State {
             j->stats.stage_times = c.stats;
             frame.push_back(FrameScene{&j->scene, &j->plan, &j->stats});
           }
-          const bool png = png_on_device(*renderer);
+          // A frame's items share their options and the run's, so the
+          // first item's output kind is every item's (checked).
+          const FrameOutputKind kind = output_kind(*renderer, *jobs.front());
+          for (const auto& j : jobs)
+            if (output_kind(*renderer, *j) != kind) throw Error("frame of mixed outputs");
           std::vector<FrameRenderer::Output> out =
-              renderer->render_forest(frame, jobs.front()->options, png, std::move(storage));
+              renderer->render_forest(frame, jobs.front()->options, kind, std::move(storage));
           for (size_t k = 0; k < jobs.size(); k++) {
-            if (png) jobs[k]->png = std::move(out[k].png);
-            else jobs[k]->rgba8 = std::move(out[k].rgba8);
+            jobs[k]->png = std::move(out[k].png);
+            jobs[k]->png_rows = std::move(out[k].filtered);
+            jobs[k]->rgba8 = std::move(out[k].rgba8);
           }
           done = true;
         } catch (const std::exception&) {

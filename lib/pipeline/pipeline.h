@@ -47,6 +47,7 @@ struct Job {
   std::vector<uint8_t> rgba8; // --bits 8 (converted where it was rendered)
   FrameRenderer::DeviceImage device_image;  // Config::device_output: the 8 bits left on the device
   png::ImageData png;         // --bits 8, compressed where it was rendered (level 1 on the GPU)
+  png::FilteredRows png_rows; // --bits 8, PNG rows filtered where it was rendered (CUDA), deflated by a worker
   RenderStats stats;
   double prepare_ms[2] = {0, 0};  // the front end's two stages (Config::prepare_names)
   double render_ms = 0, png_ms = 0, write_ms = 0;  // png_ms includes write_ms

@@ -345,7 +345,12 @@ std::pair<XmlToken, size_t> xml_token(const std::string& t, size_t i) {
   for (size_t k = i + 1; k < t.size(); k++) {
     const char c = t[k];
     if (quote) {
-      if (c == quote) quote = 0;
+      // to the closing quote at once: attribute values (path data) are
+      // most of a document's bytes
+      const void* at = std::memchr(t.data() + k, quote, t.size() - k);
+      if (!at) break;
+      k = static_cast<size_t>(static_cast<const char*>(at) - t.data());
+      quote = 0;
     } else if (c == '"' || c == '\'') {
       quote = c;
     } else if (declaration && c == '[') {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <initializer_list>
 #include <iterator>
 #include <string>
@@ -55,34 +56,67 @@ bool Scanner::consume_word(std::string_view w) {
   return true;
 }
 
+namespace {
+
+// Clinger's fast path (W. D. Clinger, "How to read floating point numbers
+// accurately", PLDI 1990): a decimal significand w below 2^53 and a power
+// of ten 10^e with |e| <= 22 are both exact doubles, so w * 10^e or
+// w / 10^-e is one correctly rounded operation: the double from_chars
+// gives, bit for bit. Path data's numbers are nearly all of this kind; the
+// rest go through from_chars.
+constexpr double kExactPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                                  1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+constexpr uint64_t kExactSignificand = uint64_t(1) << 53;
+
+}  // namespace
+
 std::optional<double> Scanner::number() {
   size_t i = pos_;
   const size_t n = s_.size();
   if (i < n && (s_[i] == '+' || s_[i] == '-')) i++;
   const size_t mantissa = i;
   size_t int_digits = 0, frac_digits = 0;
-  while (i < n && is_digit(s_[i])) i++, int_digits++;
+  // The significand's digits as an integer while it stays exact (19
+  // digits fit 64 bits; `exact` ends at the first that would not).
+  uint64_t w = 0;
+  bool exact = true;
+  auto digit = [&](char c) {
+    if (w > (UINT64_MAX - 9) / 10) exact = false;
+    else w = w * 10 + uint64_t(c - '0');
+  };
+  while (i < n && is_digit(s_[i])) digit(s_[i]), i++, int_digits++;
   if (i < n && s_[i] == '.') {
     size_t j = i + 1;
-    while (j < n && is_digit(s_[j])) j++, frac_digits++;
+    while (j < n && is_digit(s_[j])) digit(s_[j]), j++, frac_digits++;
     // "1." is a number in SVG 2 path data; a lone "." is not.
     if (int_digits > 0 || frac_digits > 0) i = j;
   }
   if (int_digits == 0 && frac_digits == 0) return std::nullopt;
+  long e10 = -static_cast<long>(frac_digits);
   if (i < n && (s_[i] == 'e' || s_[i] == 'E')) {
     size_t j = i + 1;
-    if (j < n && (s_[j] == '+' || s_[j] == '-')) j++;
+    bool negative = false;
+    if (j < n && (s_[j] == '+' || s_[j] == '-')) negative = s_[j] == '-', j++;
     if (j < n && is_digit(s_[j])) {
-      while (j < n && is_digit(s_[j])) j++;
+      long e = 0;
+      while (j < n && is_digit(s_[j])) {
+        if (e < 100000) e = e * 10 + (s_[j] - '0');
+        j++;
+      }
+      e10 += negative ? -e : e;
       i = j;
     }
   }
-  // from_chars takes no leading '+'; parse the sign ourselves.
   double v = 0;
-  const char* first = s_.data() + mantissa;
-  const char* last = s_.data() + i;
-  const auto r = std::from_chars(first, last, v, std::chars_format::general);
-  if (r.ec != std::errc() || r.ptr != last || !std::isfinite(v)) return std::nullopt;
+  if (exact && w <= kExactSignificand && e10 >= -22 && e10 <= 22) {
+    v = e10 < 0 ? double(w) / kExactPow10[-e10] : double(w) * kExactPow10[e10];
+  } else {
+    // from_chars takes no leading '+'; the sign is applied below.
+    const char* first = s_.data() + mantissa;
+    const char* last = s_.data() + i;
+    const auto r = std::from_chars(first, last, v, std::chars_format::general);
+    if (r.ec != std::errc() || r.ptr != last || !std::isfinite(v)) return std::nullopt;
+  }
   if (mantissa > pos_ && s_[pos_] == '-') v = -v;
   if (std::fabs(v) > max_) return std::nullopt;
   pos_ = i;
