@@ -14,6 +14,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "parsers/svg/svg_dom.h"
 #include "parsers/svg/svg_geometry.h"
 #include "parsers/svg/svg_parser.h"
 #include "parsers/svg/svg_values.h"
@@ -1450,6 +1451,45 @@ TEST_CASE("svg encodings: UTF-16 either way, with or without a BOM, and 8-bit de
                        "\xef\xbb\xbf<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 10 10\"><rect width=\"5\" "
                        "height=\"5\" fill=\"#00f\"/></svg>")
                        .scene) == expected);
+}
+
+// build_document copies the text only where a step changes it: UTF-8
+// comes back as a view of the input (after the byte-order mark), a
+// document without an internal subset as itself; what changes is the
+// same text the copying forms give.
+TEST_CASE("svg encodings: text that needs no change is viewed and not copied", "[svg][xml]") {
+  using mpvg::svg::detail::expand_internal_entities;
+  using mpvg::svg::detail::xml_to_utf8;
+  std::string storage;
+  const std::string utf8 = "\xef\xbb\xbf<svg xmlns=\"http://www.w3.org/2000/svg\"><text>\xc3\xa9</text></svg>";
+  const std::string_view viewed = xml_to_utf8(utf8, storage);
+  CHECK(viewed.data() == utf8.data() + 3);
+  CHECK(viewed == xml_to_utf8(utf8));
+  CHECK(storage.empty());
+  const std::string latin1 = "<?xml version='1.0' encoding='ISO-8859-1'?><a>\xe9</a>";
+  const std::string_view converted = xml_to_utf8(latin1, storage);
+  CHECK(converted.data() == storage.data());
+  CHECK(converted == xml_to_utf8(latin1));
+
+  for (const std::string text : {"<svg/>", "<!DOCTYPE svg PUBLIC \"-//W3C//DTD SVG 1.1//EN\" \"x.dtd\"><svg/>",
+                                 "<!DOCTYPE svg [ <!ENTITY a \"b\"> <svg/>"}) {
+    std::string kept;
+    const std::string_view same = expand_internal_entities(text, kept);
+    CHECK(same.data() == text.data());
+    CHECK(same.size() == text.size());
+    CHECK(kept.empty());
+  }
+  for (const std::string text : {"<!DOCTYPE svg [ <!ENTITY a \"b&amp;\"> ]>\n<svg a=\"&a;&c;&\">&a;</svg>",
+                                 "<!DOCTYPE svg [\n<!ELEMENT svg ANY>\n]><svg/>"}) {
+    std::string expanded;
+    const std::string_view out = expand_internal_entities(text, expanded);
+    CHECK(out.data() == expanded.data());
+    CHECK(out == expand_internal_entities(text));
+  }
+  std::string expanded;
+  CHECK(expand_internal_entities("<!DOCTYPE svg [ <!ENTITY a \"b&amp;\"> ]>\n<svg a=\"&a;&c;&\">&a;</svg>",
+                                 expanded) ==
+        std::string(39, ' ') + "\n<svg a=\"b&amp;&c;&\">b&amp;</svg>");
 }
 
 TEST_CASE("svg encodings: UTF-32 and undecodable declared encodings are one clear error", "[svg][xml]") {

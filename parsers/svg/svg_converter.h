@@ -213,6 +213,11 @@ struct Inherited {
 
 // What an element is converted in: its parent's computed style and user space.
 struct Context {
+  Context() = default;
+  // From a style's inherited values, copied (default-built, the
+  // font-family list would be allocated only to be replaced).
+  explicit Context(const Inherited& inherited) : inh(inherited) {}
+
   Inherited inh;
   Affine ctm;  // the parent's user space to scene units
   // The parent's values of non-inherited properties, for the keyword
@@ -226,6 +231,9 @@ struct Context {
 };
 
 struct Style {
+  Style() = default;
+  explicit Style(const Inherited& inherited) : inh(inherited) {}  // as Context's
+
   Inherited inh;
   double opacity = 1;
   std::string clip_path;  // specified value; empty or "none" for no clipping

@@ -160,6 +160,9 @@ class TreeBuilder {
   }
 
   void copy_attributes(const tinyxml2::XMLElement* x, Element& e) {
+    size_t count = 0;
+    for (const tinyxml2::XMLAttribute* a = x->FirstAttribute(); a; a = a->Next()) count++;
+    e.attributes.reserve(count);  // grown one at a time, the vector moved its strings again and again
     for (const tinyxml2::XMLAttribute* a = x->FirstAttribute(); a; a = a->Next()) {
       const std::string_view qname = a->Name();
       if (qname == "xmlns" || qname.substr(0, 6) == "xmlns:") continue;
@@ -179,13 +182,14 @@ class TreeBuilder {
         else
           continue;
       }
+      const std::string_view value = a->Value();  // one strlen, not one per use
       if (name == "style") {
-        e.declarations = parse_style_attribute(a->Value());
-        e.style_attribute = a->Value();
+        e.declarations = parse_style_attribute(value);
+        e.style_attribute = value;
         continue;
       }
-      if (name == "id" && a->Value()[0] != '\0') doc_.ids.emplace(a->Value(), &e);
-      e.attributes.emplace_back(std::move(name), a->Value());
+      if (name == "id" && !value.empty()) doc_.ids.emplace(value, &e);
+      e.attributes.emplace_back(std::move(name), value);
     }
   }
 
@@ -206,11 +210,18 @@ const std::string* Element::attribute(std::string_view n) const {
 }
 
 std::string expand_internal_entities(std::string_view text) {
+  std::string storage;
+  const std::string_view out = expand_internal_entities(text, storage);
+  if (out.data() == storage.data()) return storage;
+  return std::string(out);
+}
+
+std::string_view expand_internal_entities(std::string_view text, std::string& storage) {
   const size_t doctype = text.find("<!DOCTYPE");
-  if (doctype == std::string_view::npos) return std::string(text);
+  if (doctype == std::string_view::npos) return text;
   const size_t open = text.find('[', doctype);
   const size_t first_gt = text.find('>', doctype);
-  if (open == std::string_view::npos || open > first_gt) return std::string(text);
+  if (open == std::string_view::npos || open > first_gt) return text;
   // The subset ends at the first ']' outside quoted literals and comments.
   size_t close = open + 1;
   while (close < text.size() && text[close] != ']') {
@@ -226,7 +237,7 @@ std::string expand_internal_entities(std::string_view text) {
     close = next;
   }
   const size_t end = text.find('>', close);
-  if (end == std::string_view::npos) return std::string(text);
+  if (end == std::string_view::npos) return text;
 
   // <!ENTITY name "value"> and <!ENTITY name 'value'>; parameter entities
   // ('%') and external entities (SYSTEM/PUBLIC) are not expanded.
@@ -254,13 +265,18 @@ std::string expand_internal_entities(std::string_view text) {
   // tinyxml2 splits a DOCTYPE at every '>', so markup inside entity values
   // would leak out as elements: blank the whole declaration, keeping its
   // newlines so that error line numbers stay right.
-  std::string out(text.substr(0, doctype));
+  std::string& out = storage;
+  out.assign(text.substr(0, doctype));
   for (size_t i = doctype; i <= end; i++) out += text[i] == '\n' ? '\n' : ' ';
   const size_t limit = std::max<size_t>(text.size() * 4, size_t(1) << 20);
+  // The text a run at a time, from one '&' to the next.
   size_t i = end + 1;
   while (i < text.size()) {
-    const char c = text[i];
-    if (c == '&' && !entities.empty() && out.size() < limit) {
+    const size_t amp = entities.empty() ? text.size() : std::min(text.find('&', i), text.size());
+    out.append(text, i, amp - i);
+    i = amp;
+    if (i == text.size()) break;
+    if (out.size() < limit) {
       const size_t semi = text.find(';', i + 1);
       if (semi != std::string_view::npos && semi - i <= 64) {
         const std::string_view name = text.substr(i + 1, semi - i - 1);
@@ -273,7 +289,7 @@ std::string expand_internal_entities(std::string_view text) {
         }
       }
     }
-    out += c;
+    out += '&';
     i++;
   }
   return out;
@@ -285,12 +301,12 @@ std::string expand_internal_entities(std::string_view text) {
 // get the Unicode noncharacter U+FDD0 in front (never interchanged, so no
 // document has it), which makes tinyxml2 keep them (with their newlines, so
 // error line numbers stay right); the tree builder removes it again.
-std::string mark_white_space_text(const std::string& xml) {
+std::string mark_white_space_text(std::string_view xml) {
   // The root element's start: the first '<' followed by a name character.
   size_t root = 0;
   for (;;) {
     root = xml.find('<', root);
-    if (root == std::string::npos || root + 1 >= xml.size()) return xml;
+    if (root == std::string::npos || root + 1 >= xml.size()) return std::string(xml);
     const char c = xml[root + 1];
     if (c != '?' && c != '!') break;
     root++;
@@ -454,7 +470,15 @@ XmlPieces split_deep_xml(const std::string& text, int piece_depth, int max_depth
 }
 
 Document build_document(std::string_view raw) {
-  std::string text = mark_white_space_text(expand_internal_entities(xml_to_utf8(raw)));
+  // The encoding and entity steps copy the text only when they change it:
+  // a UTF-8 document without an internal subset is copied once, marked,
+  // before tinyxml2 takes its own copy (whole copies of a large document
+  // were a tenth of its parse, page faults included).
+  std::string text;
+  {
+    std::string converted, expanded;
+    text = mark_white_space_text(expand_internal_entities(xml_to_utf8(raw, converted), expanded));
+  }
   XmlPieces pieces = split_deep_xml(text);
   if (!pieces.pieces.empty()) text = std::move(pieces.pieces[0]);
   tinyxml2::XMLDocument xml;

@@ -76,5 +76,9 @@ Document build_document(std::string_view text);
 // with an internal subset is blanked out (tinyxml2 mis-splits it). Expansion
 // is one level deep and the output size is bounded.
 std::string expand_internal_entities(std::string_view text);
+// The same, copied only when something changes: a document without an
+// internal subset comes back as `text` itself; otherwise the result is put
+// in `storage` and viewed there.
+std::string_view expand_internal_entities(std::string_view text, std::string& storage);
 
 }  // namespace mpvg::svg::detail

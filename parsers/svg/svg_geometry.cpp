@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 #include "stroker/stroke_curve.h"
 #include "parsers/svg/svg_values.h"
@@ -157,7 +156,17 @@ void PathBuilder::arc_to(double rx, double ry, double x_axis_rotation_deg, bool 
 
 namespace {
 
-bool is_command(char c) { return c != '\0' && std::strchr("MmLlHhVvCcSsQqTtAaZz", c) != nullptr; }
+// A switch, not strchr over the letters: asked before every command and
+// every implicit repetition.
+bool is_command(char c) {
+  switch (c) {
+    case 'M': case 'm': case 'L': case 'l': case 'H': case 'h': case 'V': case 'v': case 'C': case 'c':
+    case 'S': case 's': case 'Q': case 'q': case 'T': case 't': case 'A': case 'a': case 'Z': case 'z':
+      return true;
+    default:
+      return false;
+  }
+}
 
 bool starts_number(char c) { return (c >= '0' && c <= '9') || c == '.' || c == '-' || c == '+'; }
 

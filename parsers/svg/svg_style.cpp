@@ -4,11 +4,12 @@
 // index (kProperties): which mpvg supports, which are presentation
 // attributes, and the warning for those it does not support.
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <iterator>
-#include <unordered_map>
 
 #include "parsers/svg/svg_converter.h"
 #include "parsers/svg/svg_style.h"
@@ -614,14 +615,34 @@ const PropertyRow kProperties[] = {
 };
 // clang-format on
 
+// The rows by name, in an open-addressed table of FNV-1a hashes: the style
+// computation looks up every attribute's name and then some (a few dozen
+// per element), and std::unordered_map's hash and prime modulo cost more
+// than these short names. A name listed twice finds its first row.
 const PropertyRow* property_row(std::string_view name) {
-  static const std::unordered_map<std::string_view, const PropertyRow*> rows = [] {
-    std::unordered_map<std::string_view, const PropertyRow*> m;
-    for (const PropertyRow& r : kProperties) m.emplace(r.name, &r);
-    return m;
+  constexpr size_t kSlots = 512;  // a power of two, at least twice the rows
+  static_assert(std::size(kProperties) * 2 <= kSlots);
+  struct Slot {
+    std::string_view name;
+    const PropertyRow* row = nullptr;
+  };
+  auto hash = [](std::string_view s) {
+    uint32_t h = 2166136261u;
+    for (const char c : s) h = (h ^ static_cast<unsigned char>(c)) * 16777619u;
+    return size_t(h) & (kSlots - 1);
+  };
+  static const std::array<Slot, kSlots> slots = [&] {
+    std::array<Slot, kSlots> t{};
+    for (const PropertyRow& r : kProperties) {
+      size_t i = hash(r.name);
+      while (t[i].row) i = (i + 1) & (kSlots - 1);
+      t[i] = {r.name, &r};
+    }
+    return t;
   }();
-  const auto it = rows.find(name);
-  return it == rows.end() ? nullptr : it->second;
+  for (size_t i = hash(name); slots[i].row; i = (i + 1) & (kSlots - 1))
+    if (slots[i].name == name) return slots[i].row;
+  return nullptr;
 }
 
 bool css_wide_keyword(std::string_view v) {
@@ -719,8 +740,7 @@ void Converter::warn_unsupported_properties() {
 
 Style Converter::compute_style(const Element& e, const Context& ctx) {
   if (!s_.properties_checked) warn_unsupported_properties();
-  Style st;
-  st.inh = ctx.inh;
+  Style st(ctx.inh);
   Inherited& inh = st.inh;
   reset_initial(e, inh);
 
@@ -1201,8 +1221,7 @@ Context Converter::document_context(const Element& e, bool in_clip) {
 }
 
 Context Converter::child_context(const Style& st, const Affine& space, bool in_clip) const {
-  Context c;
-  c.inh = st.inh;
+  Context c(st.inh);
   c.ctm = space;
   c.parent_opacity = st.opacity;
   c.parent_clip_path = st.clip_path;

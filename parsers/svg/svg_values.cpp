@@ -33,23 +33,6 @@ bool iequals(std::string_view a, std::string_view b) {
 
 // ---------------------------------------------------------------- Scanner
 
-void Scanner::skip_ws() {
-  while (!at_end() && is_ws(s_[pos_])) pos_++;
-}
-
-bool Scanner::skip_comma_ws() {
-  skip_ws();
-  const bool comma = consume(',');
-  skip_ws();
-  return comma;
-}
-
-bool Scanner::consume(char c) {
-  if (at_end() || s_[pos_] != c) return false;
-  pos_++;
-  return true;
-}
-
 bool Scanner::consume_word(std::string_view w) {
   if (s_.size() - pos_ < w.size() || !iequals(s_.substr(pos_, w.size()), w)) return false;
   pos_ += w.size();
@@ -121,12 +104,6 @@ std::optional<double> Scanner::number() {
   if (std::fabs(v) > max_) return std::nullopt;
   pos_ = i;
   return v;
-}
-
-std::optional<bool> Scanner::flag() {
-  if (consume('0')) return false;
-  if (consume('1')) return true;
-  return std::nullopt;
 }
 
 std::string_view Scanner::word() {

@@ -54,10 +54,23 @@ class Scanner {
   size_t pos() const { return pos_; }
   std::string_view rest() const { return s_.substr(pos_); }
 
-  void skip_ws();
+  // Defined here, not in svg_values.cpp: path data calls these around
+  // every number, and the call cost more than the few bytes they skip.
+  void skip_ws() {
+    while (pos_ < s_.size() && is_ws(s_[pos_])) pos_++;
+  }
   // wsp* [',' wsp*]; returns whether a comma was consumed.
-  bool skip_comma_ws();
-  bool consume(char c);
+  bool skip_comma_ws() {
+    skip_ws();
+    const bool comma = consume(',');
+    if (comma) skip_ws();
+    return comma;
+  }
+  bool consume(char c) {
+    if (at_end() || s_[pos_] != c) return false;
+    pos_++;
+    return true;
+  }
   // Consumes `word` if it comes next, ASCII case-insensitively.
   bool consume_word(std::string_view word);
   // An SVG number: [+-]? (digits ['.' digits?] | '.' digits) ([eE] [+-]? digits)?.
@@ -65,7 +78,11 @@ class Scanner {
   // On failure the cursor does not move.
   std::optional<double> number();
   // An arc flag: exactly one '0' or '1' (SVG 2 path grammar).
-  std::optional<bool> flag();
+  std::optional<bool> flag() {
+    if (consume('0')) return false;
+    if (consume('1')) return true;
+    return std::nullopt;
+  }
   // An identifier-like run of letters, digits and '-' (for keywords).
   std::string_view word();
 

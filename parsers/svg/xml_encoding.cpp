@@ -106,27 +106,34 @@ void append_utf8(std::string& out, uint32_t c) {
 }
 
 std::string xml_to_utf8(std::string_view b) {
+  std::string storage;
+  const std::string_view utf8 = xml_to_utf8(b, storage);
+  if (utf8.data() == storage.data()) return storage;
+  return std::string(utf8);
+}
+
+std::string_view xml_to_utf8(std::string_view b, std::string& storage) {
   auto starts = [&](std::string_view prefix) { return b.substr(0, prefix.size()) == prefix; };
   using namespace std::string_view_literals;
   if (starts("\x00\x00\xFE\xFF"sv) || starts("\xFF\xFE\x00\x00"sv) || starts("\x00\x00\x00\x3C"sv) ||
       starts("\x3C\x00\x00\x00"sv))
     throw Error("UTF-32 documents are not supported");
-  if (starts("\xFE\xFF")) return utf16_to_utf8(b.substr(2), true);
-  if (starts("\xFF\xFE")) return utf16_to_utf8(b.substr(2), false);
+  if (starts("\xFE\xFF")) return storage = utf16_to_utf8(b.substr(2), true);
+  if (starts("\xFF\xFE")) return storage = utf16_to_utf8(b.substr(2), false);
   // No mark: '<' and the character after it, as UTF-16 ("<?" per
   // Appendix F; any ASCII character as well).
-  if (b.size() >= 4 && b[0] == 0 && b[1] == '<' && b[2] == 0) return utf16_to_utf8(b, true);
-  if (b.size() >= 4 && b[0] == '<' && b[1] == 0 && b[3] == 0) return utf16_to_utf8(b, false);
+  if (b.size() >= 4 && b[0] == 0 && b[1] == '<' && b[2] == 0) return storage = utf16_to_utf8(b, true);
+  if (b.size() >= 4 && b[0] == '<' && b[1] == 0 && b[3] == 0) return storage = utf16_to_utf8(b, false);
   if (starts("\xEF\xBB\xBF")) b.remove_prefix(3);
   const std::string enc = declared_encoding(b);
   if (enc == "iso-8859-1" || enc == "latin1" || enc == "iso_8859-1" || enc == "l1")
-    return single_byte_to_utf8(b, false);
+    return storage = single_byte_to_utf8(b, false);
   // windows-1252 is also what browsers read for US-ASCII (WHATWG Encoding).
   if (enc == "windows-1252" || enc == "cp1252" || enc == "us-ascii" || enc == "ascii")
-    return single_byte_to_utf8(b, true);
+    return storage = single_byte_to_utf8(b, true);
   if (!enc.empty() && enc != "utf-8" && enc != "utf8" && !valid_utf8(b))
     throw Error("the document's encoding '" + enc + "' is not supported (UTF-8, UTF-16, ISO-8859-1 and windows-1252 are)");
-  return std::string(b);
+  return b;
 }
 
 }  // namespace mpvg::svg::detail

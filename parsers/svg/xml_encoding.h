@@ -17,6 +17,10 @@ namespace mpvg::svg::detail {
 // declared encodings whose bytes are not valid UTF-8 ("the document's
 // encoding 'Shift_JIS' is not supported").
 std::string xml_to_utf8(std::string_view bytes);
+// The same, copied only when converted: UTF-8 bytes come back as a view of
+// `bytes` (after the byte-order mark); converted text is put in `storage`
+// and viewed there.
+std::string_view xml_to_utf8(std::string_view bytes, std::string& storage);
 
 // Appends code point c in UTF-8 (1 to 4 bytes).
 void append_utf8(std::string& out, uint32_t c);
