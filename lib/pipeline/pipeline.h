@@ -5,7 +5,8 @@
 // FrameRenderer: with CUDA its own context state and stream, on the device
 // it was made for) render them, lowest index first, several small ones
 // waiting together as one forest frame (frame/forest.h); the workers turn
-// rendered images into PNG files before they take new items, so that at
+// rendered images (with CUDA, their PNG rows filtered on the device) into
+// PNG files before they take new items, so that at
 // most `workers + 4 + render threads x forest_scenes` items are in flight.
 // An item that fails is reported and every other one is still written.
 #pragma once
@@ -57,8 +58,9 @@ struct Job {
 // Config::forest_scenes for --frame-scenes `asked` (0: the default): 8
 // with CUDA and the PNG stage on the device (--compression 1), where the
 // render threads bound a job; else 1, each item its own frame (at the
-// default PNG level the workers' deflate bounds it, and forest frames did
-// not pay; BENCHMARKS.md "Forest frames").
+// default PNG level forest frames did not pay, with the rows filtered on
+// the device either: BENCHMARKS.md "Forest frames", "PNG rows filtered on
+// the device").
 inline int forest_scenes_for(int asked, bool cuda, int compression) {
   return asked > 0 ? asked : cuda && compression == 1 ? 8 : 1;
 }
