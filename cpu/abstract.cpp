@@ -1,18 +1,31 @@
 // Stage "abstract" on the CPU: abstraction.h per input segment.
+#include <algorithm>
 #include <numeric>
 
 #include "core/geometry/abstraction.h"
+#include "core/parallel.h"
 #include "cpu/cpu_stages.h"
 
 namespace mpvg {
 
 std::vector<AbstractSegment> abstract_cpu(const std::vector<InputSegment>& input) {
-  // Count, scan, write: the shape of the GPU version, and no reallocation.
-  std::vector<uint32_t> offset(input.size() + 1, 0);
-  for (size_t i = 0; i < input.size(); i++) offset[i + 1] = static_cast<uint32_t>(abstract_input_segment(input[i], nullptr));
+  // Count, scan, write: the shape of the GPU version, and no reallocation;
+  // the two passes on every core, in chunks (each segment writes its own
+  // count, then its own pieces: the same array whatever the threads).
+  constexpr size_t kChunk = 512;
+  const size_t n = input.size(), chunks = (n + kChunk - 1) / kChunk;
+  const int threads = n < 2 * kChunk ? 1 : hardware_threads();
+  std::vector<uint32_t> offset(n + 1, 0);
+  parallel_for(chunks, threads, [&](size_t c) {
+    for (size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); i++)
+      offset[i + 1] = static_cast<uint32_t>(abstract_input_segment(input[i], nullptr));
+  });
   std::inclusive_scan(offset.begin(), offset.end(), offset.begin());
   std::vector<AbstractSegment> out(offset.back());
-  for (size_t i = 0; i < input.size(); i++) abstract_input_segment(input[i], out.data() + offset[i]);
+  parallel_for(chunks, threads, [&](size_t c) {
+    for (size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); i++)
+      abstract_input_segment(input[i], out.data() + offset[i]);
+  });
   return out;
 }
 

@@ -392,7 +392,18 @@ uint64_t parse_size(const std::string& option, const std::string& v) {
 void bound_allocator() {
 #if defined(__GLIBC__)
   static std::once_flag once;
-  std::call_once(once, [] { mallopt(M_MMAP_THRESHOLD, 1 << 20); });
+  std::call_once(once, [] {
+    mallopt(M_MMAP_THRESHOLD, 1 << 20);
+    // ... while the heaps keep 16 MiB above their top when they shrink
+    // (M_TOP_PAD): with the fixed threshold the trim threshold stays at
+    // its 128 KiB, so each tree level's small buffers gave their pages back
+    // and faulted them in again (on the 2-core machine, --aa 1x32 on the
+    // CPU: hawaii 0.87 -> 0.76 s wall, system time 0.27 -> 0.12 s, peak
+    // RSS +6-10 MB; pdf2png 20 pages of asymptote 4.1 -> 3.4 s, system
+    // time 1.4 -> 0.75 s, peak RSS 178 -> 205 MB, a pad kept per arena. A
+    // 4 MiB pad saved nothing. BENCHMARKS.md, issue 50).
+    mallopt(M_TOP_PAD, 16 << 20);
+  });
 #endif
 }
 

@@ -91,7 +91,8 @@ uint64_t memory_budget(const Options& o);
 std::shared_ptr<MemoryBudget> make_budget(const Options& o);
 // Makes the allocator hand large freed blocks back to the system (glibc: a
 // fixed mmap threshold), so that the peak RSS follows what the budget
-// counts; make_budget calls it, once per process.
+// counts, and keep a pad of small ones (M_TOP_PAD) for the next tree
+// level; make_budget calls it, once per process.
 void bound_allocator();
 
 // Throws mpvg::Error when a frame of width x height pixels would not fit
