@@ -28,6 +28,9 @@
 #include <cstdint>
 #include <string>
 #include <vector>
+#if defined(__SSE2__) && defined(__x86_64__) && !defined(__CUDA_ARCH__)
+#include <emmintrin.h>  // to_fixed's cvtsd2si
+#endif
 
 #include "core/hd.h"
 
@@ -160,7 +163,17 @@ MPVG_HD_INLINE float box_weight(int n) { return 1.0f / static_cast<float>(n); }
 // Fixed-point accumulation: 2^44 steps per unit; sums of up to 16 unit
 // areas of magnitude below 2^15 fit in an int64 with room to spare.
 constexpr double kFixedScale = 17592186044416.0;
-MPVG_HD_INLINE long long to_fixed(float v) { return static_cast<long long>(rint(static_cast<double>(v) * kFixedScale)); }
+// Rounded to nearest, ties to even (rint in the default rounding mode). On
+// the x86 host one cvtsd2si, which rounds by that mode: without SSE4.1 rint
+// is a sequence of its own, and to_fixed runs K x K x 4 times for every
+// unit area. The same integer either way.
+MPVG_HD_INLINE long long to_fixed(float v) {
+#if defined(__SSE2__) && defined(__x86_64__) && !defined(__CUDA_ARCH__)
+  return _mm_cvtsd_si64(_mm_set_sd(static_cast<double>(v) * kFixedScale));
+#else
+  return static_cast<long long>(rint(static_cast<double>(v) * kFixedScale));
+#endif
+}
 
 // The weighted sum one unit area sends to one pixel: sum_i w[i stride]
 // col[i] (4 channels per sample), in this order on both backends. A uniform
@@ -179,19 +192,29 @@ MPVG_HD_INLINE void integrate_unit_area(const float* w, int stride, float wsum, 
 // integrate_unit_area for all T pixels a unit area reaches at once, with
 // the same operations per pixel (a loop order the CPU vectorises):
 // out[t * 4 + c] = sum_i w[i T + t] col[i * 4 + c].
+// Four pixels at a time, their sums held over the whole loop of samples
+// (16 running sums: in registers, where the sample-major order loaded and
+// stored every pixel's sums for every sample; the same additions in the
+// same order for each pixel).
 inline void integrate_unit_area_all(const float* __restrict__ w, int T, int n, const float* __restrict__ col,
                                     float* __restrict__ out) {
-  for (int t = 0; t < T * 4; t++) out[t] = 0.0f;
-  for (int i = 0; i < n; i++) {
-    const float* wi = w + i * T;
-    const float c0 = col[i * 4], c1 = col[i * 4 + 1], c2 = col[i * 4 + 2], c3 = col[i * 4 + 3];
-    for (int t = 0; t < T; t++) {
-      const float wt = wi[t];
-      out[t * 4] += wt * c0;
-      out[t * 4 + 1] += wt * c1;
-      out[t * 4 + 2] += wt * c2;
-      out[t * 4 + 3] += wt * c3;
+  int t0 = 0;
+  for (; t0 + 4 <= T; t0 += 4) {
+    float a[4][4] = {};
+    for (int i = 0; i < n; i++) {
+      const float* wi = w + i * T + t0;
+      const float* ci = col + i * 4;
+      for (int k = 0; k < 4; k++)
+        for (int c = 0; c < 4; c++) a[k][c] += wi[k] * ci[c];
     }
+    for (int k = 0; k < 4; k++)
+      for (int c = 0; c < 4; c++) out[(t0 + k) * 4 + c] = a[k][c];
+  }
+  for (int t = t0; t < T; t++) {
+    float a[4] = {};
+    for (int i = 0; i < n; i++)
+      for (int c = 0; c < 4; c++) a[c] += w[i * T + t] * col[i * 4 + c];
+    for (int c = 0; c < 4; c++) out[t * 4 + c] = a[c];
   }
 }
 
