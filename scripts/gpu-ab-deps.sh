@@ -8,7 +8,8 @@
 # bench SVGs, stripped and packed with xz -9 (a window of 256 MiB stores the
 # binaries' common parts, MuPDF's fonts above all, about once).
 #
-#   scripts/gpu-ab-deps.sh BASE_BUILD NEW_BUILD
+#   scripts/gpu-ab-deps.sh BASE_BUILD NEW_BUILD   (AB_DOCS: the documents, default
+#   "pgfmanual asymptote beameruserguide R-intro"; a device call carries 64 MiB)
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 base=$1 new=$2
@@ -22,7 +23,7 @@ cp "$new/apps/pdf2png" "$new/apps/svg2png" "$ab/new/"
 [ -x "$new/tests/test_gpu" ] && cp "$new/tests/test_gpu" "$ab/new/"
 cp "$(command -v mutool)" "$ab/bin/"
 for dir in base new bin; do bash "$root/scripts/carry-libs.sh" "$ab/$dir" "$ab/lib"; done
-cp "$corpus"/{pgfmanual,asymptote,beameruserguide,R-intro}.pdf "$ab/corpus/"
+for doc in ${AB_DOCS:-pgfmanual asymptote beameruserguide R-intro}; do cp "$corpus/$doc.pdf" "$ab/corpus/"; done
 cp "$root"/../shared/bench/svg/{tiger,boston,hawaii,reschart}.svg "$ab/svg/"
 strip "$ab"/base/* "$ab"/new/* "$ab"/bin/*
 mkdir -p "$root/.deps"

@@ -201,3 +201,14 @@ TEST_CASE("side test agrees with a parametric side test inside the bounding box"
   CHECK(compared > 100000);
   CHECK(implicit_used > 10000);
 }
+
+TEST_CASE("tri_index numbers the cubic monomials in AbstractSegment::k order", "[abstraction]") {
+  // b0^3, b0^2 bc, b0^2 b1, b0 bc^2, b0 bc b1, b0 b1^2, bc^3, bc^2 b1,
+  // bc b1^2, b1^3: each exponent triple of degree 3 once, in that order.
+  const int order[10][3] = {{3, 0, 0}, {2, 1, 0}, {2, 0, 1}, {1, 2, 0}, {1, 1, 1},
+                            {1, 0, 2}, {0, 3, 0}, {0, 2, 1}, {0, 1, 2}, {0, 0, 3}};
+  for (int i = 0; i < 10; i++) {
+    INFO("b0^" << order[i][0] << " bc^" << order[i][1] << " b1^" << order[i][2]);
+    CHECK(mpvg::abstraction_detail::tri_index(order[i][0], order[i][1], order[i][2]) == i);
+  }
+}
