@@ -265,6 +265,7 @@ MPVG_HD_INLINE int emit_piece(const P2* q, int degree, double w, const Implicit*
   s.t0 = float(ta);
   s.t1 = float(tb);
   if (s.x0 == s.x1 && s.y0 == s.y1) return 0;
+  if (!out) return 1;  // counting: every piece that does not vanish is written
   if (degree == 1 || s.x0 == s.x1 || s.y0 == s.y1) {
     // Monotonic pieces with equal endpoint x (or y) are straight.
     if (out) *out = s;
@@ -420,8 +421,8 @@ MPVG_HD_INLINE int abstract_input_segment(const InputSegment& in, AbstractSegmen
     sort_splits(ts, n);
     const Hp h0{in.x[0], in.y[0], 1.0}, h1{w * in.x[1], w * in.y[1], w}, h2{in.x[2], in.y[2], 1.0};
     const P2 cp[3] = {{in.x[0], in.y[0]}, {in.x[1], in.y[1]}, {in.x[2], in.y[2]}};
-    Implicit im;
-    implicit_of(cp, 2, w, im);
+    Implicit im{};  // (left unset by a count)
+    if (out) implicit_of(cp, 2, w, im);  // (a count needs the pieces' ends only)
     double ta = 0.0;
     for (int i = 0; i <= n; i++) {
       const double tb = i < n ? ts[i] : 1.0;
@@ -461,8 +462,8 @@ MPVG_HD_INLINE int abstract_input_segment(const InputSegment& in, AbstractSegmen
   }
   sort_splits(ts, n);
   const P2 cp[4] = {c0, c1, c2, c3};
-  Implicit im;
-  implicit_of(cp, 3, 1.0, im);
+  Implicit im{};  // (left unset by a count)
+  if (out) implicit_of(cp, 3, 1.0, im);  // (a count needs the pieces' ends only)
   double ta = 0.0;
   for (int i = 0; i <= n; i++) {
     const double tb = i < n ? ts[i] : 1.0;
