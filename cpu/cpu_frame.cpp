@@ -134,15 +134,13 @@ std::vector<FrameOutput> render_forest_cpu_8bit(const std::vector<FrameScene>& s
   std::vector<FrameOutput> out(images.size());
   for (size_t k = 0; k < images.size(); k++) {
     const auto t0 = std::chrono::steady_clock::now();
-    std::vector<uint8_t> rgba8 = to_rgba8(images[k], options.gamma);
-    if (kind == FrameOutputKind::Png) {
-      out[k].png = png::compress_rgba8(rgba8.data(), images[k].width, images[k].height);
-      if (scenes[k].stats) scenes[k].stats->png_ms += ms_since(t0);
-    } else if (kind == FrameOutputKind::Filtered) {
-      out[k].filtered.channels = png::filter_image(rgba8.data(), images[k].width, images[k].height, 1, out[k].filtered.rows);
+    if (kind == FrameOutputKind::Filtered) {
+      out[k].filtered = filter_rows_cpu(images[k], options.gamma, scenes[k].stats);
+    } else if (kind == FrameOutputKind::Png) {
+      out[k].png = png::compress_rgba8(to_rgba8(images[k], options.gamma).data(), images[k].width, images[k].height);
       if (scenes[k].stats) scenes[k].stats->png_ms += ms_since(t0);
     } else {
-      out[k].rgba8 = std::move(rgba8);
+      out[k].rgba8 = to_rgba8(images[k], options.gamma);
     }
     images[k] = ImageF{};
   }

@@ -358,6 +358,17 @@ __global__ void k_deflate_join(const uint32_t* slots, const uint32_t* sizes, con
 
 }  // namespace
 
+void PngStage::launch_filter(const uint32_t* rgba, int width, int height) {
+  const size_t pixels = size_t(width) * height;
+  MPVG_CUDA(cudaMemsetAsync(flag_.data(), 0, sizeof(uint32_t)));
+  k_png_translucent<<<grid_for(pixels, 256), 256>>>(rgba, pixels, flag_.data());
+  MPVG_LAUNCHED();
+  k_png_filter<<<grid_for(size_t(height) * kWarp, 128), 128>>>(reinterpret_cast<const uint8_t*>(rgba), width, height,
+                                                                flag_.data(), filtered_.data());
+  MPVG_LAUNCHED();
+  launches += 2;
+}
+
 png::ImageData PngStage::run(const uint32_t* rgba, int width, int height) {
   const size_t pixels = size_t(width) * height;
   if (!pixels) throw Error("PNG: empty image");
@@ -385,13 +396,8 @@ png::ImageData PngStage::run(const uint32_t* rgba, int width, int height) {
   sizes_.resize(chunks);
   out_.resize(2 + chunks * kSlotBytes + 4);
   length_.resize(1);
-  MPVG_CUDA(cudaMemsetAsync(flag_.data(), 0, sizeof(uint32_t)));
   MPVG_CUDA(cudaMemsetAsync(freq_.data(), 0, chunks * sizeof(Frequencies)));
-  k_png_translucent<<<grid_for(pixels, 256), 256>>>(rgba, pixels, flag_.data());
-  launched();
-  k_png_filter<<<grid_for(size_t(height) * kWarp, 128), 128>>>(reinterpret_cast<const uint8_t*>(rgba), width, height,
-                                                                flag_.data(), filtered_.data());
-  launched();
+  launch_filter(rgba, width, height);
   k_deflate_parse<<<grid_for(pieces * kWarp, kParseWarps * kWarp), kParseWarps * kWarp>>>(
       filtered_.data(), width, height, flag_.data(), tokens_.data(), counts_.data(), freq_.data(),
       piece_adler_.data());
@@ -432,13 +438,7 @@ png::FilteredRows PngStage::filter(const uint32_t* rgba, int width, int height, 
   const size_t n3 = l.size();
   flag_.resize(1);
   filtered_.resize(n4);
-  MPVG_CUDA(cudaMemsetAsync(flag_.data(), 0, sizeof(uint32_t)));
-  k_png_translucent<<<grid_for(pixels, 256), 256>>>(rgba, pixels, flag_.data());
-  MPVG_LAUNCHED();
-  k_png_filter<<<grid_for(size_t(height) * kWarp, 128), 128>>>(reinterpret_cast<const uint8_t*>(rgba), width, height,
-                                                                flag_.data(), filtered_.data());
-  MPVG_LAUNCHED();
-  launches += 2;
+  launch_filter(rgba, width, height);
   // The flag with the opaque layout's bytes: what every opaque page needs.
   png::FilteredRows out;
   out.rows = std::move(storage);

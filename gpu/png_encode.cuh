@@ -24,6 +24,10 @@ class PngStage {
   size_t launches = 0, syncs = 0;  // issued by the last run
 
  private:
+  // The translucency flag and the filtered rows (flag_ and filtered_ sized
+  // for RGBA rows): the first half of both run and filter.
+  void launch_filter(const uint32_t* rgba, int width, int height);
+
   // Filtered rows, the parse's tokens per piece, each chunk's frequencies,
   // codes, deflated bytes (a slot each) and sizes, the stream.
   DeviceBuffer<uint8_t> filtered_, out_;

@@ -97,18 +97,10 @@ done
 pkill -f -- "--serve-internal"
 
 # Batch: the bench inputs 45 times each and the test SVGs once, at 1024 px.
-mkdir -p "$scratch/batch" "$scratch/bout" "$scratch/mout"
+mkdir -p "$scratch/bout" "$scratch/mout"
 list=$scratch/list.txt
-: > "$list"
-for i in $(seq -w 45); do
-  for f in tiger boston hawaii reschart; do
-    ln -s "$bench/$f.svg" "$scratch/batch/${f}_$i.svg"
-    printf '%s\t%s\n' "$scratch/batch/${f}_$i.svg" "$scratch/bout/${f}_$i.png" >> "$list"
-  done
-done
-for f in "$root"/testdata/golden/*.svg; do
-  printf '%s\t%s\n' "$f" "$scratch/bout/golden_$(basename "$f" .svg).png" >> "$list"
-done
+source "$root/scripts/svg-batch-list.sh"
+svg_batch_list "$bench" "$scratch/batch" "$scratch/bout" "$root" > "$list"
 n=$(wc -l < "$list")
 echo "== batch of $n files at 1024 px"
 for round in 1 2 3; do
