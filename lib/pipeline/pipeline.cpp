@@ -324,7 +324,7 @@ struct State {
         job.image = renderer.render(job.scene, job.options, &job.stats);
       else if (c.device_output)
         job.device_image = renderer.render_rgba8_device(job.scene, job.plan, job.options, &job.stats);
-      else if (png_on_device(renderer)) {
+      else if (const FrameOutputKind kind = output_kind(renderer, job); kind == FrameOutputKind::Png) {
         // Level 1 only, asked for: the default (level 2 on the workers)
         // gives the same bytes whichever backend renders, and on the H100
         // host (16 cores, BENCHMARKS.md "PNG stage") it is also faster:
@@ -339,7 +339,7 @@ struct State {
           // again, compressed by a worker
           job.rgba8 = renderer.render_rgba8(job.scene, job.plan, job.options, &job.stats, std::move(storage));
         }
-      } else if (filter_on_device(renderer, job))
+      } else if (kind == FrameOutputKind::Filtered)
         job.png_rows = renderer.render_filtered(job.scene, job.plan, job.options, &job.stats, std::move(storage));
       else
         job.rgba8 = renderer.render_rgba8(job.scene, job.plan, job.options, &job.stats, std::move(storage));
