@@ -98,6 +98,18 @@ Rgba4 sample_tree_cpu(const ShortcutTree& tree, float px, float py, uint32_t roo
   return sample_cell(in, c.begin, c.end, px, py);
 }
 
+void sample_leaf_cpu(const ShortcutTree& tree, uint32_t leaf, uint32_t kinds, const float* px, const float* py, int n,
+                     Rgba4* together, Rgba4* one_by_one) {
+  const TreePaint paint(tree);
+  const SampleInputs in{tree.leaf_entries.data(), tree.segments.data(), tree.paths.data(), &paint.tables};
+  const Cell& c = tree.leaves[leaf];
+  with_sampler_kinds(kinds, [&](auto k) {
+    constexpr uint32_t Kinds = decltype(k)::value;
+    sample_cell_lanes<0, Kinds>(in, c.begin, c.end, px, py, n, together);
+    for (int i = 0; i < n; i++) one_by_one[i] = sample_cell<0, Kinds>(in, c.begin, c.end, px[i], py[i]);
+  });
+}
+
 ImageF render_tree_cpu(const ShortcutTree& tree, int width, int height, const std::vector<SampleOffset>& pattern,
                        const PaintRecord& background, int threads, RenderTimes* times) {
   const Integration box = make_integration(Filter::Box, pattern);
@@ -157,6 +169,8 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
           return;
         }
         uint64_t evaluated = 0;
+        std::vector<float> sx(static_cast<size_t>(n)), sy(static_cast<size_t>(n));
+        std::vector<Rgba4> col(static_cast<size_t>(n));
         for (uint32_t y = task.y0; y < task.y1; y++) {
           for (uint32_t x = task.x0; x < task.x1; x++) {
             float* out = &img.rgba[(size_t(y) * size_t(frame.width) + x) * 4];
@@ -168,14 +182,17 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
               continue;
             }
             evaluated += uint64_t(n);
+            for (int k = 0; k < n; k++) {
+              sx[k] = float(x) + pattern[k].x;
+              sy[k] = float(y) + pattern[k].y;
+            }
+            sample_cell_lanes<0, Kinds>(in, c.begin, c.end, sx.data(), sy.data(), n, col.data());
             float acc[4] = {0, 0, 0, 0};
             for (int k = 0; k < n; k++) {
-              const Rgba4 col =
-                  sample_cell<0, Kinds>(in, c.begin, c.end, float(x) + pattern[k].x, float(y) + pattern[k].y);
-              acc[0] += col.r;
-              acc[1] += col.g;
-              acc[2] += col.b;
-              acc[3] += col.a;
+              acc[0] += col[k].r;
+              acc[1] += col[k].g;
+              acc[2] += col[k].b;
+              acc[3] += col[k].a;
             }
             const float p[4] = {acc[0] * w, acc[1] * w, acc[2] * w, acc[3] * w};
             composite(p, background, out);
@@ -206,6 +223,7 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
         return;
       }
       std::vector<Rgba4> col(static_cast<size_t>(n));
+      std::vector<float> sx(static_cast<size_t>(n)), sy(static_cast<size_t>(n));
       std::vector<float> sums(size_t(T) * 4);
       static_assert(sizeof(Rgba4) == 4 * sizeof(float), "Rgba4 is four floats");
       uint64_t evaluated = 0;
@@ -221,8 +239,11 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
             continue;
           }
           evaluated += uint64_t(n);
-          for (int i = 0; i < n; i++)
-            col[i] = sample_cell<0, Kinds>(in, c.begin, c.end, float(ux) + o[i].x, float(uy) + o[i].y);
+          for (int i = 0; i < n; i++) {
+            sx[i] = float(ux) + o[i].x;
+            sy[i] = float(uy) + o[i].y;
+          }
+          sample_cell_lanes<0, Kinds>(in, c.begin, c.end, sx.data(), sy.data(), n, col.data());
           integrate_unit_area_all(integ.weights.data() + size_t(cls) * n * T, T, n, &col[0].r, sums.data());
           for (int ey = 0; ey < K; ey++) {
             const int ay = static_cast<int>(uy) - ey;

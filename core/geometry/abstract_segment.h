@@ -128,23 +128,63 @@ MPVG_HD_INLINE float abstract_implicit(const AbstractSegment& s, float px, float
                                abstract_tri_b1(s, px, py));
 }
 
+// +1 when px < x, -1 when px > x, 0 when equal.
+MPVG_HD_INLINE int abstract_side_of(float px, float x) { return int(px < x) - int(px > x); }
+
+// c ? a : b as a mask: gcc vectorises a loop of these where it will not
+// if-convert the conditional (of float comparisons) in the loop's body.
+MPVG_HD_INLINE int select_int(bool c, int a, int b) {
+  const int m = -static_cast<int>(c);
+  return (a & m) | (b & ~m);
+}
+
+// side(p) and the ray test of a line piece: the decisions of abstract_side
+// and abstract_ray_winding below, in the same order of precedence, written
+// as selects from values of the piece taken once, so that a loop over
+// samples vectorises (the CPU's sample lanes, sampling.h). The chord is
+// abstract_chord's: the same operations on the same floats, its sign
+// flipped for a downward piece. On a vertical piece every p is at or
+// beyond xmin or xmax, and a point on its line is on it (0).
+struct LineTest {
+  float x0, y0, x1, y1, dx, dy, xmin, xmax, lo, hi;
+  bool up;  // y1 > y0
+  MPVG_HD_INLINE explicit LineTest(const AbstractSegment& s)
+      : x0(s.x0), y0(s.y0), x1(s.x1), y1(s.y1), dx(s.x1 - s.x0), dy(s.y1 - s.y0), xmin(abstract_xmin(s)),
+        xmax(abstract_xmax(s)), lo(s.y1 > s.y0 ? s.y0 : s.y1), hi(s.y1 > s.y0 ? s.y1 : s.y0), up(s.y1 > s.y0) {}
+  // abstract_side's precondition.
+  MPVG_HD_INLINE int side(float px, float py) const {
+    const float d = (py - y0) * dx - (px - x0) * dy;
+    const int chord = int(d > 0.0f) - int(d < 0.0f);
+    int r = select_int(up, chord, -chord);
+    r = select_int(px >= xmax, -1, r);
+    r = select_int(px <= xmin, 1 - (int(px == xmin) & int(px == xmax)), r);
+    r = select_int(py == y1, abstract_side_of(px, x1), r);
+    return select_int(py == y0, abstract_side_of(px, x0), r);
+  }
+  // abstract_ray_winding: the half-open y-range, then the side.
+  MPVG_HD_INLINE int winding(float px, float py) const {
+    const int crosses = int(!(py < lo)) & int(!(py >= hi)) & int(side(px, py) > 0);
+    return select_int(up, crosses, -crosses);
+  }
+};
+
 // side(p) as specified at the top of this file. Precondition: p.y lies in
 // the closed y-range of the piece; the piece is not horizontal.
 MPVG_HD_INLINE int abstract_side(const AbstractSegment& s, float px, float py) {
+  const uint32_t type = abstract_type(s);
+  if (type == ABSTRACT_LINE) return LineTest(s).side(px, py);
   const float xmin = abstract_xmin(s), xmax = abstract_xmax(s);
-  if (xmin == xmax) return px < xmin ? 1 : (px > xmin ? -1 : 0);  // vertical
+  if (xmin == xmax) return abstract_side_of(px, xmin);  // vertical
   // At an endpoint's height X is that endpoint's x: decide exactly. These are
   // the heights at which subdivision tests a piece whose end lies in a cell,
   // often beside a horizontal tangent (pieces end at y-extrema), where an
   // implicit test could not tell the sides apart.
-  if (py == s.y0) return px < s.x0 ? 1 : (px > s.x0 ? -1 : 0);
-  if (py == s.y1) return px < s.x1 ? 1 : (px > s.x1 ? -1 : 0);
+  if (py == s.y0) return abstract_side_of(px, s.x0);
+  if (py == s.y1) return abstract_side_of(px, s.x1);
   // Elsewhere X(y) lies strictly inside (xmin, xmax).
   if (px <= xmin) return 1;
   if (px >= xmax) return -1;
   const float d = abstract_chord(s, px, py);
-  const uint32_t type = abstract_type(s);
-  if (type == ABSTRACT_LINE) return d > 0.0f ? 1 : (d < 0.0f ? -1 : 0);
   const bool bulge_left = (s.flags & ABSTRACT_BULGE_LEFT) != 0;
   const bool on_bulge_side = bulge_left ? d > 0.0f : d < 0.0f;
   // On the chord, or beyond it from the bulge, a point is on the far side of
@@ -162,7 +202,9 @@ MPVG_HD_INLINE int abstract_side(const AbstractSegment& s, float px, float py) {
 // Does the horizontal ray from p towards +x cross the piece? The y-range is
 // half-open, so a ray through a shared vertex counts it once, and horizontal
 // pieces never count. Returns the winding increment: +1 upward, -1 downward.
+// A line piece's test is LineTest's; a curve's returns as early as it can.
 MPVG_HD_INLINE int abstract_ray_winding(const AbstractSegment& s, float px, float py) {
+  if (abstract_type(s) == ABSTRACT_LINE) return LineTest(s).winding(px, py);
   if (s.y1 > s.y0) {
     if (py < s.y0 || py >= s.y1) return 0;
     return abstract_side(s, px, py) > 0 ? 1 : 0;

@@ -124,12 +124,16 @@ constexpr uint32_t kUniformKinds = PAINTS_SOLID | (Kinds & SAMPLE_GROUPS);
 // Winding contribution of one geometry or winding entry to sample (px, py).
 // seg is the entry's abstract segment (SEGMENT entries only): the CPU reads
 // it from the segment array, a GPU block from its shared-memory copy.
+MPVG_HD_INLINE int32_t winding_entry_value(Entry e) { return static_cast<int32_t>(e.data); }
+MPVG_HD_INLINE int shortcut_winding(Entry e, float py) {
+  return select_int(py >= entry_float(e), entry_kind(e) == ENTRY_SHORTCUT_UP ? 1 : -1, 0);
+}
 MPVG_HD_INLINE int entry_winding(Entry e, const AbstractSegment* seg, float px, float py) {
   switch (entry_kind(e)) {
     case ENTRY_SEGMENT: return abstract_ray_winding(*seg, px, py);
-    case ENTRY_SHORTCUT_UP: return py >= entry_float(e) ? 1 : 0;
-    case ENTRY_SHORTCUT_DOWN: return py >= entry_float(e) ? -1 : 0;
-    default: return static_cast<int32_t>(e.data);  // ENTRY_WINDING
+    case ENTRY_SHORTCUT_UP:
+    case ENTRY_SHORTCUT_DOWN: return shortcut_winding(e, py);
+    default: return winding_entry_value(e);  // ENTRY_WINDING
   }
 }
 
@@ -392,40 +396,51 @@ MPVG_HD_INLINE const AbstractSegment* entry_segment(Entry e, const AbstractSegme
 // centre: exact in float for coordinates below 2^14.
 constexpr float kCentreNudge = 1.0f / 512.0f;
 
-// Advances one sample over one entry; seg as in entry_winding.
+// An aliased path's winding is that of the centre of the pixel holding
+// the sample (the same leaf cell, as cells are whole pixels), nudged up
+// and left by kCentreNudge: a centre on an edge then belongs to the shape
+// on its top-left side, as in Skia and tiny-skia (a pixel is covered where
+// left < centre <= right, top < centre <= bottom).
+MPVG_HD_INLINE float aliased_centre(float p) { return floorf(p) + (0.5f - kCentreNudge); }
+
+// Advances one sample over one entry, all but the entry's winding: true
+// when entry e belongs to the path the sample is now summing, whose
+// winding is then to be added.
 template <int Depth = 0, uint32_t Kinds = SAMPLE_ALL>
-MPVG_HD_INLINE void sample_step(SampleState<Kinds>& st, const SampleInputs& in, Entry e, const AbstractSegment* seg,
-                                float px, float py) {
-  if (st.done) return;
+MPVG_HD_INLINE bool sample_enter(SampleState<Kinds>& st, const SampleInputs& in, Entry e, float px, float py) {
+  if (st.done) return false;
   if (entry_is_delimiter(e)) {
     sample_finish_path<Depth, Kinds>(st, in, px, py);
-    if (st.done) return;
+    if (st.done) return false;
     if constexpr ((Kinds & SAMPLE_GROUPS) != 0) {
       if (entry_kind(e) == ENTRY_GROUP) {
         sample_group_delimiter(st, in.paint->groups, e);
-        return;
+        return false;
       }
     }
     flat_clip_delimiter(st.clip, entry_kind(e));
-    return;
+    return false;
   }
   const int32_t path = static_cast<int32_t>(entry_path(e));
   if (path != st.path) {
     sample_finish_path<Depth, Kinds>(st, in, px, py);
-    if (st.done) return;
-    if (st.clip.state != FLAT_P) return;  // skipped by the clip machine
+    if (st.done) return false;
+    if (st.clip.state != FLAT_P) return false;  // skipped by the clip machine
     st.path = path;
     st.winding = 0;
     if constexpr ((Kinds & SAMPLE_ALIASED) != 0) st.centre = (in.paths[path].flags & PATH_ALIASED) != 0;
   }
+  return true;
+}
+
+// Advances one sample over one entry; seg as in entry_winding.
+template <int Depth = 0, uint32_t Kinds = SAMPLE_ALL>
+MPVG_HD_INLINE void sample_step(SampleState<Kinds>& st, const SampleInputs& in, Entry e, const AbstractSegment* seg,
+                                float px, float py) {
+  if (!sample_enter<Depth, Kinds>(st, in, e, px, py)) return;
   if constexpr ((Kinds & SAMPLE_ALIASED) != 0) {
-    // An aliased path's winding is that of the centre of the pixel holding
-    // the sample (the same leaf cell, as cells are whole pixels), nudged
-    // up and left by kCentreNudge: a centre on an edge then belongs to the
-    // shape on its top-left side, as in Skia and tiny-skia (a pixel is
-    // covered where left < centre <= right, top < centre <= bottom).
     if (st.centre) {
-      st.winding += entry_winding(e, seg, floorf(px) + (0.5f - kCentreNudge), floorf(py) + (0.5f - kCentreNudge));
+      st.winding += entry_winding(e, seg, aliased_centre(px), aliased_centre(py));
       return;
     }
   }
@@ -442,6 +457,96 @@ MPVG_HD_INLINE Rgba4 sample_cell(const SampleInputs& in, uint32_t begin, uint32_
   }
   sample_finish_path<Depth, Kinds>(st, in, px, py);
   return st.color;
+}
+
+// Sample lanes (the CPU's sampler): the samples of one unit area stepped
+// together over their leaf's stream, entry by entry, each lane as in
+// sample_cell, so that each lane's colour is sample_cell's bit for bit
+// (test_sample_lanes checks it on random scenes). Within a path's run (its
+// consecutive non-delimiter entries) only the run's first entry can change
+// a sample's state beyond its winding number (sample_enter): every entry of
+// the run then adds its winding to the samples summing that path, and
+// nothing to the others, whose path is then -1 (a sample that is done, or
+// skipped by the clip machine, sums no path). So each lane enters the run's
+// first entry, and the run's windings go to all lanes at once, one loop
+// over the lanes per entry that the compiler vectorises (a line's test is
+// selects); a run that no lane sums is skipped whole. Lanes whose path is
+// -1 collect windings that nothing reads (a path's first entry sets its
+// sum to 0); lanes past the last sample repeat it and are dropped.
+constexpr int kSampleLanes = 16;
+
+// Adds entry e's winding at every lane's point (x[k], y[k]) to w[k].
+MPVG_HD_INLINE void lanes_add_winding(Entry e, const AbstractSegment* segments, const float* x, const float* y,
+                                      int32_t* w) {
+  if (entry_kind(e) == ENTRY_SEGMENT) {
+    const AbstractSegment s = segments[e.data];
+    if (abstract_type(s) == ABSTRACT_LINE) {
+      const LineTest line(s);
+      for (int k = 0; k < kSampleLanes; k++) w[k] += line.winding(x[k], y[k]);
+    } else {
+      for (int k = 0; k < kSampleLanes; k++) w[k] += abstract_ray_winding(s, x[k], y[k]);
+    }
+    return;
+  }
+  if (entry_kind(e) == ENTRY_WINDING) {
+    const int32_t v = winding_entry_value(e);
+    for (int k = 0; k < kSampleLanes; k++) w[k] += v;
+    return;
+  }
+  for (int k = 0; k < kSampleLanes; k++) w[k] += shortcut_winding(e, y[k]);
+}
+
+// Colours out[k] of the n samples (px[k], py[k]) of one leaf's entries
+// [begin, end): sample_cell's for each.
+template <int Depth = 0, uint32_t Kinds = SAMPLE_ALL>
+MPVG_HD_INLINE void sample_cell_lanes(const SampleInputs& in, uint32_t begin, uint32_t end, const float* px,
+                                      const float* py, int n, Rgba4* out) {
+  for (int k0 = 0; k0 < n; k0 += kSampleLanes) {
+    const int m = n - k0 < kSampleLanes ? n - k0 : kSampleLanes;
+    float x[kSampleLanes], y[kSampleLanes], cx[kSampleLanes], cy[kSampleLanes];
+    int32_t w[kSampleLanes];
+    SampleState<Kinds> st[kSampleLanes];
+    for (int k = 0; k < kSampleLanes; k++) {
+      const int s = k0 + (k < m ? k : m - 1);
+      x[k] = px[s];
+      y[k] = py[s];
+      cx[k] = aliased_centre(x[k]);
+      cy[k] = aliased_centre(y[k]);
+      w[k] = 0;
+    }
+    for (int k = 0; k < m; k++) st[k] = sample_start<Kinds>();
+    for (uint32_t i = begin; i < end;) {
+      const Entry e = in.entries[i];
+      bool live = false;
+      for (int k = 0; k < m; k++) {
+        sample_enter<Depth, Kinds>(st[k], in, e, x[k], y[k]);
+        live |= !st[k].done;
+      }
+      if (!live) break;
+      if (entry_is_delimiter(e)) {
+        i++;
+        continue;
+      }
+      uint32_t j = i + 1;
+      while (j < end && entry_same_path(e, in.entries[j])) j++;
+      const int32_t path = static_cast<int32_t>(entry_path(e));
+      bool summing = false;
+      for (int k = 0; k < m; k++) summing |= st[k].path == path;
+      if (summing) {
+        const bool centre = (Kinds & SAMPLE_ALIASED) != 0 && (in.paths[path].flags & PATH_ALIASED) != 0;
+        const float* qx = centre ? cx : x;
+        const float* qy = centre ? cy : y;
+        for (int k = 0; k < m; k++) w[k] = st[k].winding;
+        for (; i < j; i++) lanes_add_winding(in.entries[i], in.segments, qx, qy, w);
+        for (int k = 0; k < m; k++) st[k].winding = w[k];
+      }
+      i = j;
+    }
+    for (int k = 0; k < m; k++) {
+      sample_finish_path<Depth, Kinds>(st[k], in, x[k], y[k]);
+      out[k0 + k] = st[k].color;
+    }
+  }
 }
 
 // Is unit area (ux, uy) of the leaf with entries [begin, end) flat
