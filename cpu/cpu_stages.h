@@ -39,7 +39,8 @@ size_t batch_end(const std::vector<Cell>& cells, size_t k0, size_t limit);
 std::vector<size_t> cell_batches(const std::vector<Cell>& cells, size_t span, size_t cores);
 size_t batch_group(const std::vector<Cell>& cells, const std::vector<size_t>& starts, size_t g, size_t cores);
 
-// subdivide: the four passes of §4.2 over `cells` of a level (entries
+// subdivide: the passes of §4.2, as one pass per batch of cells, over
+// `cells` of a level (entries
 // indexes their ranges; cells in ascending order, not necessarily
 // adjacent), a batch of cells at a time. With root set, the one cell is
 // the virtual cell holding the initial stream and the only child is the
@@ -95,6 +96,13 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
 // The colour of one sample at (px, py), straight from the tree (tests and
 // tools): premultiplied, in the integration colour space, no background.
 Rgba4 sample_tree_cpu(const ShortcutTree& tree, float px, float py, uint32_t root = 0);
+
+// The colours of the n samples (px[k], py[k]) of leaf `leaf` of the tree
+// by the sampler specialisation `kinds` (sampler_kinds), taken both as the
+// renders take them, together (sample_cell_lanes), and one by one
+// (sample_cell): test_sample_lanes compares them bit for bit.
+void sample_leaf_cpu(const ShortcutTree& tree, uint32_t leaf, uint32_t kinds, const float* px, const float* py, int n,
+                     Rgba4* together, Rgba4* one_by_one);
 
 // The box filter over width x height pixels (the tree built over them).
 ImageF render_tree_cpu(const ShortcutTree& tree, int width, int height, const std::vector<SampleOffset>& pattern,

@@ -1,10 +1,8 @@
 // Stage "subdivide" on the CPU: the passes of §4.2 (split; the segmented
-// scan of windings and the offset scan as one scan, SplitScan; scatter)
-// over every cell of a level, in batches of cells, a large level's batches
-// on every core.
+// scan of windings and the offset scan; scatter), as one sequential pass
+// over each batch of a level's cells, a large level's batches on every core.
 #include <algorithm>
 #include <cstdint>
-#include <numeric>
 
 #include "cpu/cpu_stages.h"
 #include "core/parallel.h"
@@ -41,18 +39,13 @@ size_t batch_group(const std::vector<Cell>& cells, const std::vector<size_t>& st
 
 namespace {
 
-// An entry makes at most this many entries in its children: itself in each
-// of four, and a shortcut entry for its run in each.
-constexpr size_t kMaxGrowth = 8;
-
-// One batch's passes 1 and 2.
-struct Scratch {
-  std::vector<uint32_t> flags;
-  std::vector<SplitScan> scan;
-  // Where pair j's outputs start: the outputs of the pairs before it.
-  uint32_t offset(size_t j) const { return j ? scan[j - 1].count : 0u; }
-};
-
+// Passes 1 to 3 of §4.2 as one pass over a batch of cells: each (parent
+// entry, child) pair's outputs (split_scatter) written in the pairs' order
+// -- cell by cell, child by child, entry by entry, as the scan of §4.2
+// orders them -- with its path run's winding summed as the run goes. The
+// scan computes the same sums and offsets in parallel (integer sums: the
+// same in any order); on a core the pass needs neither its per-pair arrays
+// nor a second reading of the split.
 struct Subdivision {
   const std::vector<Cell>& cells;
   const Entry* in;
@@ -60,62 +53,42 @@ struct Subdivision {
   uint32_t fanout;
   std::vector<CellBox> boxes;
 
-  // Passes 1 and 2 over cells k0 .. k1 - 1: the entries their children
-  // get. Pair (entry i of cell k, child c) lives at
-  // fanout*(begin-first) + c*size + (i-begin), first the batch's first
-  // entry: each child's block lists the parent's entries in order (slots
-  // between cells that are not subdivided count nothing).
-  size_t count_batch(size_t k0, size_t k1, Scratch& sc) const {
-    auto& [flags, scan] = sc;
-    const uint32_t first = cells[k0].begin;
-    const size_t pairs = fanout * size_t(cells[k1 - 1].end - first);
-    flags.resize(pairs);
-    scan.assign(pairs, SplitScan{0, 0, 0, 0});
-    // Pass 1: split.
-    for (size_t k = k0; k < k1; k++) {
-      const Cell& pc = cells[k];
-      for (uint32_t c = 0; c < fanout; c++) {
-        const CellBox& box = boxes[fanout * k + c];
-        for (uint32_t i = pc.begin; i < pc.end; i++) {
-          int32_t w;
-          const size_t j = pair(pc, first, c, i);
-          flags[j] = split_entry(in[i], segments.data(), box, &w);
-          scan[j] = split_scan_item(flags[j], w, run_starts(in, i, pc.begin), run_ends(in, i, pc.end));
-        }
-      }
-    }
-    // Pass 2: windings consolidated per path run and outputs counted, one
-    // inclusive scan (core/tree/subdivision.h).
-    std::inclusive_scan(scan.begin(), scan.end(), scan.begin(), SplitScanOp{});
-    return pairs ? scan[pairs - 1].count : 0;
-  }
-
-  // Pass 3 after count_batch: scatter into out from `base`; child cell
-  // ranges fall out of the offsets.
-  void scatter_batch(size_t k0, size_t k1, size_t base, TreeLevel& out, const Scratch& sc) const {
-    const auto& flags = sc.flags;
-    const uint32_t first = cells[k0].begin;
+  // Cells k0 .. k1 - 1 into `list` (it grows as needed), their children's
+  // ranges in out.cells counted from the list's start. A cell's entries
+  // are split for all its children first, so that each segment is read
+  // once, not once per child (the segments are read in the stream's order,
+  // scattered over an array larger than the caches). Returns the entries
+  // written.
+  size_t split_batch(size_t k0, size_t k1, std::vector<Entry>& list, TreeLevel& out) const {
+    constexpr size_t kMaxOutputs = 4;  // a pair writes at most: itself, two shortcuts, a winding
+    std::vector<uint8_t> flags;
+    std::vector<int32_t> wind;
+    size_t used = 0;
     for (size_t k = k0; k < k1; k++) {
       const Cell& pc = cells[k];
       const uint32_t size = pc.end - pc.begin;
+      const CellBox* box = &boxes[fanout * k];
+      flags.resize(size_t(fanout) * size);
+      wind.resize(size_t(fanout) * size);
+      for (uint32_t i = 0; i < size; i++)
+        for (uint32_t c = 0; c < fanout; c++)
+          flags[c * size + i] = static_cast<uint8_t>(split_entry(in[pc.begin + i], segments.data(), box[c],
+                                                                 &wind[c * size + i]));
       for (uint32_t c = 0; c < fanout; c++) {
-        const size_t j0 = pair(pc, first, c, pc.begin);
         Cell& cc = out.cells[fanout * k + c];
-        cc.begin = static_cast<uint32_t>(base + sc.offset(j0));
-        cc.end = static_cast<uint32_t>(base + sc.offset(j0 + size));
+        cc.begin = static_cast<uint32_t>(used);
+        int32_t run = 0;
         for (uint32_t i = pc.begin; i < pc.end; i++) {
-          const size_t j = j0 + (i - pc.begin);
-          split_scatter(in[i], flags[j], run_ends(in, i, pc.end), sc.scan[j].last, segments.data(),
-                        out.entries.data() + base + sc.offset(j));
+          const size_t j = c * size + (i - pc.begin);
+          run = run_starts(in, i, pc.begin) ? wind[j] : run + wind[j];
+          if (list.size() < used + kMaxOutputs) list.resize(std::max(2 * list.size(), used + 4096));
+          used += split_scatter(in[i], flags[j], run_ends(in, i, pc.end), run, segments.data(), list.data() + used);
         }
+        cc.end = static_cast<uint32_t>(used);
       }
     }
+    return used;
   }
-
-  size_t pair(const Cell& pc, uint32_t first, uint32_t c, uint32_t i) const {
-    return fanout * size_t(pc.begin - first) + size_t(c) * (pc.end - pc.begin) + (i - pc.begin);
-  }
-
 };
 
 }  // namespace
@@ -141,41 +114,39 @@ TreeLevel subdivide_cpu(const std::vector<Cell>& cells, const Entry* entries,
       sd.boxes[sd.fanout * k + c] = cell_box(cc.ix, cc.iy, cc.level, root_size);
     }
   }
-  // A level that might pass the cap is counted first, so that it is given
-  // up before its entries are made.
-  if (span > max_entries / kMaxGrowth) {
-    Scratch sc;
-    size_t total = 0;
-    for (size_t k0 = 0, k1; k0 < cells.size(); k0 = k1) {
-      k1 = batch_end(cells, k0, cpu_batch_entries);
-      total += sd.count_batch(k0, k1, sc);
-    }
-    if (total > max_entries) {
-      if (overflow) *overflow = true;
-      return TreeLevel{};
-    }
-    out.entries.reserve(total);
-  }
   // Batches of at most cpu_batch_entries entries; a large level in at least
   // one batch per core. Groups of up to as many batches as cores, at most
-  // cpu_batch_entries entries in all (a larger batch alone), count in
-  // parallel, place their entries after the previous group's and scatter
-  // in parallel (batches are independent: no cell spans two, and the output
-  // depends on the cells alone). Scratch stays bounded as with one batch.
+  // cpu_batch_entries entries in all (a larger batch alone), split in
+  // parallel, each into a list of its own (batches are independent: no cell
+  // spans two, and the output depends on the cells alone); the lists are
+  // then placed after the previous group's, and their cells' ranges moved
+  // there. A level that would pass the cap is given up as soon as a group
+  // passes it: what it holds stays bounded by the cap and one group's lists.
   const size_t cores = static_cast<size_t>(hardware_threads());
   const std::vector<size_t> starts = cell_batches(cells, span, cores);
   auto end_of = [&](size_t b) { return b + 1 < starts.size() ? starts[b + 1] : cells.size(); };
-  std::vector<Scratch> scratch(std::min(cores, starts.size()));
-  std::vector<size_t> base(scratch.size() + 1);
+  std::vector<std::vector<Entry>> lists(std::min(cores, starts.size()));
+  std::vector<size_t> base(lists.size() + 1);
   for (size_t g = 0, m; g < starts.size(); g += m) {
     m = batch_group(cells, starts, g, cores);
     parallel_for(m, static_cast<int>(m),
-                 [&](size_t b) { base[b + 1] = sd.count_batch(starts[g + b], end_of(g + b), scratch[b]); });
+                 [&](size_t b) { base[b + 1] = sd.split_batch(starts[g + b], end_of(g + b), lists[b], out); });
     base[0] = out.entries.size();
     for (size_t b = 0; b < m; b++) base[b + 1] += base[b];
+    if (base[m] > max_entries) {
+      if (overflow) *overflow = true;
+      return TreeLevel{};
+    }
     out.entries.resize(base[m]);
-    parallel_for(m, static_cast<int>(m),
-                 [&](size_t b) { sd.scatter_batch(starts[g + b], end_of(g + b), base[b], out, scratch[b]); });
+    parallel_for(m, static_cast<int>(m), [&](size_t b) {
+      std::copy_n(lists[b].data(), base[b + 1] - base[b], out.entries.data() + base[b]);
+      for (size_t k = starts[g + b]; k < end_of(g + b); k++)
+        for (uint32_t c = 0; c < sd.fanout; c++) {
+          Cell& cc = out.cells[sd.fanout * k + c];
+          cc.begin += static_cast<uint32_t>(base[b]);
+          cc.end += static_cast<uint32_t>(base[b]);
+        }
+    });
   }
   return out;
 }
