@@ -278,9 +278,8 @@ int run(const cli::Options& opt, const Document& source, Renderers& renderers, c
     }
     else rgba8 = gpu->render_rgba8(enc, plan, ro, &stats);
   } else {
-    ImageF img = render_cpu(enc, plan, ro, &stats);
-    if (opt.bits == 16) rgba16 = to_rgba16(img, ro.gamma);
-    else rgba8 = to_rgba8(img, ro.gamma);
+    if (opt.bits == 16) rgba16 = to_rgba16(render_cpu(enc, plan, ro, &stats), ro.gamma);
+    else rgba8 = render_cpu_rgba8(enc, plan, ro, &stats);
   }
   lease.reset();  // the next job may have it while this one is written
   const double render_ms = ms_since(t_render);

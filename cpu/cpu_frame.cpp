@@ -52,7 +52,13 @@ ImageF render_cpu(const EncodedScene& enc, const RenderOptions& o, RenderStats* 
   return render_cpu(enc, plan_render(o), o, stats);
 }
 
-ImageF render_cpu(const EncodedScene& enc, const RenderPlan& plan, const RenderOptions& o, RenderStats* stats) {
+namespace {
+
+// render_cpu's frame: the tree built, then render(tree, background, times)
+// samples it into what it returns.
+template <class Render>
+auto render_frame_cpu(const EncodedScene& enc, const RenderPlan& plan, const RenderOptions& o, RenderStats* stats,
+                      Render&& render) {
   RenderStats local;
   RenderStats& st = stats ? *stats : local;
   st.backend = "cpu";
@@ -74,7 +80,7 @@ ImageF render_cpu(const EncodedScene& enc, const RenderPlan& plan, const RenderO
   st.subdivide_ms += bt.subdivide_ms;
   st.prune_ms += bt.prune_ms;
   RenderTimes rt;
-  ImageF img = render_tree_cpu(tree, plan.integ, plan.frame, background_paint(o.background, o.gamma), o.threads, &rt);
+  auto img = render(tree, background_paint(o.background, o.gamma), &rt);
   st.schedule_ms += rt.schedule_ms;
   st.sample_ms += rt.sample_ms;
   st.samples += rt.samples;
@@ -87,6 +93,21 @@ ImageF render_cpu(const EncodedScene& enc, const RenderPlan& plan, const RenderO
   st.tree_bytes = tree.memory_bytes();
   st.depth = tree.depth;
   return img;
+}
+
+}  // namespace
+
+ImageF render_cpu(const EncodedScene& enc, const RenderPlan& plan, const RenderOptions& o, RenderStats* stats) {
+  return render_frame_cpu(enc, plan, o, stats, [&](const ShortcutTree& tree, const PaintRecord& bg, RenderTimes* rt) {
+    return render_tree_cpu(tree, plan.integ, plan.frame, bg, o.threads, rt);
+  });
+}
+
+std::vector<uint8_t> render_cpu_rgba8(const EncodedScene& enc, const RenderPlan& plan, const RenderOptions& o,
+                                      RenderStats* stats) {
+  return render_frame_cpu(enc, plan, o, stats, [&](const ShortcutTree& tree, const PaintRecord& bg, RenderTimes* rt) {
+    return render_tree_cpu_rgba8(tree, plan.integ, plan.frame, bg, o.gamma, o.threads, rt);
+  });
 }
 
 std::vector<ImageF> render_forest_cpu(const std::vector<FrameScene>& scenes, const RenderOptions& o) {
@@ -147,14 +168,21 @@ std::vector<FrameOutput> render_forest_cpu_8bit(const std::vector<FrameScene>& s
   return out;
 }
 
+png::FilteredRows filter_rows_cpu(const uint8_t* rgba8, int width, int height, RenderStats* stats,
+                                  std::vector<uint8_t> storage) {
+  const auto t0 = std::chrono::steady_clock::now();
+  png::FilteredRows rows;
+  rows.rows = std::move(storage);
+  rows.channels = png::filter_image(rgba8, width, height, 1, rows.rows);
+  if (stats) stats->png_ms += ms_since(t0);
+  return rows;
+}
+
 png::FilteredRows filter_rows_cpu(const ImageF& image, Gamma gamma, RenderStats* stats, std::vector<uint8_t> storage) {
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<uint8_t> rgba8 = to_rgba8(image, gamma);
-  png::FilteredRows rows;
-  rows.rows = std::move(storage);
-  rows.channels = png::filter_image(rgba8.data(), image.width, image.height, 1, rows.rows);
   if (stats) stats->png_ms += ms_since(t0);
-  return rows;
+  return filter_rows_cpu(rgba8.data(), image.width, image.height, stats, std::move(storage));
 }
 
 FilterExecutor cpu_filters(int threads) {

@@ -20,6 +20,11 @@ ImageF render_cpu(const EncodedScene& scene, const RenderOptions& options, Rende
 ImageF render_cpu(const EncodedScene& scene, const RenderPlan& plan, const RenderOptions& options,
                   RenderStats* stats = nullptr);
 
+// render_cpu's frame as 8-bit codes (to_rgba8's of its image), made
+// without the float image: what FrameRenderer's CPU frames render.
+std::vector<uint8_t> render_cpu_rgba8(const EncodedScene& scene, const RenderPlan& plan, const RenderOptions& options,
+                                      RenderStats* stats = nullptr);
+
 // The scene encoded as both backends render it with these options
 // (encode_frame), filter layers made by `filters` or, when null, by the CPU
 // (cpu_filters); stats->encode_ms, if given, receives the time.
@@ -41,6 +46,9 @@ std::vector<FrameOutput> render_forest_cpu_8bit(const std::vector<FrameScene>& s
 // one thread), into storage's memory: what render_filtered gives on the
 // CPU; stats->png_ms, if given, receives the time.
 png::FilteredRows filter_rows_cpu(const ImageF& image, Gamma gamma, RenderStats* stats = nullptr,
+                                  std::vector<uint8_t> storage = {});
+// ... of 8-bit codes already made, width x height pixels.
+png::FilteredRows filter_rows_cpu(const uint8_t* rgba8, int width, int height, RenderStats* stats = nullptr,
                                   std::vector<uint8_t> storage = {});
 
 // The CPU's filter executor: each source rendered by render_cpu, each graph

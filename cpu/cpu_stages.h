@@ -93,6 +93,12 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
                        const PaintRecord& background, int threads, RenderTimes* times = nullptr,
                        uint32_t root = 0);
 
+// The same frame as 8-bit codes (what to_rgba8 gives of render_tree_cpu's
+// image, without the float image).
+std::vector<uint8_t> render_tree_cpu_rgba8(const ShortcutTree& tree, const Integration& integ,
+                                           const IntegrationFrame& frame, const PaintRecord& background, Gamma gamma,
+                                           int threads, RenderTimes* times = nullptr, uint32_t root = 0);
+
 // The colour of one sample at (px, py), straight from the tree (tests and
 // tools): premultiplied, in the integration colour space, no background.
 Rgba4 sample_tree_cpu(const ShortcutTree& tree, float px, float py, uint32_t root = 0);

@@ -12,9 +12,11 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstring>
 
 #include "cpu/cpu_stages.h"
 #include "core/parallel.h"
+#include "core/output/rgba8.h"
 #include "core/sampling/sampling.h"
 
 namespace mpvg {
@@ -50,6 +52,23 @@ std::vector<Task> schedule(const ShortcutTree& tree, int w, int h, uint32_t root
   return tasks;
 }
 
+// Schedule for shared samples: the same strips cut at the edges of bands
+// of `band` unit-area rows, band by band. A unit area of row uy sends its
+// sums to accumulator rows uy - K + 1 .. uy, so bands of at least K - 1
+// rows two apart never reach the same accumulator: the even bands run in
+// parallel, then the odd ones, each band on one thread, and the sums are
+// added without atomics (fixed point: the same total in any order).
+std::vector<std::vector<Task>> band_schedule(const std::vector<Task>& tasks, int h, uint32_t band) {
+  std::vector<std::vector<Task>> bands((static_cast<uint32_t>(h) + band - 1) / band);
+  for (const Task& t : tasks)
+    for (uint32_t y = t.y0; y < t.y1;) {
+      const uint32_t b = y / band, y1 = std::min(t.y1, (b + 1) * band);
+      bands[b].push_back({t.leaf, t.x0, t.x1, y, y1});
+      y = y1;
+    }
+  return bands;
+}
+
 // Leaves without geometry or position-dependent paints have one colour
 // everywhere.
 std::vector<char> uniform_leaves(const ShortcutTree& tree, uint32_t root) {
@@ -68,6 +87,30 @@ void composite(const float* p, const PaintRecord& bg, float* out) {
   out[2] = p[2] + under * bg.b;
   out[3] = p[3] + under * bg.a;
 }
+
+// Where render_tree_into puts a pixel: its premultiplied colour p over the
+// background, as floats (ImageF) or as 8-bit codes (what to_rgba8 makes of
+// the same floats), n pixels from pixel index i.
+struct FloatSink {
+  float* rgba;
+  PaintRecord bg;
+  void put(size_t i, size_t n, const float* p) const {
+    for (size_t k = 0; k < n; k++) composite(p, bg, &rgba[(i + k) * 4]);
+  }
+};
+struct Rgba8Sink {
+  uint8_t* rgba;
+  PaintRecord bg;
+  bool linear;
+  const SrgbCodeTable& table;
+  void put(size_t i, size_t n, const float* p) const {
+    float q[4];
+    composite(p, bg, q);
+    const uint32_t v = rgba8_pixel(q[0], q[1], q[2], q[3], linear, table);
+    for (size_t k = 0; k < n; k++)
+      for (int c = 0; c < 4; c++) rgba[(i + k) * 4 + c] = static_cast<uint8_t>(v >> (8 * c));
+  }
+};
 
 // A tree's paint tables as the sampler reads them: views of the tables and
 // of the pattern tiles' trees (not copyable: tables points into tiles).
@@ -116,14 +159,15 @@ ImageF render_tree_cpu(const ShortcutTree& tree, int width, int height, const st
   return render_tree_cpu(tree, box, integration_frame(box, width, height), background, threads, times);
 }
 
-ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const IntegrationFrame& frame,
-                       const PaintRecord& background, int threads, RenderTimes* times, uint32_t root) {
+namespace {
+
+// render_tree_cpu's body: every pixel of the frame once into sink (put;
+// from several threads, each pixel from one).
+template <class Sink>
+void render_tree_into(const ShortcutTree& tree, const Integration& integ, const IntegrationFrame& frame,
+                      const Sink& sink, int threads, RenderTimes* times, uint32_t root) {
   const std::vector<SampleOffset>& pattern = integ.offsets;  // class 0 first
   auto t0 = std::chrono::steady_clock::now();
-  ImageF img;
-  img.width = frame.width;
-  img.height = frame.height;
-  img.rgba.assign(size_t(frame.width) * size_t(frame.height) * 4, 0.0f);
   const std::vector<Task> tasks = schedule(tree, frame.ua_w, frame.ua_h, root);
   const std::vector<char> uniform = uniform_leaves(tree, root);
   if (times) times->schedule_ms += ms_since(t0);
@@ -150,7 +194,7 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
   const bool aliasing = integ.support % 2 == 1;
   const uint32_t root_kinds =
       root < tree.roots.size() ? tree.roots[root].kinds[aliasing] : sampler_kinds(paint.data, aliasing);
-  ImageF image = with_sampler_kinds(root_kinds, [&](auto kinds) {
+  with_sampler_kinds(root_kinds, [&](auto kinds) {
     constexpr uint32_t Kinds = decltype(kinds)::value;
     const int n = integ.samples;
     const bool direct = integ.support == 1 && integ.pad == 0;
@@ -164,8 +208,7 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
           const Rgba4 col = sample_cell<0, kUniformKinds<Kinds>>(in, c.begin, c.end, float(task.x0), float(task.y0));
           const float p[4] = {col.r, col.g, col.b, col.a};
           for (uint32_t y = task.y0; y < task.y1; y++)
-            for (uint32_t x = task.x0; x < task.x1; x++)
-              composite(p, background, &img.rgba[(size_t(y) * size_t(frame.width) + x) * 4]);
+            sink.put(size_t(y) * size_t(frame.width) + task.x0, task.x1 - task.x0, p);
           return;
         }
         uint64_t evaluated = 0;
@@ -173,11 +216,11 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
         std::vector<Rgba4> col(static_cast<size_t>(n));
         for (uint32_t y = task.y0; y < task.y1; y++) {
           for (uint32_t x = task.x0; x < task.x1; x++) {
-            float* out = &img.rgba[(size_t(y) * size_t(frame.width) + x) * 4];
+            const size_t out = size_t(y) * size_t(frame.width) + x;
             if (unit_area_flat(in, c.begin, c.end, x, y)) {
               const Rgba4 col = sample_cell<0, Kinds>(in, c.begin, c.end, float(x) + pattern[0].x, float(y) + pattern[0].y);
               const float p[4] = {col.r, col.g, col.b, col.a};
-              composite(p, background, out);
+              sink.put(out, 1, p);
               evaluated++;
               continue;
             }
@@ -195,25 +238,32 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
               acc[3] += col[k].a;
             }
             const float p[4] = {acc[0] * w, acc[1] * w, acc[2] * w, acc[3] * w};
-            composite(p, background, out);
+            sink.put(out, 1, p);
           }
         }
         samples.fetch_add(evaluated, std::memory_order_relaxed);
       });
       if (times) times->sample_ms += ms_since(t0);
-      return img;
+      return;
     }
 
     // Shared samples: every unit area sends K x K weighted sums. Unit areas
     // of uniform leaves are gathered in the normalisation instead (as on the
     // GPU): their flat colours go to ua_color.
     const int K = integ.support, T = K * K;
-    // (value-initialised: zeros, C++20's std::atomic default constructor)
-    std::vector<std::atomic<long long>> acc(size_t(frame.acc_w) * frame.acc_h * 4);
+    std::vector<long long> acc(size_t(frame.acc_w) * frame.acc_h * 4, 0);
     std::vector<Rgba4> ua_color(size_t(frame.ua_w) * frame.ua_h, Rgba4{0, 0, 0, -1});
     const int pass_threads = threads_for(double(frame.acc_w) * frame.acc_h * T);
-    parallel_for(tasks.size(), threads_for(double(frame.ua_w) * frame.ua_h * n * T), [&](size_t ti) {
-      const Task& task = tasks[ti];
+    const int sample_threads = threads_for(double(frame.ua_w) * frame.ua_h * n * T);
+    // Bands: four per thread and phase, at least K rows.
+    const uint32_t band = std::max<uint32_t>(
+        uint32_t(K), (uint32_t(frame.ua_h) + 8 * uint32_t(sample_threads) - 1) / (8 * uint32_t(sample_threads)));
+    const std::vector<std::vector<Task>> bands = band_schedule(tasks, frame.ua_h, band);
+    struct Scratch {
+      std::vector<Rgba4> col;
+      std::vector<float> sx, sy, sums;
+    };
+    auto sample_task = [&](const Task& task, Scratch& sc) {
       const Cell& c = tree.leaves[task.leaf];
       if (uniform[task.leaf]) {
         const Rgba4 flat =
@@ -222,9 +272,12 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
           for (uint32_t ux = task.x0; ux < task.x1; ux++) ua_color[size_t(uy) * frame.ua_w + ux] = flat;
         return;
       }
-      std::vector<Rgba4> col(static_cast<size_t>(n));
-      std::vector<float> sx(static_cast<size_t>(n)), sy(static_cast<size_t>(n));
-      std::vector<float> sums(size_t(T) * 4);
+      std::vector<Rgba4>& col = sc.col;
+      std::vector<float>&sx = sc.sx, &sy = sc.sy, &sums = sc.sums;
+      col.resize(static_cast<size_t>(n));
+      sx.resize(static_cast<size_t>(n));
+      sy.resize(static_cast<size_t>(n));
+      sums.resize(size_t(T) * 4);
       static_assert(sizeof(Rgba4) == 4 * sizeof(float), "Rgba4 is four floats");
       uint64_t evaluated = 0;
       for (uint32_t uy = task.y0; uy < task.y1; uy++) {
@@ -252,30 +305,50 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
               const int ax = static_cast<int>(ux) - ex;
               if (ax < 0 || ax >= frame.acc_w) continue;
               const float* s = &sums[size_t(ey * K + ex) * 4];
-              std::atomic<long long>* a = &acc[(size_t(ay) * frame.acc_w + ax) * 4];
-              for (int ch = 0; ch < 4; ch++) a[ch].fetch_add(to_fixed(s[ch]), std::memory_order_relaxed);
+              long long* a = &acc[(size_t(ay) * frame.acc_w + ax) * 4];
+              for (int ch = 0; ch < 4; ch++) a[ch] += to_fixed(s[ch]);
             }
           }
         }
       }
       samples.fetch_add(evaluated, std::memory_order_relaxed);
-    });
+    };
+    for (size_t phase = 0; phase < 2; phase++)
+      parallel_for((bands.size() + 1 - phase) / 2, sample_threads, [&](size_t i) {
+        Scratch sc;
+        for (const Task& task : bands[2 * i + phase]) sample_task(task, sc);
+      });
     // Normalise (adding the uniform unit areas), prefilter rows then columns,
     // clamp, crop, composite.
+    // A uniform unit area's sums depend on its colour and on the weight
+    // sum of (its class, e) alone: each row keeps the last colour and sums
+    // of every such pair, and most of a row (a flat background, a large
+    // shape) reuses them.
+    struct Uniform {
+      Rgba4 color;
+      long long fixed[4];
+    };
+    const size_t slots = size_t(integ.class_mod) * integ.class_mod * T;
     std::vector<float> buf(acc.size());
     parallel_for(size_t(frame.acc_h), pass_threads, [&](size_t ay) {
+      std::vector<Uniform> last(slots, Uniform{Rgba4{0, 0, 0, -1}, {0, 0, 0, 0}});
       for (int ax = 0; ax < frame.acc_w; ax++) {
         const size_t px = ay * size_t(frame.acc_w) + ax;
         long long sum[4];
-        for (int ch = 0; ch < 4; ch++) sum[ch] = acc[px * 4 + ch].load(std::memory_order_relaxed);
+        for (int ch = 0; ch < 4; ch++) sum[ch] = acc[px * 4 + ch];
         for (int e = 0; e < T; e++) {
           const uint32_t ux = uint32_t(ax + e % K), uy = uint32_t(ay + e / K);
           const Rgba4& u = ua_color[size_t(uy) * frame.ua_w + ux];
           if (u.a < 0.0f) continue;
-          float s[4];
-          integrate_unit_area(nullptr, 0, integ.weight_sums[unit_area_class(ux, uy, integ.class_mod) * T + e], 0, true,
-                              &u.r, nullptr, s);
-          for (int ch = 0; ch < 4; ch++) sum[ch] += to_fixed(s[ch]);
+          const int slot = unit_area_class(ux, uy, integ.class_mod) * T + e;
+          Uniform& m = last[size_t(slot)];
+          if (std::memcmp(&m.color, &u, sizeof u) != 0) {
+            float s[4];
+            integrate_unit_area(nullptr, 0, integ.weight_sums[slot], 0, true, &u.r, nullptr, s);
+            for (int ch = 0; ch < 4; ch++) m.fixed[ch] = to_fixed(s[ch]);
+            m.color = u;
+          }
+          for (int ch = 0; ch < 4; ch++) sum[ch] += m.fixed[ch];
         }
         const double norm = kFixedScale * integ.totals[unit_area_class(uint32_t(ax), uint32_t(ay), integ.class_mod)];
         for (int ch = 0; ch < 4; ch++) buf[px * 4 + ch] = fixed_to_float(sum[ch], norm);
@@ -309,14 +382,37 @@ ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const
         const float* q = &buf[((y + integ.pad) * frame.acc_w + x + integ.pad) * 4];
         std::copy(q, q + 4, p);
         clamp_premultiplied(p);
-        composite(p, background, &img.rgba[(y * frame.width + x) * 4]);
+        sink.put(y * frame.width + x, 1, p);
       }
     });
     if (times) times->sample_ms += ms_since(t0);
-    return img;
   });
   if (times) times->samples += samples.load(std::memory_order_relaxed);
-  return image;
+}
+
+}  // namespace
+
+ImageF render_tree_cpu(const ShortcutTree& tree, const Integration& integ, const IntegrationFrame& frame,
+                       const PaintRecord& background, int threads, RenderTimes* times, uint32_t root) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ImageF img;
+  img.width = frame.width;
+  img.height = frame.height;
+  img.rgba.assign(size_t(frame.width) * size_t(frame.height) * 4, 0.0f);
+  if (times) times->schedule_ms += ms_since(t0);
+  render_tree_into(tree, integ, frame, FloatSink{img.rgba.data(), background}, threads, times, root);
+  return img;
+}
+
+std::vector<uint8_t> render_tree_cpu_rgba8(const ShortcutTree& tree, const Integration& integ,
+                                           const IntegrationFrame& frame, const PaintRecord& background, Gamma gamma,
+                                           int threads, RenderTimes* times, uint32_t root) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<uint8_t> out(size_t(frame.width) * size_t(frame.height) * 4);
+  if (times) times->schedule_ms += ms_since(t0);
+  render_tree_into(tree, integ, frame, Rgba8Sink{out.data(), background, gamma == Gamma::Linear, srgb_code_table()},
+                   threads, times, root);
+  return out;
 }
 
 }  // namespace mpvg

@@ -39,6 +39,10 @@ size_t batch_group(const std::vector<Cell>& cells, const std::vector<size_t>& st
 
 namespace {
 
+// An entry makes at most this many entries in its children: itself in each
+// of four, and a shortcut entry for its run in each.
+constexpr size_t kMaxGrowth = 8;
+
 // Passes 1 to 3 of §4.2 as one pass over a batch of cells: each (parent
 // entry, child) pair's outputs (split_scatter) written in the pairs' order
 // -- cell by cell, child by child, entry by entry, as the scan of §4.2
@@ -59,7 +63,9 @@ struct Subdivision {
   // once, not once per child (the segments are read in the stream's order,
   // scattered over an array larger than the caches). Returns the entries
   // written.
-  size_t split_batch(size_t k0, size_t k1, std::vector<Entry>& list, TreeLevel& out) const {
+  // Without Write, only counts the entries (list and out unused).
+  template <bool Write>
+  size_t split_batch(size_t k0, size_t k1, std::vector<Entry>* list, TreeLevel* out) const {
     constexpr size_t kMaxOutputs = 4;  // a pair writes at most: itself, two shortcuts, a winding
     std::vector<uint8_t> flags;
     std::vector<int32_t> wind;
@@ -75,16 +81,19 @@ struct Subdivision {
           flags[c * size + i] = static_cast<uint8_t>(split_entry(in[pc.begin + i], segments.data(), box[c],
                                                                  &wind[c * size + i]));
       for (uint32_t c = 0; c < fanout; c++) {
-        Cell& cc = out.cells[fanout * k + c];
-        cc.begin = static_cast<uint32_t>(used);
+        if constexpr (Write) out->cells[fanout * k + c].begin = static_cast<uint32_t>(used);
         int32_t run = 0;
         for (uint32_t i = pc.begin; i < pc.end; i++) {
           const size_t j = c * size + (i - pc.begin);
           run = run_starts(in, i, pc.begin) ? wind[j] : run + wind[j];
-          if (list.size() < used + kMaxOutputs) list.resize(std::max(2 * list.size(), used + 4096));
-          used += split_scatter(in[i], flags[j], run_ends(in, i, pc.end), run, segments.data(), list.data() + used);
+          if constexpr (Write) {
+            if (list->size() < used + kMaxOutputs) list->resize(std::max(2 * list->size(), used + 4096));
+            used += split_scatter(in[i], flags[j], run_ends(in, i, pc.end), run, segments.data(), list->data() + used);
+          } else {
+            used += split_output_count(flags[j], run_ends(in, i, pc.end), run);
+          }
         }
-        cc.end = static_cast<uint32_t>(used);
+        if constexpr (Write) out->cells[fanout * k + c].end = static_cast<uint32_t>(used);
       }
     }
     return used;
@@ -114,23 +123,37 @@ TreeLevel subdivide_cpu(const std::vector<Cell>& cells, const Entry* entries,
       sd.boxes[sd.fanout * k + c] = cell_box(cc.ix, cc.iy, cc.level, root_size);
     }
   }
+  // A level that might pass the cap is counted first, so that it is given
+  // up before its entries are made, and its list is made at its size (no
+  // copy of a growing list: the old and new arrays at once).
+  const size_t cores = static_cast<size_t>(hardware_threads());
+  const std::vector<size_t> starts = cell_batches(cells, span, cores);
+  auto end_of = [&](size_t b) { return b + 1 < starts.size() ? starts[b + 1] : cells.size(); };
+  if (span > max_entries / kMaxGrowth) {
+    std::vector<size_t> counts(starts.size());
+    parallel_for(starts.size(), static_cast<int>(cores),
+                 [&](size_t b) { counts[b] = sd.split_batch<false>(starts[b], end_of(b), nullptr, nullptr); });
+    size_t total = 0;
+    for (size_t c : counts) total += c;
+    if (total > max_entries) {
+      if (overflow) *overflow = true;
+      return TreeLevel{};
+    }
+    out.entries.reserve(total);
+  }
   // Batches of at most cpu_batch_entries entries; a large level in at least
   // one batch per core. Groups of up to as many batches as cores, at most
   // cpu_batch_entries entries in all (a larger batch alone), split in
   // parallel, each into a list of its own (batches are independent: no cell
   // spans two, and the output depends on the cells alone); the lists are
   // then placed after the previous group's, and their cells' ranges moved
-  // there. A level that would pass the cap is given up as soon as a group
-  // passes it: what it holds stays bounded by the cap and one group's lists.
-  const size_t cores = static_cast<size_t>(hardware_threads());
-  const std::vector<size_t> starts = cell_batches(cells, span, cores);
-  auto end_of = [&](size_t b) { return b + 1 < starts.size() ? starts[b + 1] : cells.size(); };
+  // there.
   std::vector<std::vector<Entry>> lists(std::min(cores, starts.size()));
   std::vector<size_t> base(lists.size() + 1);
   for (size_t g = 0, m; g < starts.size(); g += m) {
     m = batch_group(cells, starts, g, cores);
     parallel_for(m, static_cast<int>(m),
-                 [&](size_t b) { base[b + 1] = sd.split_batch(starts[g + b], end_of(g + b), lists[b], out); });
+                 [&](size_t b) { base[b + 1] = sd.split_batch<true>(starts[g + b], end_of(g + b), &lists[b], &out); });
     base[0] = out.entries.size();
     for (size_t b = 0; b < m; b++) base[b + 1] += base[b];
     if (base[m] > max_entries) {

@@ -63,7 +63,7 @@ std::vector<uint8_t> FrameRenderer::download(const DeviceImage&) {
 std::vector<uint8_t> FrameRenderer::render_rgba8(const EncodedScene& scene, const RenderPlan& plan,
                                                 const RenderOptions& options, RenderStats* stats,
                                                 std::vector<uint8_t> /*storage*/) {
-  std::vector<uint8_t> out = to_rgba8(render_cpu(scene, plan, options, stats), options.gamma);
+  std::vector<uint8_t> out = render_cpu_rgba8(scene, plan, options, stats);
   if (stats) stats->note = impl_->note;
   return out;
 }
@@ -72,10 +72,10 @@ png::ImageData FrameRenderer::render_png(const EncodedScene& scene, const Render
                                          RenderStats* stats) {
   RenderStats local;
   RenderStats& st = stats ? *stats : local;
-  const ImageF img = render_cpu(scene, plan, options, &st);
+  const std::vector<uint8_t> rgba8 = render_cpu_rgba8(scene, plan, options, &st);
   st.note = impl_->note;
   const auto t0 = std::chrono::steady_clock::now();
-  png::ImageData data = png::compress_rgba8(to_rgba8(img, options.gamma).data(), img.width, img.height);
+  png::ImageData data = png::compress_rgba8(rgba8.data(), plan.frame.width, plan.frame.height);
   st.png_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return data;
 }
@@ -83,7 +83,8 @@ png::ImageData FrameRenderer::render_png(const EncodedScene& scene, const Render
 png::FilteredRows FrameRenderer::render_filtered(const EncodedScene& scene, const RenderPlan& plan,
                                                  const RenderOptions& options, RenderStats* stats,
                                                  std::vector<uint8_t> storage) {
-  png::FilteredRows rows = filter_rows_cpu(render_cpu(scene, plan, options, stats), options.gamma, stats, std::move(storage));
+  const std::vector<uint8_t> rgba8 = render_cpu_rgba8(scene, plan, options, stats);
+  png::FilteredRows rows = filter_rows_cpu(rgba8.data(), plan.frame.width, plan.frame.height, stats, std::move(storage));
   if (stats) stats->note = impl_->note;
   return rows;
 }

@@ -302,7 +302,7 @@ std::vector<uint8_t> FrameRenderer::render_rgba8(const EncodedScene& scene, cons
   local.stage_times = false;  // nobody reads them
   RenderStats& st = stats ? *stats : local;
   st.note = impl_->note;
-  if (impl_->backend == Backend::Cpu) return to_rgba8(render_cpu(scene, plan, options, &st), options.gamma);
+  if (impl_->backend == Backend::Cpu) return render_cpu_rgba8(scene, plan, options, &st);
   cudaSetDevice(impl_->device);
   gpu::Context& ctx = *impl_->ctx;
   return render_cuda(ctx, scene, plan, options, st, [&](const PaintRecord& bg, gpu::GpuTimes* gt) {
@@ -361,9 +361,9 @@ png::ImageData FrameRenderer::render_png(const EncodedScene& scene, const Render
   RenderStats& st = stats ? *stats : local;
   st.note = impl_->note;
   if (impl_->backend == Backend::Cpu) {
-    const ImageF img = render_cpu(scene, plan, options, &st);
+    const std::vector<uint8_t> rgba8 = render_cpu_rgba8(scene, plan, options, &st);
     const auto t0 = std::chrono::steady_clock::now();
-    png::ImageData data = png::compress_rgba8(to_rgba8(img, options.gamma).data(), img.width, img.height);
+    png::ImageData data = png::compress_rgba8(rgba8.data(), plan.frame.width, plan.frame.height);
     st.png_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return data;
   }
@@ -383,8 +383,10 @@ png::FilteredRows FrameRenderer::render_filtered(const EncodedScene& scene, cons
   local.stage_times = false;  // nobody reads them
   RenderStats& st = stats ? *stats : local;
   st.note = impl_->note;
-  if (impl_->backend == Backend::Cpu)
-    return filter_rows_cpu(render_cpu(scene, plan, options, &st), options.gamma, &st, std::move(storage));
+  if (impl_->backend == Backend::Cpu) {
+    const std::vector<uint8_t> rgba8 = render_cpu_rgba8(scene, plan, options, &st);
+    return filter_rows_cpu(rgba8.data(), plan.frame.width, plan.frame.height, &st, std::move(storage));
+  }
   cudaSetDevice(impl_->device);
   gpu::Context& ctx = *impl_->ctx;
   return render_cuda(ctx, scene, plan, options, st, [&](const PaintRecord& bg, gpu::GpuTimes* gt) {
