@@ -28,12 +28,17 @@ namespace {
 // target; the old constants predicted 2-5x the measured time. Within ~50 %
 // of the measurements (the tree's cost is not linear in segments); the
 // thread exponent is the GPU host's earlier fit, not measured again.
+// Refitted again after the sample lanes, the one-pass subdivision and the
+// 8-bit sink (the same eight frames, medians of three): 9000 -> 6900 ns an
+// input segment, 2.0 -> 1.8 ns a sample, 0.73 -> 0.48 ns a sample and
+// target; still within ~50 % (a segment's cost depends on its kind: tiger's
+// 2,170 cubics take longer than reschart's 7,919 lines).
 constexpr double kCpuFrameMs = 0.3;
 constexpr double kCpuWideFilterMs = 2.5;
-constexpr double kCpuSegmentNs = 9000;
+constexpr double kCpuSegmentNs = 6900;
 constexpr double kCpuUnitAreaNs = 0.1;
-constexpr double kCpuSampleNs = 2.0;
-constexpr double kCpuSampleTargetNs = 0.73;
+constexpr double kCpuSampleNs = 1.8;
+constexpr double kCpuSampleTargetNs = 0.48;
 constexpr double kCpuThreadExponent = 0.6;
 // CUDA backend on an H100, a warm context (the start-up's warm-up frame
 // done): a frame's floor (launches, copies), per input segment, per sample,
