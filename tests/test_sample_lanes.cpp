@@ -132,3 +132,45 @@ TEST_CASE("sample lanes: a line's tests as selects take the rules' decisions", "
   }
   CHECK(ties > 1000);
 }
+
+TEST_CASE("sample lanes: a curve's tests as selects decide as abstract_side", "[lanes]") {
+  // The abstract segments of random scenes' curved paths, at random points
+  // of their boxes and at the ties: endpoints' heights, the x-range's ends,
+  // the apex's coordinates.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-0.25f, 1.25f);
+  uint64_t quads = 0, cubics = 0, implicit = 0;
+  for (uint32_t seed = 1; seed <= 20; seed++) {
+    const ShortcutTree tree = tree_of(random_scenes::clip_scene(seed, 3, kSize, seed % 2 == 0));
+    for (const AbstractSegment& s : tree.segments) {
+      const uint32_t type = abstract_type(s);
+      if (type == ABSTRACT_LINE) continue;
+      (type == ABSTRACT_QUAD ? quads : cubics)++;
+      const float xs[] = {s.x0, s.x1, s.cx, abstract_xmin(s), abstract_xmax(s)};
+      const float ys[] = {s.y0, s.y1, s.cy};
+      for (int i = 0; i < 40; i++) {
+        float px = abstract_xmin(s) + u(rng) * (abstract_xmax(s) - abstract_xmin(s));
+        float py = abstract_ymin(s) + u(rng) * (abstract_ymax(s) - abstract_ymin(s));
+        if (i % 4 == 1) px = xs[rng() % 5];
+        if (i % 4 == 2) py = ys[rng() % 3];
+        const int side = type == ABSTRACT_QUAD ? CurveTest<ABSTRACT_QUAD>(s).side(px, py)
+                                               : CurveTest<ABSTRACT_CUBIC>(s).side(px, py);
+        const int wind = type == ABSTRACT_QUAD ? CurveTest<ABSTRACT_QUAD>(s).winding(px, py)
+                                               : CurveTest<ABSTRACT_CUBIC>(s).winding(px, py);
+        INFO("seed " << seed << " type " << type << " " << s.x0 << "," << s.y0 << " - " << s.x1 << "," << s.y1
+                     << " at " << px << "," << py);
+        if (!abstract_horizontal(s) && abstract_ymin(s) <= py && py <= abstract_ymax(s)) {
+          REQUIRE(side == abstract_side(s, px, py));
+          const float d = abstract_chord(s, px, py);
+          implicit += px > abstract_xmin(s) && px < abstract_xmax(s) && py != s.y0 && py != s.y1 &&
+                      ((s.flags & ABSTRACT_BULGE_LEFT) ? d > 0.0f : d < 0.0f);
+        }
+        REQUIRE(wind == abstract_ray_winding(s, px, py));
+      }
+    }
+  }
+  INFO(quads << " quadratic and " << cubics << " cubic pieces, " << implicit << " points on a bulge side");
+  CHECK(quads > 1000);
+  CHECK(cubics > 1000);
+  CHECK(implicit > 10000);
+}

@@ -107,12 +107,18 @@ MPVG_HD_INLINE float abstract_chord(const AbstractSegment& s, float px, float py
   return s.y1 > s.y0 ? d : -d;
 }
 
-// The implicit in triangle coordinates (see the top of this file).
-MPVG_HD_INLINE float abstract_implicit_tri(const AbstractSegment& s, float b0, float bc, float b1) {
-  const float* k = s.k;
-  if (abstract_type(s) == ABSTRACT_QUAD) return k[0] * bc * bc + k[1] * b0 * b1;
+// The implicit in triangle coordinates (see the top of this file), of a
+// conic piece and of a cubic one from its coefficients k.
+MPVG_HD_ALWAYS_INLINE float abstract_implicit_quad(const float* k, float b0, float bc, float b1) {
+  return k[0] * bc * bc + k[1] * b0 * b1;
+}
+MPVG_HD_ALWAYS_INLINE float abstract_implicit_cubic(const float* k, float b0, float bc, float b1) {
   return b0 * (b0 * (k[0] * b0 + k[1] * bc + k[2] * b1) + bc * (k[3] * bc + k[4] * b1) + k[5] * b1 * b1) +
          bc * (bc * (k[6] * bc + k[7] * b1) + k[8] * b1 * b1) + k[9] * b1 * b1 * b1;
+}
+MPVG_HD_INLINE float abstract_implicit_tri(const AbstractSegment& s, float b0, float bc, float b1) {
+  if (abstract_type(s) == ABSTRACT_QUAD) return abstract_implicit_quad(s.k, b0, bc, b1);
+  return abstract_implicit_cubic(s.k, b0, bc, b1);
 }
 
 MPVG_HD_INLINE float abstract_tri_b1(const AbstractSegment& s, float px, float py) {
@@ -129,11 +135,11 @@ MPVG_HD_INLINE float abstract_implicit(const AbstractSegment& s, float px, float
 }
 
 // +1 when px < x, -1 when px > x, 0 when equal.
-MPVG_HD_INLINE int abstract_side_of(float px, float x) { return int(px < x) - int(px > x); }
+MPVG_HD_ALWAYS_INLINE int abstract_side_of(float px, float x) { return int(px < x) - int(px > x); }
 
 // c ? a : b as a mask: gcc vectorises a loop of these where it will not
 // if-convert the conditional (of float comparisons) in the loop's body.
-MPVG_HD_INLINE int select_int(bool c, int a, int b) {
+MPVG_HD_ALWAYS_INLINE int select_int(bool c, int a, int b) {
   const int m = -static_cast<int>(c);
   return (a & m) | (b & ~m);
 }
@@ -148,24 +154,67 @@ MPVG_HD_INLINE int select_int(bool c, int a, int b) {
 struct LineTest {
   float x0, y0, x1, y1, dx, dy, xmin, xmax, lo, hi;
   bool up;  // y1 > y0
-  MPVG_HD_INLINE explicit LineTest(const AbstractSegment& s)
+  MPVG_HD_ALWAYS_INLINE explicit LineTest(const AbstractSegment& s)
       : x0(s.x0), y0(s.y0), x1(s.x1), y1(s.y1), dx(s.x1 - s.x0), dy(s.y1 - s.y0), xmin(abstract_xmin(s)),
         xmax(abstract_xmax(s)), lo(s.y1 > s.y0 ? s.y0 : s.y1), hi(s.y1 > s.y0 ? s.y1 : s.y0), up(s.y1 > s.y0) {}
-  // abstract_side's precondition.
-  MPVG_HD_INLINE int side(float px, float py) const {
-    const float d = (py - y0) * dx - (px - x0) * dy;
-    const int chord = int(d > 0.0f) - int(d < 0.0f);
-    int r = select_int(up, chord, -chord);
-    r = select_int(px >= xmax, -1, r);
+  // abstract_chord_raw.
+  MPVG_HD_ALWAYS_INLINE float chord(float px, float py) const { return (py - y0) * dx - (px - x0) * dy; }
+  // The decisions every piece takes first, at an endpoint's height and
+  // outside the x-range, over `inner`, the decision elsewhere.
+  MPVG_HD_ALWAYS_INLINE int bounded(float px, float py, int inner) const {
+    int r = select_int(px >= xmax, -1, inner);
     r = select_int(px <= xmin, 1 - (int(px == xmin) & int(px == xmax)), r);
     r = select_int(py == y1, abstract_side_of(px, x1), r);
     return select_int(py == y0, abstract_side_of(px, x0), r);
   }
+  // abstract_side's precondition.
+  MPVG_HD_ALWAYS_INLINE int side(float px, float py) const {
+    const float d = chord(px, py);
+    const int c = int(d > 0.0f) - int(d < 0.0f);
+    return bounded(px, py, select_int(up, c, -c));
+  }
   // abstract_ray_winding: the half-open y-range, then the side.
-  MPVG_HD_INLINE int winding(float px, float py) const {
-    const int crosses = int(!(py < lo)) & int(!(py >= hi)) & int(side(px, py) > 0);
+  MPVG_HD_ALWAYS_INLINE int winding(float px, float py) const { return crossing(py, side(px, py)); }
+  MPVG_HD_ALWAYS_INLINE int crossing(float py, int side) const {
+    const int crosses = int(!(py < lo)) & int(!(py >= hi)) & int(side > 0);
     return select_int(up, crosses, -crosses);
   }
+};
+
+// The same for a curved piece of type Type (ABSTRACT_QUAD or _CUBIC): the
+// decisions of abstract_side's curve case, the chord, the bulge side,
+// triangle P0 C P1 and the implicit, each computed for every point (their
+// floats as abstract_side computes them) and selected in abstract_side's
+// order. abstract_side itself takes them one by one, returning early: the
+// subdivision and the GPU ask one point at a time. test_sample_lanes checks
+// that both decide alike.
+template <uint32_t Type>
+struct CurveTest {
+  LineTest line;
+  float cx, cy, c0x, c0y, c1x, c1y;
+  float k[Type == ABSTRACT_QUAD ? 2 : 10];
+  bool bulge_left, positive;
+  MPVG_HD_ALWAYS_INLINE explicit CurveTest(const AbstractSegment& s)
+      : line(s), cx(s.cx), cy(s.cy), c0x(s.cx - s.x0), c0y(s.cy - s.y0), c1x(s.x1 - s.cx), c1y(s.y1 - s.cy),
+        bulge_left((s.flags & ABSTRACT_BULGE_LEFT) != 0), positive((s.flags & ABSTRACT_TRI_POSITIVE) != 0) {
+    for (int i = 0; i < int(sizeof k / sizeof k[0]); i++) k[i] = s.k[i];
+  }
+  MPVG_HD_ALWAYS_INLINE int side(float px, float py) const {
+    const float d = line.chord(px, py);
+    const int c = int(d > 0.0f) - int(d < 0.0f);
+    const int chord = select_int(line.up, c, -c);  // abstract_chord's sign
+    const int on_bulge_side = select_int(bulge_left, int(chord > 0), int(chord < 0));
+    const float b0 = c1x * (py - cy) - c1y * (px - cx);             // abstract_tri_b0
+    const float b1 = c0x * (py - line.y0) - c0y * (px - line.x0);  // abstract_tri_b1
+    const int outside = select_int(positive, int(b0 < 0.0f) | int(b1 < 0.0f), int(b0 > 0.0f) | int(b1 > 0.0f));
+    const float f = Type == ABSTRACT_QUAD ? abstract_implicit_quad(k, b0, d, b1) : abstract_implicit_cubic(k, b0, d, b1);
+    const int bulge = select_int(bulge_left, 1, -1);
+    int r = int(f > 0.0f) - int(f < 0.0f);
+    r = select_int(outside != 0, bulge, r);
+    r = select_int(on_bulge_side == 0, -bulge, r);
+    return line.bounded(px, py, r);
+  }
+  MPVG_HD_ALWAYS_INLINE int winding(float px, float py) const { return line.crossing(py, side(px, py)); }
 };
 
 // side(p) as specified at the top of this file. Precondition: p.y lies in

@@ -483,8 +483,12 @@ MPVG_HD_INLINE void lanes_add_winding(Entry e, const AbstractSegment* segments, 
     if (abstract_type(s) == ABSTRACT_LINE) {
       const LineTest line(s);
       for (int k = 0; k < kSampleLanes; k++) w[k] += line.winding(x[k], y[k]);
+    } else if (abstract_type(s) == ABSTRACT_QUAD) {
+      const CurveTest<ABSTRACT_QUAD> quad(s);
+      for (int k = 0; k < kSampleLanes; k++) w[k] += quad.winding(x[k], y[k]);
     } else {
-      for (int k = 0; k < kSampleLanes; k++) w[k] += abstract_ray_winding(s, x[k], y[k]);
+      const CurveTest<ABSTRACT_CUBIC> cubic(s);
+      for (int k = 0; k < kSampleLanes; k++) w[k] += cubic.winding(x[k], y[k]);
     }
     return;
   }
