@@ -331,35 +331,77 @@ void render_tree_into(const ShortcutTree& tree, const Integration& integ, const 
     // A uniform unit area's sums depend on its colour and on the weight
     // sum of (its class, e) alone: each row keeps the last colour and sums
     // of every such pair, and most of a row (a flat background, a large
-    // shape) reuses them.
+    // shape) reuses them. A pixel whose K x K unit areas are all uniform, of
+    // one colour, with nothing else sent to it, depends on that colour and
+    // on its column's class alone (the row's is the row's): each row keeps
+    // the last such pixel of each column class. Classes are counted along
+    // the row, not taken modulo per unit area.
     struct Uniform {
       Rgba4 color;
       long long fixed[4];
     };
-    const size_t slots = size_t(integ.class_mod) * integ.class_mod * T;
+    struct Pixel {
+      Rgba4 color;
+      float out[4];
+    };
+    const int cm = integ.class_mod;
+    const size_t slots = size_t(cm) * cm * T;
+    auto same = [](const Rgba4& a, const Rgba4& b) { return std::memcmp(&a, &b, sizeof a) == 0; };
     std::vector<float> buf(acc.size());
     parallel_for(size_t(frame.acc_h), pass_threads, [&](size_t ay) {
       std::vector<Uniform> last(slots, Uniform{Rgba4{0, 0, 0, -1}, {0, 0, 0, 0}});
-      for (int ax = 0; ax < frame.acc_w; ax++) {
+      std::vector<Pixel> last_pixel(size_t(cm), Pixel{Rgba4{0, 0, 0, -1}, {0, 0, 0, 0}});
+      std::vector<const Rgba4*> rows(static_cast<size_t>(K));
+      std::vector<int> row_class(static_cast<size_t>(K)), col_class(static_cast<size_t>(cm) * K);
+      for (int ey = 0; ey < K; ey++) {
+        rows[ey] = &ua_color[(ay + size_t(ey)) * frame.ua_w];
+        row_class[ey] = int((ay + size_t(ey)) % size_t(cm)) * cm;
+      }
+      for (int xm = 0; xm < cm; xm++)
+        for (int ex = 0; ex < K; ex++) col_class[size_t(xm) * K + ex] = (xm + ex) % cm;
+      std::vector<int> run(static_cast<size_t>(frame.ua_w));
+      int ran = 0;  // columns of run[] made
+      for (int ax = 0, xm = 0; ax < frame.acc_w; ax++, xm = xm + 1 == cm ? 0 : xm + 1) {
         const size_t px = ay * size_t(frame.acc_w) + ax;
         long long sum[4];
         for (int ch = 0; ch < 4; ch++) sum[ch] = acc[px * 4 + ch];
-        for (int e = 0; e < T; e++) {
-          const uint32_t ux = uint32_t(ax + e % K), uy = uint32_t(ay + e / K);
-          const Rgba4& u = ua_color[size_t(uy) * frame.ua_w + ux];
-          if (u.a < 0.0f) continue;
-          const int slot = unit_area_class(ux, uy, integ.class_mod) * T + e;
-          Uniform& m = last[size_t(slot)];
-          if (std::memcmp(&m.color, &u, sizeof u) != 0) {
-            float s[4];
-            integrate_unit_area(nullptr, 0, integ.weight_sums[slot], 0, true, &u.r, nullptr, s);
-            for (int ch = 0; ch < 4; ch++) m.fixed[ch] = to_fixed(s[ch]);
-            m.color = u;
-          }
-          for (int ch = 0; ch < 4; ch++) sum[ch] += m.fixed[ch];
+        // run[x]: how many columns up to x have their K unit areas uniform,
+        // of u0's colour (K compares a column, not K^2 a pixel).
+        const Rgba4& u0 = rows[0][ax];
+        for (; ran < ax + K; ran++) {
+          const Rgba4& top = rows[0][ran];
+          bool column = top.a >= 0.0f;
+          for (int ey = 1; ey < K && column; ey++) column = same(rows[ey][ran], top);
+          run[ran] = !column ? 0 : (ran > 0 && run[ran - 1] > 0 && same(rows[0][ran - 1], top)) ? run[ran - 1] + 1 : 1;
         }
-        const double norm = kFixedScale * integ.totals[unit_area_class(uint32_t(ax), uint32_t(ay), integ.class_mod)];
+        const bool flat = run[ax + K - 1] >= K && (sum[0] | sum[1] | sum[2] | sum[3]) == 0;
+        Pixel& lp = last_pixel[size_t(xm)];
+        if (flat && same(lp.color, u0)) {
+          std::copy_n(lp.out, 4, &buf[px * 4]);
+          continue;
+        }
+        const int* cc = &col_class[size_t(xm) * K];
+        for (int ey = 0; ey < K; ey++)
+          for (int ex = 0; ex < K; ex++) {
+            const Rgba4& u = rows[ey][ax + ex];
+            if (u.a < 0.0f) continue;
+            const int e = ey * K + ex;
+            const int slot = (row_class[ey] + cc[ex]) * T + e;
+            Uniform& m = last[size_t(slot)];
+            if (!same(m.color, u)) {
+              float s[4];
+              integrate_unit_area(nullptr, 0, integ.weight_sums[slot], 0, true, &u.r, nullptr, s);
+              for (int ch = 0; ch < 4; ch++) m.fixed[ch] = to_fixed(s[ch]);
+              m.color = u;
+            }
+            for (int ch = 0; ch < 4; ch++) sum[ch] += m.fixed[ch];
+          }
+        const double norm = kFixedScale * integ.totals[row_class[0] + cc[0]];
         for (int ch = 0; ch < 4; ch++) buf[px * 4 + ch] = fixed_to_float(sum[ch], norm);
+        if (flat) {
+          lp.color = u0;
+          std::copy_n(&buf[px * 4], 4, lp.out);
+        }
       }
     });
     if (integ.prefilter) {
