@@ -264,6 +264,26 @@ MPVG_HD_INLINE float cardinal_causal_carry(const float* data, int n, int stride)
 MPVG_HD_INLINE float lane_axpy(float a, float x, float y) { return a * x + y; }
 MPVG_HD_INLINE float lane_scale(float a, float x) { return a * x; }
 MPVG_HD_INLINE float lane_sub(float x, float y) { return x - y; }
+// The CPU's four channels of one pixel, stepped together (SSE on x86):
+// each channel's operations are the float ones above.
+struct Lane4 {
+  float v[4];
+};
+inline Lane4 lane_axpy(float a, Lane4 x, Lane4 y) {
+  Lane4 r;
+  for (int c = 0; c < 4; c++) r.v[c] = a * x.v[c] + y.v[c];
+  return r;
+}
+inline Lane4 lane_scale(float a, Lane4 x) {
+  Lane4 r;
+  for (int c = 0; c < 4; c++) r.v[c] = a * x.v[c];
+  return r;
+}
+inline Lane4 lane_sub(Lane4 x, Lane4 y) {
+  Lane4 r;
+  for (int c = 0; c < 4; c++) r.v[c] = x.v[c] - y.v[c];
+  return r;
+}
 #if defined(__CUDACC__)
 MPVG_HD_INLINE float4 lane_axpy(float a, float4 x, float4 y) {
   return make_float4(a * x.x + y.x, a * x.y + y.y, a * x.z + y.z, a * x.w + y.w);
@@ -346,29 +366,31 @@ MPVG_HD_INLINE void prefilter_anticausal_correct(V* d, size_t s, PrefilterBlock 
 }
 
 // The whole prefilter on one line of n samples of 4 channels, `stride`
-// floats apart: the blocks one after another (the CPU's executor).
+// floats apart (a multiple of 4): the blocks one after another, the four
+// channels of a pixel together (the CPU's executor).
 inline void cardinal_prefilter_line(float* data, int n, int stride) {
   if (n < 2) return;
   PrefilterBlock blocks[kPrefilterBlocks];
   for (int j = 0; j < kPrefilterBlocks; j++) blocks[j] = prefilter_block(n, j);
-  const size_t s = static_cast<size_t>(stride);
-  float carry[kPrefilterBlocks];
-  auto carry_of = [&](int j) -> float& { return carry[j]; };
+  static_assert(sizeof(Lane4) == 4 * sizeof(float), "a pixel's four channels");
+  Lane4* d = reinterpret_cast<Lane4*>(data);
+  const size_t s = static_cast<size_t>(stride / 4);
+  Lane4 carry[kPrefilterBlocks];
+  auto carry_of = [&](int j) -> Lane4& { return carry[j]; };
   auto block_of = [&](int j) { return blocks[j]; };
-  for (int c = 0; c < 4; c++) {
-    float* d = data + c;
-    const float c0 = cardinal_causal_carry(d, n, stride);
-    for (int j = 0; j < kPrefilterBlocks; j++) carry[j] = prefilter_causal_block(d, s, blocks[j], 0.0f);
-    prefilter_carries(carry_of, block_of, c0, false);
-    for (int j = 0; j < kPrefilterBlocks; j++) prefilter_causal_correct(d, s, blocks[j], carry[j]);
-    const float a0 = cardinal_anticausal_start(d[(n - 1) * s], d[(n - 2) * s]);
-    for (int j = 0; j < kPrefilterBlocks; j++) {
-      const bool tail = blocks[j].end > blocks[j].start && blocks[j].end == n;
-      carry[j] = prefilter_anticausal_block(d, s, blocks[j], tail, tail ? a0 : 0.0f);
-    }
-    prefilter_carries(carry_of, block_of, 0.0f, true);
-    for (int j = 0; j < kPrefilterBlocks; j++) prefilter_anticausal_correct(d, s, blocks[j], carry[j]);
+  const Lane4 zero{{0.0f, 0.0f, 0.0f, 0.0f}};
+  Lane4 c0;
+  for (int c = 0; c < 4; c++) c0.v[c] = cardinal_causal_carry(data + c, n, stride);
+  for (int j = 0; j < kPrefilterBlocks; j++) carry[j] = prefilter_causal_block(d, s, blocks[j], zero);
+  prefilter_carries(carry_of, block_of, c0, false);
+  for (int j = 0; j < kPrefilterBlocks; j++) prefilter_causal_correct(d, s, blocks[j], carry[j]);
+  const Lane4 a0 = cardinal_anticausal_start(d[(n - 1) * s], d[(n - 2) * s]);
+  for (int j = 0; j < kPrefilterBlocks; j++) {
+    const bool tail = blocks[j].end > blocks[j].start && blocks[j].end == n;
+    carry[j] = prefilter_anticausal_block(d, s, blocks[j], tail, tail ? a0 : zero);
   }
+  prefilter_carries(carry_of, block_of, zero, true);
+  for (int j = 0; j < kPrefilterBlocks; j++) prefilter_anticausal_correct(d, s, blocks[j], carry[j]);
 }
 
 // A premultiplied pixel made valid after filters with negative lobes:
