@@ -2,13 +2,15 @@
 // to unit areas, so the unit areas of a leaf are the unit-area grid squares
 // it covers (the non-warped scheduler of §5.3); threads take strips of one
 // leaf at a time, so a cell's stream stays in cache while its samples are
-// evaluated.
+// evaluated, a unit area's samples together (sample lanes, sampling.h).
 //
 // Integration (integration.h): with the box filter a unit area is its pixel
 // and the average of its samples is written directly. Wider filters send one
-// weighted sum per covered pixel into fixed-point accumulators (atomic, so
-// the order of arrival does not matter), which are then normalised, passed
-// through the cardinal prefilter if asked, clamped and cropped.
+// weighted sum per covered pixel into fixed-point accumulators (integers, so
+// the order of arrival does not matter; bands of rows keep threads off each
+// other's, band_schedule), which are then normalised, passed through the
+// cardinal prefilter if asked, clamped and cropped. Pixels go to a sink:
+// floats (ImageF) or the 8-bit codes the frames write.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
