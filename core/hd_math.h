@@ -104,4 +104,75 @@ MPVG_HD_INLINE float hd_atan2f(float y, float x) {
   return static_cast<float>(neg_y ? -a : a);
 }
 
+// ln x, as logf: -inf at 0 (either sign), NaN below 0 or for NaN, +inf at
+// +inf.
+MPVG_HD_INLINE float hd_logf(float x) {
+  if (x != x || x < 0.0f) return NAN;
+  if (x == 0.0f) return -HUGE_VALF;
+  if (x == HUGE_VALF) return x;
+  return static_cast<float>(hd_log2_d(static_cast<double>(x)) * 0.69314718055994530942);
+}
+
+// sin and cos of x (radians, finite) in double: x less the nearest
+// multiple k of pi/2 (pi/2 in three parts, the first two products exact
+// for |k| < 2^20; beyond, the reduction is only as good as double's, and
+// both executors take the same steps), then the series of the remainder r,
+// |r| <= pi/4, swapped and signed by k mod 4.
+MPVG_HD_INLINE void hd_sincos_d(double x, double* s, double* c) {
+  const double k = rint(x * 0.63661977236758134308);  // 2 / pi
+  // pi/2 = 1.5707963267341256 + 6.077100506303966e-11 + 2.0222662487959506e-21,
+  // the first two of 33 bits.
+  const double r = ((x - k * 1.5707963267341256) - k * 6.077100506303966e-11) - k * 2.0222662487959506e-21;
+  const double r2 = r * r;
+  // sin r = r (1 - r^2/3! + r^4/5! - ...) to r^21, cos r = 1 - r^2/2! +
+  // r^4/4! - ... to r^22 (the next terms are below 2^-60 for |r| <= pi/4).
+  double ps = -1.0 / 51090942171709440000.0;          // -1/21!
+  ps = ps * r2 + 1.0 / 121645100408832000.0;           // 1/19!
+  ps = ps * r2 - 1.0 / 355687428096000.0;              // 1/17!
+  ps = ps * r2 + 1.0 / 1307674368000.0;                // 1/15!
+  ps = ps * r2 - 1.0 / 6227020800.0;                   // 1/13!
+  ps = ps * r2 + 1.0 / 39916800.0;                     // 1/11!
+  ps = ps * r2 - 1.0 / 362880.0;                       // 1/9!
+  ps = ps * r2 + 1.0 / 5040.0;
+  ps = ps * r2 - 1.0 / 120.0;
+  ps = ps * r2 + 1.0 / 6.0;
+  ps = 1.0 - ps * r2;
+  double pc = -1.0 / 1124000727777607680000.0;         // -1/22!
+  pc = pc * r2 + 1.0 / 2432902008176640000.0;          // 1/20!
+  pc = pc * r2 - 1.0 / 6402373705728000.0;             // 1/18!
+  pc = pc * r2 + 1.0 / 20922789888000.0;               // 1/16!
+  pc = pc * r2 - 1.0 / 87178291200.0;                  // 1/14!
+  pc = pc * r2 + 1.0 / 479001600.0;                    // 1/12!
+  pc = pc * r2 - 1.0 / 3628800.0;                      // 1/10!
+  pc = pc * r2 + 1.0 / 40320.0;
+  pc = pc * r2 - 1.0 / 720.0;
+  pc = pc * r2 + 1.0 / 24.0;
+  pc = pc * r2 - 0.5;
+  pc = 1.0 + pc * r2;
+  const double sr = r * ps, cr = pc;
+  const long long q = static_cast<long long>(k) & 3;
+  *s = q == 0 ? sr : q == 1 ? cr : q == 2 ? -sr : -cr;
+  *c = q == 0 ? cr : q == 1 ? -sr : q == 2 ? -cr : sr;
+}
+
+// sin, cos and tan of x, as sinf, cosf and tanf: NaN for infinite or NaN x.
+MPVG_HD_INLINE float hd_sinf(float x) {
+  if (!(x - x == 0.0f)) return NAN;
+  double s, c;
+  hd_sincos_d(static_cast<double>(x), &s, &c);
+  return static_cast<float>(s);
+}
+MPVG_HD_INLINE float hd_cosf(float x) {
+  if (!(x - x == 0.0f)) return NAN;
+  double s, c;
+  hd_sincos_d(static_cast<double>(x), &s, &c);
+  return static_cast<float>(c);
+}
+MPVG_HD_INLINE float hd_tanf(float x) {
+  if (!(x - x == 0.0f)) return NAN;
+  double s, c;
+  hd_sincos_d(static_cast<double>(x), &s, &c);
+  return static_cast<float>(s / c);
+}
+
 }  // namespace mpvg

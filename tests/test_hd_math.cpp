@@ -82,3 +82,32 @@ TEST_CASE("the sRGB transfer round-trips every 8-bit code", "[hd_math]") {
     CHECK(std::lround(linear_to_srgb(srgb_to_linear(c)) * 255.0f) == k);
   }
 }
+
+TEST_CASE("hd_sinf, hd_cosf and hd_tanf are sin, cos and tan within an ulp", "[hd_math]") {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> d(-1000.0f, 1000.0f), small(-4.0f, 4.0f);
+  double worst = 0;
+  for (int i = 0; i < 300000; i++) {
+    const float x = i % 2 ? d(rng) : small(rng);
+    const long double lx = x;
+    worst = std::max(worst, ulps(hd_sinf(x), std::sin(lx)));
+    worst = std::max(worst, ulps(hd_cosf(x), std::cos(lx)));
+    if (std::fabs(std::cos(lx)) > 1e-3L) worst = std::max(worst, ulps(hd_tanf(x), std::tan(lx)));
+  }
+  INFO("worst " << worst << " ulp");
+  CHECK(worst <= 1.0);
+  CHECK(hd_sinf(0.0f) == 0.0f);
+  CHECK(hd_cosf(0.0f) == 1.0f);
+  CHECK(std::isnan(hd_sinf(INFINITY)));
+  CHECK(std::isnan(hd_cosf(NAN)));
+}
+
+TEST_CASE("hd_logf is log within an ulp", "[hd_math]") {
+  double worst = 0;
+  for (float x = 1e-30f; x < 1e30f; x *= 1.0013f) worst = std::max(worst, ulps(hd_logf(x), std::log(static_cast<long double>(x))));
+  INFO("worst " << worst << " ulp");
+  CHECK(worst <= 1.0);
+  CHECK(hd_logf(1.0f) == 0.0f);
+  CHECK(std::isinf(hd_logf(0.0f)));
+  CHECK(std::isnan(hd_logf(-1.0f)));
+}
