@@ -1,0 +1,151 @@
+// The warp language (core/warp/warp_parse.h) and its interpreter
+// (core/warp/warp_program.h): precedence and associativity, every function
+// against the hd_math / IEEE operation it stands for (bit for bit),
+// bindings, error lines with their columns, and hostile text (a million
+// terms, deep nesting) refused in one line.
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include "core/error.h"
+#include "core/warp/warp_parse.h"
+#include "tests/catch.h"
+
+using namespace mpvg;
+
+namespace {
+
+struct Point {
+  float x, y;
+};
+
+Point run(const std::string& text, float x = 3.0f, float y = 5.0f, float w = 640.0f, float h = 480.0f) {
+  const WarpProgram p = parse_warp_expression(text);
+  Point out{NAN, NAN};
+  REQUIRE(warp_run(p.ops.data(), uint32_t(p.ops.size()), x, y, w, h, &out.x, &out.y));
+  return out;
+}
+
+bool same(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_warp_expression(text);
+  } catch (const ParseError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+}  // namespace
+
+TEST_CASE("warp language: precedence, associativity and the names", "[warp]") {
+  CHECK(run("2 + 3 * 4; 2 ^ 3 ^ 2").x == 14.0f);
+  CHECK(run("2 + 3 * 4; 2 ^ 3 ^ 2").y == 512.0f);
+  CHECK(run("-2 ^ 2; (-2) ^ 2").x == -4.0f);
+  CHECK(run("-2 ^ 2; (-2) ^ 2").y == 4.0f);
+  CHECK(run("(-2) ^ 3; (-2) ^ 0.5").x == -8.0f);
+  CHECK(std::isnan(run("(-2) ^ 3; (-2) ^ 0.5").y));
+  CHECK(run("10 - 4 - 3; 64 / 4 / 2").x == 3.0f);
+  CHECK(run("10 - 4 - 3; 64 / 4 / 2").y == 8.0f);  // (64 / 4) / 2, not 64 / (4 / 2)
+  CHECK(run("2 * -3; --3").x == -6.0f);
+  CHECK(run("2 * -3; --3").y == 3.0f);
+  const Point p = run("x + w; y * h;", 1.5f, 2.5f, 100.0f, 10.0f);
+  CHECK(p.x == 101.5f);
+  CHECK(p.y == 25.0f);
+  CHECK(run("pi; e").x == 3.14159265358979323846f);
+  CHECK(run("pi; e").y == 2.71828182845904523536f);
+  CHECK(run("1.5e2; .25").x == 150.0f);
+  CHECK(run("1.5e2; .25").y == 0.25f);
+}
+
+TEST_CASE("warp language: the identity gives each sample back, bit for bit", "[warp]") {
+  for (float x : {0.0f, 0.5f, 1023.984375f, -3.25f, 1e-30f})
+    for (float y : {0.0f, 767.5f, 1e7f}) {
+      const Point p = run("x; y", x, y);
+      CHECK(same(p.x, x));
+      CHECK(same(p.y, y));
+    }
+}
+
+TEST_CASE("warp language: each function is the operation it names, bit for bit", "[warp]") {
+  const float a = 0.7f, b = -2.3f, c = 4.1f;
+  auto one = [&](const std::string& f) { return run(f + "; 0", a, b, c, 0.0f).x; };
+  CHECK(same(one("sin(x)"), hd_sinf(a)));
+  CHECK(same(one("cos(y)"), hd_cosf(b)));
+  CHECK(same(one("tan(x)"), hd_tanf(a)));
+  CHECK(same(one("atan2(y, x)"), hd_atan2f(b, a)));
+  CHECK(same(one("sqrt(w)"), std::sqrt(c)));
+  CHECK(same(one("exp(y)"), hd_expf(b)));
+  CHECK(same(one("log(w)"), hd_logf(c)));
+  CHECK(same(one("pow(w, x)"), hd_powf(c, a)));
+  CHECK(same(one("w ^ x"), hd_powf(c, a)));
+  CHECK(same(one("hypot(x, y)"), float(std::sqrt(double(a) * a + double(b) * b))));
+  CHECK(same(one("min(x, y)"), b));
+  CHECK(same(one("max(x, y)"), a));
+  CHECK(same(one("abs(y)"), 2.3f));
+  CHECK(same(one("floor(y)"), -3.0f));
+  CHECK(same(one("clamp(w, y, x)"), a));
+  CHECK(same(one("clamp(0.5, y, x)"), 0.5f));
+  CHECK(same(one("mix(x, w, 0.25)"), a + (c - a) * 0.25f));
+}
+
+TEST_CASE("warp language: bindings, the paper's twist written out", "[warp]") {
+  const std::string twist =
+      "cx = w / 2; cy = h / 2; r = hypot(x - cx, y - cy);"
+      "t = atan2(y - cy, x - cx) + 2 * exp(-r / 100);"
+      "cx + r * cos(t); cy + r * sin(t)";
+  const float x = 400.25f, y = 123.5f, w = 1024.0f, h = 768.0f;
+  const Point p = run(twist, x, y, w, h);
+  const float cx = w / 2, cy = h / 2;
+  const float r = float(std::sqrt(double(x - cx) * double(x - cx) + double(y - cy) * double(y - cy)));
+  const float t = hd_atan2f(y - cy, x - cx) + 2 * hd_expf(-r / 100);
+  CHECK(same(p.x, cx + r * hd_cosf(t)));
+  CHECK(same(p.y, cy + r * hd_sinf(t)));
+  const WarpProgram prog = parse_warp_expression(twist);
+  CHECK(prog.slots == 4);
+  CHECK(prog.stack <= 6);
+}
+
+TEST_CASE("warp language: one error line with its column", "[warp]") {
+  CHECK(error_of("x +; y") == "warp expression, column 4: expected a value, found ';'");
+  CHECK(error_of("x") == "warp expression, column 2: expected ';' and the Y expression after the X expression");
+  CHECK(error_of("x; y; z") == "warp expression, column 7: unexpected 'z' after the Y expression");
+  CHECK(error_of("foo(x); y") == "warp expression, column 1: unknown function 'foo'");
+  CHECK(error_of("x; q") == "warp expression, column 4: unknown name 'q'");
+  CHECK(error_of("sin(x, y); y") == "warp expression, column 6: 'sin' takes 1 argument");
+  CHECK(error_of("atan2(x); y") == "warp expression, column 8: 'atan2' takes 2 arguments");
+  CHECK(error_of("(x; y") == "warp expression, column 3: expected ')' to close the '(' at column 1");
+  CHECK(error_of("1e99; y") == "warp expression, column 1: '1e99' is not a finite number");
+  CHECK(error_of("x = 1; x; y") == "warp expression, column 1: 'x' is already defined");
+  CHECK(error_of("a = 1; a = 2; a; a") == "warp expression, column 8: 'a' is already defined");
+  CHECK(error_of("sin = 1; x; y") == "warp expression, column 1: 'sin' is a function, not a name to bind");
+  CHECK(error_of("a = b; a; a") == "warp expression, column 5: unknown name 'b'");
+  CHECK(error_of("x # 2; y") == "warp expression, column 3: expected ';' and the Y expression after the X expression");
+  CHECK(error_of("") == "warp expression, column 1: expected a value, found the end of the text");
+}
+
+TEST_CASE("warp language: hostile text is refused in one line, in linear time", "[warp]") {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::string terms = "x";
+  for (int i = 0; i < 1000000; i++) terms += "+x";
+  CHECK(error_of(terms + "; y").find("more than 65536 operations") != std::string::npos);
+  const std::string deep = std::string(1000000, '(') + "x" + std::string(1000000, ')') + "; y";
+  CHECK(error_of(deep).find("nested deeper than 256 levels") != std::string::npos);
+  CHECK(error_of(std::string(1000000, '-') + "x; y").find("nested deeper than 256 levels") != std::string::npos);
+  std::string pending = "x";
+  for (int i = 0; i < 70; i++) pending = "x + (" + pending + ")";
+  CHECK(error_of(pending + "; y").find("values pending at once") != std::string::npos);
+  std::string names;
+  for (int i = 0; i < 65; i++) names += "a" + std::to_string(i) + " = 1;";
+  CHECK(error_of(names + "x; y").find("more than 64 names bound") != std::string::npos);
+  CHECK(error_of(std::string(100, '1') + "; y").find("longer than 64 characters") != std::string::npos);
+  // A large program within the bounds evaluates.
+  std::string sum = "x";
+  for (int i = 0; i < 20000; i++) sum += "+1";
+  CHECK(run(sum + "; y", 0.0f).x == 20000.0f);
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  INFO(s << " s");
+  CHECK(s < 10.0);
+}
