@@ -109,25 +109,19 @@ class Parser {
 
   void expr() {
     Nest n(*this, i_);
-    term();
-    for (;;) {
-      skip();
-      const char c = peek();
-      if (c != '+' && c != '-') return;
-      i_++;
-      term();
-      emit({c == '+' ? WARP_ADD : WARP_SUB, 0, 0.0f}, -1);
-    }
+    left_to_right('+', WARP_ADD, '-', WARP_SUB, &Parser::term);
   }
-  void term() {
-    unary();
+  void term() { left_to_right('*', WARP_MUL, '/', WARP_DIV, &Parser::unary); }
+  // operand { (a | b) operand }, applied left to right.
+  void left_to_right(char a, uint32_t code_a, char b, uint32_t code_b, void (Parser::*operand)()) {
+    (this->*operand)();
     for (;;) {
       skip();
       const char c = peek();
-      if (c != '*' && c != '/') return;
+      if (c != a && c != b) return;
       i_++;
-      unary();
-      emit({c == '*' ? WARP_MUL : WARP_DIV, 0, 0.0f}, -1);
+      (this->*operand)();
+      emit({c == a ? code_a : code_b, 0, 0.0f}, -1);
     }
   }
   void unary() {
