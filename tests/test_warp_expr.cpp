@@ -149,3 +149,74 @@ TEST_CASE("warp language: hostile text is refused in one line, in linear time", 
   INFO(s << " s");
   CHECK(s < 10.0);
 }
+
+#include "core/warp/warp_spec.h"
+
+namespace {
+
+Point run_spec(const std::string& spec, float x, float y, float w = 640.0f, float h = 480.0f) {
+  const WarpProgram p = warp_from_spec(spec);
+  Point out{NAN, NAN};
+  REQUIRE(warp_run(p.ops.data(), uint32_t(p.ops.size()), x, y, w, h, &out.x, &out.y));
+  return out;
+}
+
+std::string spec_error(const std::string& spec) {
+  try {
+    warp_from_spec(spec);
+  } catch (const ParseError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+}  // namespace
+
+TEST_CASE("named warps: projective, twist and lens map samples as their formulas say", "[warp]") {
+  // Projective: the identity exactly; a homography against the formula.
+  for (float x : {0.0f, 17.25f, 639.5f}) {
+    const Point p = run_spec("projective:1,0,0,0,1,0,0,0,1", x, 100.5f);
+    CHECK(same(p.x, x));
+    CHECK(same(p.y, 100.5f));
+  }
+  const Point q = run_spec("projective:2,0.5,10,0.25,1,-3,0.001,0.002,1", 40.0f, 20.0f);
+  const float den = 0.001f * 40.0f + 0.002f * 20.0f + 1.0f;
+  CHECK(same(q.x, (2.0f * 40.0f + 0.5f * 20.0f + 10.0f) / den));
+  CHECK(same(q.y, (0.25f * 40.0f + 1.0f * 20.0f + -3.0f) / den));
+  // Twist: the centre stays; a point at radius r < R turns by ANGLE (1 - r/R)
+  // about the centre, keeping its distance; beyond R nothing turns.
+  const Point c = run_spec("twist:90", 320.0f, 240.0f);
+  CHECK(c.x == 320.0f);
+  CHECK(c.y == 240.0f);
+  const Point t = run_spec("twist:90,100,100,50", 125.0f, 100.0f);  // r = 25: turned by 45 degrees
+  CHECK(std::fabs(t.x - (100.0f + 25.0f * std::cos(0.785398163f))) < 1e-4f);
+  CHECK(std::fabs(t.y - (100.0f + 25.0f * std::sin(0.785398163f))) < 1e-4f);
+  const Point o = run_spec("twist:90,100,100,50", 170.0f, 100.0f);
+  CHECK(o.x == 170.0f);
+  CHECK(o.y == 100.0f);
+  // Lens: r -> R (r/R)^POWER inside, unchanged outside, the centre fixed.
+  const Point l = run_spec("lens:100,100,40,2", 110.0f, 100.0f);  // r = 10: shows r = 40 (10/40)^2 = 2.5
+  CHECK(std::fabs(l.x - 102.5f) < 1e-4f);
+  CHECK(l.y == 100.0f);
+  const Point m = run_spec("lens:100,100,40,2", 100.0f, 100.0f);
+  CHECK(m.x == 100.0f);
+  CHECK(m.y == 100.0f);
+  const Point n = run_spec("lens:100,100,40,2", 150.0f, 130.0f);
+  CHECK(n.x == 150.0f);
+  CHECK(n.y == 130.0f);
+  const Point e = run_spec("expr:x * 2; y + w", 3.0f, 4.0f);
+  CHECK(e.x == 6.0f);
+  CHECK(e.y == 644.0f);
+}
+
+TEST_CASE("named warps: a spec they cannot take is one error line", "[warp]") {
+  CHECK(spec_error("twirl:3") == "warp 'twirl:3': unknown warp 'twirl' (projective, twist, lens or expr)");
+  CHECK(spec_error("lens") == "warp 'lens': expected projective:, twist:, lens: or expr:");
+  CHECK(spec_error("projective:1,2,3") == "warp 'projective:1,2,3': a projective warp takes 9 numbers, a 3 x 3 matrix by rows");
+  CHECK(spec_error("twist:ab") == "warp 'twist:ab': 'ab' is not a finite number");
+  CHECK(spec_error("twist:30,1,2") == "warp 'twist:30,1,2': a twist takes ANGLE or ANGLE,CX,CY,R");
+  CHECK(spec_error("twist:30,1,2,0") == "warp 'twist:30,1,2,0': the radius R must be positive");
+  CHECK(spec_error("lens:1,2,3,-1") == "warp 'lens:1,2,3,-1': the power must be positive");
+  CHECK(spec_error("lens:1,,3,2") == "warp 'lens:1,,3,2': '' is not a finite number");
+  CHECK(spec_error("expr:x;") == "warp expression, column 3: expected a value, found the end of the text");
+}
