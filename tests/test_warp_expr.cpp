@@ -1,4 +1,5 @@
-// The warp language (core/warp/warp_parse.h) and its interpreter
+// The warp language (core/warp/warp_parse.h), the named warps
+// (core/warp/warp_spec.h) and the interpreter
 // (core/warp/warp_program.h): precedence and associativity, every function
 // against the hd_math / IEEE operation it stands for (bit for bit),
 // bindings, error lines with their columns, and hostile text (a million
@@ -10,6 +11,7 @@
 
 #include "core/error.h"
 #include "core/warp/warp_parse.h"
+#include "core/warp/warp_spec.h"
 #include "tests/catch.h"
 
 using namespace mpvg;
@@ -20,23 +22,30 @@ struct Point {
   float x, y;
 };
 
-Point run(const std::string& text, float x = 3.0f, float y = 5.0f, float w = 640.0f, float h = 480.0f) {
-  const WarpProgram p = parse_warp_expression(text);
+Point run_program(const WarpProgram& p, float x, float y, float w, float h) {
   Point out{NAN, NAN};
   REQUIRE(warp_run(p.ops.data(), uint32_t(p.ops.size()), x, y, w, h, &out.x, &out.y));
   return out;
 }
 
+Point run(const std::string& text, float x = 3.0f, float y = 5.0f, float w = 640.0f, float h = 480.0f) {
+  return run_program(parse_warp_expression(text), x, y, w, h);
+}
+
 bool same(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
-std::string error_of(const std::string& text) {
+// The error line of make(text), or "(no error)".
+template <class Make>
+std::string error_from(Make make, const std::string& text) {
   try {
-    parse_warp_expression(text);
+    make(text);
   } catch (const ParseError& e) {
     return e.what();
   }
   return "(no error)";
 }
+
+std::string error_of(const std::string& text) { return error_from(parse_warp_expression, text); }
 
 }  // namespace
 
@@ -150,25 +159,14 @@ TEST_CASE("warp language: hostile text is refused in one line, in linear time", 
   CHECK(s < 10.0);
 }
 
-#include "core/warp/warp_spec.h"
 
 namespace {
 
 Point run_spec(const std::string& spec, float x, float y, float w = 640.0f, float h = 480.0f) {
-  const WarpProgram p = warp_from_spec(spec);
-  Point out{NAN, NAN};
-  REQUIRE(warp_run(p.ops.data(), uint32_t(p.ops.size()), x, y, w, h, &out.x, &out.y));
-  return out;
+  return run_program(warp_from_spec(spec), x, y, w, h);
 }
 
-std::string spec_error(const std::string& spec) {
-  try {
-    warp_from_spec(spec);
-  } catch (const ParseError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+std::string spec_error(const std::string& spec) { return error_from(warp_from_spec, spec); }
 
 }  // namespace
 
