@@ -75,15 +75,15 @@ MPVG_HD_INLINE float hd_powf(float x, float y) {
   return static_cast<float>(hd_exp2_d(static_cast<double>(y) * hd_log2_d(static_cast<double>(x))));
 }
 
-// atan2(y, x) in radians, (-pi, pi], as atan2f for finite arguments.
-MPVG_HD_INLINE float hd_atan2f(float y, float x) {
+// atan2(y, x) in radians, (-pi, pi], in double, for finite arguments.
+MPVG_HD_INLINE double hd_atan2_d(double y, double x) {
   if (x != x || y != y) return x + y;
   const double kPi = 3.14159265358979323846;
-  const double ax = fabs(static_cast<double>(x)), ay = fabs(static_cast<double>(y));
-  const bool neg_x = copysign(1.0, static_cast<double>(x)) < 0.0, neg_y = copysign(1.0, static_cast<double>(y)) < 0.0;
+  const double ax = fabs(x), ay = fabs(y);
+  const bool neg_x = copysign(1.0, x) < 0.0, neg_y = copysign(1.0, y) < 0.0;
   if (ax == 0.0 && ay == 0.0) {  // signed zeros as atan2: +-0 or +-pi
     const double r = neg_x ? kPi : 0.0;
-    return static_cast<float>(neg_y ? -r : r);
+    return neg_y ? -r : r;
   }
   // t = min / max in [0, 1], then t - 1 over t + 1 above tan(pi / 8) so
   // that |u| <= tan(pi / 8) and atan(t) = base + atan(u).
@@ -101,16 +101,12 @@ MPVG_HD_INLINE float hd_atan2f(float y, float x) {
   double a = base + u * q;
   if (swap) a = kPi / 2 - a;
   if (neg_x) a = kPi - a;
-  return static_cast<float>(neg_y ? -a : a);
+  return neg_y ? -a : a;
 }
 
-// ln x, as logf: -inf at 0 (either sign), NaN below 0 or for NaN, +inf at
-// +inf.
-MPVG_HD_INLINE float hd_logf(float x) {
-  if (x != x || x < 0.0f) return NAN;
-  if (x == 0.0f) return -HUGE_VALF;
-  if (x == HUGE_VALF) return x;
-  return static_cast<float>(hd_log2_d(static_cast<double>(x)) * 0.69314718055994530942);
+// atan2(y, x) in radians, (-pi, pi], as atan2f for finite arguments.
+MPVG_HD_INLINE float hd_atan2f(float y, float x) {
+  return static_cast<float>(hd_atan2_d(static_cast<double>(y), static_cast<double>(x)));
 }
 
 // sin and cos of x (radians, finite) in double: x less the nearest
@@ -153,26 +149,6 @@ MPVG_HD_INLINE void hd_sincos_d(double x, double* s, double* c) {
   const long long q = static_cast<long long>(k) & 3;
   *s = q == 0 ? sr : q == 1 ? cr : q == 2 ? -sr : -cr;
   *c = q == 0 ? cr : q == 1 ? -sr : q == 2 ? -cr : sr;
-}
-
-// sin, cos and tan of x, as sinf, cosf and tanf: NaN for infinite or NaN x.
-MPVG_HD_INLINE float hd_sinf(float x) {
-  if (!(x - x == 0.0f)) return NAN;
-  double s, c;
-  hd_sincos_d(static_cast<double>(x), &s, &c);
-  return static_cast<float>(s);
-}
-MPVG_HD_INLINE float hd_cosf(float x) {
-  if (!(x - x == 0.0f)) return NAN;
-  double s, c;
-  hd_sincos_d(static_cast<double>(x), &s, &c);
-  return static_cast<float>(c);
-}
-MPVG_HD_INLINE float hd_tanf(float x) {
-  if (!(x - x == 0.0f)) return NAN;
-  double s, c;
-  hd_sincos_d(static_cast<double>(x), &s, &c);
-  return static_cast<float>(s / c);
 }
 
 }  // namespace mpvg

@@ -52,7 +52,7 @@ class Parser {
       expr();
       expect(';', "expected ';' after the binding of '" + name + "'");
       names_.push_back(name);
-      emit({WARP_STORE, uint32_t(names_.size() - 1), 0.0f}, -1);
+      emit({WARP_STORE, uint32_t(names_.size() - 1), 0.0}, -1);
     }
     expr();
     expect(';', "expected ';' and the Y expression after the X expression");
@@ -121,7 +121,7 @@ class Parser {
       if (c != a && c != b) return;
       i_++;
       (this->*operand)();
-      emit({c == a ? code_a : code_b, 0, 0.0f}, -1);
+      emit({c == a ? code_a : code_b, 0, 0.0}, -1);
     }
   }
   void unary() {
@@ -131,7 +131,7 @@ class Parser {
       const bool neg = peek() == '-';
       i_++;
       unary();
-      if (neg) emit({WARP_NEG, 0, 0.0f}, 0);
+      if (neg) emit({WARP_NEG, 0, 0.0}, 0);
       return;
     }
     primary();
@@ -139,7 +139,7 @@ class Parser {
     if (peek() == '^') {
       i_++;
       unary();
-      emit({WARP_POW, 0, 0.0f}, -1);
+      emit({WARP_POW, 0, 0.0}, -1);
     }
   }
   void primary() {
@@ -168,20 +168,20 @@ class Parser {
           expr();
         }
         expect(')', "'" + name + "' takes " + std::to_string(f.arity) + (f.arity == 1 ? " argument" : " arguments"));
-        emit({f.code, 0, 0.0f}, 1 - f.arity);
+        emit({f.code, 0, 0.0}, 1 - f.arity);
         return;
       }
       fail(at, "unknown function '" + name + "'");
     }
-    if (name == "x") return emit({WARP_X, 0, 0.0f}, 1);
-    if (name == "y") return emit({WARP_Y, 0, 0.0f}, 1);
-    if (name == "w") return emit({WARP_W, 0, 0.0f}, 1);
-    if (name == "h") return emit({WARP_H, 0, 0.0f}, 1);
-    if (name == "pi") return emit({WARP_CONST, 0, 3.14159265358979323846f}, 1);
-    if (name == "e") return emit({WARP_CONST, 0, 2.71828182845904523536f}, 1);
+    if (name == "x") return emit({WARP_X, 0, 0.0}, 1);
+    if (name == "y") return emit({WARP_Y, 0, 0.0}, 1);
+    if (name == "w") return emit({WARP_W, 0, 0.0}, 1);
+    if (name == "h") return emit({WARP_H, 0, 0.0}, 1);
+    if (name == "pi") return emit({WARP_CONST, 0, 3.14159265358979323846}, 1);
+    if (name == "e") return emit({WARP_CONST, 0, 2.71828182845904523536}, 1);
     const int k = find(name);
     if (k < 0) fail(at, "unknown name '" + name + "'");
-    emit({WARP_LOAD, uint32_t(k), 0.0f}, 1);
+    emit({WARP_LOAD, uint32_t(k), 0.0}, 1);
   }
   void number() {
     const size_t at = i_;
@@ -201,7 +201,7 @@ class Parser {
       }
     }
     if (j - at > 64) fail(at, "a number longer than 64 characters");
-    float v = 0.0f;
+    double v = 0.0;
     const auto r = std::from_chars(s_.data() + at, s_.data() + j, v);
     if (r.ec != std::errc() || r.ptr != s_.data() + j || !std::isfinite(v))
       fail(at, "'" + s_.substr(at, j - at) + "' is not a finite number");

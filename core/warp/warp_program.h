@@ -3,9 +3,12 @@
 // interpreter both executors run. A program maps an output-space sample
 // (x, y) of a w x h image to the point of the scene that the sample shows;
 // it is a list of stack operations whose last two values are that point's
-// X and Y. Every operation's result is a float computed with the IEEE
-// operations or core/hd_math.h's functions, so that the CPU and a GPU give
-// the same bits (no contraction anywhere: the build turns it off).
+// X and Y. Programs run in double: every operation is an IEEE one or one
+// of core/hd_math.h's double functions, so that the CPU and a GPU give the
+// same bits (no contraction anywhere: the build turns it off), and a
+// sample's position goes in and comes out exactly (the executors move it
+// between unit-area and output coordinates by a half-integer: exact in
+// double, not always in float).
 #pragma once
 #include <cmath>
 #include <cstdint>
@@ -31,7 +34,7 @@ enum WarpOpcode : uint32_t {
 struct WarpOp {
   uint32_t code;
   uint32_t slot;
-  float value;
+  double value;
 };
 
 // A program's bounds (the parser refuses programs past them): values on
@@ -40,30 +43,52 @@ constexpr int kWarpStack = 64;
 constexpr int kWarpSlots = 64;
 constexpr uint32_t kWarpMaxOps = 1u << 16;
 
-// x^y as C's pow: a negative base to an integer power keeps its sign by
-// the power's parity, to any other power is NaN (hd_powf otherwise).
-MPVG_HD_INLINE float warp_pow(float x, float y) {
-  if (x < 0.0f) {
-    if (!(y == floorf(y))) return NAN;
-    const float r = hd_powf(-x, y);
-    return fmodf(y, 2.0f) != 0.0f ? -r : r;
+// x^y as C's pow: to an integer power of at most 64 by multiplications
+// (exact where the products are: 3^2 is 9), a negative base to any other
+// power NaN, 0^y 0 for y > 0 and +inf for y < 0, otherwise 2^(y log2 x).
+MPVG_HD_INLINE double warp_pow(double x, double y) {
+  if (x != x || y != y) return x + y;
+  if (y == floor(y) && fabs(y) <= 64.0) {
+    double r = 1.0, b = x;
+    for (int n = static_cast<int>(fabs(y)); n > 0; n >>= 1) {
+      if (n & 1) r *= b;
+      b *= b;
+    }
+    return y < 0.0 ? 1.0 / r : r;
   }
-  return hd_powf(x, y);
+  if (x < 0.0) {
+    if (!(y == floor(y))) return NAN;
+    const double r = warp_pow(-x, y);
+    return fmod(y, 2.0) != 0.0 ? -r : r;
+  }
+  if (x == 1.0) return 1.0;
+  if (x == 0.0) return y > 0.0 ? 0.0 : HUGE_VAL;
+  if (x == HUGE_VAL) return y > 0.0 ? HUGE_VAL : 0.0;
+  return hd_exp2_d(y * hd_log2_d(x));
 }
 
-// sqrt(a^2 + b^2) in double, rounded once.
-MPVG_HD_INLINE float warp_hypot(float a, float b) {
-  const double da = a, db = b;
-  return static_cast<float>(sqrt(da * da + db * db));
+MPVG_HD_INLINE double warp_log(double x) {
+  if (x != x || x < 0.0) return NAN;
+  if (x == 0.0) return -HUGE_VAL;
+  if (x == HUGE_VAL) return x;
+  return hd_log2_d(x) * 0.69314718055994530942;
+}
+
+// sin, cos, tan: NaN for infinite or NaN x.
+MPVG_HD_INLINE double warp_trig(uint32_t code, double x) {
+  if (!(x - x == 0.0)) return NAN;
+  double s, c;
+  hd_sincos_d(x, &s, &c);
+  return code == WARP_SIN ? s : code == WARP_COS ? c : s / c;
 }
 
 // Runs program ops[0 .. n) for sample (x, y) of a w x h image: the point
 // (*ox, *oy). Returns false (and leaves them) if the program does not end
 // with exactly two values (the parser never makes such a program).
-MPVG_HD_INLINE bool warp_run(const WarpOp* ops, uint32_t n, float x, float y, float w, float h, float* ox,
-                             float* oy) {
-  float st[kWarpStack];
-  float slot[kWarpSlots];
+MPVG_HD_INLINE bool warp_run(const WarpOp* ops, uint32_t n, double x, double y, double w, double h, double* ox,
+                             double* oy) {
+  double st[kWarpStack];
+  double slot[kWarpSlots];
   int sp = 0;
   for (uint32_t i = 0; i < n; i++) {
     const WarpOp op = ops[i];
@@ -76,32 +101,36 @@ MPVG_HD_INLINE bool warp_run(const WarpOp* ops, uint32_t n, float x, float y, fl
       case WARP_LOAD: st[sp++] = slot[op.slot]; break;
       case WARP_STORE: slot[op.slot] = st[--sp]; break;
       case WARP_NEG: st[sp - 1] = -st[sp - 1]; break;
-      case WARP_ABS: st[sp - 1] = fabsf(st[sp - 1]); break;
-      case WARP_FLOOR: st[sp - 1] = floorf(st[sp - 1]); break;
-      case WARP_SQRT: st[sp - 1] = sqrtf(st[sp - 1]); break;
-      case WARP_EXP: st[sp - 1] = hd_expf(st[sp - 1]); break;
-      case WARP_LOG: st[sp - 1] = hd_logf(st[sp - 1]); break;
-      case WARP_SIN: st[sp - 1] = hd_sinf(st[sp - 1]); break;
-      case WARP_COS: st[sp - 1] = hd_cosf(st[sp - 1]); break;
-      case WARP_TAN: st[sp - 1] = hd_tanf(st[sp - 1]); break;
+      case WARP_ABS: st[sp - 1] = fabs(st[sp - 1]); break;
+      case WARP_FLOOR: st[sp - 1] = floor(st[sp - 1]); break;
+      case WARP_SQRT: st[sp - 1] = sqrt(st[sp - 1]); break;
+      case WARP_EXP: {
+        const double v = st[sp - 1];
+        st[sp - 1] = v != v ? v : hd_exp2_d(v * 1.44269504088896340736);
+        break;
+      }
+      case WARP_LOG: st[sp - 1] = warp_log(st[sp - 1]); break;
+      case WARP_SIN:
+      case WARP_COS:
+      case WARP_TAN: st[sp - 1] = warp_trig(op.code, st[sp - 1]); break;
       default: {
         if (op.code >= WARP_CLAMP) {  // ternary
-          const float c = st[--sp], b = st[--sp], a = st[sp - 1];
-          st[sp - 1] = op.code == WARP_CLAMP ? fminf(fmaxf(a, b), c) : a + (b - a) * c;
+          const double c = st[--sp], b = st[--sp], a = st[sp - 1];
+          st[sp - 1] = op.code == WARP_CLAMP ? fmin(fmax(a, b), c) : a + (b - a) * c;
           break;
         }
-        const float b = st[--sp], a = st[sp - 1];
-        float r;
+        const double b = st[--sp], a = st[sp - 1];
+        double r;
         switch (op.code) {
           case WARP_ADD: r = a + b; break;
           case WARP_SUB: r = a - b; break;
           case WARP_MUL: r = a * b; break;
           case WARP_DIV: r = a / b; break;
           case WARP_POW: r = warp_pow(a, b); break;
-          case WARP_ATAN2: r = hd_atan2f(a, b); break;
-          case WARP_HYPOT: r = warp_hypot(a, b); break;
-          case WARP_MIN: r = fminf(a, b); break;
-          default: r = fmaxf(a, b); break;  // WARP_MAX
+          case WARP_ATAN2: r = hd_atan2_d(a, b); break;
+          case WARP_HYPOT: r = sqrt(a * a + b * b); break;
+          case WARP_MIN: r = fmin(a, b); break;
+          default: r = fmax(a, b); break;  // WARP_MAX
         }
         st[sp - 1] = r;
       }
