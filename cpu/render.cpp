@@ -90,6 +90,14 @@ void composite(const float* p, const PaintRecord& bg, float* out) {
   out[3] = p[3] + under * bg.a;
 }
 
+// The positions of unit area (ux, uy)'s n samples, offsets o.
+void unit_area_samples(const SampleOffset* o, int n, uint32_t ux, uint32_t uy, float* sx, float* sy) {
+  for (int k = 0; k < n; k++) {
+    sx[k] = float(ux) + o[k].x;
+    sy[k] = float(uy) + o[k].y;
+  }
+}
+
 // Where render_tree_into puts a pixel: its premultiplied colour p over the
 // background, as floats (ImageF) or as 8-bit codes (what to_rgba8 makes of
 // the same floats), n pixels from pixel index i.
@@ -233,10 +241,7 @@ void render_tree_into(const ShortcutTree& tree, const Integration& integ, const 
               continue;
             }
             evaluated += uint64_t(n);
-            for (int k = 0; k < n; k++) {
-              sx[k] = float(x) + pattern[k].x;
-              sy[k] = float(y) + pattern[k].y;
-            }
+            unit_area_samples(pattern.data(), n, x, y, sx.data(), sy.data());
             sample_cell_lanes<0, Kinds>(in, c.begin, c.end, sx.data(), sy.data(), n, col.data());
             float acc[4] = {0, 0, 0, 0};
             for (int k = 0; k < n; k++) {
@@ -268,7 +273,9 @@ void render_tree_into(const ShortcutTree& tree, const Integration& integ, const 
     const uint32_t band = std::max<uint32_t>(
         uint32_t(K), (uint32_t(frame.ua_h) + 8 * uint32_t(sample_threads) - 1) / (8 * uint32_t(sample_threads)));
     const std::vector<std::vector<Task>> bands = band_schedule(tasks, frame.ua_h, band);
+    // A band's buffers and count.
     struct Scratch {
+      explicit Scratch(int n, int T) : col(size_t(n)), sx(size_t(n)), sy(size_t(n)), sums(size_t(T) * 4) {}
       std::vector<Rgba4> col;
       std::vector<float> sx, sy, sums;
       uint64_t evaluated = 0;
@@ -284,10 +291,6 @@ void render_tree_into(const ShortcutTree& tree, const Integration& integ, const 
       }
       std::vector<Rgba4>& col = sc.col;
       std::vector<float>&sx = sc.sx, &sy = sc.sy, &sums = sc.sums;
-      col.resize(static_cast<size_t>(n));
-      sx.resize(static_cast<size_t>(n));
-      sy.resize(static_cast<size_t>(n));
-      sums.resize(size_t(T) * 4);
       static_assert(sizeof(Rgba4) == 4 * sizeof(float), "Rgba4 is four floats");
       uint64_t& evaluated = sc.evaluated;
       for (uint32_t uy = task.y0; uy < task.y1; uy++) {
@@ -302,10 +305,7 @@ void render_tree_into(const ShortcutTree& tree, const Integration& integ, const 
             continue;
           }
           evaluated += uint64_t(n);
-          for (int i = 0; i < n; i++) {
-            sx[i] = float(ux) + o[i].x;
-            sy[i] = float(uy) + o[i].y;
-          }
+          unit_area_samples(o, n, ux, uy, sx.data(), sy.data());
           sample_cell_lanes<0, Kinds>(in, c.begin, c.end, sx.data(), sy.data(), n, col.data());
           integrate_unit_area_all(integ.weights.data() + size_t(cls) * n * T, T, n, &col[0].r, sums.data());
           for (int ey = 0; ey < K; ey++) {
@@ -324,7 +324,7 @@ void render_tree_into(const ShortcutTree& tree, const Integration& integ, const 
     };
     for (size_t phase = 0; phase < 2; phase++)
       parallel_for((bands.size() + 1 - phase) / 2, sample_threads, [&](size_t i) {
-        Scratch sc;
+        Scratch sc(n, T);
         for (const Task& task : bands[2 * i + phase]) sample_task(task, sc);
         samples.fetch_add(sc.evaluated, std::memory_order_relaxed);
       });
